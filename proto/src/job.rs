@@ -1,0 +1,259 @@
+//! The job: what a planning office asks for. The same structure is the TOML job
+//! file (`examples/*.toml`) and the body of the [`JobRequest`] message.
+//!
+//! Drawing data is required; everything else has a decided default that the
+//! knowledge service fills in and records as such. Unknown keys are rejected so a
+//! misspelt key never silently falls back to a default.
+
+use serde::{Deserialize, Serialize};
+
+use crate::codec::Message;
+use crate::ids::{HobId, JobId, MachineId};
+
+/// Hand of a helix (gear tooth trace or hob thread).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Hand {
+    /// Right hand.
+    #[serde(alias = "rh", alias = "RH", alias = "R")]
+    Right,
+    /// Left hand.
+    #[serde(alias = "lh", alias = "LH", alias = "L")]
+    Left,
+}
+
+/// Cutting mode of hobbing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CutMode {
+    /// Conventional cutting: the hob feeds against the workpiece rotation (patent default; feeds down).
+    Conventional,
+    /// Climb cutting: the hob feeds with the workpiece rotation (feeds up).
+    Climb,
+}
+
+/// `[job]`: which machine, how many parts, which part.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JobHeader {
+    /// Optional fixed job id (letters, digits, `_`, `-`); the station generates one if absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub id: Option<JobId>,
+    /// Machine that will cut the part, e.g. `H01`.
+    pub machine: MachineId,
+    /// Number of parts.
+    #[serde(default = "one")]
+    pub quantity: u32,
+    /// Part (drawing) number, e.g. `SP-1001`.
+    pub part_number: String,
+}
+
+/// `[gear]`: drawing data of the gear (patent step 1, workpiece parameters).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GearSpec {
+    /// Normal module mn, mm.
+    pub module_mm: f64,
+    /// Number of teeth z.
+    pub teeth: u32,
+    /// Normal pressure angle αn, degrees (default 20).
+    #[serde(default = "twenty")]
+    pub pressure_angle_deg: f64,
+    /// Helix angle β at the reference circle, degrees, magnitude (default 0 = spur).
+    #[serde(default)]
+    pub helix_angle_deg: f64,
+    /// Hand of the helix; required when the helix angle is not zero.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub helix_hand: Option<Hand>,
+    /// Face width b, mm.
+    pub face_width_mm: f64,
+    /// Profile shift coefficient x (default 0).
+    #[serde(default)]
+    pub profile_shift: f64,
+    /// Addendum coefficient ha* (default 1).
+    #[serde(default = "one_f")]
+    pub addendum_coef: f64,
+    /// Tip clearance coefficient c* (default 0.25).
+    #[serde(default = "quarter")]
+    pub clearance_coef: f64,
+    /// Blank outside diameter Da1, mm (default: the theoretical tip diameter).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub blank_od_mm: Option<f64>,
+    /// OD correction Δx added to every X position, mm (patent "X 方向修正量"; default 0).
+    #[serde(default)]
+    pub od_correction_mm: f64,
+    /// Material, e.g. `20CrMnTi`, `16MnCr5`, `42CrMo4`, `C45`, `GG25`.
+    #[serde(default = "unspecified")]
+    pub material: String,
+    /// Accuracy grade (ISO 1328 / GB 10095), 1–12 (default 8).
+    #[serde(default = "eight")]
+    pub quality_grade: u8,
+    /// Distance H from the lower tooth face to the table (fixture height), mm.
+    pub fixture_height_mm: f64,
+}
+
+/// `[hob]`: either a library `id` or the hob's data inline, or nothing (the
+/// knowledge service then picks a matching hob from the library).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HobSpec {
+    /// Hob id in the tool library.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub id: Option<HobId>,
+    /// Number of starts z0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub starts: Option<u32>,
+    /// Outside diameter da0, mm.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub od_mm: Option<f64>,
+    /// Normal module mn0, mm.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub module_mm: Option<f64>,
+    /// Normal pressure angle α0, degrees.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pressure_angle_deg: Option<f64>,
+    /// Lead angle γ0 at the reference diameter, degrees.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lead_angle_deg: Option<f64>,
+    /// Hand of the hob thread.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hand: Option<Hand>,
+    /// Overall length, mm.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length_mm: Option<f64>,
+}
+
+impl HobSpec {
+    /// True when any inline data field is given.
+    pub fn has_inline_data(&self) -> bool {
+        self.starts.is_some()
+            || self.od_mm.is_some()
+            || self.module_mm.is_some()
+            || self.pressure_angle_deg.is_some()
+            || self.lead_angle_deg.is_some()
+            || self.hand.is_some()
+            || self.length_mm.is_some()
+    }
+}
+
+/// `[process]`: optional overrides of the proposed process data.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProcessOverrides {
+    /// Cutting mode (default conventional, as in the patent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cut_mode: Option<CutMode>,
+    /// Number of cuts (this release programs one cut).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cuts: Option<u32>,
+    /// Cutting speed vc, m/min.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cutting_speed_m_min: Option<f64>,
+    /// Axial feed per workpiece revolution fa, mm/rev.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub feed_mm_per_rev: Option<f64>,
+    /// Radial cut depth h, mm (default: so that the final centre distance is the theoretical one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_mm: Option<f64>,
+    /// Safety distance added to the clearance ΔH′ in the Z positions, mm (default from the machine).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub safety_mm: Option<f64>,
+}
+
+/// `[options]`: machine functions switched on or off (patent "other parameters").
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Options {
+    /// Coolant on during cutting (default true).
+    #[serde(default = "yes")]
+    pub coolant: bool,
+    /// Outer hob support engaged (default false).
+    #[serde(default)]
+    pub outer_support: bool,
+    /// Fixture clamped (default true).
+    #[serde(default = "yes")]
+    pub fixture_clamp: bool,
+    /// Cancel the gearbox coupling at the end (default true).
+    #[serde(default = "yes")]
+    pub sync_cancel: bool,
+    /// Chip conveyor on (default true).
+    #[serde(default = "yes")]
+    pub chip_conveyor: bool,
+    /// Oil-mist separator on (default false).
+    #[serde(default)]
+    pub mist_separator: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            coolant: true,
+            outer_support: false,
+            fixture_clamp: true,
+            sync_cancel: true,
+            chip_conveyor: true,
+            mist_separator: false,
+        }
+    }
+}
+
+/// A whole job file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JobSpec {
+    /// `[job]`
+    pub job: JobHeader,
+    /// `[gear]`
+    pub gear: GearSpec,
+    /// `[hob]`
+    #[serde(default)]
+    pub hob: HobSpec,
+    /// `[process]`
+    #[serde(default)]
+    pub process: ProcessOverrides,
+    /// `[options]`
+    #[serde(default)]
+    pub options: Options,
+}
+
+/// Message: a planning station asks for a job to be programmed and delivered.
+///
+/// Key `gearcam/v1/jobs/{job}/request`; published by the planning station,
+/// subscribed by the knowledge service.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JobRequest {
+    /// The job's id (also in the key).
+    pub job_id: JobId,
+    /// When the station accepted the job, milliseconds since the Unix epoch.
+    pub submitted_at_ms: u64,
+    /// Who submitted it (station or user name).
+    pub submitted_by: String,
+    /// The job file's content.
+    pub spec: JobSpec,
+}
+
+impl Message for JobRequest {
+    const KIND: &'static str = "job_request";
+}
+
+fn one() -> u32 {
+    1
+}
+fn one_f() -> f64 {
+    1.0
+}
+fn twenty() -> f64 {
+    20.0
+}
+fn quarter() -> f64 {
+    0.25
+}
+fn eight() -> u8 {
+    8
+}
+fn yes() -> bool {
+    true
+}
+fn unspecified() -> String {
+    "unspecified".into()
+}

@@ -1,0 +1,262 @@
+//! The process plan: the knowledge service's decision for a job — machine
+//! profile, hob, cutting data — each value with where it came from.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+use crate::codec::Message;
+use crate::ids::{HobId, JobId, MachineId};
+use crate::job::{CutMode, Hand, JobRequest};
+
+/// NC dialect of a controller.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Dialect {
+    /// Siemens SINUMERIK 840D (main programs `_N_NAME_MPF`).
+    Sinumerik840d,
+    /// FANUC (programs `O0001`–`O7999`).
+    Fanuc,
+    /// LinuxCNC rs274ngc.
+    Linuxcnc,
+    /// Wire-EDM 3B/4B.
+    Wire3b,
+}
+
+impl Dialect {
+    /// The dialect's name as written in messages and files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Dialect::Sinumerik840d => "sinumerik840d",
+            Dialect::Fanuc => "fanuc",
+            Dialect::Linuxcnc => "linuxcnc",
+            Dialect::Wire3b => "wire3b",
+        }
+    }
+}
+
+/// Where a value in a plan or model came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Source {
+    /// Given in the job file.
+    Job,
+    /// Proposed from the knowledge base's cutting data / cases.
+    Case,
+    /// Taken from the machine profile.
+    Machine,
+    /// A documented default of gearcam.
+    Default,
+    /// Taken from the tool library.
+    Library,
+}
+
+/// A number with its provenance.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Sourced {
+    /// The value.
+    pub value: f64,
+    /// Where it came from.
+    pub source: Source,
+}
+
+/// Axis names of a hobbing machine as its controller knows them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AxisNames {
+    /// Radial axis (centre distance), usually `X`.
+    pub radial: String,
+    /// Axial axis (hob slide along the gear axis), usually `Z`.
+    pub axial: String,
+    /// Hob head swivel axis, usually `A`.
+    pub swivel: String,
+    /// Hob spindle as an axis (gearbox leading axis), usually `B`.
+    pub hob: String,
+    /// Work table (gearbox following axis), usually `C`.
+    pub table: String,
+    /// Hob shift axis, usually `Y`.
+    pub shift: String,
+}
+
+/// M-codes of a machine's functions.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MCodes {
+    /// Hob spindle on (clockwise).
+    pub spindle_on: u16,
+    /// Hob spindle stop.
+    pub spindle_off: u16,
+    /// Coolant on.
+    pub coolant_on: u16,
+    /// Coolant off.
+    pub coolant_off: u16,
+    /// Outer hob support engage.
+    pub outer_support_on: u16,
+    /// Outer hob support release.
+    pub outer_support_off: u16,
+    /// Fixture clamp.
+    pub fixture_clamp: u16,
+    /// Fixture unclamp.
+    pub fixture_unclamp: u16,
+    /// Chip conveyor on.
+    pub chip_conveyor_on: u16,
+    /// Chip conveyor off.
+    pub chip_conveyor_off: u16,
+    /// Oil-mist separator on.
+    pub mist_on: u16,
+    /// Oil-mist separator off.
+    pub mist_off: u16,
+    /// End of program.
+    pub program_end: u16,
+}
+
+/// Travel, speed and size limits of a machine.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MachineLimits {
+    /// Smallest and largest module the machine cuts, mm.
+    pub module_mm: [f64; 2],
+    /// Largest workpiece outside diameter, mm.
+    pub max_workpiece_od_mm: f64,
+    /// Largest hob outside diameter, mm.
+    pub max_hob_od_mm: f64,
+    /// X (radial) travel, mm.
+    pub x_mm: [f64; 2],
+    /// Z (axial) travel, mm.
+    pub z_mm: [f64; 2],
+    /// Largest hob spindle speed, rpm.
+    pub max_hob_rpm: f64,
+    /// Largest table speed, rpm.
+    pub max_table_rpm: f64,
+    /// Largest axial feed rate, mm/min.
+    pub max_axial_feed_mm_min: f64,
+    /// Largest swivel angle magnitude, degrees.
+    pub max_swivel_deg: f64,
+}
+
+/// Tolerances, windows and distances the model uses for this machine.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MachineSettings {
+    /// Blank OD may lie this far under the theoretical tip diameter, mm (patent: 1–2 mm).
+    pub blank_od_below_mm: f64,
+    /// Blank OD may lie this far over the theoretical tip diameter, mm.
+    pub blank_od_above_mm: f64,
+    /// Requested depth may exceed the whole depth by this much, mm.
+    pub depth_allowance_mm: f64,
+    /// Safety distance added to ΔH′ in the Z positions, mm.
+    pub safety_mm: f64,
+    /// X retract of B over C (patent: 100 mm).
+    pub retract_mm: f64,
+    /// X lift of E over D (patent: 5 mm).
+    pub exit_mm: f64,
+    /// Sign of the swivel axis: the A value is `swivel_sign · γ` (+1 or −1).
+    pub swivel_sign: f64,
+}
+
+/// A machine's profile from the knowledge base.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MachineProfile {
+    /// Machine id, e.g. `H01`.
+    pub id: MachineId,
+    /// Human name, e.g. `YK3126 CNC hobbing machine`.
+    pub name: String,
+    /// Controller dialect.
+    pub dialect: Dialect,
+    /// Axis names.
+    pub axes: AxisNames,
+    /// M-codes.
+    pub mcodes: MCodes,
+    /// Limits.
+    pub limits: MachineLimits,
+    /// Model settings.
+    pub settings: MachineSettings,
+    /// Start/end position A: X0, mm.
+    pub home_x_mm: f64,
+    /// Start/end position A: Z0, mm.
+    pub home_z_mm: f64,
+}
+
+/// A hob resolved from the library or given inline.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HobData {
+    /// Library id, or `inline` when given in the job.
+    pub id: String,
+    /// Number of starts z0.
+    pub starts: u32,
+    /// Outside diameter da0, mm.
+    pub od_mm: f64,
+    /// Normal module mn0, mm.
+    pub module_mm: f64,
+    /// Normal pressure angle α0, degrees.
+    pub pressure_angle_deg: f64,
+    /// Lead angle γ0, degrees.
+    pub lead_angle_deg: f64,
+    /// Thread hand.
+    pub hand: Hand,
+    /// Overall length, mm.
+    pub length_mm: f64,
+    /// Where the data came from.
+    pub source: Source,
+}
+
+/// The process data decided for the job.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ProcessData {
+    /// Cutting mode.
+    pub cut_mode: CutMode,
+    /// Number of cuts.
+    pub cuts: u32,
+    /// Cutting speed vc, m/min.
+    pub cutting_speed_m_min: f64,
+    /// Axial feed per workpiece revolution fa, mm/rev.
+    pub feed_mm_per_rev: f64,
+    /// Radial depth h, mm, when given; else computed by the model.
+    pub depth_mm: Option<f64>,
+    /// Safety distance added to ΔH′, mm.
+    pub safety_mm: f64,
+}
+
+/// A knowledge-base record that contributed to the plan.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CaseRef {
+    /// Record id, e.g. `CD-STEEL-HSS-1`.
+    pub id: String,
+    /// Similarity to the job, 0–1 (1 for an exact rule match).
+    pub similarity: f64,
+    /// Where the record's values come from.
+    pub provenance: String,
+}
+
+/// Message: the knowledge service's process plan for a job.
+///
+/// Key `gearcam/v1/jobs/{job}/plan`; published by the knowledge service,
+/// subscribed by the model service.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ProcessPlan {
+    /// The job's id.
+    pub job_id: JobId,
+    /// The request as submitted.
+    pub request: JobRequest,
+    /// Group-technology class, e.g. `cylindrical`.
+    pub class: String,
+    /// The machine's profile.
+    pub machine: MachineProfile,
+    /// The hob.
+    pub hob: HobData,
+    /// The process data.
+    pub process: ProcessData,
+    /// Every decided value with its source, by name (e.g. `cutting_speed_m_min`).
+    pub values: BTreeMap<String, Sourced>,
+    /// Knowledge-base records used.
+    pub cases: Vec<CaseRef>,
+    /// Confidence of the proposal, 0–1.
+    pub confidence: f64,
+}
+
+impl Message for ProcessPlan {
+    const KIND: &'static str = "process_plan";
+}
+
+impl ProcessPlan {
+    /// The hob's id as a library id, if it came from the library.
+    pub fn hob_library_id(&self) -> Option<HobId> {
+        HobId::new(self.hob.id.clone()).ok()
+    }
+}

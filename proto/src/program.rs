@@ -1,0 +1,201 @@
+//! NC programs, delivery receipts and job events.
+
+use serde::{Deserialize, Serialize};
+
+use crate::codec::Message;
+use crate::ids::{JobId, MachineId};
+use crate::plan::Dialect;
+
+/// The template that produced a program.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct TemplateRef {
+    /// Template id, e.g. `cylindrical_840d`.
+    pub id: String,
+    /// Template version.
+    pub version: u32,
+}
+
+/// Message: an NC program for one machine.
+///
+/// Key `gearcam/v1/machines/{machine}/programs/{job}`; published by the template
+/// service, subscribed by that machine's delivery agent.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NcProgram {
+    /// The job's id.
+    pub job_id: JobId,
+    /// Target machine.
+    pub machine: MachineId,
+    /// Program name under the controller's rules, e.g. `SP_1001` (stored as `_N_SP_1001_MPF` on 840D).
+    pub name: String,
+    /// Revision of this job's program, starting at 1.
+    pub revision: u32,
+    /// Dialect.
+    pub dialect: Dialect,
+    /// The program text.
+    pub text: String,
+    /// SHA-256 of `text` (UTF-8 bytes), lowercase hex.
+    pub sha256: String,
+    /// Template that produced it.
+    pub template: TemplateRef,
+    /// Part number.
+    pub part_number: String,
+    /// Knowledge-base records used.
+    pub cases: Vec<String>,
+    /// Model code version.
+    pub model_version: String,
+    /// Generator (template service) version.
+    pub generator: String,
+}
+
+impl Message for NcProgram {
+    const KIND: &'static str = "nc_program";
+}
+
+/// A delivery receipt: the agent's word that a program is durably stored.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DeliveryReceipt {
+    /// The job's id.
+    pub job_id: JobId,
+    /// The machine.
+    pub machine: MachineId,
+    /// Program name.
+    pub name: String,
+    /// File name in the program directory, e.g. `_N_SP_1001_MPF`.
+    pub file_name: String,
+    /// Absolute path of the stored file on the agent's host.
+    pub path: String,
+    /// Revision stored.
+    pub revision: u32,
+    /// SHA-256 of the stored file, lowercase hex.
+    pub sha256: String,
+    /// Size in bytes.
+    pub size_bytes: u64,
+    /// When it was stored, milliseconds since the Unix epoch.
+    pub stored_at_ms: u64,
+    /// True when this receipt answers a repeat of an already stored program.
+    pub duplicate: bool,
+}
+
+/// The stage of the pipeline an event or error comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Stage {
+    /// Planning station (job file, submission).
+    Station,
+    /// Knowledge service.
+    Knowledge,
+    /// Model service.
+    Model,
+    /// Template service.
+    Template,
+    /// Delivery agent.
+    Agent,
+}
+
+impl Stage {
+    /// The stage's name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Stage::Station => "station",
+            Stage::Knowledge => "knowledge",
+            Stage::Model => "model",
+            Stage::Template => "template",
+            Stage::Agent => "agent",
+        }
+    }
+}
+
+/// A typed error: what was wrong, where, what was expected and what was given.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JobError {
+    /// Stage that found it.
+    pub stage: Stage,
+    /// Stable code, e.g. `BASE_PITCH_MISMATCH`.
+    pub code: String,
+    /// Field concerned, e.g. `hob.module_mm`.
+    pub field: String,
+    /// The expected value or range, as text.
+    pub expected: String,
+    /// The given value, as text.
+    pub got: String,
+    /// A sentence saying what is wrong and what to do.
+    pub message: String,
+}
+
+impl std::fmt::Display for JobError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "[{}] {} {}: {} (expected {}, got {})",
+            self.stage.as_str(),
+            self.code,
+            self.field,
+            self.message,
+            self.expected,
+            self.got
+        )
+    }
+}
+
+/// What happened to a job.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum EventKind {
+    /// The knowledge service produced the plan.
+    Planned {
+        /// Hob chosen.
+        hob_id: String,
+        /// Confidence of the proposal.
+        confidence: f64,
+    },
+    /// The model service validated and computed the model.
+    Modelled {
+        /// Warnings found.
+        warnings: usize,
+    },
+    /// The template service produced the program.
+    Programmed {
+        /// Program name.
+        name: String,
+        /// Its hash.
+        sha256: String,
+    },
+    /// The agent stored the program.
+    Delivered {
+        /// The receipt.
+        receipt: DeliveryReceipt,
+    },
+    /// The job failed at a stage.
+    Failed {
+        /// Every error found.
+        errors: Vec<JobError>,
+    },
+}
+
+/// Message: an event of a job.
+///
+/// Key `gearcam/v1/jobs/{job}/events`; published by every stage, subscribed by
+/// planning stations.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JobEvent {
+    /// The job's id.
+    pub job_id: JobId,
+    /// Stage that reports.
+    pub stage: Stage,
+    /// When, milliseconds since the Unix epoch.
+    pub at_ms: u64,
+    /// What happened.
+    pub event: EventKind,
+}
+
+impl Message for JobEvent {
+    const KIND: &'static str = "job_event";
+}
+
+/// Milliseconds since the Unix epoch, for message timestamps.
+pub fn now_ms() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_millis() as u64)
+        .unwrap_or(0)
+}
