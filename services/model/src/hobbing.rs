@@ -1,0 +1,656 @@
+//! The hobbing model of a cylindrical gear (SPEC §4.3, patent step 3): hob
+//! swivel, approach clearance ΔH′, the five cycle positions A–E, speeds, feed,
+//! differential, gearbox coupling and machining time.
+//!
+//! Everything here assumes a plan that [`crate::validate::validate`] accepted;
+//! on other input the results may be non-finite, never a panic.
+
+use std::f64::consts::PI;
+
+use gearcam_proto::{
+    CutMode, GearSpec, Geometry, HobData, Kinematics, Position, Positions, ProcessPlan, Ratio,
+};
+use nalgebra::{Matrix4, Vector4};
+
+use crate::geometry::{is_spur, lead_mm};
+
+/// Samples of the dense scan for ΔH′ before golden-section refinement.
+pub const CLEARANCE_SAMPLES: usize = 512;
+
+/// Hob reference diameter d0 = z0·mn0 / sin γ0, mm (SPEC §4.2 check 4).
+pub fn hob_reference_diameter_mm(hob: &HobData) -> f64 {
+    f64::from(hob.starts) * hob.module_mm / hob.lead_angle_deg.to_radians().sin()
+}
+
+/// The blank outside diameter used: the job's `blank_od_mm`, or the theoretical
+/// tip diameter da when the job gives none.
+pub fn blank_od_mm(gear: &GearSpec, geometry: &Geometry) -> f64 {
+    gear.blank_od_mm.unwrap_or(geometry.da_mm)
+}
+
+/// Theoretical centre distance of hob and gear (SPEC §4.2 check 5), mm:
+/// d0/2 + (d·cos αn / cos α0)/2 + x·mn.
+pub fn theoretical_centre_distance_mm(gear: &GearSpec, geometry: &Geometry, hob: &HobData) -> f64 {
+    let cos_ratio =
+        gear.pressure_angle_deg.to_radians().cos() / hob.pressure_angle_deg.to_radians().cos();
+    hob_reference_diameter_mm(hob) / 2.0
+        + geometry.d_mm * cos_ratio / 2.0
+        + gear.profile_shift * gear.module_mm
+}
+
+/// The radial set-up of a job: blank, depth and centre distances, mm.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Setup {
+    /// Blank outside diameter Da1 (see [`blank_od_mm`]).
+    pub blank_od_mm: f64,
+    /// Radial depth h: `process.depth_mm`, or by default the depth that makes
+    /// the final centre distance equal the theoretical one.
+    pub depth_mm: f64,
+    /// True when the depth came from the plan, false when it is the default.
+    pub depth_given: bool,
+    /// Final centre distance L = (da0 + Da1)/2 − h.
+    pub centre_distance_mm: f64,
+    /// Theoretical centre distance (see [`theoretical_centre_distance_mm`]).
+    pub theoretical_centre_distance_mm: f64,
+    /// Hob reference diameter d0 (see [`hob_reference_diameter_mm`]).
+    pub hob_reference_diameter_mm: f64,
+}
+
+/// Blank, depth and centre distance of a plan. The default depth is
+/// h = (da0 + Da1)/2 − L_theory (SPEC §4.2 check 1).
+pub fn setup(plan: &ProcessPlan, geometry: &Geometry) -> Setup {
+    let gear = &plan.request.spec.gear;
+    let hob = &plan.hob;
+    let blank = blank_od_mm(gear, geometry);
+    let theory = theoretical_centre_distance_mm(gear, geometry, hob);
+    let outer = (hob.od_mm + blank) / 2.0;
+    let (depth, given) = match plan.process.depth_mm {
+        Some(h) => (h, true),
+        None => (outer - theory, false),
+    };
+    Setup {
+        blank_od_mm: blank,
+        depth_mm: depth,
+        depth_given: given,
+        centre_distance_mm: outer - depth,
+        theoretical_centre_distance_mm: theory,
+        hob_reference_diameter_mm: hob_reference_diameter_mm(hob),
+    }
+}
+
+/// True when gear helix and hob thread have the same hand. A spur gear (or a
+/// gear without a hand, which validation only allows for spur gears) takes the
+/// same-hand branch.
+pub fn same_hand(gear: &GearSpec, hob: &HobData) -> bool {
+    match gear.helix_hand {
+        Some(hand) if !is_spur(gear) => hand == hob.hand,
+        _ => true,
+    }
+}
+
+/// Swivel angle γ of the hob head, degrees (patent step 3①):
+/// γ = −(|β| − |γ0|) for same hands, γ = −(|β| + |γ0|) for opposite hands.
+///
+/// A spur gear takes the same-hand branch, so γ = +|γ0|: the hob is tilted by
+/// its own lead angle so that its thread runs parallel to the gear axis.
+pub fn swivel_deg(gear: &GearSpec, hob: &HobData) -> f64 {
+    let beta = gear.helix_angle_deg.abs();
+    let gamma0 = hob.lead_angle_deg.abs();
+    if same_hand(gear, hob) {
+        -(beta - gamma0)
+    } else {
+        -(beta + gamma0)
+    }
+}
+
+/// Sign s of the differential (patent formula ③): conventional cut with same
+/// hands +1, with opposite hands −1; a climb cut reverses both.
+pub fn differential_sign(gear: &GearSpec, hob: &HobData, mode: CutMode) -> f64 {
+    let same = same_hand(gear, hob);
+    match (mode, same) {
+        (CutMode::Conventional, true) | (CutMode::Climb, false) => 1.0,
+        (CutMode::Conventional, false) | (CutMode::Climb, true) => -1.0,
+    }
+}
+
+/// The patent's homogeneous transform from the hob frame (Xd, Yd, Zd; Yd the
+/// hob axis, tilted by γ against the gear end face) to the gear frame
+/// (Xg, Yg, Zg; Zg the gear axis), with the hob centre at (L, 0, Z0):
+///
+/// ```text
+/// ⎡Xg⎤   ⎡−1    0      0    L ⎤ ⎡Xd⎤
+/// ⎢Yg⎥ = ⎢ 0  cos γ  sin γ  0 ⎥ ⎢Yd⎥
+/// ⎢Zg⎥   ⎢ 0 −sin γ  cos γ  Z0⎥ ⎢Zd⎥
+/// ⎣1 ⎦   ⎣ 0    0      0    1 ⎦ ⎣1 ⎦
+/// ```
+pub fn hob_to_gear(swivel_deg: f64, centre_distance_mm: f64, hob_height_mm: f64) -> Matrix4<f64> {
+    let (s, c) = swivel_deg.to_radians().sin_cos();
+    #[rustfmt::skip]
+    let m = Matrix4::new(
+        -1.0, 0.0, 0.0, centre_distance_mm,
+        0.0, c, s, 0.0,
+        0.0, -s, c, hob_height_mm,
+        0.0, 0.0, 0.0, 1.0,
+    );
+    m
+}
+
+/// The approach-clearance problem: where the tilted hob first touches the blank.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Clearance {
+    /// Blank outside diameter Da1, mm (R = Da1/2).
+    pub blank_od_mm: f64,
+    /// Hob outside diameter da0, mm (r = da0/2).
+    pub hob_od_mm: f64,
+    /// Radial depth h, mm (L = R + r − h).
+    pub depth_mm: f64,
+    /// Hob swivel γ, degrees; only |γ| matters.
+    pub swivel_deg: f64,
+    /// Usable hob length, mm; contact points beyond ±length/2 from the hob
+    /// centre along its axis are not on the hob.
+    pub hob_length_mm: f64,
+}
+
+/// The solution of a [`Clearance`] problem.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClearanceSolution {
+    /// ΔH′ = max ΔH(x), mm (no safety distance).
+    pub clearance_mm: f64,
+    /// The hob-frame x of the first contact point, mm.
+    pub x_mm: f64,
+    /// The hob-axial coordinate y of the first contact point, mm.
+    pub hob_axial_mm: f64,
+    /// True when no contact point lay within the hob length, so the maximum
+    /// was taken without the length bound (the larger, safe value).
+    pub length_bound_ignored: bool,
+}
+
+impl Clearance {
+    fn radii(&self) -> (f64, f64, f64) {
+        let big_r = self.blank_od_mm / 2.0;
+        let r = self.hob_od_mm / 2.0;
+        (big_r, r, big_r + r - self.depth_mm)
+    }
+
+    /// Final centre distance L = R + r − h, mm.
+    pub fn centre_distance_mm(&self) -> f64 {
+        self.radii().2
+    }
+
+    /// The open interval (L − R, r) of x, clipped to where both roots are real.
+    pub fn domain(&self) -> (f64, f64) {
+        let (big_r, r, l) = self.radii();
+        ((l - big_r).max(-r), r.min(l + big_r))
+    }
+
+    /// ΔH(x) = √(r² − x²)·(cos γ − tan γ·sin γ) + √(R² − (L − x)²)·tan γ, mm,
+    /// exactly as SPEC §4.3 (the patent's formula), with γ taken as |γ|: a tilt
+    /// either way is physically symmetric, the contact simply moves to the
+    /// other side of the blank (y′ changes sign).
+    pub fn delta_h(&self, x: f64) -> f64 {
+        let (big_r, r, l) = self.radii();
+        let g = self.swivel_deg.abs().to_radians();
+        let (s, c) = g.sin_cos();
+        let t = g.tan();
+        let hob_root = (r * r - x * x).max(0.0).sqrt();
+        let blank_root = (big_r * big_r - (l - x) * (l - x)).max(0.0).sqrt();
+        hob_root * (c - t * s) + blank_root * t
+    }
+
+    /// Hob-axial coordinate y of the contact point at x, mm.
+    ///
+    /// The contact point has hob coordinates (x, y, z) with z = √(r² − x²) and
+    /// lies on the blank cylinder at gear coordinates Xg = L − x,
+    /// Yg = √(R² − (L − x)²). The Yg row of [`hob_to_gear`] is linear in y;
+    /// solving it gives y (the convention under which the patent's ΔH follows).
+    pub fn hob_axial_mm(&self, x: f64) -> f64 {
+        let (big_r, r, l) = self.radii();
+        let m = hob_to_gear(self.swivel_deg.abs(), l, 0.0);
+        let z = (r * r - x * x).max(0.0).sqrt();
+        let y_gear = (big_r * big_r - (l - x) * (l - x)).max(0.0).sqrt();
+        (y_gear - m[(1, 0)] * x - m[(1, 2)] * z - m[(1, 3)]) / m[(1, 1)]
+    }
+
+    /// The contact point at x in gear coordinates (hob centre at height 0).
+    pub fn contact_in_gear_frame(&self, x: f64) -> Vector4<f64> {
+        let (_, r, l) = self.radii();
+        let z = (r * r - x * x).max(0.0).sqrt();
+        let y = self.hob_axial_mm(x);
+        hob_to_gear(self.swivel_deg.abs(), l, 0.0) * Vector4::new(x, y, z, 1.0)
+    }
+
+    /// ΔH′ = max ΔH(x) over the domain: a dense scan of
+    /// [`CLEARANCE_SAMPLES`] points (end points included: ΔH is continuous,
+    /// so the supremum over the open interval is the maximum over the closed
+    /// one), then golden-section refinement on the bracket around the best
+    /// sample. Points whose contact lies beyond the hob length are skipped;
+    /// when every point does, the bound is dropped (the unbounded maximum is
+    /// never smaller, so this errs on the safe side).
+    pub fn solve(&self) -> ClearanceSolution {
+        let (lo, hi) = self.domain();
+        if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
+            // No overlap of hob and blank (h ≤ 0): nothing to clear.
+            return ClearanceSolution {
+                clearance_mm: 0.0,
+                x_mm: hi,
+                hob_axial_mm: 0.0,
+                length_bound_ignored: false,
+            };
+        }
+        let half = self.hob_length_mm / 2.0;
+        let bounded = |x: f64| {
+            if self.hob_axial_mm(x).abs() <= half {
+                self.delta_h(x)
+            } else {
+                f64::NEG_INFINITY
+            }
+        };
+        let mut best = self.maximise(lo, hi, &bounded);
+        let mut ignored = false;
+        if best.1 == f64::NEG_INFINITY {
+            best = self.maximise(lo, hi, &|x| self.delta_h(x));
+            ignored = true;
+        }
+        ClearanceSolution {
+            clearance_mm: best.1,
+            x_mm: best.0,
+            hob_axial_mm: self.hob_axial_mm(best.0),
+            length_bound_ignored: ignored,
+        }
+    }
+
+    /// Dense scan then golden section; returns (argmax, max).
+    fn maximise(&self, lo: f64, hi: f64, f: &dyn Fn(f64) -> f64) -> (f64, f64) {
+        let n = CLEARANCE_SAMPLES;
+        let step = (hi - lo) / (n - 1) as f64;
+        let at = |i: usize| if i == n - 1 { hi } else { lo + step * i as f64 };
+        let (mut best_i, mut best) = (0, f(lo));
+        for i in 1..n {
+            let v = f(at(i));
+            if v > best {
+                best_i = i;
+                best = v;
+            }
+        }
+        if best == f64::NEG_INFINITY {
+            return (lo, best);
+        }
+        let mut a = at(best_i.saturating_sub(1));
+        let mut b = at((best_i + 1).min(n - 1));
+        let inv_phi = (5f64.sqrt() - 1.0) / 2.0;
+        let mut c = b - inv_phi * (b - a);
+        let mut d = a + inv_phi * (b - a);
+        let (mut fc, mut fd) = (f(c), f(d));
+        for _ in 0..80 {
+            if b - a <= 1e-12 * (1.0 + hi.abs()) {
+                break;
+            }
+            if fc >= fd {
+                b = d;
+                d = c;
+                fd = fc;
+                c = b - inv_phi * (b - a);
+                fc = f(c);
+            } else {
+                a = c;
+                c = d;
+                fc = fd;
+                d = a + inv_phi * (b - a);
+                fd = f(d);
+            }
+        }
+        let x_mid = (a + b) / 2.0;
+        let (x_best, v_best) =
+            [(x_mid, f(x_mid)), (c, fc), (d, fd)]
+                .into_iter()
+                .fold(
+                    (at(best_i), best),
+                    |acc, p| if p.1 > acc.1 { p } else { acc },
+                );
+        (x_best, v_best)
+    }
+}
+
+fn gcd(mut a: u32, mut b: u32) -> u32 {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+/// The gearbox coupling z0 : z, reduced by the greatest common divisor and kept
+/// as exact integers.
+pub fn coupling(hob_starts: u32, teeth: u32) -> Ratio {
+    let g = gcd(hob_starts, teeth).max(1);
+    Ratio {
+        num: hob_starts / g,
+        den: teeth / g,
+    }
+}
+
+/// The hobbing kinematics of a validated plan (SPEC §4.3):
+///
+/// - swivel γ ([`swivel_deg`]), programmed as `machine.settings.swivel_sign · γ`;
+/// - ΔH′ ([`Clearance::solve`]), safety distance `process.safety_mm`;
+/// - positions with Xc = L + Δx, top = H + b + ΔH′ + safety,
+///   bottom = H − ΔH′ − safety: A = home; conventional B = (Xc + retract, top),
+///   C = (Xc, top), D = (Xc, bottom), E = (Xc + exit, bottom); climb swaps the
+///   heights of B–E (feeds up);
+/// - Nt = 1000·vc/(π·da0), Ni = z0·Nt/z; helical Nw = Ni/(1 − s·fa/Pz),
+///   differential s·360·sin|β|/(π·mn·z) °/mm; spur Nw = Ni, differential 0;
+///   Vf = fa·Nw;
+/// - cut time (b + 2·ΔH′)·z/(Nt·z0·fa) minutes.
+pub fn kinematics(plan: &ProcessPlan, geometry: &Geometry) -> Kinematics {
+    let gear = &plan.request.spec.gear;
+    let hob = &plan.hob;
+    let process = &plan.process;
+    let machine = &plan.machine;
+    let set = setup(plan, geometry);
+
+    let gamma = swivel_deg(gear, hob);
+    let clearance = Clearance {
+        blank_od_mm: set.blank_od_mm,
+        hob_od_mm: hob.od_mm,
+        depth_mm: set.depth_mm,
+        swivel_deg: gamma,
+        hob_length_mm: hob.length_mm,
+    }
+    .solve()
+    .clearance_mm;
+    let safety = process.safety_mm;
+
+    let xc = set.centre_distance_mm + gear.od_correction_mm;
+    let b = gear.face_width_mm;
+    let top = gear.fixture_height_mm + b + clearance + safety;
+    let bottom = gear.fixture_height_mm - clearance - safety;
+    let (start, end) = match process.cut_mode {
+        CutMode::Conventional => (top, bottom),
+        CutMode::Climb => (bottom, top),
+    };
+    let p = |x_mm, z_mm| Position { x_mm, z_mm };
+    let positions = Positions {
+        A: p(machine.home_x_mm, machine.home_z_mm),
+        B: p(xc + machine.settings.retract_mm, start),
+        C: p(xc, start),
+        D: p(xc, end),
+        E: p(xc + machine.settings.exit_mm, end),
+    };
+
+    let z = f64::from(gear.teeth);
+    let z0 = f64::from(hob.starts);
+    let fa = process.feed_mm_per_rev;
+    let hob_rpm = 1000.0 * process.cutting_speed_m_min / (PI * hob.od_mm);
+    let index_rpm = z0 * hob_rpm / z;
+    let (table_rpm, differential) = match lead_mm(gear) {
+        None => (index_rpm, 0.0),
+        Some(pz) => {
+            let s = differential_sign(gear, hob, process.cut_mode);
+            let beta = gear.helix_angle_deg.abs().to_radians();
+            (
+                index_rpm / (1.0 - s * fa / pz),
+                s * 360.0 * beta.sin() / (PI * gear.module_mm * z),
+            )
+        }
+    };
+
+    Kinematics {
+        swivel_deg: gamma,
+        swivel_axis_deg: machine.settings.swivel_sign * gamma,
+        clearance_mm: clearance,
+        safety_mm: safety,
+        centre_distance_mm: set.centre_distance_mm,
+        depth_mm: set.depth_mm,
+        blank_od_mm: set.blank_od_mm,
+        positions,
+        hob_rpm,
+        index_rpm,
+        table_rpm,
+        axial_feed_mm_min: fa * table_rpm,
+        differential_deg_per_mm: differential,
+        coupling: coupling(hob.starts, gear.teeth),
+        cut_time_min: (b + 2.0 * clearance) * z / (hob_rpm * z0 * fa),
+        cut_mode: process.cut_mode,
+        cuts: process.cuts,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures;
+    use crate::geometry::geometry;
+    use approx::assert_relative_eq;
+    use gearcam_proto::Hand;
+
+    fn kin(plan: &ProcessPlan) -> Kinematics {
+        kinematics(plan, &geometry(&plan.request.spec.gear))
+    }
+
+    #[test]
+    fn spec_worked_self_check_helical() {
+        // SPEC §4.3 worked self-check: da0 80, vc 100, z0 1, z 25, fa 2, mn 3, β 15°
+        // → Nt 397.887 rpm, Ni 15.9155 rpm, differential 0.395446 °/mm.
+        let k = kin(&fixtures::helical_plan(15.0, Hand::Right));
+        assert_relative_eq!(k.hob_rpm, 397.887, epsilon = 5e-4);
+        assert_relative_eq!(k.index_rpm, 15.9155, epsilon = 5e-5);
+        assert_relative_eq!(k.differential_deg_per_mm, 0.395446, epsilon = 5e-7);
+        // Same hands, conventional: s = +1, Pz = π·3·25/sin 15° = 910.3657 mm,
+        // Nw = Ni/(1 − 2/Pz) (independent Python computation).
+        assert_relative_eq!(k.table_rpm, 15.950_536_430_075, epsilon = 1e-9);
+        assert_relative_eq!(k.axial_feed_mm_min, 31.901_072_860_149, epsilon = 1e-9);
+    }
+
+    #[test]
+    fn spur_feed_is_fa_times_index_speed() {
+        // SPEC §4.3: spur Vf = fa·z0·Nt/z = 2·15.9155 = 31.831 mm/min, no differential.
+        let k = kin(&fixtures::plan());
+        assert_relative_eq!(k.axial_feed_mm_min, 31.831, epsilon = 5e-4);
+        assert_eq!(k.table_rpm, k.index_rpm);
+        assert_eq!(k.differential_deg_per_mm, 0.0);
+    }
+
+    #[test]
+    fn differential_sign_follows_hands_and_cut_mode() {
+        // Independent Python values: opposite hands or climb cut give s = −1.
+        let opposite = kin(&fixtures::helical_plan(15.0, Hand::Left));
+        assert_relative_eq!(
+            opposite.differential_deg_per_mm,
+            -0.395_446_371_786,
+            epsilon = 1e-9
+        );
+        assert_relative_eq!(opposite.table_rpm, 15.880_605_820_559, epsilon = 1e-9);
+        let mut climb = fixtures::helical_plan(15.0, Hand::Right);
+        climb.process.cut_mode = CutMode::Climb;
+        let k = kin(&climb);
+        assert_relative_eq!(
+            k.differential_deg_per_mm,
+            -0.395_446_371_786,
+            epsilon = 1e-9
+        );
+        assert_relative_eq!(k.axial_feed_mm_min, 31.761_211_641_118, epsilon = 1e-9);
+        let mut climb_opposite = fixtures::helical_plan(15.0, Hand::Left);
+        climb_opposite.process.cut_mode = CutMode::Climb;
+        assert_relative_eq!(
+            kin(&climb_opposite).differential_deg_per_mm,
+            0.395_446_371_786,
+            epsilon = 1e-9
+        );
+    }
+
+    #[test]
+    fn swivel_by_hands_and_spur() {
+        let hob = fixtures::hob();
+        let mut g = fixtures::gear();
+        // Spur: same-hand branch, γ = +γ0.
+        assert_relative_eq!(swivel_deg(&g, &hob), 2.3716, epsilon = 1e-12);
+        g.helix_angle_deg = 15.0;
+        g.helix_hand = Some(Hand::Right);
+        assert_relative_eq!(swivel_deg(&g, &hob), -12.6284, epsilon = 1e-12);
+        g.helix_hand = Some(Hand::Left);
+        assert_relative_eq!(swivel_deg(&g, &hob), -17.3716, epsilon = 1e-12);
+        let mut plan = fixtures::helical_plan(15.0, Hand::Left);
+        plan.machine.settings.swivel_sign = -1.0;
+        let k = kin(&plan);
+        assert_relative_eq!(k.swivel_deg, -17.3716, epsilon = 1e-12);
+        assert_relative_eq!(k.swivel_axis_deg, 17.3716, epsilon = 1e-12);
+    }
+
+    #[test]
+    fn clearance_without_swivel_is_the_approach_length() {
+        // SPEC §4.3: for γ = 0, ΔH′ = √(h·(da0 − h)).
+        let c = Clearance {
+            blank_od_mm: 81.0,
+            hob_od_mm: 80.0,
+            depth_mm: 6.75,
+            swivel_deg: 0.0,
+            hob_length_mm: 100.0,
+        };
+        let s = c.solve();
+        assert_relative_eq!(
+            s.clearance_mm,
+            (6.75f64 * (80.0 - 6.75)).sqrt(),
+            epsilon = 1e-9
+        );
+        assert_relative_eq!(s.clearance_mm, 22.235_950_620_560, epsilon = 1e-9);
+        assert!(!s.length_bound_ignored);
+    }
+
+    #[test]
+    fn clearance_matches_brute_force_for_helical_gears() {
+        // Independent Python brute force over 10⁶ points of the SPEC formula.
+        let k = kin(&fixtures::helical_plan(15.0, Hand::Right));
+        assert_relative_eq!(k.clearance_mm, 21.344_570_651_702, epsilon = 1e-7);
+        let k = kin(&fixtures::helical_plan(15.0, Hand::Left));
+        assert_relative_eq!(k.clearance_mm, 20.635_723_184_063, epsilon = 1e-7);
+        // A tilt either way gives the same clearance.
+        let mut c = Clearance {
+            blank_od_mm: 85.0,
+            hob_od_mm: 80.0,
+            depth_mm: 6.75,
+            swivel_deg: 17.0,
+            hob_length_mm: 100.0,
+        };
+        let plus = c.solve().clearance_mm;
+        c.swivel_deg = -17.0;
+        assert_eq!(c.solve().clearance_mm, plus);
+    }
+
+    #[test]
+    fn short_hob_bounds_the_contact_point() {
+        // β 20° same hands, γ = −17.6284°: the free maximum lies at y = 3.25 mm
+        // on the hob; a 4 mm hob reaches only y = 2 mm (Python brute force).
+        let mut plan = fixtures::helical_plan(20.0, Hand::Right);
+        let free = kin(&plan).clearance_mm;
+        assert_relative_eq!(free, 20.631_935_817_636, epsilon = 1e-7);
+        plan.hob.length_mm = 4.0;
+        let k = kin(&plan);
+        assert_relative_eq!(k.clearance_mm, 20.607_335_285_218, epsilon = 1e-6);
+        let geo = geometry(&plan.request.spec.gear);
+        let set = setup(&plan, &geo);
+        let s = Clearance {
+            blank_od_mm: set.blank_od_mm,
+            hob_od_mm: 80.0,
+            depth_mm: set.depth_mm,
+            swivel_deg: k.swivel_deg,
+            hob_length_mm: 4.0,
+        }
+        .solve();
+        assert!(s.hob_axial_mm.abs() <= 2.0, "{s:?}");
+        assert!(!s.length_bound_ignored);
+    }
+
+    #[test]
+    fn hob_too_short_for_any_contact_falls_back_to_the_free_maximum() {
+        let c = Clearance {
+            blank_od_mm: 85.0,
+            hob_od_mm: 80.0,
+            depth_mm: 6.75,
+            swivel_deg: 30.0,
+            hob_length_mm: 1e-9,
+        };
+        let bounded = c.solve();
+        let free = Clearance {
+            hob_length_mm: 1e9,
+            ..c
+        }
+        .solve();
+        assert!(bounded.length_bound_ignored);
+        assert_eq!(bounded.clearance_mm, free.clearance_mm);
+    }
+
+    #[test]
+    fn contact_point_lies_on_the_blank_cylinder() {
+        let c = Clearance {
+            blank_od_mm: 85.0,
+            hob_od_mm: 80.0,
+            depth_mm: 6.75,
+            swivel_deg: -12.0,
+            hob_length_mm: 100.0,
+        };
+        let (lo, hi) = c.domain();
+        let l = c.centre_distance_mm();
+        for i in 1..10 {
+            let x = lo + (hi - lo) * f64::from(i) / 10.0;
+            let p = c.contact_in_gear_frame(x);
+            assert_relative_eq!(p.x, l - x, epsilon = 1e-12);
+            assert_relative_eq!(p.x * p.x + p.y * p.y, 42.5 * 42.5, epsilon = 1e-9);
+            // ΔH = y·sin γ + z·cos γ, the patent's definition, equals the closed form.
+            let g = 12f64.to_radians();
+            let z = (40.0f64 * 40.0 - x * x).sqrt();
+            let y = c.hob_axial_mm(x);
+            assert_relative_eq!(y * g.sin() + z * g.cos(), c.delta_h(x), epsilon = 1e-9);
+        }
+    }
+
+    #[test]
+    fn positions_conventional_and_climb() {
+        // Python reference: L 73.749037, ΔH′ 22.203502, top = 50 + 30 + ΔH′ + 2.
+        let plan = fixtures::plan();
+        let p = kin(&plan).positions;
+        let (xc, top, bottom) = (73.749_036_780_371, 104.203_501_681_800, 25.796_498_318_200);
+        assert_eq!((p.A.x_mm, p.A.z_mm), (300.0, 350.0));
+        assert_relative_eq!(p.B.x_mm, xc + 100.0, epsilon = 1e-9);
+        assert_relative_eq!(p.B.z_mm, top, epsilon = 1e-7);
+        assert_relative_eq!(p.C.x_mm, xc, epsilon = 1e-9);
+        assert_relative_eq!(p.C.z_mm, top, epsilon = 1e-7);
+        assert_relative_eq!(p.D.x_mm, xc, epsilon = 1e-9);
+        assert_relative_eq!(p.D.z_mm, bottom, epsilon = 1e-7);
+        assert_relative_eq!(p.E.x_mm, xc + 5.0, epsilon = 1e-9);
+        assert_relative_eq!(p.E.z_mm, bottom, epsilon = 1e-7);
+
+        let mut climb = fixtures::plan();
+        climb.process.cut_mode = CutMode::Climb;
+        climb.request.spec.gear.od_correction_mm = 0.1;
+        let q = kin(&climb).positions;
+        assert_relative_eq!(q.B.x_mm, xc + 100.1, epsilon = 1e-9);
+        assert_relative_eq!(q.B.z_mm, bottom, epsilon = 1e-7);
+        assert_relative_eq!(q.C.z_mm, bottom, epsilon = 1e-7);
+        assert_relative_eq!(q.D.z_mm, top, epsilon = 1e-7);
+        assert_relative_eq!(q.E.x_mm, xc + 5.1, epsilon = 1e-9);
+        assert_relative_eq!(q.E.z_mm, top, epsilon = 1e-7);
+    }
+
+    #[test]
+    fn given_depth_sets_the_centre_distance() {
+        let mut plan = fixtures::plan();
+        plan.process.depth_mm = Some(6.0);
+        let k = kin(&plan);
+        // L = (80 + 81)/2 − 6 = 74.5.
+        assert_relative_eq!(k.centre_distance_mm, 74.5, epsilon = 1e-12);
+        assert_eq!(k.depth_mm, 6.0);
+    }
+
+    #[test]
+    fn coupling_is_reduced_and_exact() {
+        assert_eq!(coupling(1, 25), Ratio { num: 1, den: 25 });
+        assert_eq!(coupling(2, 40), Ratio { num: 1, den: 20 });
+        assert_eq!(coupling(3, 40), Ratio { num: 3, den: 40 });
+    }
+
+    #[test]
+    fn cut_time_is_axial_travel_over_feed_rate() {
+        // (b + 2ΔH′)·z/(Nt·z0·fa) with the Python reference values.
+        let k = kin(&fixtures::plan());
+        assert_relative_eq!(k.cut_time_min, 2.337_564_951_427, epsilon = 1e-7);
+    }
+}
