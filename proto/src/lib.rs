@@ -10,6 +10,7 @@
 //! - [`plan`]: machine profiles, hobs, the [`ProcessPlan`].
 //! - [`model`]: geometry and the [`MachiningModel`].
 //! - [`program`]: [`NcProgram`], [`DeliveryReceipt`], [`JobEvent`] and typed [`JobError`]s.
+//! - [`naming`]: controllers' program naming rules.
 //! - [`error`]: id and codec errors.
 //!
 //! `proto/README.md` documents the same for readers in other languages.
@@ -21,6 +22,7 @@ pub mod ids;
 pub mod job;
 pub mod keys;
 pub mod model;
+pub mod naming;
 pub mod plan;
 pub mod program;
 

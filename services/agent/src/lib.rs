@@ -1,1 +1,36 @@
-//! placeholder
+//! The delivery agent beside a machine: receives its machine's NC programs,
+//! stores them durably in the controller's program directory under the
+//! controller's naming rule with an SQLite index row, and sends a receipt.
+//!
+//! # Layout
+//!
+//! - [`store`]: the part-program store (atomic file write, index, idempotency,
+//!   conflict detection).
+//! - [`service`]: the Zenoh stage: `NcProgram` in, `delivered` event with the
+//!   receipt out.
+#![forbid(unsafe_code)]
+
+pub mod service;
+pub mod store;
+
+use thiserror::Error;
+
+/// Errors of the agent.
+#[derive(Debug, Error)]
+pub enum AgentError {
+    /// The index database failed.
+    #[error("program index (SQLite): {0}")]
+    Sqlite(#[from] rusqlite::Error),
+    /// A file or directory failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The path.
+        path: String,
+        /// The error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The bus failed.
+    #[error(transparent)]
+    Bus(#[from] gearcam_bus::BusError),
+}

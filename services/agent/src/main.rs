@@ -1,1 +1,65 @@
-fn main() {}
+//! `gearcam-agent`: the delivery agent of one machine as its own process.
+
+use std::path::PathBuf;
+
+use clap::Parser;
+use gearcam_agent::service::run;
+use gearcam_agent::store::StoreConfig;
+use gearcam_bus::{cancel_on_signal, init_tracing, Bus, BusArgs};
+use gearcam_proto::{Dialect, MachineId};
+
+/// Controller dialects an agent can store for.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+enum DialectArg {
+    Sinumerik840d,
+    Fanuc,
+    Linuxcnc,
+    Wire3b,
+}
+
+/// The gearcam delivery agent of one machine.
+#[derive(Debug, Parser)]
+#[command(version, about)]
+struct Args {
+    #[command(flatten)]
+    bus: BusArgs,
+    /// The machine this agent serves, e.g. H01.
+    #[arg(long)]
+    machine: MachineId,
+    /// The machine controller's dialect.
+    #[arg(long, value_enum, default_value = "sinumerik840d")]
+    dialect: DialectArg,
+    /// Directory the controller reads programs from.
+    #[arg(long)]
+    program_dir: PathBuf,
+    /// SQLite program index (default: index.db beside the program directory).
+    #[arg(long)]
+    index: Option<PathBuf>,
+}
+
+#[tokio::main(flavor = "multi_thread")]
+async fn main() -> anyhow::Result<()> {
+    init_tracing("gearcam_agent=info,gearcam_bus=info");
+    let args = Args::parse();
+    let index_path = args.index.clone().unwrap_or_else(|| {
+        args.program_dir
+            .parent()
+            .map(|p| p.join("index.db"))
+            .unwrap_or_else(|| "index.db".into())
+    });
+    let dialect = match args.dialect {
+        DialectArg::Sinumerik840d => Dialect::Sinumerik840d,
+        DialectArg::Fanuc => Dialect::Fanuc,
+        DialectArg::Linuxcnc => Dialect::Linuxcnc,
+        DialectArg::Wire3b => Dialect::Wire3b,
+    };
+    let bus = Bus::open(&args.bus.to_config()).await?;
+    let config = StoreConfig {
+        machine: args.machine,
+        dialect,
+        program_dir: args.program_dir,
+        index_path,
+    };
+    run(bus, config, cancel_on_signal()).await?;
+    Ok(())
+}

@@ -1,0 +1,394 @@
+//! The machine's part-program store: program files in the directory the
+//! controller reads, plus an SQLite index. Writes are atomic and durable
+//! before a receipt is given.
+//!
+//! Order of a write: temporary file in the same directory, write, fsync,
+//! rename over the final name, fsync the directory, then the index row in a
+//! synchronous (FULL) SQLite transaction. A repeat of the same job + revision +
+//! hash is answered with the original receipt; a program changed at the
+//! machine (file hash differs from the index) is never overwritten.
+
+use std::fs::{self, File};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use gearcam_proto::{
+    naming, now_ms, DeliveryReceipt, Dialect, JobError, MachineId, NcProgram, Stage,
+};
+use rusqlite::{params, Connection, OptionalExtension};
+use sha2::{Digest, Sha256};
+
+use crate::AgentError;
+
+/// Largest program the store accepts, bytes.
+pub const MAX_PROGRAM_BYTES: usize = 1024 * 1024;
+
+/// Configuration of a store.
+#[derive(Debug, Clone)]
+pub struct StoreConfig {
+    /// The machine this store belongs to.
+    pub machine: MachineId,
+    /// The controller's dialect (decides the naming rule).
+    pub dialect: Dialect,
+    /// Directory the controller reads programs from.
+    pub program_dir: PathBuf,
+    /// SQLite index file.
+    pub index_path: PathBuf,
+}
+
+/// A machine's program store.
+#[derive(Debug)]
+pub struct Store {
+    config: StoreConfig,
+    conn: Connection,
+}
+
+/// Lowercase hex SHA-256 of bytes.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    hex::encode(Sha256::digest(bytes))
+}
+
+fn refuse(
+    code: &str,
+    field: &str,
+    expected: impl Into<String>,
+    got: impl Into<String>,
+    message: impl Into<String>,
+) -> JobError {
+    JobError {
+        stage: Stage::Agent,
+        code: code.into(),
+        field: field.into(),
+        expected: expected.into(),
+        got: got.into(),
+        message: message.into(),
+    }
+}
+
+impl Store {
+    /// Opens (creating if needed) the store.
+    pub fn open(config: StoreConfig) -> Result<Store, AgentError> {
+        let io = |p: &Path| {
+            let p = p.display().to_string();
+            move |e| AgentError::Io { path: p, source: e }
+        };
+        fs::create_dir_all(&config.program_dir).map_err(io(&config.program_dir))?;
+        if let Some(dir) = config.index_path.parent() {
+            fs::create_dir_all(dir).map_err(io(dir))?;
+        }
+        let conn = Connection::open(&config.index_path)?;
+        conn.pragma_update(None, "journal_mode", "WAL")?;
+        conn.pragma_update(None, "synchronous", "FULL")?;
+        conn.busy_timeout(std::time::Duration::from_secs(5))?;
+        conn.execute_batch(
+            "CREATE TABLE IF NOT EXISTS programs (
+                 seq          INTEGER PRIMARY KEY AUTOINCREMENT,
+                 name         TEXT NOT NULL,
+                 file_name    TEXT NOT NULL,
+                 job          TEXT NOT NULL,
+                 revision     INTEGER NOT NULL,
+                 sha256       TEXT NOT NULL,
+                 size_bytes   INTEGER NOT NULL,
+                 dialect      TEXT NOT NULL,
+                 stored_at_ms INTEGER NOT NULL,
+                 state        TEXT NOT NULL,
+                 UNIQUE (job, revision)
+             );
+             CREATE INDEX IF NOT EXISTS programs_by_file ON programs (file_name, seq);",
+        )?;
+        Ok(Store { config, conn })
+    }
+
+    /// The store's configuration.
+    pub fn config(&self) -> &StoreConfig {
+        &self.config
+    }
+
+    fn receipt_from_row(
+        &self,
+        r: &rusqlite::Row<'_>,
+        duplicate: bool,
+    ) -> rusqlite::Result<DeliveryReceipt> {
+        let file_name: String = r.get("file_name")?;
+        Ok(DeliveryReceipt {
+            job_id: gearcam_proto::JobId::new(r.get::<_, String>("job")?).map_err(|e| {
+                rusqlite::Error::FromSqlConversionFailure(
+                    0,
+                    rusqlite::types::Type::Text,
+                    Box::new(e),
+                )
+            })?,
+            machine: self.config.machine.clone(),
+            name: r.get("name")?,
+            path: self
+                .config
+                .program_dir
+                .join(&file_name)
+                .display()
+                .to_string(),
+            file_name,
+            revision: r.get("revision")?,
+            sha256: r.get("sha256")?,
+            size_bytes: r.get::<_, i64>("size_bytes")? as u64,
+            stored_at_ms: r.get::<_, i64>("stored_at_ms")? as u64,
+            duplicate,
+        })
+    }
+
+    /// Validates and stores a program; returns the receipt once the file and
+    /// the index row are durable, or a typed refusal.
+    pub fn store(&mut self, p: &NcProgram) -> Result<DeliveryReceipt, JobError> {
+        if p.machine != self.config.machine {
+            return Err(refuse(
+                "WRONG_MACHINE",
+                "machine",
+                self.config.machine.to_string(),
+                p.machine.to_string(),
+                "this agent stores programs for its own machine only",
+            ));
+        }
+        if p.dialect != self.config.dialect {
+            return Err(refuse(
+                "WRONG_DIALECT",
+                "dialect",
+                self.config.dialect.as_str(),
+                p.dialect.as_str(),
+                "the program is written for another controller",
+            ));
+        }
+        let file_name = naming::file_name(p.dialect, &p.name).map_err(|rule| {
+            refuse(
+                "BAD_PROGRAM_NAME",
+                "name",
+                rule.clone(),
+                p.name.clone(),
+                format!("program name refused: {rule}"),
+            )
+        })?;
+        if p.text.len() > MAX_PROGRAM_BYTES {
+            return Err(refuse(
+                "PROGRAM_TOO_LARGE",
+                "text",
+                format!("at most {MAX_PROGRAM_BYTES} bytes"),
+                format!("{} bytes", p.text.len()),
+                "the program exceeds the store's size limit",
+            ));
+        }
+        let hash = sha256_hex(p.text.as_bytes());
+        if hash != p.sha256 {
+            return Err(refuse(
+                "HASH_MISMATCH",
+                "sha256",
+                hash,
+                p.sha256.clone(),
+                "the program text does not match its hash; it was damaged on the way",
+            ));
+        }
+        let db_err = |e: rusqlite::Error| {
+            refuse(
+                "STORE_INDEX_ERROR",
+                "-",
+                "a writable index",
+                e.to_string(),
+                "the program index could not be read or written",
+            )
+        };
+
+        // Idempotency: the same job and revision.
+        let existing = self
+            .conn
+            .query_row(
+                "SELECT * FROM programs WHERE job = ?1 AND revision = ?2",
+                params![p.job_id.as_str(), p.revision],
+                |r| {
+                    Ok((
+                        r.get::<_, String>("sha256")?,
+                        self.receipt_from_row(r, true)?,
+                    ))
+                },
+            )
+            .optional()
+            .map_err(db_err)?;
+        if let Some((stored_hash, receipt)) = existing {
+            if stored_hash == hash {
+                return Ok(receipt);
+            }
+            return Err(refuse(
+                "REVISION_CONFLICT",
+                "revision",
+                format!("content with sha256 {stored_hash}"),
+                format!("sha256 {hash}"),
+                "this job revision was already stored with different content; send a new revision",
+            ));
+        }
+
+        // A program changed at the machine is never overwritten silently.
+        let path = self.config.program_dir.join(&file_name);
+        if path.exists() {
+            let on_disk = fs::read(&path).map_err(|e| {
+                refuse(
+                    "STORE_IO_ERROR",
+                    "-",
+                    "a readable file",
+                    e.to_string(),
+                    format!("cannot read {}", path.display()),
+                )
+            })?;
+            let disk_hash = sha256_hex(&on_disk);
+            let indexed: Option<String> = self
+                .conn
+                .query_row(
+                    "SELECT sha256 FROM programs WHERE file_name = ?1 ORDER BY seq DESC LIMIT 1",
+                    [&file_name],
+                    |r| r.get(0),
+                )
+                .optional()
+                .map_err(db_err)?;
+            if indexed.as_deref() != Some(disk_hash.as_str()) {
+                return Err(refuse(
+                    "PROGRAM_CHANGED_AT_MACHINE",
+                    "name",
+                    format!("{file_name} unchanged since gearcam stored it"),
+                    format!("a file with sha256 {disk_hash}"),
+                    "the program on the machine was changed or created there; it was kept; resolve the conflict at the machine",
+                ));
+            }
+        }
+
+        write_atomically(&self.config.program_dir, &file_name, p.text.as_bytes()).map_err(|e| {
+            refuse(
+                "STORE_IO_ERROR",
+                "-",
+                "a writable program directory",
+                e.to_string(),
+                format!("cannot write {}", path.display()),
+            )
+        })?;
+        let stored_at = now_ms();
+        self.conn
+            .execute(
+                "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'stored')",
+                params![p.name, file_name, p.job_id.as_str(), p.revision, hash, p.text.len() as i64, p.dialect.as_str(), stored_at as i64],
+            )
+            .map_err(db_err)?;
+        Ok(DeliveryReceipt {
+            job_id: p.job_id.clone(),
+            machine: self.config.machine.clone(),
+            name: p.name.clone(),
+            path: path.display().to_string(),
+            file_name,
+            revision: p.revision,
+            sha256: hash,
+            size_bytes: p.text.len() as u64,
+            stored_at_ms: stored_at,
+            duplicate: false,
+        })
+    }
+}
+
+/// Writes `bytes` to `dir/file_name` atomically and durably.
+fn write_atomically(dir: &Path, file_name: &str, bytes: &[u8]) -> std::io::Result<()> {
+    let tmp = dir.join(format!(".{file_name}.tmp-{}", std::process::id()));
+    {
+        let mut f = File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+    }
+    fs::rename(&tmp, dir.join(file_name))?;
+    File::open(dir)?.sync_all()?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gearcam_proto::{JobId, TemplateRef};
+
+    fn store(dir: &Path) -> Store {
+        Store::open(StoreConfig {
+            machine: MachineId::new("H01").unwrap(),
+            dialect: Dialect::Sinumerik840d,
+            program_dir: dir.join("programs"),
+            index_path: dir.join("index.db"),
+        })
+        .unwrap()
+    }
+
+    fn program(job: &str, name: &str, text: &str) -> NcProgram {
+        NcProgram {
+            job_id: JobId::new(job).unwrap(),
+            machine: MachineId::new("H01").unwrap(),
+            name: name.into(),
+            revision: 1,
+            dialect: Dialect::Sinumerik840d,
+            text: text.into(),
+            sha256: sha256_hex(text.as_bytes()),
+            template: TemplateRef {
+                id: "t".into(),
+                version: 1,
+            },
+            part_number: "P".into(),
+            cases: vec![],
+            model_version: "m".into(),
+            generator: "g".into(),
+        }
+    }
+
+    #[test]
+    fn stores_file_and_index_row_and_repeats_are_idempotent() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = store(dir.path());
+        let p = program("J1", "SP_1001", "%_N_SP_1001_MPF\nM2\n");
+        let r = s.store(&p).unwrap();
+        assert!(!r.duplicate);
+        let on_disk = fs::read(dir.path().join("programs/_N_SP_1001_MPF")).unwrap();
+        assert_eq!(sha256_hex(&on_disk), r.sha256);
+        let again = s.store(&p).unwrap();
+        assert!(again.duplicate);
+        assert_eq!(again.stored_at_ms, r.stored_at_ms);
+        let rows: i64 = s
+            .conn
+            .query_row("SELECT COUNT(*) FROM programs", [], |r| r.get(0))
+            .unwrap();
+        assert_eq!(rows, 1);
+        // No temporary file is left behind.
+        let names: Vec<_> = fs::read_dir(dir.path().join("programs"))
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names, vec![std::ffi::OsString::from("_N_SP_1001_MPF")]);
+    }
+
+    #[test]
+    fn refuses_path_names_bad_hashes_and_other_machines() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = store(dir.path());
+        assert_eq!(
+            s.store(&program("J1", "../EVIL", "x")).unwrap_err().code,
+            "BAD_PROGRAM_NAME"
+        );
+        let mut p = program("J2", "SP_1", "x");
+        p.sha256 = "00".into();
+        assert_eq!(s.store(&p).unwrap_err().code, "HASH_MISMATCH");
+        let mut p = program("J3", "SP_1", "x");
+        p.machine = MachineId::new("H09").unwrap();
+        assert_eq!(s.store(&p).unwrap_err().code, "WRONG_MACHINE");
+        assert_eq!(
+            fs::read_dir(dir.path().join("programs")).unwrap().count(),
+            0
+        );
+    }
+
+    #[test]
+    fn keeps_a_program_changed_at_the_machine() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = store(dir.path());
+        s.store(&program("J1", "SP_1", "first\n")).unwrap();
+        let path = dir.path().join("programs/_N_SP_1_MPF");
+        fs::write(&path, "operator edit\n").unwrap();
+        let err = s.store(&program("J2", "SP_1", "second\n")).unwrap_err();
+        assert_eq!(err.code, "PROGRAM_CHANGED_AT_MACHINE");
+        assert_eq!(fs::read_to_string(&path).unwrap(), "operator edit\n");
+    }
+}
