@@ -1,0 +1,60 @@
+//! Errors of the template library: templates that cannot be loaded or compiled.
+//!
+//! Errors of a single job's rendering are not here: they travel to the planning
+//! station as typed [`JobError`](gearcam_proto::JobError)s.
+
+use std::path::PathBuf;
+
+use thiserror::Error;
+
+/// A template that cannot be taken into the library.
+#[derive(Debug, Error)]
+pub enum TemplateError {
+    /// The template's source does not compile (syntax error, unknown tag, ...).
+    #[error("template {id} does not compile: {source}")]
+    Syntax {
+        /// Template id, e.g. `cylindrical_840d`.
+        id: String,
+        /// What minijinja said, with the line.
+        #[source]
+        source: minijinja::Error,
+    },
+    /// The first line is not a `{# version: N #}` comment.
+    #[error(
+        "template {id} has no version line: its first line must be `{{# version: N #}}` \
+         with N a whole number ≥ 1, got {got:?}"
+    )]
+    MissingVersion {
+        /// Template id.
+        id: String,
+        /// The first line found.
+        got: String,
+    },
+    /// The template id does not name a class and a supported dialect.
+    #[error("template id {id:?} is not usable: {reason}")]
+    BadId {
+        /// The id (file name up to the first `.`).
+        id: String,
+        /// What is wrong and what is expected.
+        reason: String,
+    },
+    /// Two templates in the directory have the same id.
+    #[error("template id {id} appears twice in the template directory: {first} and {second}")]
+    DuplicateId {
+        /// The id.
+        id: String,
+        /// The first file.
+        first: PathBuf,
+        /// The second file.
+        second: PathBuf,
+    },
+    /// A template file or directory cannot be read.
+    #[error("cannot read template {path}: {source}")]
+    Io {
+        /// The path.
+        path: PathBuf,
+        /// The I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+}

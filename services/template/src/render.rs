@@ -1,0 +1,1372 @@
+//! Rendering a machining model into an NC program through a compiled template.
+//!
+//! Pure: no I/O, no async, no clock. [`Templates`] compiles every template once
+//! (the built-in ones plus any given at start, see [`crate::source`]) into one
+//! minijinja environment with
+//!
+//! - strict undefined variables (a misspelt name is an error, never an empty string),
+//! - a fuel limit ([`DEFAULT_FUEL`] instructions per render) and an output limit
+//!   ([`MAX_PROGRAM_BYTES`]), so evaluation is bounded (SPEC §6),
+//! - the NC number filters `nc` (mm, mm/min, rpm: 3 decimals), `deg` (angles:
+//!   4 decimals), `factor` (gearbox coupling factors: 6 decimals), the `comment`
+//!   filter for free text in `;` comments, and the block counter `N()`.
+//!
+//! [`Templates::render`] picks the template by (class, dialect), builds the context
+//! from the [`MachiningModel`] and returns the [`NcProgram`] with its name under the
+//! controller's rules, hash and provenance.
+
+use std::collections::BTreeMap;
+use std::io;
+
+use gearcam_proto::{Dialect, JobError, MachiningModel, NcProgram, Stage, TemplateRef};
+use minijinja::{context, AutoEscape, Environment, ErrorKind, State, UndefinedBehavior, Value};
+use sha2::{Digest, Sha256};
+
+use crate::error::TemplateError;
+
+/// The generator named in every program: this crate and its version.
+pub const GENERATOR: &str = concat!("gearcam-template ", env!("CARGO_PKG_VERSION"));
+
+/// Instructions one render may execute. The built-in cylindrical template needs
+/// well under a thousand; a template that loops without end runs out long before
+/// it could hurt the service.
+pub const DEFAULT_FUEL: u64 = 50_000;
+
+/// Largest program text a render may produce, bytes. A hobbing program is a few
+/// kilobytes; this only stops runaway expansion.
+pub const MAX_PROGRAM_BYTES: usize = 1 << 20;
+
+/// Longest 840D program name (SPEC §9), characters, without `_N_` and `_MPF`.
+pub const MAX_NAME_840D: usize = 24;
+
+/// The built-in template for cylindrical gears on SINUMERIK 840D.
+const CYLINDRICAL_840D: &str = include_str!("../templates/cylindrical_840d.mpf.j2");
+
+/// A template's source text with its id (`{class}_{dialect}`, e.g. `cylindrical_840d`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TemplateSource {
+    /// Template id: the class, `_`, the dialect suffix (`840d`).
+    pub id: String,
+    /// Source text; its first line is `{# version: N #}`.
+    pub source: String,
+}
+
+/// What the library knows about one compiled template.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct Entry {
+    class: String,
+    dialect: Dialect,
+    version: u32,
+}
+
+/// The compiled template library. Build it once at start; rendering borrows it.
+#[derive(Debug, Clone)]
+pub struct Templates {
+    env: Environment<'static>,
+    entries: BTreeMap<String, Entry>,
+}
+
+impl Templates {
+    /// The built-in templates only, with [`DEFAULT_FUEL`].
+    pub fn builtin() -> Self {
+        Self::new(Vec::new(), DEFAULT_FUEL)
+            .expect("the built-in templates compile (checked by the unit tests)")
+    }
+
+    /// The built-in templates plus `extra` (which replace built-ins of the same id),
+    /// each render bounded by `fuel` instructions.
+    pub fn new(
+        extra: impl IntoIterator<Item = TemplateSource>,
+        fuel: u64,
+    ) -> Result<Self, TemplateError> {
+        let mut sources: BTreeMap<String, String> = BTreeMap::new();
+        sources.insert("cylindrical_840d".into(), CYLINDRICAL_840D.into());
+        for s in extra {
+            sources.insert(s.id, s.source);
+        }
+        let mut env = base_environment(fuel);
+        let mut entries = BTreeMap::new();
+        for (id, source) in sources {
+            let (class, dialect) = parse_id(&id)?;
+            let version = parse_version(&id, &source)?;
+            env.add_template_owned(id.clone(), source)
+                .map_err(|source| TemplateError::Syntax {
+                    id: id.clone(),
+                    source,
+                })?;
+            entries.insert(
+                id,
+                Entry {
+                    class,
+                    dialect,
+                    version,
+                },
+            );
+        }
+        Ok(Templates { env, entries })
+    }
+
+    /// Every template in the library, by id.
+    pub fn list(&self) -> Vec<TemplateRef> {
+        self.entries
+            .iter()
+            .map(|(id, e)| TemplateRef {
+                id: id.clone(),
+                version: e.version,
+            })
+            .collect()
+    }
+
+    /// The template for a (class, dialect) pair, if the library has one.
+    pub fn find(&self, class: &str, dialect: Dialect) -> Option<TemplateRef> {
+        self.entries
+            .iter()
+            .find(|(_, e)| e.class == class && e.dialect == dialect)
+            .map(|(id, e)| TemplateRef {
+                id: id.clone(),
+                version: e.version,
+            })
+    }
+
+    /// Renders the NC program of a machining model.
+    ///
+    /// The template is chosen by the plan's class and the machine's dialect. Every
+    /// error is a typed [`JobError`] of stage `template`: `TEMPLATE_NOT_FOUND`,
+    /// `INVALID_AXIS_NAME`, `INVALID_COUPLING`, `TEMPLATE_FUEL_EXHAUSTED`,
+    /// `PROGRAM_TOO_LARGE`, `TEMPLATE_RENDER_FAILED`, `INVALID_PROGRAM_NAME`.
+    pub fn render(&self, model: &MachiningModel) -> Result<NcProgram, Vec<JobError>> {
+        let plan = &model.plan;
+        let machine = &plan.machine;
+        let Some(template) = self.find(&plan.class, machine.dialect) else {
+            return Err(vec![self.not_found(model)]);
+        };
+        check_inputs(model)?;
+
+        let part_number = &plan.request.spec.job.part_number;
+        let name = program_name_840d(part_number);
+        if let Err(reason) = check_name_840d(&name) {
+            return Err(vec![template_error(
+                "INVALID_PROGRAM_NAME",
+                "job.part_number",
+                "a part number that maps to an 840D program name",
+                &name,
+                format!("the program name {name:?} made from part number {part_number:?} is not valid on 840D: {reason}"),
+            )]);
+        }
+        let case_ids: Vec<String> = plan.cases.iter().map(|c| c.id.clone()).collect();
+        let spec = &plan.request.spec;
+        let ctx = context! {
+            program => context! { name => &name, file => format!("_N_{name}_MPF") },
+            template => context! { id => &template.id, version => template.version },
+            generator => GENERATOR,
+            job_id => model.job_id.as_str(),
+            part_number => part_number,
+            quantity => spec.job.quantity,
+            class => &plan.class,
+            machine => machine,
+            case_ids => &case_ids,
+            model_version => &model.model_version,
+            gear => &spec.gear,
+            options => &spec.options,
+            hob => &plan.hob,
+            process => &plan.process,
+            geometry => &model.geometry,
+            kin => &model.model,
+            helical => spec.gear.helix_angle_deg.abs() > HELIX_EPS_DEG,
+        };
+
+        let text = self.render_bounded(&template.id, ctx)?;
+        let sha256 = hex::encode(Sha256::digest(text.as_bytes()));
+        tracing::debug!(job = %model.job_id, template = %template.id, %name, bytes = text.len(), "rendered");
+        Ok(NcProgram {
+            job_id: model.job_id.clone(),
+            machine: machine.id.clone(),
+            name,
+            revision: 1,
+            dialect: machine.dialect,
+            text,
+            sha256,
+            template,
+            part_number: part_number.clone(),
+            cases: case_ids,
+            model_version: model.model_version.clone(),
+            generator: GENERATOR.to_string(),
+        })
+    }
+
+    /// Renders template `id` with `ctx` under the fuel and output limits.
+    fn render_bounded(&self, id: &str, ctx: Value) -> Result<String, Vec<JobError>> {
+        let field = format!("template.{id}");
+        let tmpl = self.env.get_template(id).map_err(|e| {
+            vec![template_error(
+                "TEMPLATE_NOT_FOUND",
+                &field,
+                "a compiled template",
+                id,
+                format!("template {id} is not in the library: {e}"),
+            )]
+        })?;
+        let mut out = BoundedWriter::new(MAX_PROGRAM_BYTES);
+        match tmpl.render_captured_to(ctx, &mut out) {
+            Ok(_) => {}
+            Err(_) if out.exceeded => {
+                return Err(vec![template_error(
+                    "PROGRAM_TOO_LARGE",
+                    &field,
+                    &format!("at most {MAX_PROGRAM_BYTES} bytes"),
+                    &format!("more than {MAX_PROGRAM_BYTES} bytes"),
+                    format!("template {id} produced a program larger than the limit; check the template for runaway loops"),
+                )]);
+            }
+            Err(e) if e.kind() == ErrorKind::OutOfFuel => {
+                return Err(vec![template_error(
+                    "TEMPLATE_FUEL_EXHAUSTED",
+                    &field,
+                    &format!(
+                        "at most {} template instructions",
+                        self.env.fuel().unwrap_or(0)
+                    ),
+                    "more",
+                    format!("template {id} ran out of fuel; check it for loops that do not end"),
+                )]);
+            }
+            Err(e) => {
+                return Err(vec![template_error(
+                    "TEMPLATE_RENDER_FAILED",
+                    &field,
+                    "a template that renders with this model",
+                    &format!("{e:#}"),
+                    format!("template {id} failed: {e}"),
+                )]);
+            }
+        }
+        String::from_utf8(out.buf).map_err(|e| {
+            vec![template_error(
+                "TEMPLATE_RENDER_FAILED",
+                &field,
+                "UTF-8 program text",
+                &e.to_string(),
+                format!("template {id} produced text that is not UTF-8"),
+            )]
+        })
+    }
+
+    /// The error for a (class, dialect) pair without a template.
+    fn not_found(&self, model: &MachiningModel) -> JobError {
+        let plan = &model.plan;
+        let dialect = plan.machine.dialect.as_str();
+        let supported: Vec<String> = self
+            .entries
+            .values()
+            .map(|e| format!("{}/{}", e.class, e.dialect.as_str()))
+            .collect();
+        let class_known = self.entries.values().any(|e| e.class == plan.class);
+        let (field, advice) = if class_known {
+            (
+                "job.machine",
+                "choose a machine whose controller has a template for this class",
+            )
+        } else {
+            (
+                "class",
+                "this class cannot be programmed yet; add its template to the template directory",
+            )
+        };
+        template_error(
+            "TEMPLATE_NOT_FOUND",
+            field,
+            &format!("one of {}", supported.join(", ")),
+            &format!("{}/{dialect}", plan.class),
+            format!(
+                "no template for class {} on a {dialect} controller (machine {}); {advice}",
+                plan.class, plan.machine.id
+            ),
+        )
+    }
+}
+
+/// Helix angles below this are spur gears, degrees.
+const HELIX_EPS_DEG: f64 = 1e-9;
+
+/// The environment every template is compiled into: strict, bounded, with the NC
+/// filters and the block counter.
+fn base_environment(fuel: u64) -> Environment<'static> {
+    let mut env = Environment::new();
+    env.set_undefined_behavior(UndefinedBehavior::Strict);
+    env.set_auto_escape_callback(|_| AutoEscape::None);
+    env.set_trim_blocks(true);
+    env.set_lstrip_blocks(true);
+    env.set_keep_trailing_newline(true);
+    env.set_fuel(Some(fuel));
+    env.add_filter("nc", |v: f64| filter_fixed(v, 3));
+    env.add_filter("deg", |v: f64| filter_fixed(v, 4));
+    env.add_filter("factor", |v: f64| filter_fixed(v, 6));
+    env.add_filter("comment", |v: Value| comment_text(&v.to_string()));
+    env.add_function("N", next_block);
+    env
+}
+
+/// `N()`: the next block number of this render, `N10`, `N20`, ...
+fn next_block(state: &State) -> String {
+    let last = state
+        .get_temp("gearcam_block")
+        .and_then(|v| i64::try_from(v).ok())
+        .unwrap_or(0);
+    let next = last + 10;
+    state.set_temp("gearcam_block", Value::from(next));
+    format!("N{next}")
+}
+
+fn filter_fixed(v: f64, decimals: usize) -> Result<String, minijinja::Error> {
+    format_fixed(v, decimals).ok_or_else(|| {
+        minijinja::Error::new(
+            ErrorKind::InvalidOperation,
+            format!("cannot write {v} as an NC number"),
+        )
+    })
+}
+
+/// Formats a number for an NC word: `decimals` places, trailing zeros trimmed but at
+/// least one digit after the point, never `-0`. `None` for NaN and infinities.
+///
+/// `format_fixed(123.4, 3) == "123.4"`, `format_fixed(12.0, 3) == "12.0"`,
+/// `format_fixed(-0.0001, 3) == "0.0"`.
+pub fn format_fixed(v: f64, decimals: usize) -> Option<String> {
+    if !v.is_finite() {
+        return None;
+    }
+    let mut s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        let trimmed = s.trim_end_matches('0').len();
+        s.truncate(trimmed);
+        if s.ends_with('.') {
+            s.push('0');
+        }
+    } else {
+        s.push_str(".0");
+    }
+    if let Some(rest) = s.strip_prefix('-') {
+        if rest.chars().all(|c| c == '0' || c == '.') {
+            s = rest.to_string();
+        }
+    }
+    Some(s)
+}
+
+/// Free text made safe for a `;` comment: one line of printable ASCII (control
+/// characters become spaces, other characters `?`), at most 120 characters.
+pub fn comment_text(text: &str) -> String {
+    text.chars()
+        .map(|c| match c {
+            ' '..='~' => c,
+            c if c.is_control() || c.is_whitespace() => ' ',
+            _ => '?',
+        })
+        .take(120)
+        .collect::<String>()
+        .trim_end()
+        .to_string()
+}
+
+/// The 840D program name for a part number (SPEC §9).
+///
+/// Letters and digits are kept and upper-cased; every other character (`-`, `.`,
+/// spaces, ...) becomes `_`, runs of `_` collapse to one and leading and trailing
+/// `_` are dropped, so a generated name always starts with a letter. A name that
+/// would not start with two letters gets the prefix `GC_`; an empty one becomes
+/// `GC_PART`. The result is cut to [`MAX_NAME_840D`] characters.
+///
+/// `SP-1001` → `SP_1001`; `123` → `GC_123`; `a1.b` → `GC_A1_B`.
+pub fn program_name_840d(part: &str) -> String {
+    let mut name = String::with_capacity(part.len() + 3);
+    for c in part.chars() {
+        let c = if c.is_ascii_alphanumeric() {
+            c.to_ascii_uppercase()
+        } else {
+            '_'
+        };
+        if !(c == '_' && name.ends_with('_')) {
+            name.push(c);
+        }
+    }
+    let mut name = name.trim_matches('_').to_string();
+    if name.is_empty() {
+        name = "GC_PART".into();
+    } else if !starts_840d(&name) {
+        name.insert_str(0, "GC_");
+    }
+    name.truncate(MAX_NAME_840D);
+    name
+}
+
+fn starts_840d(name: &str) -> bool {
+    let b = name.as_bytes();
+    b.len() >= 2 && (b[0].is_ascii_alphabetic() || b[0] == b'_') && b[1].is_ascii_alphabetic()
+}
+
+/// Checks an 840D program name (without `_N_` and `_MPF`) against SPEC §9:
+/// 1 to 24 characters from `A–Z 0–9 _`, the first two letters or `_` plus a letter.
+/// The error says what is wrong.
+pub fn check_name_840d(name: &str) -> Result<(), String> {
+    if name.is_empty() {
+        return Err("the name is empty".into());
+    }
+    if name.chars().count() > MAX_NAME_840D {
+        return Err(format!(
+            "the name has {} characters, at most {MAX_NAME_840D} are allowed",
+            name.chars().count()
+        ));
+    }
+    if let Some(c) = name
+        .chars()
+        .find(|c| !(c.is_ascii_uppercase() || c.is_ascii_digit() || *c == '_'))
+    {
+        return Err(format!(
+            "the name contains {c:?}; only upper-case letters A-Z, digits and _ are allowed"
+        ));
+    }
+    if !starts_840d(name) {
+        return Err(
+            "the name must start with two letters or with _ followed by a letter".to_string(),
+        );
+    }
+    Ok(())
+}
+
+/// Checks the values that go into NC words verbatim (not through a number filter).
+fn check_inputs(model: &MachiningModel) -> Result<(), Vec<JobError>> {
+    let axes = &model.plan.machine.axes;
+    let named = [
+        ("radial", &axes.radial),
+        ("axial", &axes.axial),
+        ("swivel", &axes.swivel),
+        ("hob", &axes.hob),
+        ("table", &axes.table),
+        ("shift", &axes.shift),
+    ];
+    let mut errors = Vec::new();
+    for (i, (role, name)) in named.iter().enumerate() {
+        let field = format!("machine.axes.{role}");
+        if !is_axis_name(name) {
+            errors.push(template_error(
+                "INVALID_AXIS_NAME",
+                &field,
+                "1 to 8 characters from A-Z a-z 0-9 _, starting with a letter",
+                name,
+                format!("the {role} axis name {name:?} in the machine profile is not an 840D axis identifier; correct the machine profile"),
+            ));
+        } else if let Some((other, _)) = named[..i].iter().find(|(_, n)| n == name) {
+            errors.push(template_error(
+                "INVALID_AXIS_NAME",
+                &field,
+                "an axis name different from every other axis of the machine",
+                name,
+                format!("the {role} axis and the {other} axis are both called {name:?} in the machine profile; correct the machine profile"),
+            ));
+        }
+    }
+    let coupling = model.model.coupling;
+    if coupling.num == 0 || coupling.den == 0 {
+        errors.push(template_error(
+            "INVALID_COUPLING",
+            "model.coupling",
+            "hob starts ≥ 1 and teeth ≥ 1",
+            &format!("{}/{}", coupling.num, coupling.den),
+            "the gearbox ratio z0/z has a zero term; the model should have rejected this job"
+                .to_string(),
+        ));
+    }
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        Err(errors)
+    }
+}
+
+fn is_axis_name(name: &str) -> bool {
+    (1..=8).contains(&name.len())
+        && name.starts_with(|c: char| c.is_ascii_alphabetic())
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+fn template_error(code: &str, field: &str, expected: &str, got: &str, message: String) -> JobError {
+    JobError {
+        stage: Stage::Template,
+        code: code.to_string(),
+        field: field.to_string(),
+        expected: expected.to_string(),
+        got: got.to_string(),
+        message,
+    }
+}
+
+/// Splits a template id into its class and dialect: `cylindrical_840d` →
+/// (`cylindrical`, SINUMERIK 840D).
+fn parse_id(id: &str) -> Result<(String, Dialect), TemplateError> {
+    let bad = |reason: &str| TemplateError::BadId {
+        id: id.to_string(),
+        reason: reason.to_string(),
+    };
+    if id.is_empty()
+        || !id
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+    {
+        return Err(bad("ids use only a-z, 0-9 and _"));
+    }
+    match id.rsplit_once('_') {
+        Some((class, "840d")) if !class.is_empty() => Ok((class.to_string(), Dialect::Sinumerik840d)),
+        _ => Err(bad(
+            "an id is {class}_{dialect} and the only dialect with templates so far is 840d, e.g. cylindrical_840d",
+        )),
+    }
+}
+
+/// Reads the version from the first line, `{# version: N #}` (whitespace control
+/// markers `{#-` / `-#}` allowed).
+fn parse_version(id: &str, source: &str) -> Result<u32, TemplateError> {
+    let first = source.lines().next().unwrap_or_default();
+    let missing = || TemplateError::MissingVersion {
+        id: id.to_string(),
+        got: first.to_string(),
+    };
+    let inner = first
+        .trim()
+        .strip_prefix("{#")
+        .and_then(|s| s.strip_suffix("#}"))
+        .ok_or_else(missing)?;
+    let inner = inner.trim_start_matches('-').trim_end_matches('-').trim();
+    let number = inner.strip_prefix("version:").ok_or_else(missing)?.trim();
+    match number.parse::<u32>() {
+        Ok(v) if v >= 1 => Ok(v),
+        _ => Err(missing()),
+    }
+}
+
+/// An output sink that refuses to grow past a limit.
+struct BoundedWriter {
+    buf: Vec<u8>,
+    limit: usize,
+    exceeded: bool,
+}
+
+impl BoundedWriter {
+    fn new(limit: usize) -> Self {
+        BoundedWriter {
+            buf: Vec::with_capacity(4096),
+            limit,
+            exceeded: false,
+        }
+    }
+}
+
+impl io::Write for BoundedWriter {
+    fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
+        if self.buf.len() + bytes.len() > self.limit {
+            self.exceeded = true;
+            return Err(io::Error::other("program text exceeds the size limit"));
+        }
+        self.buf.extend_from_slice(bytes);
+        Ok(bytes.len())
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeMap;
+
+    use gearcam_proto::{
+        AxisNames, CaseRef, CutMode, GearSpec, Geometry, Hand, HobData, HobSpec, JobHeader, JobId,
+        JobRequest, JobSpec, Kinematics, MCodes, MachineId, MachineLimits, MachineProfile,
+        MachineSettings, Options, Position, Positions, ProcessData, ProcessOverrides, ProcessPlan,
+        Ratio, Source,
+    };
+
+    use super::*;
+
+    /// A spur gear mn 3, z 25 with an 80 mm single-start hob on machine H01, the
+    /// numbers of SPEC §4.3's self-check (vc 100 m/min → Nt 397.887 rpm, fa 2 mm/rev
+    /// → Vf = 2·397.887/25 = 31.831 mm/min). Positions as the model computes them
+    /// for H = 50, b = 30, ΔH′ + safety = 24.5, L = 75.073, A = (300, 400).
+    fn spur_model() -> MachiningModel {
+        let job_id = JobId::new("J-0001").unwrap();
+        let machine = MachineProfile {
+            id: MachineId::new("H01").unwrap(),
+            name: "YK3126 CNC hobbing machine".into(),
+            dialect: Dialect::Sinumerik840d,
+            axes: AxisNames {
+                radial: "X".into(),
+                axial: "Z".into(),
+                swivel: "A".into(),
+                hob: "B".into(),
+                table: "C".into(),
+                shift: "Y".into(),
+            },
+            mcodes: MCodes {
+                spindle_on: 3,
+                spindle_off: 5,
+                coolant_on: 8,
+                coolant_off: 9,
+                outer_support_on: 20,
+                outer_support_off: 21,
+                fixture_clamp: 10,
+                fixture_unclamp: 11,
+                chip_conveyor_on: 24,
+                chip_conveyor_off: 25,
+                mist_on: 26,
+                mist_off: 27,
+                program_end: 30,
+            },
+            limits: MachineLimits {
+                module_mm: [0.5, 6.0],
+                max_workpiece_od_mm: 260.0,
+                max_hob_od_mm: 120.0,
+                x_mm: [0.0, 350.0],
+                z_mm: [0.0, 450.0],
+                max_hob_rpm: 1000.0,
+                max_table_rpm: 60.0,
+                max_axial_feed_mm_min: 500.0,
+                max_swivel_deg: 45.0,
+            },
+            settings: MachineSettings {
+                blank_od_below_mm: 2.0,
+                blank_od_above_mm: 0.5,
+                depth_allowance_mm: 0.5,
+                safety_mm: 2.0,
+                retract_mm: 100.0,
+                exit_mm: 5.0,
+                swivel_sign: 1.0,
+            },
+            home_x_mm: 300.0,
+            home_z_mm: 400.0,
+        };
+        let spec = JobSpec {
+            job: JobHeader {
+                id: Some(job_id.clone()),
+                machine: machine.id.clone(),
+                quantity: 10,
+                part_number: "SP-1001".into(),
+            },
+            gear: GearSpec {
+                module_mm: 3.0,
+                teeth: 25,
+                pressure_angle_deg: 20.0,
+                helix_angle_deg: 0.0,
+                helix_hand: None,
+                face_width_mm: 30.0,
+                profile_shift: 0.0,
+                addendum_coef: 1.0,
+                clearance_coef: 0.25,
+                blank_od_mm: None,
+                od_correction_mm: 0.0,
+                material: "20CrMnTi".into(),
+                quality_grade: 8,
+                fixture_height_mm: 50.0,
+            },
+            hob: HobSpec::default(),
+            process: ProcessOverrides::default(),
+            options: Options::default(),
+        };
+        let hob = HobData {
+            id: "HOB-M3-80".into(),
+            starts: 1,
+            od_mm: 80.0,
+            module_mm: 3.0,
+            pressure_angle_deg: 20.0,
+            lead_angle_deg: 2.2,
+            hand: Hand::Right,
+            length_mm: 100.0,
+            source: Source::Library,
+        };
+        let plan = ProcessPlan {
+            job_id: job_id.clone(),
+            request: JobRequest {
+                job_id: job_id.clone(),
+                submitted_at_ms: 1_700_000_000_000,
+                submitted_by: "station-1".into(),
+                spec,
+            },
+            class: "cylindrical".into(),
+            machine,
+            hob,
+            process: ProcessData {
+                cut_mode: CutMode::Conventional,
+                cuts: 1,
+                cutting_speed_m_min: 100.0,
+                feed_mm_per_rev: 2.0,
+                depth_mm: None,
+                safety_mm: 2.0,
+            },
+            values: BTreeMap::new(),
+            cases: vec![
+                CaseRef {
+                    id: "CD-STEEL-HSS-1".into(),
+                    similarity: 0.92,
+                    provenance: "shop history".into(),
+                },
+                CaseRef {
+                    id: "CASE-0042".into(),
+                    similarity: 0.88,
+                    provenance: "shop history".into(),
+                },
+            ],
+            confidence: 0.9,
+        };
+        let p = |x_mm, z_mm| Position { x_mm, z_mm };
+        MachiningModel {
+            job_id,
+            plan,
+            geometry: Geometry {
+                d_mm: 75.0,
+                db_mm: 70.477,
+                da_mm: 81.0,
+                df_mm: 67.5,
+                mt_mm: 3.0,
+                alpha_t_deg: 20.0,
+                whole_depth_mm: 6.75,
+                lead_mm: None,
+            },
+            model: Kinematics {
+                swivel_deg: -2.2,
+                swivel_axis_deg: -2.2,
+                clearance_mm: 22.5,
+                safety_mm: 2.0,
+                centre_distance_mm: 73.75,
+                depth_mm: 6.75,
+                blank_od_mm: 81.0,
+                positions: Positions {
+                    A: p(300.0, 400.0),
+                    B: p(173.75, 104.5),
+                    C: p(73.75, 104.5),
+                    D: p(73.75, 25.5),
+                    E: p(78.75, 25.5),
+                },
+                hob_rpm: 397.887_357_729_738,
+                index_rpm: 15.915_494_309_189_5,
+                table_rpm: 15.915_494_309_189_5,
+                axial_feed_mm_min: 31.830_988_618_379,
+                differential_deg_per_mm: 0.0,
+                coupling: Ratio { num: 1, den: 25 },
+                cut_time_min: 2.984,
+                cut_mode: CutMode::Conventional,
+                cuts: 1,
+            },
+            warnings: Vec::new(),
+            model_version: "gearcam-model 0.1.0".into(),
+        }
+    }
+
+    /// The spur model turned helical: β = 15° right hand, differential
+    /// 360·sin β / (π·mn·z) = 0.395446 °/mm (SPEC §4.3 self-check).
+    fn helical_model() -> MachiningModel {
+        let mut m = spur_model();
+        let beta = 15f64.to_radians();
+        m.plan.request.spec.gear.helix_angle_deg = 15.0;
+        m.plan.request.spec.gear.helix_hand = Some(Hand::Right);
+        m.geometry.lead_mm = Some(std::f64::consts::PI * 3.0 * 25.0 / beta.sin());
+        m.model.swivel_deg = -12.8;
+        m.model.swivel_axis_deg = -12.8;
+        m.model.differential_deg_per_mm = 360.0 * beta.sin() / (std::f64::consts::PI * 3.0 * 25.0);
+        m
+    }
+
+    fn render(model: &MachiningModel) -> NcProgram {
+        Templates::builtin()
+            .render(model)
+            .unwrap_or_else(|e| panic!("render failed: {e:#?}"))
+    }
+
+    /// The NC block whose words (after the `N` number) start with `prefix`.
+    fn block<'a>(text: &'a str, prefix: &str) -> &'a str {
+        let found: Vec<&str> = text
+            .lines()
+            .filter_map(|l| l.split_once(' ').map(|(_, rest)| rest))
+            .filter(|rest| rest.starts_with(prefix))
+            .collect();
+        assert_eq!(
+            found.len(),
+            1,
+            "expected one block starting {prefix:?} in\n{text}"
+        );
+        found[0]
+    }
+
+    /// The M-codes programmed, in order.
+    fn m_codes(text: &str) -> Vec<u16> {
+        text.lines()
+            .filter(|l| l.starts_with('N'))
+            .flat_map(|l| l.split(';').next().unwrap().split_whitespace())
+            .filter_map(|w| w.strip_prefix('M').and_then(|n| n.parse().ok()))
+            .collect()
+    }
+
+    #[test]
+    fn header_is_840d_file_header_then_provenance_comments() {
+        let program = render(&spur_model());
+        let lines: Vec<&str> = program.text.lines().collect();
+        assert_eq!(lines[0], "%_N_SP_1001_MPF");
+        assert_eq!(lines[1], ";$PATH=/_N_MPF_DIR");
+        assert_eq!(lines[2], "; GEARCAM HOBBING PROGRAM SP_1001");
+        assert_eq!(lines[3], "; JOB J-0001");
+        assert_eq!(lines[4], "; PART SP-1001");
+        assert_eq!(lines[5], "; CLASS cylindrical");
+        assert_eq!(lines[6], "; MACHINE H01 YK3126 CNC hobbing machine");
+        assert_eq!(lines[7], "; TEMPLATE cylindrical_840d VERSION 1");
+        assert_eq!(lines[8], "; CASES CD-STEEL-HSS-1 CASE-0042");
+        assert_eq!(lines[9], "; MODEL gearcam-model 0.1.0");
+        assert_eq!(lines[10], format!("; GENERATOR {GENERATOR}"));
+        assert_eq!(lines[11], "; GEAR MN=3.0 Z=25 BETA=0.0 B=30.0 DA1=81.0");
+        assert_eq!(
+            lines[12],
+            "; HOB HOB-M3-80 Z0=1 DA0=80.0 MN0=3.0 GAMMA0=2.2 RIGHT"
+        );
+        assert_eq!(
+            lines[13],
+            "; CUT CONVENTIONAL VC=100.0 FA=2.0 H=6.75 L=73.75"
+        );
+    }
+
+    #[test]
+    fn program_carries_name_hash_and_provenance() {
+        let model = spur_model();
+        let program = render(&model);
+        assert_eq!(program.name, "SP_1001");
+        assert_eq!(program.revision, 1);
+        assert_eq!(program.dialect, Dialect::Sinumerik840d);
+        assert_eq!(program.machine.as_str(), "H01");
+        assert_eq!(program.job_id, model.job_id);
+        assert_eq!(program.part_number, "SP-1001");
+        assert_eq!(
+            program.template,
+            TemplateRef {
+                id: "cylindrical_840d".into(),
+                version: 1
+            }
+        );
+        assert_eq!(program.cases, vec!["CD-STEEL-HSS-1", "CASE-0042"]);
+        assert_eq!(program.model_version, "gearcam-model 0.1.0");
+        assert_eq!(program.generator, GENERATOR);
+        assert!(program.generator.starts_with("gearcam-template "));
+        assert_eq!(
+            program.sha256,
+            hex::encode(Sha256::digest(program.text.as_bytes()))
+        );
+        assert_eq!(program.sha256.len(), 64);
+        // Rendering is deterministic: the same model gives the same bytes.
+        assert_eq!(render(&model).sha256, program.sha256);
+    }
+
+    #[test]
+    fn blocks_follow_the_patent_order_with_numbers_by_ten() {
+        let program = render(&spur_model());
+        let blocks: Vec<&str> = program
+            .text
+            .lines()
+            .skip(2)
+            .filter(|l| !l.starts_with(';'))
+            .collect();
+        for (i, b) in blocks.iter().enumerate() {
+            assert!(
+                b.starts_with(&format!("N{} ", (i + 1) * 10)),
+                "block {i} is {b:?}"
+            );
+        }
+        let words: Vec<&str> = blocks
+            .iter()
+            .map(|b| b.split_once(' ').unwrap().1)
+            .collect();
+        let expected = [
+            "G0 G90 X=173.75 Z=104.5 A=-2.2",
+            "M10 ; FIXTURE CLAMP",
+            "M8 ; COOLANT ON",
+            "M24 ; CHIP CONVEYOR ON",
+            "R1=3.0 ; NORMAL MODULE MN, MM",
+            "R2=25 ; NUMBER OF TEETH Z",
+            "R3=0.0 ; HELIX ANGLE BETA, DEG",
+            "R4=1 ; HOB STARTS Z0",
+            "R5=2.2 ; HOB LEAD ANGLE GAMMA0, DEG",
+            "EGDEF(C,B,1)",
+            "EGON(C,\"FINE\",B,1,25)",
+            "M3 S=397.887 ; HOB ON, RPM",
+            "G0 G90 X=73.75",
+            "G1 G90 G94 Z=25.5 F=31.831",
+            "G0 G90 X=78.75",
+            "M5 ; HOB OFF",
+            "G0 X=300.0 Z=400.0",
+            "EGOFS(C) ; GEARBOX OFF",
+            "EGDEL(C) ; GEARBOX DEFINITION DELETED",
+            "M9 ; COOLANT OFF",
+            "M25 ; CHIP CONVEYOR OFF",
+            "M11 ; FIXTURE UNCLAMP",
+            "M30 ; END OF PROGRAM",
+        ];
+        assert_eq!(words, expected, "program:\n{}", program.text);
+        assert!(program.text.ends_with("M30 ; END OF PROGRAM\n"));
+    }
+
+    #[test]
+    fn gearbox_couples_table_to_hob_by_the_exact_ratio() {
+        let mut model = spur_model();
+        model.plan.hob.starts = 2;
+        model.model.coupling = Ratio { num: 2, den: 37 };
+        let text = render(&model).text;
+        assert_eq!(block(&text, "EGDEF"), "EGDEF(C,B,1)");
+        assert_eq!(block(&text, "EGON"), "EGON(C,\"FINE\",B,2,37)");
+    }
+
+    #[test]
+    fn helical_gear_adds_the_axial_axis_with_the_differential() {
+        let text = render(&helical_model()).text;
+        assert_eq!(block(&text, "EGDEF"), "EGDEF(C,B,1,Z,1)");
+        // 360·sin 15° / (π·3·25) = 0.395446 °/mm (SPEC §4.3).
+        assert_eq!(block(&text, "EGON"), "EGON(C,\"FINE\",B,1,25,Z,0.395446,1)");
+        assert_eq!(block(&text, "R3="), "R3=15.0 ; HELIX ANGLE BETA, DEG");
+        assert_eq!(
+            block(&text, "G0 G90 X=173.75"),
+            "G0 G90 X=173.75 Z=104.5 A=-12.8"
+        );
+        assert!(
+            text.contains("; GEAR MN=3.0 Z=25 BETA=15.0 RIGHT B=30.0"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn negative_differential_keeps_its_sign() {
+        let mut model = helical_model();
+        model.model.differential_deg_per_mm = -0.395_446_2;
+        let text = render(&model).text;
+        assert_eq!(
+            block(&text, "EGON"),
+            "EGON(C,\"FINE\",B,1,25,Z,-0.395446,1)"
+        );
+    }
+
+    #[test]
+    fn feed_block_goes_to_d_at_the_axial_feed() {
+        let text = render(&spur_model()).text;
+        assert_eq!(block(&text, "G1 "), "G1 G90 G94 Z=25.5 F=31.831");
+    }
+
+    #[test]
+    fn climb_cut_feeds_up_to_d() {
+        let mut model = spur_model();
+        model.plan.process.cut_mode = CutMode::Climb;
+        model.model.cut_mode = CutMode::Climb;
+        let pos = &mut model.model.positions;
+        pos.B.z_mm = 25.5;
+        pos.C.z_mm = 25.5;
+        pos.D.z_mm = 104.5;
+        pos.E.z_mm = 104.5;
+        let text = render(&model).text;
+        assert_eq!(
+            block(&text, "G0 G90 X=173.75"),
+            "G0 G90 X=173.75 Z=25.5 A=-2.2"
+        );
+        assert_eq!(block(&text, "G1 "), "G1 G90 G94 Z=104.5 F=31.831");
+        assert!(text.contains("; CUT CLIMB "), "{text}");
+        assert!(text.contains("(CLIMB CUT)"), "{text}");
+    }
+
+    #[test]
+    fn options_off_leave_their_m_codes_out() {
+        let mut model = spur_model();
+        model.plan.request.spec.options = Options {
+            coolant: false,
+            outer_support: false,
+            fixture_clamp: false,
+            sync_cancel: false,
+            chip_conveyor: false,
+            mist_separator: false,
+        };
+        let text = render(&model).text;
+        assert_eq!(m_codes(&text), vec![3, 5, 30], "{text}");
+        assert!(!text.contains("EGOFS"), "{text}");
+        assert!(!text.contains("EGDEL"), "{text}");
+    }
+
+    #[test]
+    fn options_on_emit_their_m_codes_paired() {
+        let mut model = spur_model();
+        model.plan.request.spec.options = Options {
+            coolant: true,
+            outer_support: true,
+            fixture_clamp: true,
+            sync_cancel: true,
+            chip_conveyor: true,
+            mist_separator: true,
+        };
+        let text = render(&model).text;
+        assert_eq!(
+            m_codes(&text),
+            vec![20, 10, 8, 24, 26, 3, 5, 9, 25, 27, 21, 11, 30],
+            "{text}"
+        );
+        let at = |code: &str| text.find(code).unwrap();
+        assert!(at("EGOFS(C)") < at("EGDEL(C)"));
+        assert!(at("G0 X=300.0 Z=400.0") < at("EGOFS(C)"));
+    }
+
+    #[test]
+    fn axis_names_and_m_codes_come_from_the_machine_profile() {
+        let mut model = spur_model();
+        let machine = &mut model.plan.machine;
+        machine.axes = AxisNames {
+            radial: "X1".into(),
+            axial: "Z1".into(),
+            swivel: "A1".into(),
+            hob: "SP1".into(),
+            table: "C1".into(),
+            shift: "Y1".into(),
+        };
+        machine.mcodes.spindle_on = 13;
+        machine.mcodes.spindle_off = 15;
+        machine.mcodes.program_end = 2;
+        machine.mcodes.coolant_on = 7;
+        let mut helical = helical_model();
+        helical.plan.machine = machine.clone();
+        let text = render(&model).text;
+        assert_eq!(
+            block(&text, "G0 G90 X1=173.75"),
+            "G0 G90 X1=173.75 Z1=104.5 A1=-2.2"
+        );
+        assert_eq!(block(&text, "EGDEF"), "EGDEF(C1,SP1,1)");
+        assert_eq!(block(&text, "EGON"), "EGON(C1,\"FINE\",SP1,1,25)");
+        assert_eq!(block(&text, "G1 "), "G1 G90 G94 Z1=25.5 F=31.831");
+        assert_eq!(block(&text, "EGOFS"), "EGOFS(C1) ; GEARBOX OFF");
+        assert_eq!(m_codes(&text), vec![10, 7, 24, 13, 15, 9, 25, 11, 2]);
+        let text = render(&helical).text;
+        assert_eq!(block(&text, "EGDEF"), "EGDEF(C1,SP1,1,Z1,1)");
+        assert_eq!(
+            block(&text, "EGON"),
+            "EGON(C1,\"FINE\",SP1,1,25,Z1,0.395446,1)"
+        );
+        assert!(!text.contains("EGDEF(C,"), "{text}");
+    }
+
+    #[test]
+    fn bad_axis_names_are_refused_before_rendering() {
+        let mut model = spur_model();
+        model.plan.machine.axes.table = "C\nM30".into();
+        model.plan.machine.axes.hob = "X".into();
+        let errors = Templates::builtin().render(&model).unwrap_err();
+        let fields: Vec<(&str, &str)> = errors
+            .iter()
+            .map(|e| (e.code.as_str(), e.field.as_str()))
+            .collect();
+        assert_eq!(
+            fields,
+            vec![
+                ("INVALID_AXIS_NAME", "machine.axes.hob"),
+                ("INVALID_AXIS_NAME", "machine.axes.table"),
+            ]
+        );
+        assert!(errors.iter().all(|e| e.stage == Stage::Template));
+    }
+
+    #[test]
+    fn free_text_cannot_break_out_of_a_comment() {
+        let mut model = spur_model();
+        model.plan.request.spec.job.part_number = "SP-1001\nM30\r\nG0 X=0".into();
+        model.plan.machine.name = "Wälzfräsmaschine\tNr. 1".into();
+        let program = render(&model);
+        assert_eq!(program.name, "SP_1001_M30_G0_X_0");
+        assert!(
+            program.text.contains("\n; PART SP-1001 M30  G0 X=0\n"),
+            "{}",
+            program.text
+        );
+        assert!(program
+            .text
+            .contains("\n; MACHINE H01 W?lzfr?smaschine Nr. 1\n"));
+        assert!(program.text.is_ascii());
+        for line in program.text.lines().skip(2) {
+            assert!(
+                line.starts_with(';') || line.starts_with('N'),
+                "stray line {line:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn no_negative_zero_and_every_number_is_fixed_point() {
+        let mut model = spur_model();
+        model.model.swivel_axis_deg = -0.000_01;
+        model.model.positions.A.z_mm = -0.0001;
+        let text = render(&model).text;
+        assert!(
+            !text.contains("-0.0 ") && !text.contains("-0.0\n"),
+            "{text}"
+        );
+        assert_eq!(
+            block(&text, "G0 G90 X=173.75"),
+            "G0 G90 X=173.75 Z=104.5 A=0.0"
+        );
+        assert_eq!(block(&text, "G0 X=300.0"), "G0 X=300.0 Z=0.0");
+        assert!(!text.contains('e') || !text.contains("e-"), "{text}");
+    }
+
+    #[test]
+    fn non_finite_numbers_fail_with_a_typed_error() {
+        let mut model = spur_model();
+        model.model.axial_feed_mm_min = f64::NAN;
+        let errors = Templates::builtin().render(&model).unwrap_err();
+        assert_eq!(errors.len(), 1);
+        assert_eq!(errors[0].code, "TEMPLATE_RENDER_FAILED");
+        assert_eq!(errors[0].field, "template.cylindrical_840d");
+        assert!(errors[0].got.contains("NaN"), "{:?}", errors[0]);
+    }
+
+    #[test]
+    fn unknown_class_is_template_not_found_on_class() {
+        let mut model = spur_model();
+        model.plan.class = "worm_wheel".into();
+        let errors = Templates::builtin().render(&model).unwrap_err();
+        assert_eq!(errors.len(), 1);
+        let e = &errors[0];
+        assert_eq!(e.stage, Stage::Template);
+        assert_eq!(e.code, "TEMPLATE_NOT_FOUND");
+        assert_eq!(e.field, "class");
+        assert_eq!(e.expected, "one of cylindrical/sinumerik840d");
+        assert_eq!(e.got, "worm_wheel/sinumerik840d");
+    }
+
+    #[test]
+    fn other_dialect_is_template_not_found_on_the_machine() {
+        let mut model = spur_model();
+        model.plan.machine.dialect = Dialect::Fanuc;
+        let errors = Templates::builtin().render(&model).unwrap_err();
+        let e = &errors[0];
+        assert_eq!(e.code, "TEMPLATE_NOT_FOUND");
+        assert_eq!(e.field, "job.machine");
+        assert_eq!(e.expected, "one of cylindrical/sinumerik840d");
+        assert_eq!(e.got, "cylindrical/fanuc");
+        assert!(e.message.contains("H01"), "{}", e.message);
+    }
+
+    #[test]
+    fn program_names_follow_the_840d_rules() {
+        assert_eq!(program_name_840d("SP-1001"), "SP_1001");
+        assert_eq!(program_name_840d("sp.1001 rev b"), "SP_1001_REV_B");
+        assert_eq!(program_name_840d("123"), "GC_123");
+        assert_eq!(program_name_840d("A1"), "GC_A1");
+        assert_eq!(program_name_840d("-A1"), "GC_A1");
+        assert_eq!(program_name_840d("_AB"), "AB");
+        assert_eq!(program_name_840d(" 7-b"), "GC_7_B");
+        assert_eq!(program_name_840d("SP--1001.."), "SP_1001");
+        assert_eq!(program_name_840d(""), "GC_PART");
+        assert_eq!(program_name_840d("---"), "GC_PART");
+        let long = program_name_840d("GEARBOX-SHAFT-PINION-STAGE-2-REV-C");
+        assert_eq!(long, "GEARBOX_SHAFT_PINION_STA");
+        assert_eq!(long.len(), MAX_NAME_840D);
+        let long_digits = program_name_840d("1234567890123456789012345");
+        assert_eq!(long_digits, "GC_123456789012345678901");
+        for part in [
+            "SP-1001",
+            "123",
+            "_AB",
+            "",
+            "ÄÖÜ-7",
+            "x",
+            "GEARBOX-SHAFT-PINION-STAGE-2",
+        ] {
+            let name = program_name_840d(part);
+            assert_eq!(check_name_840d(&name), Ok(()), "{part:?} → {name:?}");
+        }
+    }
+
+    #[test]
+    fn name_check_says_what_is_wrong() {
+        assert_eq!(check_name_840d("SP_1001"), Ok(()));
+        assert_eq!(check_name_840d("_A"), Ok(()));
+        assert!(check_name_840d("").unwrap_err().contains("empty"));
+        assert!(check_name_840d("S1").unwrap_err().contains("two letters"));
+        assert!(check_name_840d("_1A").unwrap_err().contains("two letters"));
+        assert!(check_name_840d("SP-1001").unwrap_err().contains("'-'"));
+        assert!(check_name_840d("sp_1001").unwrap_err().contains("'s'"));
+        assert!(check_name_840d(&"A".repeat(25))
+            .unwrap_err()
+            .contains("25 characters"));
+        assert_eq!(check_name_840d(&"A".repeat(24)), Ok(()));
+    }
+
+    #[test]
+    fn numbers_are_fixed_point_trimmed_and_never_negative_zero() {
+        assert_eq!(format_fixed(123.4, 3).unwrap(), "123.4");
+        assert_eq!(format_fixed(-0.05, 3).unwrap(), "-0.05");
+        assert_eq!(format_fixed(12.0, 3).unwrap(), "12.0");
+        assert_eq!(format_fixed(0.0, 3).unwrap(), "0.0");
+        assert_eq!(format_fixed(-0.0, 3).unwrap(), "0.0");
+        assert_eq!(format_fixed(-0.0004, 3).unwrap(), "0.0");
+        assert_eq!(format_fixed(-0.0005001, 3).unwrap(), "-0.001");
+        assert_eq!(format_fixed(397.887_357_7, 3).unwrap(), "397.887");
+        assert_eq!(format_fixed(2.999_96, 4).unwrap(), "3.0");
+        assert_eq!(format_fixed(-12.345_67, 4).unwrap(), "-12.3457");
+        assert_eq!(format_fixed(1e7, 3).unwrap(), "10000000.0");
+        assert_eq!(format_fixed(f64::NAN, 3), None);
+        assert_eq!(format_fixed(f64::INFINITY, 3), None);
+    }
+
+    fn with_template(id: &str, source: &str, fuel: u64) -> Templates {
+        Templates::new(
+            vec![TemplateSource {
+                id: id.into(),
+                source: source.into(),
+            }],
+            fuel,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn endless_expansion_is_stopped_by_fuel() {
+        let templates = with_template(
+            "runaway_840d",
+            "{# version: 1 #}\n{% for i in range(100000) %}{% for j in range(100000) %}{{ N() }}\n{% endfor %}{% endfor %}",
+            DEFAULT_FUEL,
+        );
+        let mut model = spur_model();
+        model.plan.class = "runaway".into();
+        let errors = templates.render(&model).unwrap_err();
+        assert_eq!(errors.len(), 1);
+        assert_eq!(errors[0].code, "TEMPLATE_FUEL_EXHAUSTED");
+        assert_eq!(errors[0].field, "template.runaway_840d");
+        // The built-in template beside it still renders within the same limits.
+        assert!(templates.render(&spur_model()).is_ok());
+    }
+
+    #[test]
+    fn recursive_macro_is_stopped() {
+        let templates = with_template(
+            "recursive_840d",
+            "{# version: 1 #}\n{% macro r(n) %}{{ r(n + 1) }}{% endmacro %}{{ r(0) }}",
+            DEFAULT_FUEL,
+        );
+        let mut model = spur_model();
+        model.plan.class = "recursive".into();
+        let errors = templates.render(&model).unwrap_err();
+        assert_eq!(errors.len(), 1);
+        assert!(
+            ["TEMPLATE_FUEL_EXHAUSTED", "TEMPLATE_RENDER_FAILED"]
+                .contains(&errors[0].code.as_str()),
+            "{:?}",
+            errors[0]
+        );
+    }
+
+    #[test]
+    fn oversized_output_is_stopped_by_the_size_limit() {
+        let templates = with_template(
+            "huge_840d",
+            "{# version: 1 #}\n{% for i in range(100000) %}{{ \"X\" * 100 }}\n{% endfor %}",
+            10_000_000,
+        );
+        let mut model = spur_model();
+        model.plan.class = "huge".into();
+        let errors = templates.render(&model).unwrap_err();
+        assert_eq!(errors[0].code, "PROGRAM_TOO_LARGE");
+    }
+
+    #[test]
+    fn builtin_template_uses_little_fuel() {
+        // Ten times the built-in's consumption must stay under the default fuel,
+        // so a template of this kind never trips the limit.
+        let templates = Templates::new(Vec::new(), DEFAULT_FUEL / 10).unwrap();
+        assert!(templates.render(&helical_model()).is_ok());
+    }
+
+    #[test]
+    fn undefined_names_in_a_template_are_errors() {
+        let templates = with_template(
+            "typo_840d",
+            "{# version: 1 #}\n%{{ program.file }}\nG0 X={{ kin.positons.B.x_mm | nc }}\n",
+            DEFAULT_FUEL,
+        );
+        let mut model = spur_model();
+        model.plan.class = "typo".into();
+        let errors = templates.render(&model).unwrap_err();
+        assert_eq!(errors[0].code, "TEMPLATE_RENDER_FAILED");
+        assert!(errors[0].got.contains("undefined"), "{:?}", errors[0]);
+    }
+
+    #[test]
+    fn directory_template_replaces_the_builtin_and_names_its_version() {
+        let templates = with_template(
+            "cylindrical_840d",
+            "{# version: 7 #}\n%{{ program.file }}\n;$PATH=/_N_MPF_DIR\n{{ N() }} M{{ machine.mcodes.program_end }}\n",
+            DEFAULT_FUEL,
+        );
+        let program = templates.render(&spur_model()).unwrap();
+        assert_eq!(program.template.version, 7);
+        assert_eq!(
+            program.text,
+            "%_N_SP_1001_MPF\n;$PATH=/_N_MPF_DIR\nN10 M30\n"
+        );
+        assert_eq!(
+            templates.list(),
+            vec![TemplateRef {
+                id: "cylindrical_840d".into(),
+                version: 7
+            }]
+        );
+    }
+
+    #[test]
+    fn templates_without_version_or_with_bad_ids_are_refused() {
+        let add = |id: &str, source: &str| {
+            Templates::new(
+                vec![TemplateSource {
+                    id: id.into(),
+                    source: source.into(),
+                }],
+                DEFAULT_FUEL,
+            )
+        };
+        assert!(matches!(
+            add("conical_840d", "%_N_X_MPF\n"),
+            Err(TemplateError::MissingVersion { .. })
+        ));
+        assert!(matches!(
+            add("conical_840d", "{# version: 0 #}\n"),
+            Err(TemplateError::MissingVersion { .. })
+        ));
+        assert!(matches!(
+            add("conical_fanuc", "{# version: 1 #}\n"),
+            Err(TemplateError::BadId { .. })
+        ));
+        assert!(matches!(
+            add("Conical_840d", "{# version: 1 #}\n"),
+            Err(TemplateError::BadId { .. })
+        ));
+        assert!(matches!(
+            add("conical_840d", "{# version: 1 #}\n{% if %}"),
+            Err(TemplateError::Syntax { .. })
+        ));
+        assert_eq!(
+            add("conical_840d", "{#- version: 3 -#}\n")
+                .unwrap()
+                .find("conical", Dialect::Sinumerik840d),
+            Some(TemplateRef {
+                id: "conical_840d".into(),
+                version: 3
+            })
+        );
+    }
+
+    #[test]
+    fn builtin_library_lists_the_cylindrical_template() {
+        let templates = Templates::builtin();
+        assert_eq!(
+            templates.list(),
+            vec![TemplateRef {
+                id: "cylindrical_840d".into(),
+                version: 1
+            }]
+        );
+        assert_eq!(templates.find("cylindrical", Dialect::Fanuc), None);
+    }
+}

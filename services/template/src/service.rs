@@ -1,0 +1,1 @@
+//! Zenoh wrapper (written separately).
