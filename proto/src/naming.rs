@@ -18,7 +18,7 @@ pub const MAX_840D_NAME: usize = 24;
 pub fn file_name(dialect: Dialect, name: &str) -> Result<String, String> {
     match dialect {
         Dialect::Sinumerik840d => {
-            check_840d(name)?;
+            check_name_840d(name)?;
             Ok(format!("_N_{name}_MPF"))
         }
         Dialect::Fanuc => {
@@ -50,37 +50,6 @@ pub fn file_name(dialect: Dialect, name: &str) -> Result<String, String> {
     }
 }
 
-fn check_840d(name: &str) -> Result<(), String> {
-    if name.is_empty() || name.len() > MAX_840D_NAME {
-        return Err(format!(
-            "840D program names have 1-{MAX_840D_NAME} characters; got {} in {name:?}",
-            name.len()
-        ));
-    }
-    if let Some(c) = name
-        .chars()
-        .find(|c| !(c.is_ascii_alphanumeric() || *c == '_'))
-    {
-        return Err(format!(
-            "840D program names use only letters, digits and _; got {c:?} in {name:?}"
-        ));
-    }
-    let b = name.as_bytes();
-    let ok_start = match (b.first(), b.get(1)) {
-        (Some(a), Some(c)) => {
-            (a.is_ascii_alphabetic() && c.is_ascii_alphabetic())
-                || (*a == b'_' && c.is_ascii_alphabetic())
-        }
-        _ => false,
-    };
-    if !ok_start {
-        return Err(format!(
-            "840D program names start with two letters, or _ and a letter; got {name:?}"
-        ));
-    }
-    Ok(())
-}
-
 fn check_plain(name: &str, max: usize) -> Result<(), String> {
     if name.is_empty() || name.len() > max {
         return Err(format!(
@@ -104,26 +73,69 @@ fn check_plain(name: &str, max: usize) -> Result<(), String> {
     Ok(())
 }
 
-/// An 840D program name derived from a part number: uppercase, every other
-/// character `_`, prefixed `GC_` when it does not start with two letters, cut
-/// to 24 characters.
-pub fn name_840d_for_part(part: &str) -> String {
-    let mut s: String = part
-        .trim()
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() {
-                c.to_ascii_uppercase()
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    if check_840d(&s[..s.len().min(MAX_840D_NAME)]).is_err() {
-        s = format!("GC_{s}");
+/// The 840D program name for a part number (SPEC §9).
+///
+/// Letters and digits are kept and upper-cased; every other character (`-`, `.`,
+/// spaces, ...) becomes `_`, runs of `_` collapse to one and leading and trailing
+/// `_` are dropped, so a generated name always starts with a letter. A name that
+/// would not start with two letters gets the prefix `GC_`; an empty one becomes
+/// `GC_PART`. The result is cut to [`MAX_840D_NAME`] characters.
+///
+/// `SP-1001` → `SP_1001`; `123` → `GC_123`; `a1.b` → `GC_A1_B`.
+pub fn program_name_840d(part: &str) -> String {
+    let mut name = String::with_capacity(part.len() + 3);
+    for c in part.chars() {
+        let c = if c.is_ascii_alphanumeric() {
+            c.to_ascii_uppercase()
+        } else {
+            '_'
+        };
+        if !(c == '_' && name.ends_with('_')) {
+            name.push(c);
+        }
     }
-    s.truncate(MAX_840D_NAME);
-    s
+    let mut name = name.trim_matches('_').to_string();
+    if name.is_empty() {
+        name = "GC_PART".into();
+    } else if !starts_840d(&name) {
+        name.insert_str(0, "GC_");
+    }
+    name.truncate(MAX_840D_NAME);
+    name
+}
+
+fn starts_840d(name: &str) -> bool {
+    let b = name.as_bytes();
+    b.len() >= 2 && (b[0].is_ascii_alphabetic() || b[0] == b'_') && b[1].is_ascii_alphabetic()
+}
+
+/// Checks an 840D program name (without `_N_` and `_MPF`) against SPEC §9:
+/// 1 to 24 characters from `A–Z 0–9 _`, the first two letters or `_` plus a letter.
+/// The error says what is wrong.
+pub fn check_name_840d(name: &str) -> Result<(), String> {
+    if name.is_empty() {
+        return Err("the name is empty".into());
+    }
+    if name.chars().count() > MAX_840D_NAME {
+        return Err(format!(
+            "the name has {} characters, at most {MAX_840D_NAME} are allowed",
+            name.chars().count()
+        ));
+    }
+    if let Some(c) = name
+        .chars()
+        .find(|c| !(c.is_ascii_uppercase() || c.is_ascii_digit() || *c == '_'))
+    {
+        return Err(format!(
+            "the name contains {c:?}; only upper-case letters A-Z, digits and _ are allowed"
+        ));
+    }
+    if !starts_840d(name) {
+        return Err(
+            "the name must start with two letters or with _ followed by a letter".to_string(),
+        );
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -140,10 +152,10 @@ mod tests {
         for bad in ["1AB", "A1", "../X", "AB/C", "AB.C", "", &"A".repeat(25)] {
             assert!(file_name(Dialect::Sinumerik840d, bad).is_err(), "{bad}");
         }
-        assert_eq!(name_840d_for_part("sp-1001"), "SP_1001");
-        assert_eq!(name_840d_for_part("1001"), "GC_1001");
-        assert_eq!(name_840d_for_part(&"X".repeat(40)).len(), 24);
-        assert!(check_840d(&name_840d_for_part("../../etc/passwd")).is_ok());
+        assert_eq!(program_name_840d("sp-1001"), "SP_1001");
+        assert_eq!(program_name_840d("1001"), "GC_1001");
+        assert_eq!(program_name_840d(&"X".repeat(40)).len(), 24);
+        assert!(check_name_840d(&program_name_840d("../../etc/passwd")).is_ok());
     }
 
     #[test]

@@ -17,8 +17,7 @@ pub async fn run(
     let machine = config.machine.clone();
     let mut store = Store::open(config)?;
     tracing::info!(%machine, dir = %store.config().program_dir.display(), "program store open");
-    let _token = bus.alive_token(&keys::agent_service(&machine)).await?;
-    run_stage::<NcProgram, _>(&bus, &keys::machine_programs(&machine), Stage::Agent, shutdown, |key, p| {
+    run_stage::<NcProgram, _>(&bus, &keys::machine_programs(&machine), &keys::agent_service(&machine), Stage::Agent, shutdown, |key, p| {
         if keys::job_of(key).as_ref() != Some(&p.job_id) {
             return Err(vec![JobError {
                 stage: Stage::Agent,

@@ -57,11 +57,14 @@ pub fn codec_error<T: Message>(stage: Stage, err: &gearcam_proto::CodecError) ->
 
 /// Runs a stage until `shutdown` is cancelled.
 ///
-/// `handle` receives the sample's key and the decoded message and returns what
+/// The stage's liveliness token `gearcam/v1/alive/{service}` is declared only
+/// once the subscriber is in place, so a sender that waits for the token never
+/// publishes into the void. `handle` receives the sample's key and the decoded message and returns what
 /// to publish, or the typed errors for the job.
 pub async fn run_stage<T, F>(
     bus: &Bus,
     pattern: &str,
+    service: &str,
     stage: Stage,
     shutdown: CancellationToken,
     mut handle: F,
@@ -78,7 +81,8 @@ where
             op: "declare subscriber",
             detail: e.to_string(),
         })?;
-    tracing::info!(stage = stage.as_str(), pattern, "stage serving");
+    let _token = bus.alive_token(service).await?;
+    tracing::info!(stage = stage.as_str(), pattern, service, "stage serving");
     loop {
         let sample = tokio::select! {
             _ = shutdown.cancelled() => break,

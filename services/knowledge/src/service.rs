@@ -27,10 +27,10 @@ pub async fn run(
 ) -> Result<(), KnowledgeError> {
     let conn = db::open(&config.db_path)?;
     tracing::info!(db = %config.db_path.display(), "knowledge base open");
-    let _token = bus.alive_token(SERVICE).await?;
     run_stage::<JobRequest, _>(
         &bus,
         keys::ALL_JOB_REQUESTS,
+        SERVICE,
         Stage::Knowledge,
         shutdown,
         |key, req| {

@@ -1,1 +1,48 @@
-//! Zenoh wrapper (written separately).
+//! The model service on the bus: subscribes to process plans, publishes
+//! machining models and `modelled` events, or typed errors listing every
+//! failed check.
+
+use gearcam_bus::stage::{codec_error, run_stage, Handled, Output};
+use gearcam_bus::{Bus, BusError, CancellationToken};
+use gearcam_proto::{encode, keys, EventKind, JobError, ProcessPlan, Stage};
+
+use crate::compute;
+
+/// The liveliness name of the model service.
+pub const SERVICE: &str = "model";
+
+/// Runs the model service until `shutdown` is cancelled.
+pub async fn run(bus: Bus, shutdown: CancellationToken) -> Result<(), BusError> {
+    run_stage::<ProcessPlan, _>(
+        &bus,
+        keys::ALL_JOB_PLANS,
+        SERVICE,
+        Stage::Model,
+        shutdown,
+        |key, plan| {
+            if keys::job_of(key).as_ref() != Some(&plan.job_id) {
+                return Err(vec![JobError {
+                    stage: Stage::Model,
+                    code: "JOB_ID_MISMATCH".into(),
+                    field: "job_id".into(),
+                    expected: key.to_string(),
+                    got: plan.job_id.to_string(),
+                    message: "the plan's job id differs from the job id in its key".into(),
+                }]);
+            }
+            let model = compute(&plan)?;
+            let payload =
+                encode(&model).map_err(|e| vec![codec_error::<ProcessPlan>(Stage::Model, &e)])?;
+            Ok(Handled {
+                events: vec![EventKind::Modelled {
+                    warnings: model.warnings.len(),
+                }],
+                outputs: vec![Output {
+                    key: keys::job_model(&model.job_id),
+                    payload,
+                }],
+            })
+        },
+    )
+    .await
+}

@@ -36,8 +36,9 @@ pub const DEFAULT_FUEL: u64 = 50_000;
 /// kilobytes; this only stops runaway expansion.
 pub const MAX_PROGRAM_BYTES: usize = 1 << 20;
 
-/// Longest 840D program name (SPEC §9), characters, without `_N_` and `_MPF`.
-pub const MAX_NAME_840D: usize = 24;
+pub use gearcam_proto::naming::{
+    check_name_840d, program_name_840d, MAX_840D_NAME as MAX_NAME_840D,
+};
 
 /// The built-in template for cylindrical gears on SINUMERIK 840D.
 const CYLINDRICAL_840D: &str = include_str!("../templates/cylindrical_840d.mpf.j2");
@@ -366,71 +367,6 @@ pub fn comment_text(text: &str) -> String {
         .collect::<String>()
         .trim_end()
         .to_string()
-}
-
-/// The 840D program name for a part number (SPEC §9).
-///
-/// Letters and digits are kept and upper-cased; every other character (`-`, `.`,
-/// spaces, ...) becomes `_`, runs of `_` collapse to one and leading and trailing
-/// `_` are dropped, so a generated name always starts with a letter. A name that
-/// would not start with two letters gets the prefix `GC_`; an empty one becomes
-/// `GC_PART`. The result is cut to [`MAX_NAME_840D`] characters.
-///
-/// `SP-1001` → `SP_1001`; `123` → `GC_123`; `a1.b` → `GC_A1_B`.
-pub fn program_name_840d(part: &str) -> String {
-    let mut name = String::with_capacity(part.len() + 3);
-    for c in part.chars() {
-        let c = if c.is_ascii_alphanumeric() {
-            c.to_ascii_uppercase()
-        } else {
-            '_'
-        };
-        if !(c == '_' && name.ends_with('_')) {
-            name.push(c);
-        }
-    }
-    let mut name = name.trim_matches('_').to_string();
-    if name.is_empty() {
-        name = "GC_PART".into();
-    } else if !starts_840d(&name) {
-        name.insert_str(0, "GC_");
-    }
-    name.truncate(MAX_NAME_840D);
-    name
-}
-
-fn starts_840d(name: &str) -> bool {
-    let b = name.as_bytes();
-    b.len() >= 2 && (b[0].is_ascii_alphabetic() || b[0] == b'_') && b[1].is_ascii_alphabetic()
-}
-
-/// Checks an 840D program name (without `_N_` and `_MPF`) against SPEC §9:
-/// 1 to 24 characters from `A–Z 0–9 _`, the first two letters or `_` plus a letter.
-/// The error says what is wrong.
-pub fn check_name_840d(name: &str) -> Result<(), String> {
-    if name.is_empty() {
-        return Err("the name is empty".into());
-    }
-    if name.chars().count() > MAX_NAME_840D {
-        return Err(format!(
-            "the name has {} characters, at most {MAX_NAME_840D} are allowed",
-            name.chars().count()
-        ));
-    }
-    if let Some(c) = name
-        .chars()
-        .find(|c| !(c.is_ascii_uppercase() || c.is_ascii_digit() || *c == '_'))
-    {
-        return Err(format!(
-            "the name contains {c:?}; only upper-case letters A-Z, digits and _ are allowed"
-        ));
-    }
-    if !starts_840d(name) {
-        return Err(
-            "the name must start with two letters or with _ followed by a letter".to_string(),
-        );
-    }
-    Ok(())
 }
 
 /// Checks the values that go into NC words verbatim (not through a number filter).
