@@ -1,1 +1,408 @@
-fn main() {}
+//! `gearcam`: the planning station command.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Duration;
+
+use anyhow::Context;
+use clap::{Parser, Subcommand};
+use gearcam::check::{self, CheckReport};
+use gearcam::embedded::Embedded;
+use gearcam::station::{self, Outcome, SubmitOptions};
+use gearcam::{jobfile, DEFAULT_ENDPOINT};
+use gearcam_bus::{cancel_on_signal, init_tracing, Bus, BusArgs, BusConfig, Mode};
+use gearcam_template::Templates;
+use indicatif::{ProgressBar, ProgressStyle};
+use serde_json::json;
+
+/// gearcam: from a gear drawing to a proven NC program in the machine's program store.
+#[derive(Debug, Parser)]
+#[command(version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run every service and one agent per configured machine in this process.
+    Up {
+        /// Data directory (knowledge base, machines' program stores).
+        #[arg(long, default_value = "gearcam-data")]
+        data: PathBuf,
+        #[command(flatten)]
+        bus: BusArgs,
+    },
+    /// Start what `up` starts, submit the bundled example jobs, show the programs, stop.
+    Demo {
+        /// Data directory (knowledge base, machines' program stores).
+        #[arg(long, default_value = "gearcam-data")]
+        data: PathBuf,
+    },
+    /// Submit a job file over the bus.
+    Submit {
+        /// The job file (TOML; see examples/).
+        job: PathBuf,
+        #[command(flatten)]
+        bus: BusArgs,
+        /// Follow the job until the program is delivered (exit 0) or refused (exit 1).
+        #[arg(long)]
+        wait: bool,
+        /// Print the outcome as JSON.
+        #[arg(long)]
+        json: bool,
+        /// Seconds to wait for the outcome (with --wait) and for the services.
+        #[arg(long, default_value_t = 60)]
+        timeout: u64,
+    },
+    /// Compute the job locally (no bus) and print the result and the program.
+    Check {
+        /// The job file (TOML; see examples/).
+        job: PathBuf,
+        /// Print the report as JSON.
+        #[arg(long)]
+        json: bool,
+        /// Data directory holding the knowledge base (created and seeded if missing).
+        #[arg(long, default_value = "gearcam-data")]
+        data: PathBuf,
+    },
+    /// Run a Zenoh router (for a shop network without zenohd, and for tests).
+    Router {
+        #[command(flatten)]
+        bus: BusArgs,
+    },
+}
+
+/// The example jobs `gearcam demo` submits, bundled into the binary.
+const DEMO_JOBS: &[(&str, &str)] = &[
+    (
+        "examples/spur_840d.toml",
+        include_str!("../../../examples/spur_840d.toml"),
+    ),
+    (
+        "examples/helical_840d.toml",
+        include_str!("../../../examples/helical_840d.toml"),
+    ),
+    (
+        "examples/helical_climb_840d.toml",
+        include_str!("../../../examples/helical_climb_840d.toml"),
+    ),
+];
+
+/// An invalid job `gearcam demo` submits to show a typed refusal, and the code it must get.
+const DEMO_INVALID: (&str, &str, &str) = (
+    "examples/invalid_base_pitch.toml",
+    include_str!("../../../examples/invalid_base_pitch.toml"),
+    "BASE_PITCH_MISMATCH",
+);
+
+fn main() -> ExitCode {
+    init_tracing("warn");
+    let cli = Cli::parse();
+    let rt = match tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+    {
+        Ok(rt) => rt,
+        Err(e) => {
+            eprintln!("gearcam: cannot start the runtime: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    match rt.block_on(run(cli)) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("gearcam: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
+    match cli.command {
+        Command::Up { data, bus } => up(&data, &bus).await,
+        Command::Demo { data } => demo(&data).await,
+        Command::Submit {
+            job,
+            bus,
+            wait,
+            json,
+            timeout,
+        } => submit(&job, &bus, wait, json, timeout).await,
+        Command::Check { job, json, data } => Ok(check_cmd(&job, json, &data)),
+        Command::Router { bus } => router(&bus).await,
+    }
+}
+
+fn embedded_config(bus: &BusArgs, default_listen: &str) -> BusConfig {
+    let mut c = bus.to_config();
+    c.mode.get_or_insert(Mode::Peer);
+    if c.listen.is_empty() && c.config_file.is_none() {
+        c.listen = vec![default_listen.to_string()];
+    }
+    if c.config_file.is_none() {
+        c.multicast_scouting = Some(false);
+    }
+    c
+}
+
+async fn up(data: &Path, bus: &BusArgs) -> anyhow::Result<ExitCode> {
+    let config = embedded_config(bus, DEFAULT_ENDPOINT);
+    let mut services = Embedded::start(&config, data, Templates::builtin())
+        .await
+        .with_context(|| format!("starting the services (listening on {:?})", config.listen))?;
+    println!(
+        "gearcam up: all services running; listening on {}",
+        config.listen.join(", ")
+    );
+    println!("  knowledge base {}", data.join("knowledge.db").display());
+    for (m, dir) in &services.machines {
+        println!(
+            "  agent {} ({}) stores programs in {}",
+            m.id,
+            m.dialect.as_str(),
+            dir.display()
+        );
+    }
+    println!("submit with: gearcam submit examples/spur_840d.toml --wait   (Ctrl-C stops)");
+    let stop = cancel_on_signal();
+    let result = services.serve_until(stop).await;
+    services.stop().await;
+    result.map(|()| ExitCode::SUCCESS)
+}
+
+fn progress(json: bool) -> ProgressBar {
+    if json {
+        return ProgressBar::hidden();
+    }
+    let pb = ProgressBar::new_spinner();
+    pb.set_style(
+        ProgressStyle::with_template("{spinner} {elapsed} {msg}").expect("valid template"),
+    );
+    pb.enable_steady_tick(Duration::from_millis(120));
+    pb
+}
+
+async fn demo(data: &Path) -> anyhow::Result<ExitCode> {
+    let config = embedded_config(&BusArgs::default(), "tcp/127.0.0.1:0");
+    let services = Embedded::start(&config, data, Templates::builtin()).await?;
+    println!(
+        "gearcam demo: services up on a loopback session; data in {}\n",
+        data.display()
+    );
+    let opts = SubmitOptions {
+        wait: true,
+        alive_timeout: Duration::from_secs(10),
+        timeout: Duration::from_secs(30),
+    };
+    let mut all_ok = true;
+    for (origin, text) in DEMO_JOBS {
+        let spec = jobfile::parse(text, origin).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let req = jobfile::request(spec);
+        println!("── {origin}: job {}", req.job_id);
+        let pb = progress(false);
+        let outcome = station::submit(&services.bus, &req, &opts, |ev| {
+            pb.suspend(|| println!("   {}", station::describe(ev)));
+        })
+        .await?;
+        pb.finish_and_clear();
+        match outcome {
+            Outcome::Delivered(r) => {
+                println!(
+                    "   delivered to {} as {} (sha256 {})\n",
+                    r.machine, r.path, r.sha256
+                );
+                let text = std::fs::read_to_string(&r.path)
+                    .with_context(|| format!("reading back {}", r.path))?;
+                println!("{text}");
+            }
+            other => {
+                all_ok = false;
+                println!("   NOT delivered: {other:?}\n");
+            }
+        }
+    }
+    let (origin, text, code) = DEMO_INVALID;
+    let spec = jobfile::parse(text, origin).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let req = jobfile::request(spec);
+    println!(
+        "── {origin}: job {} (invalid on purpose: expect {code})",
+        req.job_id
+    );
+    match station::submit(&services.bus, &req, &opts, |_| {}).await? {
+        Outcome::Failed(errors) => {
+            print!("{}", check::format_errors(&errors));
+            if !errors.iter().any(|e| e.code == code) {
+                all_ok = false;
+                println!("   expected the refusal to name {code}");
+            }
+        }
+        other => {
+            all_ok = false;
+            println!("   expected a refusal, got {other:?}");
+        }
+    }
+    services.stop().await;
+    println!(
+        "\ngearcam demo: {}",
+        if all_ok {
+            "every example delivered, the invalid one refused"
+        } else {
+            "FAILED"
+        }
+    );
+    Ok(if all_ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+async fn submit(
+    job: &Path,
+    bus_args: &BusArgs,
+    wait: bool,
+    json: bool,
+    timeout: u64,
+) -> anyhow::Result<ExitCode> {
+    let spec = match jobfile::load(job) {
+        Ok(s) => s,
+        Err(e) => {
+            if json {
+                println!(
+                    "{}",
+                    json!({"job": null, "state": "rejected", "errors": [e]})
+                );
+            } else {
+                eprintln!("gearcam: job file refused\n{}", check::format_errors(&[e]));
+            }
+            return Ok(ExitCode::FAILURE);
+        }
+    };
+    let req = jobfile::request(spec);
+    let mut config = bus_args.to_config();
+    if config.connect.is_empty() && config.config_file.is_none() {
+        config.connect = vec![DEFAULT_ENDPOINT.to_string()];
+    }
+    if config.config_file.is_none() {
+        config.mode.get_or_insert(Mode::Client);
+        config.multicast_scouting.get_or_insert(false);
+    }
+    let bus = Bus::open(&config).await.context("joining the bus")?;
+    let opts = SubmitOptions {
+        wait,
+        alive_timeout: Duration::from_secs(timeout.min(30)),
+        timeout: Duration::from_secs(timeout),
+    };
+    let pb = progress(json);
+    pb.set_message(format!("job {} submitted", req.job_id));
+    let outcome = station::submit(&bus, &req, &opts, |ev| {
+        if !json {
+            pb.suspend(|| eprintln!("{}", station::describe(ev)));
+        }
+    })
+    .await;
+    pb.finish_and_clear();
+    bus.close().await;
+    let outcome = match outcome {
+        Ok(o) => o,
+        Err(e) => {
+            if json {
+                println!(
+                    "{}",
+                    json!({"job": req.job_id, "state": "unreachable", "message": e.to_string()})
+                );
+            } else {
+                eprintln!("gearcam: {e}");
+            }
+            return Ok(ExitCode::from(2));
+        }
+    };
+    let (value, code) = match &outcome {
+        Outcome::Submitted(job) => (json!({"job": job, "state": "submitted"}), ExitCode::SUCCESS),
+        Outcome::Delivered(r) => (
+            json!({"job": r.job_id, "state": "delivered", "program": {"name": r.name, "sha256": r.sha256, "path": r.path}, "receipt": r}),
+            ExitCode::SUCCESS,
+        ),
+        Outcome::Failed(errors) => (
+            json!({"job": req.job_id, "state": "failed", "errors": errors}),
+            ExitCode::FAILURE,
+        ),
+        Outcome::TimedOut { job, last_stage } => (
+            json!({"job": job, "state": "timed_out", "last_stage": last_stage}),
+            ExitCode::from(2),
+        ),
+    };
+    if json {
+        println!("{value}");
+    } else {
+        match &outcome {
+            Outcome::Submitted(job) => println!("job {job} submitted"),
+            Outcome::Delivered(r) => println!(
+                "job {} delivered: {} (sha256 {})",
+                r.job_id, r.path, r.sha256
+            ),
+            Outcome::Failed(errors) => {
+                eprintln!(
+                    "job {} refused with {} error(s):\n{}",
+                    req.job_id,
+                    errors.len(),
+                    check::format_errors(errors)
+                )
+            }
+            Outcome::TimedOut { job, last_stage } => eprintln!(
+                "job {job}: no outcome within {timeout} s (last heard from: {})",
+                last_stage.map(|s| s.as_str()).unwrap_or("no stage")
+            ),
+        }
+    }
+    Ok(code)
+}
+
+fn check_cmd(job: &Path, json: bool, data: &Path) -> ExitCode {
+    let report = match jobfile::load(job) {
+        Err(e) => CheckReport::failed(vec![e]),
+        Ok(spec) => {
+            let req = jobfile::request(spec);
+            match gearcam_knowledge::db::open(&data.join("knowledge.db")) {
+                Ok(conn) => check::check(&conn, &Templates::builtin(), &req),
+                Err(e) => {
+                    eprintln!(
+                        "gearcam: cannot open the knowledge base in {}: {e}",
+                        data.display()
+                    );
+                    return ExitCode::from(2);
+                }
+            }
+        }
+    };
+    if json {
+        match serde_json::to_string_pretty(&report) {
+            Ok(s) => println!("{s}"),
+            Err(e) => {
+                eprintln!("gearcam: cannot write JSON: {e}");
+                return ExitCode::from(2);
+            }
+        }
+    } else {
+        print!("{}", check::format_human(&report));
+    }
+    if report.ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
+
+async fn router(bus_args: &BusArgs) -> anyhow::Result<ExitCode> {
+    let mut config = bus_args.to_config();
+    if config.config_file.is_none() {
+        config.mode = Some(Mode::Router);
+        config.multicast_scouting.get_or_insert(false);
+    }
+    let bus = Bus::open(&config).await.context("starting the router")?;
+    println!("gearcam router: listening on {}", config.listen.join(", "));
+    cancel_on_signal().cancelled().await;
+    bus.close().await;
+    Ok(ExitCode::SUCCESS)
+}

@@ -33,7 +33,7 @@ pub async fn run(
         SERVICE,
         Stage::Knowledge,
         shutdown,
-        |key, req| {
+        move |key, req| {
             if keys::job_of(key).as_ref() != Some(&req.job_id) {
                 return Err(vec![JobError {
                     stage: Stage::Knowledge,

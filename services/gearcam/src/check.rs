@@ -1,0 +1,275 @@
+//! `gearcam check`: the whole computation done locally, without the bus —
+//! knowledge (from the local database), model, template — and its report, as
+//! JSON (a contract other tools read) or for a person.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use gearcam_proto::{
+    Geometry, JobError, JobRequest, Kinematics, Source, Sourced, Stage, TemplateRef, Warning,
+};
+use gearcam_template::Templates;
+use rusqlite::Connection;
+use serde::Serialize;
+
+/// The job as checked.
+#[derive(Debug, Clone, Serialize)]
+pub struct JobSummary {
+    /// Job id.
+    pub id: String,
+    /// Machine.
+    pub machine: String,
+    /// Part number.
+    pub part_number: String,
+    /// Quantity.
+    pub quantity: u32,
+}
+
+/// A knowledge-base record used by the plan.
+#[derive(Debug, Clone, Serialize)]
+pub struct CaseSummary {
+    /// Record id.
+    pub id: String,
+    /// Similarity, 0–1.
+    pub similarity: f64,
+    /// Provenance of its values.
+    pub provenance: String,
+}
+
+/// The process plan in brief.
+#[derive(Debug, Clone, Serialize)]
+pub struct PlanSummary {
+    /// Group-technology class.
+    pub class: String,
+    /// Hob chosen.
+    pub hob_id: String,
+    /// Confidence of the proposal.
+    pub confidence: f64,
+    /// Records used.
+    pub cases: Vec<CaseSummary>,
+    /// Every decided value with its source.
+    pub values: BTreeMap<String, Sourced>,
+}
+
+/// The program in brief, with its text.
+#[derive(Debug, Clone, Serialize)]
+pub struct ProgramSummary {
+    /// Program name.
+    pub name: String,
+    /// Dialect.
+    pub dialect: String,
+    /// Template that made it.
+    pub template: TemplateRef,
+    /// SHA-256 of the text.
+    pub sha256: String,
+    /// The program.
+    pub text: String,
+}
+
+/// The report of `gearcam check` (JSON contract: keep these names).
+#[derive(Debug, Clone, Serialize)]
+pub struct CheckReport {
+    /// True when a program was produced without errors.
+    pub ok: bool,
+    /// Every error found, each with stage, code, field, expected, got, message.
+    pub errors: Vec<JobError>,
+    /// Warnings.
+    pub warnings: Vec<Warning>,
+    /// The job.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub job: Option<JobSummary>,
+    /// The plan.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plan: Option<PlanSummary>,
+    /// Gear geometry.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub geometry: Option<Geometry>,
+    /// Machining model.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model: Option<Kinematics>,
+    /// The NC program.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub program: Option<ProgramSummary>,
+}
+
+impl CheckReport {
+    /// A report of errors only (e.g. an unreadable job file).
+    pub fn failed(errors: Vec<JobError>) -> CheckReport {
+        CheckReport {
+            ok: false,
+            errors,
+            warnings: vec![],
+            job: None,
+            plan: None,
+            geometry: None,
+            model: None,
+            program: None,
+        }
+    }
+}
+
+/// Runs knowledge → model → template locally for one request.
+pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> CheckReport {
+    let spec = &req.spec;
+    let mut report = CheckReport::failed(vec![]);
+    report.job = Some(JobSummary {
+        id: req.job_id.to_string(),
+        machine: spec.job.machine.to_string(),
+        part_number: spec.job.part_number.clone(),
+        quantity: spec.job.quantity,
+    });
+    report.geometry = Some(gearcam_model::geometry_of(&spec.gear));
+    let plan = match gearcam_knowledge::plan::plan(conn, req) {
+        Ok(p) => p,
+        Err(errors) => {
+            report.errors = errors;
+            return report;
+        }
+    };
+    report.plan = Some(PlanSummary {
+        class: plan.class.clone(),
+        hob_id: plan.hob.id.clone(),
+        confidence: plan.confidence,
+        cases: plan
+            .cases
+            .iter()
+            .map(|c| CaseSummary {
+                id: c.id.clone(),
+                similarity: c.similarity,
+                provenance: c.provenance.clone(),
+            })
+            .collect(),
+        values: plan.values.clone(),
+    });
+    let model = match gearcam_model::compute(&plan) {
+        Ok(m) => m,
+        Err(errors) => {
+            report.errors = errors;
+            return report;
+        }
+    };
+    report.geometry = Some(model.geometry.clone());
+    report.model = Some(model.model.clone());
+    report.warnings = model.warnings.clone();
+    match templates.render(&model) {
+        Ok(p) => {
+            report.program = Some(ProgramSummary {
+                name: p.name,
+                dialect: p.dialect.as_str().into(),
+                template: p.template,
+                sha256: p.sha256,
+                text: p.text,
+            });
+            report.ok = true;
+        }
+        Err(errors) => report.errors = errors,
+    }
+    report
+}
+
+fn src(s: Source) -> &'static str {
+    match s {
+        Source::Job => "job",
+        Source::Case => "case",
+        Source::Machine => "machine",
+        Source::Default => "default",
+        Source::Library => "library",
+    }
+}
+
+/// Formats errors for a person, one block each.
+pub fn format_errors(errors: &[JobError]) -> String {
+    let mut out = String::new();
+    for e in errors {
+        let _ = writeln!(
+            out,
+            "  ✗ [{}] {} — {}\n      field {}: expected {}, got {}",
+            e.stage.as_str(),
+            e.code,
+            e.message,
+            e.field,
+            e.expected,
+            e.got
+        );
+    }
+    out
+}
+
+/// The report for a person.
+pub fn format_human(r: &CheckReport) -> String {
+    let mut out = String::new();
+    if let Some(j) = &r.job {
+        let _ = writeln!(
+            out,
+            "job {}  part {}  machine {}  quantity {}",
+            j.id, j.part_number, j.machine, j.quantity
+        );
+    }
+    if let Some(p) = &r.plan {
+        let _ = writeln!(
+            out,
+            "class {}  hob {}  confidence {:.2}",
+            p.class, p.hob_id, p.confidence
+        );
+        for c in &p.cases {
+            let _ = writeln!(
+                out,
+                "  case {} (similarity {:.2}): {}",
+                c.id, c.similarity, c.provenance
+            );
+        }
+        for (k, v) in &p.values {
+            let _ = writeln!(out, "  {k:<22} {:>10.4}  from {}", v.value, src(v.source));
+        }
+    }
+    if let Some(g) = &r.geometry {
+        let _ = writeln!(
+            out,
+            "geometry  d {:.4}  db {:.4}  da {:.4}  df {:.4} mm",
+            g.d_mm, g.db_mm, g.da_mm, g.df_mm
+        );
+    }
+    if let Some(m) = &r.model {
+        let _ = writeln!(
+            out,
+            "model  swivel {:.4}°  ΔH′ {:.3} mm (+{:.3} safety)  L {:.3} mm  depth {:.3} mm",
+            m.swivel_deg, m.clearance_mm, m.safety_mm, m.centre_distance_mm, m.depth_mm
+        );
+        let p = &m.positions;
+        for (name, pos) in [("A", p.A), ("B", p.B), ("C", p.C), ("D", p.D), ("E", p.E)] {
+            let _ = writeln!(out, "  {name}  X {:>9.3}  Z {:>9.3}", pos.x_mm, pos.z_mm);
+        }
+        let _ = writeln!(
+            out,
+            "  hob {:.3} rpm  table {:.4} rpm  feed {:.3} mm/min  differential {:.6}°/mm  ratio {}/{}  {:.2} min/cut",
+            m.hob_rpm,
+            m.table_rpm,
+            m.axial_feed_mm_min,
+            m.differential_deg_per_mm,
+            m.coupling.num,
+            m.coupling.den,
+            m.cut_time_min
+        );
+    }
+    for w in &r.warnings {
+        let _ = writeln!(out, "  ! {} {}: {}", w.code, w.field, w.message);
+    }
+    if !r.errors.is_empty() {
+        let _ = writeln!(out, "{} error(s):", r.errors.len());
+        out.push_str(&format_errors(&r.errors));
+    }
+    if let Some(p) = &r.program {
+        let _ = writeln!(
+            out,
+            "program {} ({}, template {} v{}, sha256 {})\n",
+            p.name, p.dialect, p.template.id, p.template.version, p.sha256
+        );
+        out.push_str(&p.text);
+    }
+    out
+}
+
+/// The stage a check error belongs to, for exit codes and summaries.
+pub fn first_stage(r: &CheckReport) -> Option<Stage> {
+    r.errors.first().map(|e| e.stage)
+}
