@@ -1,1 +1,247 @@
-//! placeholder
+//! Helpers for gearcam's distributed tests: start the real binaries as
+//! processes on loopback, each in a fresh temporary directory, and stop them
+//! when the test ends.
+//!
+//! # Layout
+//!
+//! - [`bin`]: the path of a built workspace binary.
+//! - [`free_port`]: a free loopback TCP port.
+//! - [`Cluster`]: a router plus every service and one agent, as processes.
+#![forbid(unsafe_code)]
+
+use std::net::{TcpListener, TcpStream};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// The path of a workspace binary built next to the test executable
+/// (`target/<profile>/<name>`). The README's test command builds them first.
+pub fn bin(name: &str) -> PathBuf {
+    let exe = std::env::current_exe().expect("test executable path");
+    let dir = exe
+        .parent()
+        .and_then(|deps| deps.parent())
+        .expect("target/<profile>/deps/<test>");
+    let path = dir.join(name);
+    assert!(
+        path.exists(),
+        "{} is missing: build the binaries first (`cargo build --workspace --bins`, as the README's test command does)",
+        path.display()
+    );
+    path
+}
+
+/// A free TCP port on 127.0.0.1 (bound, read, released).
+pub fn free_port() -> u16 {
+    TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .map(|a| a.port())
+        .expect("a free loopback port")
+}
+
+/// Waits until something accepts TCP connections on the port.
+pub fn wait_for_port(port: u16, timeout: Duration) {
+    let start = Instant::now();
+    while TcpStream::connect(("127.0.0.1", port)).is_err() {
+        assert!(
+            start.elapsed() < timeout,
+            "nothing listens on port {port} after {timeout:?}"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+/// A child process killed when dropped; its stderr goes to a log file.
+#[derive(Debug)]
+pub struct Proc {
+    /// Name for messages.
+    pub name: String,
+    child: Child,
+    /// Log file with the process's stderr.
+    pub log: PathBuf,
+}
+
+impl Proc {
+    /// Starts `bin(name)` with `args`, logging to `dir/name.log`.
+    pub fn start(dir: &Path, label: &str, name: &str, args: &[String]) -> Proc {
+        let log = dir.join(format!("{label}.log"));
+        let file = std::fs::File::create(&log).expect("log file");
+        let child = Command::new(bin(name))
+            .args(args)
+            .env("RUST_LOG", "info")
+            .stdin(Stdio::null())
+            .stdout(file.try_clone().expect("log file"))
+            .stderr(file)
+            .spawn()
+            .unwrap_or_else(|e| panic!("cannot start {name}: {e}"));
+        Proc {
+            name: label.to_string(),
+            child,
+            log,
+        }
+    }
+
+    /// True while the process runs.
+    pub fn running(&mut self) -> bool {
+        matches!(self.child.try_wait(), Ok(None))
+    }
+
+    /// Kills the process (SIGKILL) and waits for it.
+    pub fn kill(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+impl Drop for Proc {
+    fn drop(&mut self) {
+        self.kill();
+    }
+}
+
+/// A router and every service as separate processes on loopback.
+#[derive(Debug)]
+pub struct Cluster {
+    /// Temporary directory holding data and logs.
+    pub dir: tempfile::TempDir,
+    /// The router's endpoint, e.g. `tcp/127.0.0.1:40123`.
+    pub endpoint: String,
+    /// The processes.
+    pub procs: Vec<Proc>,
+}
+
+impl Cluster {
+    /// Starts a router, the knowledge, model and template services and the
+    /// agent of machine H01, each a separate process, as clients of the router.
+    pub fn start() -> Cluster {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let port = free_port();
+        let endpoint = format!("tcp/127.0.0.1:{port}");
+        let client = |extra: &[&str]| -> Vec<String> {
+            let mut v: Vec<String> = [
+                "--mode",
+                "client",
+                "--connect",
+                &endpoint,
+                "--no-multicast-scouting",
+            ]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+            v.extend(extra.iter().map(|s| s.to_string()));
+            v
+        };
+        let d = dir.path();
+        let mut procs = vec![Proc::start(
+            d,
+            "router",
+            "gearcam",
+            &[
+                "router".into(),
+                "--listen".into(),
+                endpoint.clone(),
+                "--no-multicast-scouting".into(),
+            ],
+        )];
+        wait_for_port(port, Duration::from_secs(20));
+        let db = d.join("knowledge.db").display().to_string();
+        let programs = d.join("H01/programs").display().to_string();
+        let index = d.join("H01/index.db").display().to_string();
+        procs.push(Proc::start(
+            d,
+            "knowledge",
+            "gearcam-knowledge",
+            &client(&["--db", &db]),
+        ));
+        procs.push(Proc::start(d, "model", "gearcam-model", &client(&[])));
+        procs.push(Proc::start(d, "template", "gearcam-template", &client(&[])));
+        procs.push(Proc::start(
+            d,
+            "agent",
+            "gearcam-agent",
+            &client(&[
+                "--machine",
+                "H01",
+                "--program-dir",
+                &programs,
+                "--index",
+                &index,
+            ]),
+        ));
+        Cluster {
+            dir,
+            endpoint,
+            procs,
+        }
+    }
+
+    /// The agent's program directory.
+    pub fn program_dir(&self) -> PathBuf {
+        self.dir.path().join("H01/programs")
+    }
+
+    /// The agent's index database.
+    pub fn index_db(&self) -> PathBuf {
+        self.dir.path().join("H01/index.db")
+    }
+
+    /// Writes a job file into the cluster's directory.
+    pub fn job_file(&self, name: &str, text: &str) -> PathBuf {
+        let path = self.dir.path().join(name);
+        std::fs::write(&path, text).expect("job file");
+        path
+    }
+
+    /// Runs `gearcam submit FILE --connect <router> --wait --json`.
+    pub fn submit_wait(&self, job: &Path) -> (Output, serde_json::Value) {
+        let out = Command::new(bin("gearcam"))
+            .args([
+                "submit",
+                &job.display().to_string(),
+                "--connect",
+                &self.endpoint,
+                "--wait",
+                "--json",
+                "--timeout",
+                "60",
+            ])
+            .stdin(Stdio::null())
+            .output()
+            .expect("gearcam submit runs");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let value = serde_json::from_str(stdout.trim()).unwrap_or_else(|e| {
+            panic!(
+                "submit printed no JSON ({e}): stdout {stdout:?} stderr {:?}\n{}",
+                String::from_utf8_lossy(&out.stderr),
+                self.logs()
+            )
+        });
+        (out, value)
+    }
+
+    /// Every process's log, for failure messages.
+    pub fn logs(&self) -> String {
+        self.procs
+            .iter()
+            .map(|p| {
+                format!(
+                    "--- {} ---\n{}",
+                    p.name,
+                    std::fs::read_to_string(&p.log).unwrap_or_default()
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+
+    /// Asserts every process still runs.
+    pub fn assert_all_running(&mut self) {
+        let mut dead = Vec::new();
+        for p in &mut self.procs {
+            if !p.running() {
+                dead.push(p.name.clone());
+            }
+        }
+        assert!(dead.is_empty(), "processes died: {dead:?}\n{}", self.logs());
+    }
+}

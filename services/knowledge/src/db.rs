@@ -94,7 +94,7 @@ fn migrate(conn: &mut Connection) -> Result<(), KnowledgeError> {
 pub fn seed_machine_h01() -> MachineProfile {
     MachineProfile {
         id: MachineId::new("H01").expect("valid id"),
-        name: "H01 six-axis CNC hobbing machine, SINUMERIK 840D sl".into(),
+        name: "six-axis CNC hobbing machine, SINUMERIK 840D sl".into(),
         dialect: Dialect::Sinumerik840d,
         axes: AxisNames {
             radial: "X".into(),

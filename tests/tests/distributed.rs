@@ -1,0 +1,336 @@
+//! Distributed tests: a Zenoh router and every gearcam service as its own
+//! process on loopback, jobs submitted with the real `gearcam submit --wait`.
+
+use std::time::Duration;
+
+use approx::assert_abs_diff_eq;
+use gearcam_proto::{decode, EventKind, JobEvent};
+use gearcam_tests::Cluster;
+use sha2::{Digest, Sha256};
+
+/// A spur job as a planner would write it, with every process value given so
+/// the expected numbers below depend only on this file and SPEC §4.3.
+const SPUR_JOB: &str = r#"
+[job]
+machine = "H01"
+part_number = "TS-0001"
+quantity = 5
+
+[gear]
+module_mm = 3.0
+teeth = 25
+pressure_angle_deg = 20.0
+helix_angle_deg = 0.0
+face_width_mm = 30.0
+profile_shift = 0.0
+addendum_coef = 1.0
+clearance_coef = 0.25
+blank_od_mm = 81.0
+material = "20CrMnTi"
+quality_grade = 7
+fixture_height_mm = 50.0
+
+[hob]
+starts = 1
+od_mm = 80.0
+module_mm = 3.0
+pressure_angle_deg = 20.0
+lead_angle_deg = 2.3716
+hand = "right"
+length_mm = 100.0
+
+[process]
+cut_mode = "conventional"
+cuts = 1
+cutting_speed_m_min = 90.0
+feed_mm_per_rev = 2.0
+safety_mm = 2.0
+
+[options]
+coolant = true
+outer_support = false
+fixture_clamp = true
+sync_cancel = true
+chip_conveyor = false
+mist_separator = false
+"#;
+
+/// SPEC §4.3 for the job above, computed here independently of the model crate.
+struct Expected {
+    x_c: f64,
+    z_c: f64,
+    z_d: f64,
+    feed_mm_min: f64,
+}
+
+fn expected_spur() -> Expected {
+    let (mn, z, b, h_fix, da1, da0, z0, vc, fa, safety) = (
+        3.0_f64, 25.0_f64, 30.0, 50.0, 81.0_f64, 80.0_f64, 1.0, 90.0, 2.0, 2.0,
+    );
+    let gamma0 = 2.3716_f64.to_radians();
+    // Check 5's theoretical centre distance; the default depth makes L equal to it.
+    let d = z * mn;
+    let d0 = z0 * mn / gamma0.sin();
+    let l = d0 / 2.0 + d / 2.0;
+    let h = (da0 + da1) / 2.0 - l;
+    // ΔH′ = max ΔH(x) over x in (L − R, r), by brute force on a fine grid.
+    let (r_blank, r_hob) = (da1 / 2.0, da0 / 2.0);
+    let gamma = gamma0; // spur: γ = −(|β| − |γ0|) = γ0
+    let (lo, hi) = (l - r_blank, r_hob);
+    let n = 1_000_000;
+    let mut best = f64::MIN;
+    for i in 1..n {
+        let x = lo + (hi - lo) * i as f64 / n as f64;
+        let dh = (r_hob * r_hob - x * x).sqrt() * (gamma.cos() - gamma.tan() * gamma.sin())
+            + (r_blank * r_blank - (l - x) * (l - x)).sqrt() * gamma.tan();
+        best = best.max(dh);
+    }
+    assert!(h > 0.0 && best > 0.0);
+    let nt = 1000.0 * vc / (std::f64::consts::PI * da0);
+    Expected {
+        x_c: l,
+        z_c: h_fix + b + best + safety,
+        z_d: h_fix - best - safety,
+        feed_mm_min: fa * z0 * nt / z,
+    }
+}
+
+/// The number after `word=` in an NC line.
+fn word(line: &str, word: &str) -> Option<f64> {
+    line.split_whitespace()
+        .find_map(|t| t.strip_prefix(&format!("{word}=")))
+        .and_then(|v| v.parse().ok())
+}
+
+#[test]
+fn a_spur_job_is_delivered_through_every_service_process() {
+    let mut cluster = Cluster::start();
+    let job = cluster.job_file("spur.toml", SPUR_JOB);
+    let (out, v) = cluster.submit_wait(&job);
+    assert!(
+        out.status.success(),
+        "submit failed: {v}\n{}",
+        cluster.logs()
+    );
+    assert_eq!(v["state"], "delivered", "{v}");
+    let receipt_hash = v["program"]["sha256"].as_str().expect("sha256").to_string();
+    let job_id = v["job"].as_str().expect("job id").to_string();
+
+    // The program file in the agent's directory, under the 840D naming.
+    let path = cluster.program_dir().join("_N_TS_0001_MPF");
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{}: {e}\n{}", path.display(), cluster.logs()));
+    assert_eq!(hex::encode(Sha256::digest(text.as_bytes())), receipt_hash);
+    assert!(
+        text.starts_with("%_N_TS_0001_MPF\n;$PATH=/_N_MPF_DIR\n"),
+        "{text}"
+    );
+
+    // The index row.
+    let conn = rusqlite::Connection::open(cluster.index_db()).unwrap();
+    let (name, sha, job_col): (String, String, String) = conn
+        .query_row("SELECT name, sha256, job FROM programs", [], |r| {
+            Ok((r.get(0)?, r.get(1)?, r.get(2)?))
+        })
+        .unwrap();
+    assert_eq!(
+        (name.as_str(), sha.as_str(), job_col.as_str()),
+        ("TS_0001", receipt_hash.as_str(), job_id.as_str())
+    );
+
+    // The numbers in the program against SPEC §4.3.
+    let e = expected_spur();
+    let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with(';')).collect();
+    let g1 = lines
+        .iter()
+        .position(|l| l.contains(" G1 "))
+        .expect("a G1 feed block");
+    let c_line = lines[..g1]
+        .iter()
+        .rev()
+        .find(|l| l.contains("X="))
+        .expect("infeed to C");
+    let b_line = lines
+        .iter()
+        .find(|l| l.contains(" G0 ") && l.contains("Z="))
+        .expect("rapid to B");
+    assert_abs_diff_eq!(word(c_line, "X").unwrap(), e.x_c, epsilon = 1e-3);
+    assert_abs_diff_eq!(word(b_line, "Z").unwrap(), e.z_c, epsilon = 1e-3);
+    assert_abs_diff_eq!(word(lines[g1], "Z").unwrap(), e.z_d, epsilon = 1e-3);
+    assert_abs_diff_eq!(word(lines[g1], "F").unwrap(), e.feed_mm_min, epsilon = 1e-3);
+    assert!(text.contains("EGON(C,\"FINE\",B,1,25)"), "{text}");
+    cluster.assert_all_running();
+}
+
+#[test]
+fn a_hob_with_the_wrong_base_pitch_is_refused_naming_the_check() {
+    let mut cluster = Cluster::start();
+    let bad = SPUR_JOB.replace(
+        "module_mm = 3.0\npressure_angle_deg = 20.0\nlead_angle_deg",
+        "module_mm = 2.5\npressure_angle_deg = 20.0\nlead_angle_deg",
+    );
+    assert_ne!(bad, SPUR_JOB);
+    let job = cluster.job_file("bad.toml", &bad);
+    let (out, v) = cluster.submit_wait(&job);
+    assert_eq!(out.status.code(), Some(1), "{v}");
+    assert_eq!(v["state"], "failed", "{v}");
+    let errors = v["errors"].as_array().expect("errors");
+    let e = errors
+        .iter()
+        .find(|e| e["code"] == "BASE_PITCH_MISMATCH")
+        .unwrap_or_else(|| panic!("no BASE_PITCH_MISMATCH in {v}"));
+    assert_eq!(e["stage"], "model");
+    assert_eq!(e["field"], "hob.module_mm");
+    assert_eq!(
+        std::fs::read_dir(cluster.program_dir())
+            .map(|d| d.count())
+            .unwrap_or(0),
+        0
+    );
+    cluster.assert_all_running();
+}
+
+#[test]
+fn every_service_survives_malformed_messages_and_reports_them() {
+    let mut cluster = Cluster::start();
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .unwrap();
+    let reports = rt.block_on(async {
+        let mut config = zenoh::Config::default();
+        config.insert_json5("mode", "\"client\"").unwrap();
+        config
+            .insert_json5("connect/endpoints", &format!("[\"{}\"]", cluster.endpoint))
+            .unwrap();
+        config
+            .insert_json5("scouting/multicast/enabled", "false")
+            .unwrap();
+        let session = zenoh::open(config).await.unwrap();
+        // Wait until every service has declared its liveliness token.
+        for service in ["knowledge", "model", "template", "agent/H01"] {
+            let key = format!("gearcam/v1/alive/{service}");
+            let deadline = std::time::Instant::now() + Duration::from_secs(30);
+            loop {
+                let replies = session
+                    .liveliness()
+                    .get(&key)
+                    .timeout(Duration::from_millis(500))
+                    .await
+                    .unwrap();
+                if replies.recv_async().await.is_ok() {
+                    break;
+                }
+                assert!(
+                    std::time::Instant::now() < deadline,
+                    "{service} never became alive"
+                );
+                tokio::time::sleep(Duration::from_millis(100)).await;
+            }
+        }
+        let events = session
+            .declare_subscriber("gearcam/v1/jobs/*/events")
+            .await
+            .unwrap();
+        let garbage: &[u8] = &[0xc1, 0xff, 0x00, 0x13, 0x37];
+        // An envelope of a future schema version, to each stage as well.
+        let future = future_version_envelope();
+        let targets = [
+            (
+                "gearcam/v1/jobs/BAD-K/request",
+                garbage.to_vec(),
+                "knowledge",
+                "MALFORMED_MESSAGE",
+            ),
+            (
+                "gearcam/v1/jobs/BAD-M/plan",
+                garbage.to_vec(),
+                "model",
+                "MALFORMED_MESSAGE",
+            ),
+            (
+                "gearcam/v1/jobs/BAD-T/model",
+                future.clone(),
+                "template",
+                "UNKNOWN_SCHEMA_VERSION",
+            ),
+            (
+                "gearcam/v1/machines/H01/programs/BAD-A",
+                future,
+                "agent",
+                "UNKNOWN_SCHEMA_VERSION",
+            ),
+        ];
+        for (key, payload, _, _) in &targets {
+            session.put(*key, payload.clone()).await.unwrap();
+        }
+        let mut seen = Vec::new();
+        while seen.len() < targets.len() {
+            let sample = tokio::time::timeout(Duration::from_secs(30), events.recv_async())
+                .await
+                .expect("a typed error event for every malformed message")
+                .unwrap();
+            let ev: JobEvent =
+                decode(&sample.payload().to_bytes()).expect("events are well formed");
+            if let EventKind::Failed { errors } = ev.event {
+                seen.push((
+                    ev.job_id.to_string(),
+                    ev.stage.as_str().to_string(),
+                    errors[0].code.clone(),
+                ));
+            }
+        }
+        session.close().await.unwrap();
+        seen.sort();
+        seen
+    });
+    assert_eq!(
+        reports,
+        vec![
+            (
+                "BAD-A".to_string(),
+                "agent".to_string(),
+                "UNKNOWN_SCHEMA_VERSION".to_string()
+            ),
+            (
+                "BAD-K".into(),
+                "knowledge".into(),
+                "MALFORMED_MESSAGE".into()
+            ),
+            ("BAD-M".into(), "model".into(), "MALFORMED_MESSAGE".into()),
+            (
+                "BAD-T".into(),
+                "template".into(),
+                "UNKNOWN_SCHEMA_VERSION".into()
+            ),
+        ]
+    );
+    // Every service keeps serving: a good job still goes through.
+    cluster.assert_all_running();
+    let job = cluster.job_file("spur.toml", SPUR_JOB);
+    let (out, v) = cluster.submit_wait(&job);
+    assert!(out.status.success(), "{v}\n{}", cluster.logs());
+    assert_eq!(v["state"], "delivered");
+    assert_eq!(
+        std::fs::read_dir(cluster.program_dir()).unwrap().count(),
+        1,
+        "nothing else stored"
+    );
+}
+
+/// `{"schema": 99, "kind": ..., "body": {}}` as MessagePack, written by hand so
+/// the test does not depend on our codec: fixmap(3), then the three pairs.
+fn future_version_envelope() -> Vec<u8> {
+    let mut v = vec![0x83];
+    v.push(0xa6);
+    v.extend_from_slice(b"schema");
+    v.push(99); // positive fixint
+    v.push(0xa4);
+    v.extend_from_slice(b"kind");
+    v.push(0xa3);
+    v.extend_from_slice(b"any");
+    v.push(0xa4);
+    v.extend_from_slice(b"body");
+    v.push(0x80); // empty map
+    v
+}
