@@ -38,20 +38,14 @@ pub fn parse(text: &str, origin: &str) -> Result<JobSpec, JobError> {
                 .split_once("expected ")
                 .map(|(_, e)| e.to_string())
                 .unwrap_or_else(|| "a known key".into());
-            let field = if path == "." || path.is_empty() {
-                key.to_string()
-            } else {
-                format!("{path}.{key}")
-            };
-            ("JOB_FILE_UNKNOWN_KEY", field, expected)
+            ("JOB_FILE_UNKNOWN_KEY", join_path(&path, key), expected)
         } else if let Some(rest) = detail.strip_prefix("missing field `") {
             let key = rest.split('`').next().unwrap_or_default();
-            let field = if path == "." || path.is_empty() {
-                key.to_string()
-            } else {
-                format!("{path}.{key}")
-            };
-            ("JOB_FILE_MISSING_KEY", field, "a value".to_string())
+            (
+                "JOB_FILE_MISSING_KEY",
+                join_path(&path, key),
+                "a value".to_string(),
+            )
         } else {
             ("JOB_FILE_INVALID", path.clone(), "see message".to_string())
         };
@@ -67,6 +61,18 @@ pub fn parse(text: &str, origin: &str) -> Result<JobSpec, JobError> {
             format!("{origin}{location}: {detail}"),
         )
     })
+}
+
+/// The dotted path of `key` under `path`; the path may already end with it
+/// (serde_path_to_error includes an unknown key, not a missing one).
+fn join_path(path: &str, key: &str) -> String {
+    if path == "." || path.is_empty() {
+        key.to_string()
+    } else if path == key || path.ends_with(&format!(".{key}")) {
+        path.to_string()
+    } else {
+        format!("{path}.{key}")
+    }
 }
 
 /// Reads and parses a job file.

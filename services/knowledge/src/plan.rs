@@ -329,3 +329,168 @@ fn resolve_hob(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gearcam_proto::{GearSpec, JobHeader, JobSpec, MachineId, Options, ProcessOverrides};
+
+    fn request(hob: HobSpec, process: ProcessOverrides) -> JobRequest {
+        JobRequest {
+            job_id: gearcam_proto::JobId::new("J1").unwrap(),
+            submitted_at_ms: 0,
+            submitted_by: "test".into(),
+            spec: JobSpec {
+                job: JobHeader {
+                    id: None,
+                    machine: MachineId::new("H01").unwrap(),
+                    quantity: 1,
+                    part_number: "P-1".into(),
+                },
+                gear: GearSpec {
+                    module_mm: 3.0,
+                    teeth: 25,
+                    pressure_angle_deg: 20.0,
+                    helix_angle_deg: 15.0,
+                    helix_hand: Some(Hand::Left),
+                    face_width_mm: 30.0,
+                    profile_shift: 0.0,
+                    addendum_coef: 1.0,
+                    clearance_coef: 0.25,
+                    blank_od_mm: None,
+                    od_correction_mm: 0.0,
+                    material: "16MnCr5".into(),
+                    quality_grade: 7,
+                    fixture_height_mm: 50.0,
+                },
+                hob,
+                process,
+                options: Options::default(),
+            },
+        }
+    }
+
+    #[test]
+    fn proposes_cutting_data_from_the_material_group_with_provenance() {
+        let conn = db::open_in_memory().unwrap();
+        let plan = plan(
+            &conn,
+            &request(HobSpec::default(), ProcessOverrides::default()),
+        )
+        .unwrap();
+        assert_eq!(plan.cases[0].id, "CD-CASE-HSS");
+        assert_eq!(
+            plan.values["cutting_speed_m_min"],
+            Sourced {
+                value: 90.0,
+                source: Source::Case
+            }
+        );
+        assert_eq!(plan.values["safety_mm"].source, Source::Machine);
+        assert_eq!(plan.process.cut_mode, CutMode::Conventional);
+        // Hob matching: module 3 at 20°, and the left-hand hob for a left-hand gear.
+        assert_eq!(plan.hob.id, "HOB-M3-80L");
+    }
+
+    #[test]
+    fn overrides_win_and_are_recorded_as_job_values() {
+        let conn = db::open_in_memory().unwrap();
+        let process = ProcessOverrides {
+            cutting_speed_m_min: Some(70.0),
+            feed_mm_per_rev: Some(1.2),
+            cut_mode: Some(CutMode::Climb),
+            ..ProcessOverrides::default()
+        };
+        let plan = plan(&conn, &request(HobSpec::default(), process)).unwrap();
+        assert_eq!(
+            plan.values["cutting_speed_m_min"],
+            Sourced {
+                value: 70.0,
+                source: Source::Job
+            }
+        );
+        assert_eq!(
+            plan.values["feed_mm_per_rev"],
+            Sourced {
+                value: 1.2,
+                source: Source::Job
+            }
+        );
+        assert_eq!(plan.process.cut_mode, CutMode::Climb);
+        assert!(plan.cases.is_empty());
+    }
+
+    #[test]
+    fn unknown_machine_and_hob_errors_name_the_field_and_the_choices() {
+        let conn = db::open_in_memory().unwrap();
+        let mut req = request(
+            HobSpec {
+                id: Some(gearcam_proto::HobId::new("NOPE").unwrap()),
+                ..HobSpec::default()
+            },
+            ProcessOverrides::default(),
+        );
+        let errors = plan(&conn, &req).unwrap_err();
+        assert_eq!(
+            (errors[0].code.as_str(), errors[0].field.as_str()),
+            ("UNKNOWN_HOB", "hob.id")
+        );
+        assert!(
+            errors[0].expected.contains("HOB-M3-80"),
+            "{}",
+            errors[0].expected
+        );
+        req.spec.job.machine = MachineId::new("H99").unwrap();
+        let errors = plan(&conn, &req).unwrap_err();
+        assert_eq!(
+            (errors[0].code.as_str(), errors[0].expected.as_str()),
+            ("UNKNOWN_MACHINE", "one of H01")
+        );
+    }
+
+    #[test]
+    fn incomplete_inline_hob_lists_every_missing_field() {
+        let conn = db::open_in_memory().unwrap();
+        let hob = HobSpec {
+            starts: Some(1),
+            od_mm: Some(80.0),
+            ..HobSpec::default()
+        };
+        let errors = plan(&conn, &request(hob, ProcessOverrides::default())).unwrap_err();
+        let fields: Vec<&str> = errors.iter().map(|e| e.field.as_str()).collect();
+        assert_eq!(
+            fields,
+            [
+                "hob.module_mm",
+                "hob.lead_angle_deg",
+                "hob.hand",
+                "hob.length_mm"
+            ]
+        );
+        assert!(errors.iter().all(|e| e.code == "HOB_FIELD_MISSING"));
+    }
+
+    #[test]
+    fn a_hob_id_with_inline_data_is_ambiguous() {
+        let conn = db::open_in_memory().unwrap();
+        let hob = HobSpec {
+            id: Some(gearcam_proto::HobId::new("HOB-M3-80").unwrap()),
+            od_mm: Some(80.0),
+            ..HobSpec::default()
+        };
+        let errors = plan(&conn, &request(hob, ProcessOverrides::default())).unwrap_err();
+        assert_eq!(errors[0].code, "HOB_AMBIGUOUS");
+    }
+
+    #[test]
+    fn the_database_file_is_created_once_and_reopened_without_reseeding() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("kb/knowledge.db");
+        let conn = db::open(&path).unwrap();
+        assert_eq!(db::hobs(&conn).unwrap().len(), 5);
+        drop(conn);
+        let conn = db::open(&path).unwrap();
+        assert_eq!(db::hobs(&conn).unwrap().len(), 5);
+        assert_eq!(db::machines(&conn).unwrap()[0], db::seed_machine_h01());
+    }
+}

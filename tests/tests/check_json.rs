@@ -1,0 +1,161 @@
+//! The JSON contract of `gearcam check --json`, run as a real process.
+
+use std::process::Command;
+
+use approx::assert_abs_diff_eq;
+use gearcam_tests::bin;
+
+fn check(dir: &std::path::Path, job: &str) -> (i32, serde_json::Value) {
+    let path = dir.join("job.toml");
+    std::fs::write(&path, job).unwrap();
+    let out = Command::new(bin("gearcam"))
+        .args([
+            "check",
+            &path.display().to_string(),
+            "--json",
+            "--data",
+            &dir.join("data").display().to_string(),
+        ])
+        .output()
+        .expect("gearcam check runs");
+    let v = serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("no JSON ({e}): {}", String::from_utf8_lossy(&out.stderr)));
+    (out.status.code().unwrap_or(-1), v)
+}
+
+/// SPEC §4.3's worked self-check: da0 = 80, vc = 100 m/min, z0 = 1, z = 25,
+/// fa = 2, mn = 3, β = 15° → Nt = 397.887 rpm, Ni = 15.9155 rpm,
+/// differential 0.395446° of C per mm of Z.
+const SELF_CHECK: &str = r#"
+[job]
+machine = "H01"
+part_number = "SELF-CHECK"
+[gear]
+module_mm = 3.0
+teeth = 25
+helix_angle_deg = 15.0
+helix_hand = "right"
+face_width_mm = 30.0
+fixture_height_mm = 50.0
+[hob]
+starts = 1
+od_mm = 80.0
+module_mm = 3.0
+lead_angle_deg = 2.3716
+hand = "right"
+length_mm = 100.0
+[process]
+cutting_speed_m_min = 100.0
+feed_mm_per_rev = 2.0
+"#;
+
+#[test]
+fn check_json_carries_the_contract_and_the_spec_self_check_numbers() {
+    let dir = tempfile::tempdir().unwrap();
+    let (code, v) = check(dir.path(), SELF_CHECK);
+    assert_eq!(code, 0, "{v:#}");
+    assert_eq!(v["ok"], true);
+    assert_eq!(v["errors"].as_array().unwrap().len(), 0);
+    let m = &v["model"];
+    assert_abs_diff_eq!(m["hob_rpm"].as_f64().unwrap(), 397.887, epsilon = 1e-3);
+    assert_abs_diff_eq!(
+        m["differential_deg_per_mm"].as_f64().unwrap(),
+        0.395446,
+        epsilon = 1e-6
+    );
+    // Conventional cut, same hands: Nw = Ni / (1 − fa/Pz), Pz = π·mn·z / sin β.
+    let ni = 397.887_357_5 / 25.0;
+    assert_abs_diff_eq!(ni, 15.9155, epsilon = 1e-4);
+    let pz = std::f64::consts::PI * 3.0 * 25.0 / 15f64.to_radians().sin();
+    let nw = ni / (1.0 - 2.0 / pz);
+    assert_abs_diff_eq!(m["table_rpm"].as_f64().unwrap(), nw, epsilon = 1e-4);
+    assert_abs_diff_eq!(
+        m["axial_feed_mm_min"].as_f64().unwrap(),
+        2.0 * nw,
+        epsilon = 1e-3
+    );
+    // Swivel, same hands: γ = −(|β| − |γ0|).
+    assert_abs_diff_eq!(
+        m["swivel_deg"].as_f64().unwrap(),
+        -(15.0 - 2.3716),
+        epsilon = 1e-9
+    );
+    // Positions: C and D share X = L; D is below C by b + 2ΔH′ + 2·safety.
+    let p = &m["positions"];
+    let (cx, cz, dz) = (
+        p["C"]["x_mm"].as_f64().unwrap(),
+        p["C"]["z_mm"].as_f64().unwrap(),
+        p["D"]["z_mm"].as_f64().unwrap(),
+    );
+    assert_abs_diff_eq!(
+        cx,
+        m["centre_distance_mm"].as_f64().unwrap(),
+        epsilon = 1e-9
+    );
+    let spread =
+        30.0 + 2.0 * m["clearance_mm"].as_f64().unwrap() + 2.0 * m["safety_mm"].as_f64().unwrap();
+    assert_abs_diff_eq!(cz - dz, spread, epsilon = 1e-9);
+    for key in ["A", "B", "E"] {
+        assert!(
+            p[key]["x_mm"].is_number() && p[key]["z_mm"].is_number(),
+            "{key}"
+        );
+    }
+    // Geometry: d = z·mn / cos β.
+    assert_abs_diff_eq!(
+        v["geometry"]["d_mm"].as_f64().unwrap(),
+        75.0 / 15f64.to_radians().cos(),
+        epsilon = 1e-9
+    );
+    for key in ["db_mm", "da_mm", "df_mm"] {
+        assert!(v["geometry"][key].is_number(), "{key}");
+    }
+    assert_eq!(v["program"]["dialect"], "sinumerik840d");
+    assert_eq!(v["program"]["name"], "SELF_CHECK");
+    assert!(v["program"]["text"]
+        .as_str()
+        .unwrap()
+        .contains("EGON(C,\"FINE\",B,1,25,Z,0.395446,1)"));
+}
+
+#[test]
+fn check_json_lists_every_failed_check_with_its_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = SELF_CHECK
+        .replace(
+            "[hob]\nstarts = 1\nod_mm = 80.0\nmodule_mm = 3.0",
+            "[hob]\nstarts = 1\nod_mm = 60.0\nmodule_mm = 2.5",
+        )
+        .replace("[process]", "[process]\ndepth_mm = 12.0");
+    let (code, v) = check(dir.path(), &bad);
+    assert_eq!(code, 1);
+    assert_eq!(v["ok"], false);
+    let errors = v["errors"].as_array().unwrap();
+    let codes: Vec<&str> = errors.iter().map(|e| e["code"].as_str().unwrap()).collect();
+    for expected in ["BASE_PITCH_MISMATCH", "CUT_DEPTH", "HOB_OD_TOO_SMALL"] {
+        assert!(
+            codes.contains(&expected),
+            "{expected} missing from {codes:?}"
+        );
+    }
+    for e in errors {
+        for key in ["code", "field", "expected", "got", "message"] {
+            assert!(
+                e[key].as_str().is_some_and(|s| !s.is_empty()),
+                "{key} in {e}"
+            );
+        }
+    }
+}
+
+#[test]
+fn an_unknown_key_is_an_error_naming_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let (code, v) = check(
+        dir.path(),
+        &SELF_CHECK.replace("teeth = 25", "teeth = 25\ntooth_count = 25"),
+    );
+    assert_eq!(code, 1);
+    assert_eq!(v["errors"][0]["code"], "JOB_FILE_UNKNOWN_KEY");
+    assert_eq!(v["errors"][0]["field"], "gear.tooth_count");
+}
