@@ -58,6 +58,36 @@ pub fn agent_service(machine: &MachineId) -> String {
     format!("agent/{machine}")
 }
 
+/// `gearcam/v1/kb/{library}`: queryable of the knowledge service; lists a
+/// library's records or, with a [`crate::plan::KbRequest`] payload, adds to it.
+/// Libraries: `classes`, `workpieces`, `hobs`, `machines`, `cases`, `jobs`,
+/// `materials`, `weights`.
+pub fn kb_library(library: &str) -> String {
+    format!("{PREFIX}/kb/{library}")
+}
+
+/// `gearcam/v1/kb/{library}/{id}`: one knowledge-base record (get, edit, remove).
+pub fn kb_record(library: &str, id: &str) -> String {
+    format!("{PREFIX}/kb/{library}/{id}")
+}
+
+/// Pattern of everything the knowledge service's library queryable answers.
+pub const KB_ALL: &str = "gearcam/v1/kb/**";
+
+/// The library and record id inside a knowledge-base key
+/// (`gearcam/v1/kb/{library}[/{id}]`), if the key is well formed.
+pub fn kb_of(key: &str) -> Option<(String, Option<String>)> {
+    let rest = key.strip_prefix(PREFIX)?.strip_prefix("/kb/")?;
+    let parts: Vec<&str> = rest.split('/').collect();
+    match parts.as_slice() {
+        [lib] if !lib.is_empty() => Some((lib.to_string(), None)),
+        [lib, id] if !lib.is_empty() && !id.is_empty() => {
+            Some((lib.to_string(), Some(id.to_string())))
+        }
+        _ => None,
+    }
+}
+
 /// The job id inside a job key (`gearcam/v1/jobs/{job}/...`) or program key
 /// (`gearcam/v1/machines/{machine}/programs/{job}`), if the key is well formed.
 pub fn job_of(key: &str) -> Option<JobId> {
@@ -69,6 +99,44 @@ pub fn job_of(key: &str) -> Option<JobId> {
         _ => return None,
     };
     JobId::new(*raw).ok()
+}
+
+/// `gearcam/v1/station/submit`: queryable of the planning station; the query
+/// carries a [`crate::JobRequest`], the reply a [`crate::JobStatus`] once the job is
+/// journaled (or a [`crate::StationReply::Refused`]).
+pub const STATION_SUBMIT: &str = "gearcam/v1/station/submit";
+
+/// `gearcam/v1/station/jobs`: queryable listing every journaled job ([`crate::JobList`]).
+pub const STATION_JOBS: &str = "gearcam/v1/station/jobs";
+
+/// `gearcam/v1/station/jobs/{job}`: queryable with one job's [`crate::JobStatus`].
+pub fn station_job(job: &JobId) -> String {
+    format!("{PREFIX}/station/jobs/{job}")
+}
+
+/// Pattern of the station's per-job status queryable.
+pub const STATION_JOB_ANY: &str = "gearcam/v1/station/jobs/*";
+
+/// The liveliness name of the planning station service.
+pub const STATION_SERVICE: &str = "station";
+
+/// `gearcam/v1/machines/{machine}/store/jobs/{job}`: the agent's stored receipt
+/// for a job, if any (resolves lost receipts).
+pub fn store_job(machine: &MachineId, job: &JobId) -> String {
+    format!("{PREFIX}/machines/{machine}/store/jobs/{job}")
+}
+
+/// `gearcam/v1/machines/{machine}/store/programs`: the agent's programs and their
+/// versions ([`crate::ProgramHistory`]); `.../programs/{name}` one program's history;
+/// `.../programs/{name}/versions/{seq}` one version's text; `.../programs/{name}/rollback/{seq}`
+/// makes that version current again.
+pub fn store_programs(machine: &MachineId) -> String {
+    format!("{PREFIX}/machines/{machine}/store/programs")
+}
+
+/// Pattern of everything an agent's store answers.
+pub fn store_any(machine: &MachineId) -> String {
+    format!("{PREFIX}/machines/{machine}/store/**")
 }
 
 #[cfg(test)]
@@ -88,5 +156,15 @@ mod tests {
         assert_eq!(job_of(&machine_program(&m, &job)), Some(job));
         assert_eq!(job_of("gearcam/v1/other/J1"), None);
         assert_eq!(alive(&agent_service(&m)), "gearcam/v1/alive/agent/H01");
+        assert_eq!(
+            kb_record("hobs", "HOB-M3-80"),
+            "gearcam/v1/kb/hobs/HOB-M3-80"
+        );
+        assert_eq!(
+            kb_of(&kb_record("hobs", "HOB-M3-80")),
+            Some(("hobs".into(), Some("HOB-M3-80".into())))
+        );
+        assert_eq!(kb_of(&kb_library("cases")), Some(("cases".into(), None)));
+        assert_eq!(kb_of("gearcam/v1/kb/a/b/c"), None);
     }
 }

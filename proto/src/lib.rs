@@ -3,6 +3,7 @@
 //!
 //! # Layout
 //!
+//! - [`class`]: the group-technology gear classes and [`classify`].
 //! - [`ids`]: validating id newtypes ([`JobId`], [`MachineId`], [`HobId`]).
 //! - [`keys`]: key-expression builders; the only place key strings are spelled.
 //! - [`codec`]: MessagePack with field names in a versioned envelope.
@@ -11,12 +12,15 @@
 //! - [`model`]: geometry and the [`MachiningModel`].
 //! - [`program`]: [`NcProgram`], [`DeliveryReceipt`], [`JobEvent`] and typed [`JobError`]s.
 //! - [`naming`]: controllers' program naming rules.
+//! - [`delivery`]: station journal states and queries, agent replies and program history.
 //! - [`error`]: id and codec errors.
 //!
 //! `proto/README.md` documents the same for readers in other languages.
 #![forbid(unsafe_code)]
 
+pub mod class;
 pub mod codec;
+pub mod delivery;
 pub mod error;
 pub mod ids;
 pub mod job;
@@ -26,13 +30,24 @@ pub mod naming;
 pub mod plan;
 pub mod program;
 
+pub use class::{classify, GearClass};
 pub use codec::{decode, encode, Message, MAX_MESSAGE_BYTES, SCHEMA_VERSION};
+pub use delivery::{
+    DeliveryReply, JobList, JobState, JobStatus, ProgramHistory, ProgramRef, ProgramText,
+    ProgramVersion, StationReply,
+};
 pub use error::{CodecError, IdError};
 pub use ids::{HobId, JobId, MachineId};
 pub use job::{
-    CutMode, GearSpec, Hand, HobSpec, JobHeader, JobRequest, JobSpec, Options, ProcessOverrides,
+    ConeSpec, CrowningShape, CrowningSpec, CurvedToothSpec, CutMode, GearSpec, Hand, HobSpec,
+    Infeed, JobHeader, JobRequest, JobSpec, LargeEnd, MateSpec, Options, ProcessOverrides,
+    ShiftMode, ShiftSpec, UnitSpec, WormInfeed, WormWheelSpec,
 };
-pub use model::{Geometry, Kinematics, MachiningModel, Position, Positions, Ratio, Warning};
+pub use model::{
+    ConeModel, CouplingFactors, CrowningModel, Cut, Explained, Geometry, Kinematics,
+    MachiningModel, Move, MoveKind, Origin, PairGeometry, PartShift, Position, Positions, Ratio,
+    ShiftPlan, UnitModel, Warning, WormModel,
+};
 pub use plan::{
     AxisNames, CaseRef, Dialect, HobData, MCodes, MachineLimits, MachineProfile, MachineSettings,
     ProcessData, ProcessPlan, Source, Sourced,

@@ -165,6 +165,12 @@ pub enum EventKind {
         /// The receipt.
         receipt: DeliveryReceipt,
     },
+    /// The program could not be handed to the machine's agent yet (offline or
+    /// not answering); the station re-drives the job when the agent is back.
+    Waiting {
+        /// Why.
+        reason: String,
+    },
     /// The job failed at a stage.
     Failed {
         /// Every error found.

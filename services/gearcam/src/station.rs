@@ -128,6 +128,7 @@ pub fn describe(ev: &JobEvent) -> String {
                 ""
             }
         ),
+        EventKind::Waiting { reason } => format!("{}: waiting — {reason}", ev.stage.as_str()),
         EventKind::Failed { errors } => format!(
             "{}: failed with {} error(s)",
             ev.stage.as_str(),

@@ -1,0 +1,213 @@
+//! Messages of end-to-end delivery: the planning station's journal states and
+//! queries, and the agent's replies (receipts, refusals, program history).
+
+use serde::{Deserialize, Serialize};
+
+use crate::codec::Message;
+use crate::ids::{JobId, MachineId};
+use crate::program::{DeliveryReceipt, JobError};
+
+/// A job's state in the planning station's journal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JobState {
+    /// Journaled; the request is (being) sent to the knowledge service.
+    Accepted,
+    /// The knowledge service planned it.
+    Planned,
+    /// The model service computed it.
+    Modelled,
+    /// The template service produced the program and is delivering it.
+    Programmed,
+    /// The machine's agent is offline; the job is delivered when it returns.
+    Waiting,
+    /// The agent stored the program (final).
+    Delivered,
+    /// A stage refused the job (final).
+    Failed,
+}
+
+impl JobState {
+    /// The state's name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            JobState::Accepted => "accepted",
+            JobState::Planned => "planned",
+            JobState::Modelled => "modelled",
+            JobState::Programmed => "programmed",
+            JobState::Waiting => "waiting",
+            JobState::Delivered => "delivered",
+            JobState::Failed => "failed",
+        }
+    }
+
+    /// Parses a state name.
+    pub fn parse(s: &str) -> Option<JobState> {
+        [
+            JobState::Accepted,
+            JobState::Planned,
+            JobState::Modelled,
+            JobState::Programmed,
+            JobState::Waiting,
+            JobState::Delivered,
+            JobState::Failed,
+        ]
+        .into_iter()
+        .find(|st| st.as_str() == s)
+    }
+
+    /// True for delivered and failed.
+    pub fn is_final(self) -> bool {
+        matches!(self, JobState::Delivered | JobState::Failed)
+    }
+}
+
+/// A delivered program in brief.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ProgramRef {
+    /// Program name.
+    pub name: String,
+    /// SHA-256 of the stored text.
+    pub sha256: String,
+    /// Path on the agent's host.
+    pub path: String,
+}
+
+/// One job as the station's journal knows it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JobStatus {
+    /// The job.
+    pub job: JobId,
+    /// Target machine.
+    pub machine: MachineId,
+    /// Part number.
+    pub part_number: String,
+    /// State.
+    pub state: JobState,
+    /// How often the station (re)sent the job.
+    pub attempts: u32,
+    /// When the job was journaled, ms since the epoch.
+    pub accepted_at_ms: u64,
+    /// Last change, ms since the epoch.
+    pub updated_at_ms: u64,
+    /// What the job waits for, when waiting.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub waiting_for: Option<String>,
+    /// The delivered program, once delivered.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub program: Option<ProgramRef>,
+    /// The agent's receipt, once delivered.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub receipt: Option<DeliveryReceipt>,
+    /// The errors, when failed.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub errors: Vec<JobError>,
+}
+
+impl Message for JobStatus {
+    const KIND: &'static str = "job_status";
+}
+
+/// Every job in the station's journal.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JobList {
+    /// Jobs, oldest first.
+    pub jobs: Vec<JobStatus>,
+}
+
+impl Message for JobList {
+    const KIND: &'static str = "job_list";
+}
+
+/// The station's answer to a submission.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum StationReply {
+    /// Journaled (or already journaled: the same request again).
+    Accepted {
+        /// The job's status.
+        status: JobStatus,
+    },
+    /// Not journaled.
+    Refused {
+        /// Why.
+        errors: Vec<JobError>,
+    },
+}
+
+impl Message for StationReply {
+    const KIND: &'static str = "station_reply";
+}
+
+/// The agent's answer to a delivery (or a rollback).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum DeliveryReply {
+    /// Durably stored; the receipt.
+    Stored {
+        /// The receipt.
+        receipt: DeliveryReceipt,
+    },
+    /// Refused, with the rule broken.
+    Refused {
+        /// Why.
+        error: JobError,
+    },
+    /// The store has nothing for the job (answer to a store query).
+    NotStored,
+}
+
+impl Message for DeliveryReply {
+    const KIND: &'static str = "delivery_reply";
+}
+
+/// One stored version of a program in an agent's store.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ProgramVersion {
+    /// Sequence number in the store (increasing).
+    pub seq: u64,
+    /// Program name.
+    pub name: String,
+    /// File name in the program directory.
+    pub file_name: String,
+    /// Job that delivered it (or the job rolled back to).
+    pub job: String,
+    /// Job revision.
+    pub revision: u32,
+    /// SHA-256 of the text.
+    pub sha256: String,
+    /// Size, bytes.
+    pub size_bytes: u64,
+    /// When stored, ms since the epoch.
+    pub stored_at_ms: u64,
+    /// `stored`, `rollback`, or `superseded`.
+    pub state: String,
+    /// True for the version now in the program directory.
+    pub current: bool,
+}
+
+/// Versions of the programs in an agent's store.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ProgramHistory {
+    /// The machine.
+    pub machine: MachineId,
+    /// Versions, newest first.
+    pub versions: Vec<ProgramVersion>,
+}
+
+impl Message for ProgramHistory {
+    const KIND: &'static str = "program_history";
+}
+
+/// One stored version's text.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ProgramText {
+    /// The version.
+    pub version: ProgramVersion,
+    /// Its text.
+    pub text: String,
+}
+
+impl Message for ProgramText {
+    const KIND: &'static str = "program_text";
+}
