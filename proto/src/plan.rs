@@ -248,6 +248,134 @@ pub struct ProcessPlan {
     pub cases: Vec<CaseRef>,
     /// Confidence of the proposal, 0–1.
     pub confidence: f64,
+    /// What the knowledge base proposed before the job's overrides, which
+    /// values the job overrode, and why the hob was chosen. Absent in plans
+    /// from older knowledge services.
+    #[serde(default)]
+    pub proposal: Proposal,
+}
+
+/// The knowledge base's proposal for a job, kept beside the final values so a
+/// reader sees what was proposed and what the job overrode.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Proposal {
+    /// Every value the knowledge base proposed, with its source (`case`,
+    /// `machine` or `default`), whether or not the job overrode it.
+    #[serde(default)]
+    pub values: BTreeMap<String, Sourced>,
+    /// Names of the values the job overrode (their final value in
+    /// [`ProcessPlan::values`] has source `job`).
+    #[serde(default)]
+    pub overridden: Vec<String>,
+    /// How the hob was chosen: the choice explained and every rejected
+    /// library hob with its reasons. Absent when the job named or gave its hob.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hob: Option<HobChoice>,
+    /// The similarity weights used for case retrieval, by feature.
+    #[serde(default)]
+    pub weights: BTreeMap<String, f64>,
+}
+
+/// The explained result of hob matching.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct HobChoice {
+    /// The chosen hob's id.
+    pub chosen: String,
+    /// Why it was chosen, as a sentence.
+    pub reason: String,
+    /// Library hobs that fit but ranked lower, best first.
+    #[serde(default)]
+    pub alternatives: Vec<String>,
+    /// Library hobs that were rejected, each with every reason.
+    #[serde(default)]
+    pub rejected: Vec<HobRejection>,
+}
+
+/// A library hob that cannot cut the job, and why.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HobRejection {
+    /// The hob's id.
+    pub id: String,
+    /// Every reason, e.g. `normal base pitch 2.3492 mm ≠ gear 2.8191 mm`.
+    pub reasons: Vec<String>,
+}
+
+/// A value in a knowledge-base record on the wire (a MessagePack nil, bool,
+/// integer, float, string, array or map).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum KbValue {
+    /// Nil: no value.
+    Null,
+    /// A boolean.
+    Bool(bool),
+    /// An integer.
+    Int(i64),
+    /// A floating-point number.
+    Float(f64),
+    /// A string.
+    Text(String),
+    /// An array.
+    List(Vec<KbValue>),
+    /// A map with string keys (nested records such as a machine's `limits`).
+    Map(BTreeMap<String, KbValue>),
+}
+
+/// A knowledge-base record: field name → value.
+pub type KbRecord = BTreeMap<String, KbValue>;
+
+/// What a knowledge-base query asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum KbOp {
+    /// Every record of the library (key `gearcam/v1/kb/{library}`).
+    List,
+    /// One record (key `gearcam/v1/kb/{library}/{id}`).
+    Get,
+    /// Add a new record (`record` holds every field; its id must be new).
+    Add,
+    /// Change fields of an existing record (`set`: field path → new value).
+    Edit,
+    /// Remove a record.
+    Remove,
+}
+
+/// Message: a query on a knowledge-base library. Sent as the payload of a
+/// Zenoh query on `gearcam/v1/kb/{library}[/{id}]`; a query without payload
+/// is a `list` (no id) or `get` (with id).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct KbRequest {
+    /// The operation.
+    pub op: KbOp,
+    /// The record to add.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub record: Option<KbRecord>,
+    /// Fields to change (`edit`), by name or dotted path (`limits.max_hob_rpm`).
+    #[serde(default)]
+    pub set: KbRecord,
+}
+
+impl Message for KbRequest {
+    const KIND: &'static str = "kb_request";
+}
+
+/// Message: the knowledge service's reply to a [`KbRequest`]: the records
+/// read or written, or every error (stage `knowledge`) found.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct KbReply {
+    /// The library queried, e.g. `hobs`.
+    pub library: String,
+    /// The records listed, read, added or changed (after the change); for
+    /// `remove`, the removed record.
+    #[serde(default)]
+    pub records: Vec<KbRecord>,
+    /// Errors; empty on success.
+    #[serde(default)]
+    pub errors: Vec<crate::program::JobError>,
+}
+
+impl Message for KbReply {
+    const KIND: &'static str = "kb_reply";
 }
 
 impl Message for ProcessPlan {
@@ -258,5 +386,41 @@ impl ProcessPlan {
     /// The hob's id as a library id, if it came from the library.
     pub fn hob_library_id(&self) -> Option<HobId> {
         HobId::new(self.hob.id.clone()).ok()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{decode, encode};
+
+    #[test]
+    fn kb_messages_round_trip_every_value_kind() {
+        let mut limits = KbRecord::new();
+        limits.insert("max_hob_rpm".into(), KbValue::Float(1200.5));
+        let mut set = KbRecord::new();
+        set.insert("limits".into(), KbValue::Map(limits));
+        set.insert("starts".into(), KbValue::Int(-2));
+        set.insert("coating".into(), KbValue::Text("TiAlN".into()));
+        set.insert("active".into(), KbValue::Bool(true));
+        set.insert("note".into(), KbValue::Null);
+        set.insert(
+            "list".into(),
+            KbValue::List(vec![KbValue::Int(1), KbValue::Float(0.5)]),
+        );
+        let req = KbRequest {
+            op: KbOp::Edit,
+            record: None,
+            set,
+        };
+        let back: KbRequest = decode(&encode(&req).unwrap()).unwrap();
+        assert_eq!(back, req);
+        let reply = KbReply {
+            library: "hobs".into(),
+            records: vec![req.set.clone()],
+            errors: vec![],
+        };
+        let back: KbReply = decode(&encode(&reply).unwrap()).unwrap();
+        assert_eq!(back, reply);
     }
 }

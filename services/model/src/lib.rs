@@ -220,6 +220,7 @@ pub(crate) mod fixtures {
                 provenance: "test fixture".into(),
             }],
             confidence: 0.8,
+            proposal: Default::default(),
         }
     }
 

@@ -651,6 +651,7 @@ mod tests {
                 },
             ],
             confidence: 0.9,
+            proposal: Default::default(),
         };
         let p = |x_mm, z_mm| Position { x_mm, z_mm };
         MachiningModel {
