@@ -15,7 +15,8 @@ use rusqlite::{params, Connection, OptionalExtension};
 use crate::KnowledgeError;
 
 /// Schema migrations, applied in order; the index + 1 is the schema version.
-const MIGRATIONS: &[&str] = &[r#"
+const MIGRATIONS: &[&str] = &[
+    r#"
 CREATE TABLE machines (
     id            TEXT PRIMARY KEY,
     name          TEXT NOT NULL,
@@ -51,7 +52,106 @@ CREATE TABLE materials (
     name            TEXT PRIMARY KEY COLLATE NOCASE,
     material_group  TEXT NOT NULL
 );
-"#];
+"#,
+    r#"
+CREATE TABLE gt_classes (
+    id              TEXT PRIMARY KEY,
+    parent          TEXT REFERENCES gt_classes(id),
+    name            TEXT NOT NULL,
+    tooth_trace     TEXT NOT NULL,
+    deformation     TEXT NOT NULL,
+    hobbing_method  TEXT NOT NULL,
+    programmable    INTEGER NOT NULL,
+    source          TEXT NOT NULL
+);
+CREATE TABLE workpieces (
+    part_number         TEXT PRIMARY KEY,
+    description         TEXT NOT NULL,
+    class               TEXT NOT NULL,
+    module_mm           REAL NOT NULL,
+    teeth               INTEGER NOT NULL,
+    pressure_angle_deg  REAL NOT NULL,
+    helix_angle_deg     REAL NOT NULL,
+    helix_hand          TEXT,
+    face_width_mm       REAL NOT NULL,
+    profile_shift       REAL NOT NULL,
+    addendum_coef       REAL NOT NULL,
+    clearance_coef      REAL NOT NULL,
+    blank_od_mm         REAL,
+    od_correction_mm    REAL NOT NULL,
+    material            TEXT NOT NULL,
+    hardness_hb         REAL,
+    quality_grade       INTEGER NOT NULL,
+    fixture_height_mm   REAL NOT NULL,
+    cone_angle_deg      REAL,
+    source              TEXT NOT NULL
+);
+ALTER TABLE hobs ADD COLUMN shift_position_mm REAL NOT NULL DEFAULT 0;
+ALTER TABLE hobs ADD COLUMN shift_step_mm REAL NOT NULL DEFAULT 0.5;
+ALTER TABLE hobs ADD COLUMN parts_per_shift INTEGER NOT NULL DEFAULT 1;
+ALTER TABLE hobs ADD COLUMN remaining_life_parts INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE materials ADD COLUMN hardness_hb REAL;
+ALTER TABLE materials ADD COLUMN source TEXT NOT NULL DEFAULT 'gearcam seed';
+CREATE TABLE cases (
+    id                   TEXT PRIMARY KEY,
+    class                TEXT NOT NULL,
+    machine              TEXT,
+    material             TEXT NOT NULL,
+    material_group       TEXT NOT NULL,
+    hardness_hb          REAL,
+    module_mm            REAL NOT NULL CHECK (module_mm > 0),
+    teeth                INTEGER NOT NULL CHECK (teeth >= 1),
+    helix_angle_deg      REAL NOT NULL,
+    face_width_mm        REAL,
+    quality_grade        INTEGER NOT NULL,
+    hob_material         TEXT NOT NULL,
+    hob_coating          TEXT NOT NULL,
+    hob_starts           INTEGER NOT NULL,
+    hob_od_mm            REAL,
+    operation            TEXT NOT NULL CHECK (operation IN ('rough', 'finish')),
+    cutting_speed_m_min  REAL NOT NULL CHECK (cutting_speed_m_min > 0),
+    feed_mm_per_rev      REAL NOT NULL CHECK (feed_mm_per_rev > 0),
+    hob_rpm              REAL,
+    axial_feed_mm_min    REAL,
+    radial_feed_mm_min   REAL,
+    cuts                 INTEGER NOT NULL,
+    allowance_mm         REAL,
+    shifting             INTEGER NOT NULL,
+    cut_mode             TEXT,
+    outcome              TEXT NOT NULL,
+    quality_achieved     INTEGER,
+    notes                TEXT NOT NULL,
+    confidence           REAL NOT NULL CHECK (confidence BETWEEN 0 AND 1),
+    provenance           TEXT NOT NULL,
+    job_id               TEXT,
+    created_at_ms        INTEGER NOT NULL
+);
+CREATE INDEX cases_by_class_group ON cases (class, material_group);
+CREATE TABLE jobs (
+    job_id              TEXT PRIMARY KEY,
+    part_number         TEXT NOT NULL,
+    machine             TEXT NOT NULL,
+    class               TEXT NOT NULL,
+    quantity            INTEGER NOT NULL,
+    hob_id              TEXT NOT NULL,
+    state               TEXT NOT NULL CHECK (state IN ('planned', 'delivered', 'confirmed')),
+    confidence          REAL NOT NULL,
+    plan_json           TEXT NOT NULL,
+    program_name        TEXT,
+    planned_at_ms       INTEGER NOT NULL,
+    delivered_at_ms     INTEGER,
+    confirmed_at_ms     INTEGER,
+    delivered_quantity  INTEGER,
+    case_id             TEXT
+);
+CREATE TABLE cbr_weights (
+    feature  TEXT PRIMARY KEY,
+    weight   REAL NOT NULL CHECK (weight >= 0),
+    source   TEXT NOT NULL
+);
+DROP TABLE cutting_data;
+"#,
+];
 
 /// Opens (creating and seeding if new) the knowledge base at `path`.
 pub fn open(path: &Path) -> Result<Connection, KnowledgeError> {
@@ -76,18 +176,28 @@ pub fn open_in_memory() -> Result<Connection, KnowledgeError> {
     Ok(conn)
 }
 
+/// Applies the missing migrations, each followed by its seed data, in one
+/// transaction. A database created by an older gearcam keeps its rows and
+/// gains the new tables and their seed.
 fn migrate(conn: &mut Connection) -> Result<(), KnowledgeError> {
     let version: i64 = conn.pragma_query_value(None, "user_version", |r| r.get(0))?;
     let tx = conn.transaction()?;
     for (i, sql) in MIGRATIONS.iter().enumerate().skip(version as usize) {
         tx.execute_batch(sql)?;
+        match i {
+            0 => seed(&tx)?,
+            1 => crate::seed::seed_v2(&tx)?,
+            _ => {}
+        }
         tx.pragma_update(None, "user_version", (i + 1) as i64)?;
-    }
-    if version == 0 {
-        seed(&tx)?;
     }
     tx.commit()?;
     Ok(())
+}
+
+/// The schema version of an open knowledge base.
+pub fn schema_version(conn: &Connection) -> Result<i64, KnowledgeError> {
+    Ok(conn.pragma_query_value(None, "user_version", |r| r.get(0))?)
 }
 
 /// The seeded 840D hobbing machine `H01`.
@@ -301,6 +411,8 @@ pub fn machines(conn: &Connection) -> Result<Vec<MachineProfile>, KnowledgeError
     Ok(out)
 }
 
+/// A hob's data as the model needs it. Its source is `library`: the hob's
+/// geometry comes from the tool library, not from a case or the machine.
 fn hob_from_row(r: &rusqlite::Row<'_>) -> rusqlite::Result<HobData> {
     let hand: String = r.get("hand")?;
     Ok(HobData {
@@ -334,56 +446,13 @@ pub fn hobs(conn: &Connection) -> Result<Vec<HobData>, KnowledgeError> {
     Ok(rows.collect::<Result<_, _>>()?)
 }
 
-/// A cutting-data record.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CuttingData {
-    /// Record id.
-    pub id: String,
-    /// Material group it applies to.
-    pub material_group: String,
-    /// Cutting speed, m/min.
-    pub cutting_speed_m_min: f64,
-    /// Axial feed per workpiece revolution, mm/rev.
-    pub feed_mm_per_rev: f64,
-    /// Confidence, 0–1.
-    pub confidence: f64,
-    /// Provenance.
-    pub source: String,
-}
-
-/// The material group of a material name (`steel` when unknown).
+/// The material group of a material name, if the materials table knows it.
 pub fn material_group(conn: &Connection, material: &str) -> Result<Option<String>, KnowledgeError> {
     Ok(conn
         .query_row(
             "SELECT material_group FROM materials WHERE name = ?1",
             [material.trim()],
             |r| r.get(0),
-        )
-        .optional()?)
-}
-
-/// Cutting data for a material group and hob material.
-pub fn cutting_data(
-    conn: &Connection,
-    group: &str,
-    hob_material: &str,
-) -> Result<Option<CuttingData>, KnowledgeError> {
-    Ok(conn
-        .query_row(
-            "SELECT id, material_group, cutting_speed_m_min, feed_mm_per_rev, confidence, source
-             FROM cutting_data WHERE material_group = ?1 AND hob_material = ?2
-             ORDER BY confidence DESC, id LIMIT 1",
-            params![group, hob_material],
-            |r| {
-                Ok(CuttingData {
-                    id: r.get(0)?,
-                    material_group: r.get(1)?,
-                    cutting_speed_m_min: r.get(2)?,
-                    feed_mm_per_rev: r.get(3)?,
-                    confidence: r.get(4)?,
-                    source: r.get(5)?,
-                })
-            },
         )
         .optional()?)
 }

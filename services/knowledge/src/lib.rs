@@ -1,16 +1,33 @@
-//! The knowledge service: the shop's process knowledge in SQLite (machines,
-//! hobs, cutting data) and the step that turns a job request into a process
-//! plan, every value with its source.
+//! The knowledge service: the shop's process knowledge in SQLite (GT class
+//! tree, workpieces, hobs, machines, machining history as cases, jobs) and the
+//! step that turns a job request into a process plan: hob matching, cutting
+//! data by case-based reasoning, the job's overrides, every value with its
+//! source (SPEC §5).
 //!
 //! # Layout
 //!
-//! - [`db`]: schema migrations, seed data with provenance, reads.
-//! - [`plan`]: classification, hob resolution and matching, cutting data.
-//! - [`service`]: the Zenoh stage: `JobRequest` in, `ProcessPlan` out.
+//! - [`db`]: schema migrations, seed data of version 1, machine and hob reads.
+//! - [`seed`]: seed data of version 2 (classes, cases, weights, workpieces), with provenance.
+//! - [`library`]: every library as records: list, get, add, edit, remove, validation.
+//! - [`csvio`]: CSV import and export of workpieces, hobs, cases and materials.
+//! - [`cbr`]: case retrieval (hard constraints, weighted similarity, top-k) and adaptation; pure.
+//! - [`hobmatch`]: hob matching with explanations; pure.
+//! - [`history`]: reads the libraries into the types of [`cbr`] and [`hobmatch`].
+//! - [`plan`]: job request → process plan.
+//! - [`learn`]: the learning loop: a confirmed job becomes a case; hob life and shift.
+//! - [`service`]: the Zenoh stage (`JobRequest` in, `ProcessPlan` out) and the
+//!   library queryable on `gearcam/v1/kb/**`.
 #![forbid(unsafe_code)]
 
+pub mod cbr;
+pub mod csvio;
 pub mod db;
+pub mod history;
+pub mod hobmatch;
+pub mod learn;
+pub mod library;
 pub mod plan;
+pub mod seed;
 pub mod service;
 
 use thiserror::Error;
@@ -33,6 +50,12 @@ pub enum KnowledgeError {
         #[source]
         source: std::io::Error,
     },
+    /// Seed data failed its own validation (a bug in gearcam).
+    #[error("seed data: {0}")]
+    Seed(String),
+    /// A CSV file could not be read or written.
+    #[error("CSV: {0}")]
+    Csv(#[from] csv::Error),
     /// The bus failed.
     #[error(transparent)]
     Bus(#[from] gearcam_bus::BusError),

@@ -1,19 +1,31 @@
-//! From a job request to a process plan: machine, hob, cutting data, each value
-//! with its source.
+//! From a job request to a process plan: machine, hob (matched and
+//! explained), cutting data proposed by case-based reasoning and adapted to
+//! the machine, the job's overrides on top, every value with its source.
+//!
+//! Sources of the decided values: `job` (the job file overrides), `case`
+//! (retrieved and adapted cases, [`crate::cbr`]), `machine` (the machine
+//! profile, or a proposal clamped to the machine's limits) and `default`
+//! (gearcam's documented defaults when no case applies).
 
-use std::collections::BTreeMap;
-
+use gearcam_proto::plan::Proposal;
 use gearcam_proto::{
-    CaseRef, CutMode, Hand, HobData, HobSpec, JobError, JobRequest, MachineProfile, ProcessData,
+    CaseRef, CutMode, HobData, HobSpec, JobError, JobRequest, MachineProfile, ProcessData,
     ProcessPlan, Source, Sourced, Stage,
 };
 use rusqlite::Connection;
 
-use crate::db;
-use crate::KnowledgeError;
+use crate::cbr::{self, CaseBase, Limits, Operation, Problem};
+use crate::history::{self, LibraryHob};
+use crate::hobmatch;
+use crate::{db, KnowledgeError};
 
-/// Normal base pitch tolerance for hob matching, mm (SPEC §4.2 check 3).
-const BASE_PITCH_TOL_MM: f64 = 1e-4;
+/// Cutting speed when no case applies, m/min: an engineering estimate for
+/// HSS hobs in steel, deliberately low.
+pub const DEFAULT_CUTTING_SPEED_M_MIN: f64 = 80.0;
+/// Feed per workpiece revolution when no case applies, mm/rev (engineering estimate).
+pub const DEFAULT_FEED_MM_PER_REV: f64 = 1.8;
+/// Confidence of a proposal made of defaults only.
+pub const DEFAULT_CONFIDENCE: f64 = 0.2;
 
 fn err(
     code: &str,
@@ -39,17 +51,33 @@ pub fn classify(_req: &JobRequest) -> &'static str {
 }
 
 /// Builds the process plan for a request, or every reason it cannot be built.
+/// Loads the case base from the database; a service that plans many jobs
+/// keeps it in memory and calls [`plan_with`].
 pub fn plan(conn: &Connection, req: &JobRequest) -> Result<ProcessPlan, Vec<JobError>> {
-    plan_inner(conn, req).map_err(|e| match e {
+    let cases = history::load_case_base(conn).map_err(kb_error)?;
+    plan_with(conn, &cases, req)
+}
+
+/// Builds the process plan with a case base already in memory.
+pub fn plan_with(
+    conn: &Connection,
+    cases: &CaseBase,
+    req: &JobRequest,
+) -> Result<ProcessPlan, Vec<JobError>> {
+    plan_inner(conn, cases, req).map_err(|e| match e {
         PlanError::Job(errors) => errors,
-        PlanError::Kb(e) => vec![err(
-            "KNOWLEDGE_BASE_ERROR",
-            "-",
-            "a readable knowledge base",
-            e.to_string(),
-            "the knowledge base could not be read; check the knowledge service's log and database file",
-        )],
+        PlanError::Kb(e) => kb_error(e),
     })
+}
+
+fn kb_error(e: KnowledgeError) -> Vec<JobError> {
+    vec![err(
+        "KNOWLEDGE_BASE_ERROR",
+        "-",
+        "a readable knowledge base",
+        e.to_string(),
+        "the knowledge base could not be read; check the knowledge service's log and database file",
+    )]
 }
 
 enum PlanError {
@@ -63,7 +91,18 @@ impl From<KnowledgeError> for PlanError {
     }
 }
 
-fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<ProcessPlan, PlanError> {
+/// The hob as resolved, with what retrieval needs to know of it.
+struct Resolved {
+    data: HobData,
+    material: Option<String>,
+    coating: Option<String>,
+}
+
+fn plan_inner(
+    conn: &Connection,
+    cases: &CaseBase,
+    req: &JobRequest,
+) -> Result<ProcessPlan, PlanError> {
     let spec = &req.spec;
     let mut errors = Vec::new();
     let machine = db::machine(conn, &spec.job.machine)?;
@@ -80,140 +119,198 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<ProcessPlan, PlanEr
             "the machine is not in the knowledge base; pick a configured machine or add it",
         )]));
     };
+    let class = classify(req);
+    let mut proposal = Proposal::default();
+    let hob = resolve_hob(conn, req, &machine, &mut errors, &mut proposal)?;
 
-    let hob = resolve_hob(conn, req, &machine, &mut errors)?;
+    // The job as a retrieval problem.
+    let g = &spec.gear;
+    let material = history::material(conn, &g.material)?;
+    let problem = Problem {
+        class: class.to_string(),
+        material: g.material.trim().to_string(),
+        material_group: material.as_ref().map(|m| m.0.clone()).unwrap_or_default(),
+        hardness_hb: material.as_ref().and_then(|m| m.1),
+        module_mm: g.module_mm,
+        teeth: g.teeth,
+        helix_angle_deg: g.helix_angle_deg.abs(),
+        face_width_mm: Some(g.face_width_mm),
+        quality_grade: g.quality_grade,
+        hob_material: hob.as_ref().and_then(|h| h.material.clone()),
+        hob_coating: hob.as_ref().and_then(|h| h.coating.clone()),
+        hob_starts: hob.as_ref().map(|h| h.data.starts).unwrap_or(1),
+        // The job file has no rough/finish key yet: a job's cut gives the
+        // final flanks, so it is finish hobbing.
+        operation: Operation::Finish,
+        machine: Some(machine.id.to_string()),
+    };
+    let weights = history::load_weights(conn)?;
+    proposal.weights = weights.to_map();
+    let hob_od = hob.as_ref().map(|h| h.data.od_mm);
+    let limits = Limits {
+        max_cutting_speed_m_min: hob_od
+            .map(|d| machine.limits.max_hob_rpm * std::f64::consts::PI * d / 1000.0)
+            .unwrap_or(f64::INFINITY),
+    };
+    let hits = if material.is_some() && g.module_mm > 0.0 && g.module_mm.is_finite() {
+        cases.retrieve(&problem, &limits, &weights, cbr::TOP_K)
+    } else {
+        Vec::new()
+    };
+    let adapted = cbr::adapt(cases, &hits, &problem);
 
-    let mut values = BTreeMap::new();
-    let mut cases = Vec::new();
-    let group = db::material_group(conn, &spec.gear.material)?;
-    let (group, group_known) = match group {
-        Some(g) => (g, true),
-        None => ("steel".to_string(), false),
+    // The proposal: adapted cases, else defaults; then the machine's limits.
+    let mut prop = |name: &str, value: f64, source: Source| {
+        proposal
+            .values
+            .insert(name.to_string(), Sourced { value, source });
     };
-    let cd = db::cutting_data(conn, &group, "HSS")?;
-    let (vc, vc_src) = match (spec.process.cutting_speed_m_min, &cd) {
-        (Some(v), _) => (v, Source::Job),
-        (None, Some(cd)) => (cd.cutting_speed_m_min, Source::Case),
-        (None, None) => (80.0, Source::Default),
-    };
-    let (fa, fa_src) = match (spec.process.feed_mm_per_rev, &cd) {
-        (Some(v), _) => (v, Source::Job),
-        (None, Some(cd)) => (cd.feed_mm_per_rev, Source::Case),
-        (None, None) => (1.8, Source::Default),
-    };
-    let mut confidence: f64 = 1.0;
-    if let Some(cd) = &cd {
-        if vc_src == Source::Case || fa_src == Source::Case {
-            let provenance = if group_known {
-                cd.source.clone()
-            } else {
-                format!(
-                    "{} (material {:?} is not in the materials table; treated as {})",
-                    cd.source, spec.gear.material, cd.material_group
-                )
-            };
-            cases.push(CaseRef {
-                id: cd.id.clone(),
-                similarity: if group_known { 1.0 } else { 0.5 },
-                provenance,
-            });
-            confidence = if group_known {
-                cd.confidence
-            } else {
-                cd.confidence * 0.5
-            };
-        }
-    } else if vc_src == Source::Default || fa_src == Source::Default {
-        confidence = 0.2;
-    }
-    values.insert(
-        "cutting_speed_m_min".into(),
-        Sourced {
-            value: vc,
-            source: vc_src,
-        },
-    );
-    values.insert(
-        "feed_mm_per_rev".into(),
-        Sourced {
-            value: fa,
-            source: fa_src,
-        },
-    );
-
-    let (cut_mode, cm_src) = match spec.process.cut_mode {
-        Some(m) => (m, Source::Job),
-        None => (CutMode::Conventional, Source::Default),
-    };
-    let (cuts, cuts_src) = match spec.process.cuts {
-        Some(c) => (c, Source::Job),
-        None => (1, Source::Default),
-    };
-    let (safety, safety_src) = match spec.process.safety_mm {
-        Some(s) => (s, Source::Job),
-        None => (machine.settings.safety_mm, Source::Machine),
-    };
-    values.insert(
-        "cut_mode_climb".into(),
-        Sourced {
-            value: f64::from(u8::from(cut_mode == CutMode::Climb)),
-            source: cm_src,
-        },
-    );
-    values.insert(
-        "cuts".into(),
-        Sourced {
-            value: f64::from(cuts),
-            source: cuts_src,
-        },
-    );
-    values.insert(
-        "safety_mm".into(),
-        Sourced {
-            value: safety,
-            source: safety_src,
-        },
-    );
-    if let Some(h) = spec.process.depth_mm {
-        values.insert(
-            "depth_mm".into(),
-            Sourced {
-                value: h,
-                source: Source::Job,
-            },
-        );
-    }
+    let (mut vc, mut vc_src, mut fa, mut fa_src, cuts, cuts_src, mode, mode_src, confidence) =
+        match &adapted {
+            Some(a) => (
+                a.cutting_speed_m_min,
+                Source::Case,
+                a.feed_mm_per_rev,
+                Source::Case,
+                a.cuts,
+                Source::Case,
+                a.cut_mode.unwrap_or(CutMode::Conventional),
+                if a.cut_mode.is_some() {
+                    Source::Case
+                } else {
+                    Source::Default
+                },
+                a.confidence,
+            ),
+            None => (
+                DEFAULT_CUTTING_SPEED_M_MIN,
+                Source::Default,
+                DEFAULT_FEED_MM_PER_REV,
+                Source::Default,
+                1,
+                Source::Default,
+                CutMode::Conventional,
+                Source::Default,
+                DEFAULT_CONFIDENCE,
+            ),
+        };
     if let Some(h) = &hob {
-        values.insert(
-            "hob_od_mm".into(),
-            Sourced {
-                value: h.od_mm,
-                source: h.source,
-            },
+        let (da0, z0, z) = (
+            h.data.od_mm,
+            f64::from(h.data.starts.max(1)),
+            f64::from(g.teeth.max(1)),
         );
+        // Hob speed and table speed limits bound the cutting speed.
+        let nt_max = machine
+            .limits
+            .max_hob_rpm
+            .min(machine.limits.max_table_rpm * z / z0);
+        let vc_max = nt_max * std::f64::consts::PI * da0 / 1000.0;
+        if da0 > 0.0 && vc > vc_max {
+            vc = vc_max;
+            vc_src = Source::Machine;
+        }
+        // The axial feed rate limit bounds the feed per revolution (spur estimate Nw = z0·Nt/z).
+        let nt = vc * 1000.0 / (std::f64::consts::PI * da0);
+        let fa_max = machine.limits.max_axial_feed_mm_min * z / (z0 * nt);
+        if da0 > 0.0 && fa > fa_max {
+            fa = fa_max;
+            fa_src = Source::Machine;
+        }
     }
+    prop("cutting_speed_m_min", vc, vc_src);
+    prop("feed_mm_per_rev", fa, fa_src);
+    prop("cuts", f64::from(cuts), cuts_src);
+    prop(
+        "cut_mode_climb",
+        f64::from(u8::from(mode == CutMode::Climb)),
+        mode_src,
+    );
+    prop("safety_mm", machine.settings.safety_mm, Source::Machine);
+    if let Some(a) = &adapted {
+        if let Some(r) = a.radial_feed_mm_min {
+            prop("radial_feed_mm_min", r, Source::Case);
+        }
+        if let Some(x) = a.allowance_mm {
+            prop("allowance_mm", x, Source::Case);
+        }
+    }
+
+    // The job's overrides win.
+    let p = &spec.process;
+    let overrides: [(&str, Option<f64>); 6] = [
+        ("cutting_speed_m_min", p.cutting_speed_m_min),
+        ("feed_mm_per_rev", p.feed_mm_per_rev),
+        ("cuts", p.cuts.map(f64::from)),
+        (
+            "cut_mode_climb",
+            p.cut_mode.map(|m| f64::from(u8::from(m == CutMode::Climb))),
+        ),
+        ("safety_mm", p.safety_mm),
+        ("depth_mm", p.depth_mm),
+    ];
+    let mut values = proposal.values.clone();
+    for (name, v) in overrides {
+        if let Some(value) = v {
+            values.insert(
+                name.to_string(),
+                Sourced {
+                    value,
+                    source: Source::Job,
+                },
+            );
+            if proposal.values.contains_key(name) {
+                proposal.overridden.push(name.to_string());
+            }
+        }
+    }
+    let value = |name: &str| values[name].value;
+    let from_kb = [
+        "cutting_speed_m_min",
+        "feed_mm_per_rev",
+        "cuts",
+        "cut_mode_climb",
+    ]
+    .iter()
+    .any(|n| values[*n].source != Source::Job);
+    let cases_used: Vec<CaseRef> = if from_kb {
+        hits.iter()
+            .filter(|h| h.similarity > 0.0)
+            .map(|h| {
+                let c = &cases.cases()[h.index];
+                CaseRef {
+                    id: c.id.clone(),
+                    similarity: h.similarity,
+                    provenance: c.provenance.clone(),
+                }
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
 
     if !errors.is_empty() {
         return Err(PlanError::Job(errors));
     }
-    let hob = hob.expect("a hob when there are no errors");
+    let hob = hob.expect("a hob when there are no errors").data;
     Ok(ProcessPlan {
         job_id: req.job_id.clone(),
         request: req.clone(),
-        class: classify(req).into(),
+        class: class.into(),
         machine,
         hob,
         process: ProcessData {
-            cut_mode,
-            cuts,
-            cutting_speed_m_min: vc,
-            feed_mm_per_rev: fa,
-            depth_mm: spec.process.depth_mm,
-            safety_mm: safety,
+            cut_mode: p.cut_mode.unwrap_or(mode),
+            cuts: value("cuts") as u32,
+            cutting_speed_m_min: value("cutting_speed_m_min"),
+            feed_mm_per_rev: value("feed_mm_per_rev"),
+            depth_mm: p.depth_mm,
+            safety_mm: value("safety_mm"),
         },
         values,
-        cases,
-        confidence,
+        cases: cases_used,
+        confidence: if from_kb { confidence } else { 1.0 },
+        proposal,
     })
 }
 
@@ -269,9 +366,15 @@ fn resolve_hob(
     req: &JobRequest,
     machine: &MachineProfile,
     errors: &mut Vec<JobError>,
-) -> Result<Option<HobData>, KnowledgeError> {
+    proposal: &mut Proposal,
+) -> Result<Option<Resolved>, KnowledgeError> {
     let spec = &req.spec;
     let h = &spec.hob;
+    let library = |l: LibraryHob| Resolved {
+        data: l.data,
+        material: Some(l.material),
+        coating: Some(l.coating),
+    };
     match (&h.id, h.has_inline_data()) {
         (Some(id), true) => {
             errors.push(err(
@@ -283,46 +386,71 @@ fn resolve_hob(
             ));
             Ok(None)
         }
-        (Some(id), false) => match db::hob(conn, id.as_str())? {
-            Some(hob) => Ok(Some(hob)),
+        (Some(id), false) => match crate::library::get(conn, &crate::library::HOBS, id.as_str())? {
+            Some(r) => Ok(Some(library(history::hob_from_record(&r)))),
             None => {
                 let known: Vec<String> = db::hobs(conn)?.into_iter().map(|h| h.id).collect();
                 errors.push(err(
-                    "UNKNOWN_HOB",
-                    "hob.id",
-                    format!("one of {}", known.join(", ")),
-                    id.to_string(),
-                    "the hob is not in the tool library; use a library id or give the hob's data inline",
-                ));
+                        "UNKNOWN_HOB",
+                        "hob.id",
+                        format!("one of {}", known.join(", ")),
+                        id.to_string(),
+                        "the hob is not in the tool library; use a library id or give the hob's data inline",
+                    ));
                 Ok(None)
             }
         },
-        (None, true) => Ok(inline_hob(h, errors)),
+        (None, true) => Ok(inline_hob(h, errors).map(|data| Resolved {
+            data,
+            material: None,
+            coating: None,
+        })),
         (None, false) => {
-            // Hob matching: equal normal base pitch, a hob the machine takes,
-            // same hand as a helical gear when the library has one.
             let g = &spec.gear;
-            let pb = g.module_mm * g.pressure_angle_deg.to_radians().cos();
-            let mut candidates: Vec<HobData> = db::hobs(conn)?
-                .into_iter()
-                .filter(|h| {
-                    (h.module_mm * h.pressure_angle_deg.to_radians().cos() - pb).abs()
-                        <= BASE_PITCH_TOL_MM
-                })
-                .filter(|h| h.od_mm <= machine.limits.max_hob_od_mm)
-                .collect();
-            let want = g.helix_hand.unwrap_or(Hand::Right);
-            candidates.sort_by_key(|h| (h.hand != want, h.starts, h.id.clone()));
-            match candidates.into_iter().next() {
-                Some(h) => Ok(Some(h)),
-                None => {
+            let hobs = history::library_hobs(conn)?;
+            let need = hobmatch::Need {
+                module_mm: g.module_mm,
+                pressure_angle_deg: g.pressure_angle_deg,
+                helix_angle_deg: g.helix_angle_deg.abs(),
+                helix_hand: if g.helix_angle_deg != 0.0 {
+                    g.helix_hand
+                } else {
+                    None
+                },
+                quality_grade: g.quality_grade,
+                quantity: spec.job.quantity,
+                max_hob_od_mm: machine.limits.max_hob_od_mm,
+                max_swivel_deg: machine.limits.max_swivel_deg,
+            };
+            let plain: Vec<hobmatch::Hob> = hobs.iter().map(|l| l.hob.clone()).collect();
+            match hobmatch::choose(&plain, &need) {
+                Ok((chosen, why)) => {
+                    proposal.hob = Some(why);
+                    let l = hobs
+                        .into_iter()
+                        .find(|l| l.hob.id == chosen.id)
+                        .expect("the chosen hob is a library hob");
+                    Ok(Some(library(l)))
+                }
+                Err(why) => {
+                    let pb = g.module_mm * g.pressure_angle_deg.to_radians().cos();
+                    let got = why
+                        .rejected
+                        .iter()
+                        .map(|r| format!("{}: {}", r.id, r.reasons.join("; ")))
+                        .collect::<Vec<_>>()
+                        .join(" | ");
                     errors.push(err(
                         "NO_MATCHING_HOB",
                         "hob",
-                        format!("a library hob with normal base pitch mn0·cos α0 = {pb:.4} mm"),
-                        "none in the library",
-                        "no library hob matches the gear's module and pressure angle; add one or give the hob inline",
+                        format!(
+                            "a library hob with normal base pitch mn0·cos α0 = {pb:.4} mm, class for grade {}, usable length for {} parts",
+                            g.quality_grade, spec.job.quantity
+                        ),
+                        if got.is_empty() { "an empty tool library".to_string() } else { got },
+                        "no library hob fits the gear; add one (gearcam kb add hobs ...) or give the hob inline",
                     ));
+                    proposal.hob = Some(why);
                     Ok(None)
                 }
             }
@@ -331,77 +459,95 @@ fn resolve_hob(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
-    use gearcam_proto::{GearSpec, JobHeader, JobSpec, MachineId, Options, ProcessOverrides};
+    use crate::library;
+    use approx::assert_abs_diff_eq;
+    use gearcam_proto::{JobSpec, MachineId, ProcessOverrides};
+    use serde_json::json;
 
-    fn request(hob: HobSpec, process: ProcessOverrides) -> JobRequest {
+    /// A left-hand helical gear, module 3, 16MnCr5, grade 7 (built from JSON so
+    /// the test does not depend on every optional field of the job file).
+    pub(crate) fn request(hob: serde_json::Value, process: serde_json::Value) -> JobRequest {
+        let spec: JobSpec = serde_json::from_value(json!({
+            "job": {"machine": "H01", "quantity": 20, "part_number": "P-1"},
+            "gear": {"module_mm": 3.0, "teeth": 25, "helix_angle_deg": 15.0,
+                     "helix_hand": "left", "face_width_mm": 30.0, "material": "16MnCr5",
+                     "quality_grade": 7, "fixture_height_mm": 50.0},
+            "hob": hob,
+            "process": process,
+        }))
+        .unwrap();
         JobRequest {
             job_id: gearcam_proto::JobId::new("J1").unwrap(),
             submitted_at_ms: 0,
             submitted_by: "test".into(),
-            spec: JobSpec {
-                job: JobHeader {
-                    id: None,
-                    machine: MachineId::new("H01").unwrap(),
-                    quantity: 1,
-                    part_number: "P-1".into(),
-                },
-                gear: GearSpec {
-                    module_mm: 3.0,
-                    teeth: 25,
-                    pressure_angle_deg: 20.0,
-                    helix_angle_deg: 15.0,
-                    helix_hand: Some(Hand::Left),
-                    face_width_mm: 30.0,
-                    profile_shift: 0.0,
-                    addendum_coef: 1.0,
-                    clearance_coef: 0.25,
-                    blank_od_mm: None,
-                    od_correction_mm: 0.0,
-                    material: "16MnCr5".into(),
-                    quality_grade: 7,
-                    fixture_height_mm: 50.0,
-                },
-                hob,
-                process,
-                options: Options::default(),
-            },
+            spec,
         }
     }
 
     #[test]
-    fn proposes_cutting_data_from_the_material_group_with_provenance() {
+    fn proposes_cutting_data_from_the_most_similar_cases_with_provenance() {
         let conn = db::open_in_memory().unwrap();
-        let plan = plan(
-            &conn,
-            &request(HobSpec::default(), ProcessOverrides::default()),
-        )
-        .unwrap();
-        assert_eq!(plan.cases[0].id, "CD-CASE-HSS");
-        assert_eq!(
-            plan.values["cutting_speed_m_min"],
-            Sourced {
-                value: 90.0,
-                source: Source::Case
-            }
-        );
+        let plan = plan(&conn, &request(json!({}), json!({}))).unwrap();
+        // Module 3 case-hardening steel first; then module 4 (ln(4/3) < ln(3/2)), then 2.
+        let ids: Vec<&str> = plan.cases.iter().map(|c| c.id.as_str()).collect();
+        assert_eq!(ids, ["SEED-CASE-M3", "SEED-CASE-M4", "SEED-CASE-M2"]);
+        let s0 = plan.cases[0].similarity;
+        assert!(s0 > 0.7 && s0 < 1.0, "{s0}");
+        assert!(plan.cases[0].provenance.contains("engineering estimate"));
+        let vc = plan.values["cutting_speed_m_min"];
+        assert_eq!(vc.source, Source::Case);
+        assert_abs_diff_eq!(vc.value, 90.0, epsilon = 1e-9);
+        assert_eq!(plan.values["feed_mm_per_rev"].source, Source::Case);
+        assert_abs_diff_eq!(plan.values["feed_mm_per_rev"].value, 2.0, epsilon = 0.01);
+        assert_eq!(plan.values["cuts"].source, Source::Case);
         assert_eq!(plan.values["safety_mm"].source, Source::Machine);
+        // Confidence = best similarity × mean confidence of the seed cases (0.5).
+        assert_abs_diff_eq!(plan.confidence, s0 * 0.5, epsilon = 1e-9);
         assert_eq!(plan.process.cut_mode, CutMode::Conventional);
-        // Hob matching: module 3 at 20°, and the left-hand hob for a left-hand gear.
+        // Hob matching: module 3 at 20°, the left-hand AA hob for a left-hand grade-7 gear.
         assert_eq!(plan.hob.id, "HOB-M3-80L");
+        let why = plan.proposal.hob.as_ref().unwrap();
+        assert!(
+            why.reason.contains("class AA fits grade 7"),
+            "{}",
+            why.reason
+        );
+        let m2 = why.rejected.iter().find(|r| r.id == "HOB-M2-70").unwrap();
+        assert!(m2.reasons[0].contains("normal base pitch"), "{m2:?}");
+        let a = why
+            .rejected
+            .iter()
+            .find(|r| r.id == "HOB-M3-100-2")
+            .unwrap();
+        assert!(a.reasons[0].contains("class A too coarse"), "{a:?}");
+        assert!(plan.proposal.overridden.is_empty());
+        assert_eq!(plan.proposal.weights["module"], 3.0);
+        // Every decided value has one of the documented sources.
+        for (name, v) in &plan.values {
+            assert!(
+                matches!(
+                    v.source,
+                    Source::Job | Source::Case | Source::Machine | Source::Default
+                ),
+                "{name}: {:?}",
+                v.source
+            );
+        }
     }
 
     #[test]
-    fn overrides_win_and_are_recorded_as_job_values() {
+    fn overrides_win_and_the_plan_records_what_was_proposed() {
         let conn = db::open_in_memory().unwrap();
-        let process = ProcessOverrides {
-            cutting_speed_m_min: Some(70.0),
-            feed_mm_per_rev: Some(1.2),
-            cut_mode: Some(CutMode::Climb),
-            ..ProcessOverrides::default()
-        };
-        let plan = plan(&conn, &request(HobSpec::default(), process)).unwrap();
+        let plan = plan(
+            &conn,
+            &request(
+                json!({}),
+                json!({"cutting_speed_m_min": 70.0, "feed_mm_per_rev": 1.2, "cut_mode": "climb"}),
+            ),
+        )
+        .unwrap();
         assert_eq!(
             plan.values["cutting_speed_m_min"],
             Sourced {
@@ -409,27 +555,99 @@ mod tests {
                 source: Source::Job
             }
         );
-        assert_eq!(
-            plan.values["feed_mm_per_rev"],
-            Sourced {
-                value: 1.2,
-                source: Source::Job
-            }
-        );
+        assert_eq!(plan.values["feed_mm_per_rev"].source, Source::Job);
+        assert_eq!(plan.process.cutting_speed_m_min, 70.0);
+        assert_eq!(plan.process.feed_mm_per_rev, 1.2);
         assert_eq!(plan.process.cut_mode, CutMode::Climb);
+        assert_eq!(
+            plan.proposal.values["cutting_speed_m_min"].source,
+            Source::Case
+        );
+        assert_abs_diff_eq!(
+            plan.proposal.values["cutting_speed_m_min"].value,
+            90.0,
+            epsilon = 1e-9
+        );
+        assert_eq!(
+            plan.proposal.overridden,
+            ["cutting_speed_m_min", "feed_mm_per_rev", "cut_mode_climb"]
+        );
+        // The number of cuts still comes from the cases, so they are listed.
+        assert_eq!(plan.values["cuts"].source, Source::Case);
+        assert!(!plan.cases.is_empty());
+    }
+
+    #[test]
+    fn a_job_that_overrides_every_case_value_lists_no_cases() {
+        let conn = db::open_in_memory().unwrap();
+        let plan = plan(
+            &conn,
+            &request(
+                json!({"id": "HOB-M3-80L"}),
+                json!({"cutting_speed_m_min": 70.0, "feed_mm_per_rev": 1.2,
+                       "cut_mode": "climb", "cuts": 1}),
+            ),
+        )
+        .unwrap();
         assert!(plan.cases.is_empty());
+        assert_eq!(plan.confidence, 1.0);
+        assert!(plan.proposal.hob.is_none(), "a named hob is not matched");
+        assert_eq!(plan.proposal.overridden.len(), 4);
+    }
+
+    #[test]
+    fn a_proposal_above_the_machines_hob_speed_is_clamped_to_the_machine() {
+        let conn = db::open_in_memory().unwrap();
+        let mut set = library::Record::new();
+        set.insert("limits.max_hob_rpm".into(), json!(300.0));
+        library::edit(&conn, &library::MACHINES, "H01", &set).unwrap();
+        let plan = plan(&conn, &request(json!({}), json!({}))).unwrap();
+        // 300 rpm on an 80 mm hob: vc ≤ 300·π·80/1000 = 75.398 m/min; the
+        // 90 m/min cases fail that hard constraint, the default is clamped.
+        let vc = plan.values["cutting_speed_m_min"];
+        assert_eq!(vc.source, Source::Machine);
+        assert_abs_diff_eq!(
+            vc.value,
+            300.0 * std::f64::consts::PI * 80.0 / 1000.0,
+            epsilon = 1e-9
+        );
+        assert!(plan.cases.is_empty());
+        assert_eq!(plan.values["feed_mm_per_rev"].source, Source::Default);
+        assert_eq!(plan.confidence, DEFAULT_CONFIDENCE);
+    }
+
+    #[test]
+    fn an_unknown_material_gets_defaults_and_low_confidence() {
+        let conn = db::open_in_memory().unwrap();
+        let mut req = request(json!({}), json!({}));
+        req.spec.gear.material = "unobtainium".into();
+        let plan = plan(&conn, &req).unwrap();
+        assert_eq!(plan.values["cutting_speed_m_min"].source, Source::Default);
+        assert_eq!(
+            plan.values["cutting_speed_m_min"].value,
+            DEFAULT_CUTTING_SPEED_M_MIN
+        );
+        assert_eq!(plan.confidence, DEFAULT_CONFIDENCE);
+    }
+
+    #[test]
+    fn no_fitting_hob_names_every_rejection() {
+        let conn = db::open_in_memory().unwrap();
+        let mut req = request(json!({}), json!({}));
+        req.spec.gear.module_mm = 5.0;
+        let errors = plan(&conn, &req).unwrap_err();
+        assert_eq!(errors[0].code, "NO_MATCHING_HOB");
+        assert!(
+            errors[0].got.contains("HOB-M4-90: normal base pitch"),
+            "{}",
+            errors[0].got
+        );
     }
 
     #[test]
     fn unknown_machine_and_hob_errors_name_the_field_and_the_choices() {
         let conn = db::open_in_memory().unwrap();
-        let mut req = request(
-            HobSpec {
-                id: Some(gearcam_proto::HobId::new("NOPE").unwrap()),
-                ..HobSpec::default()
-            },
-            ProcessOverrides::default(),
-        );
+        let mut req = request(json!({"id": "NOPE"}), json!({}));
         let errors = plan(&conn, &req).unwrap_err();
         assert_eq!(
             (errors[0].code.as_str(), errors[0].field.as_str()),
@@ -451,12 +669,8 @@ mod tests {
     #[test]
     fn incomplete_inline_hob_lists_every_missing_field() {
         let conn = db::open_in_memory().unwrap();
-        let hob = HobSpec {
-            starts: Some(1),
-            od_mm: Some(80.0),
-            ..HobSpec::default()
-        };
-        let errors = plan(&conn, &request(hob, ProcessOverrides::default())).unwrap_err();
+        let req = request(json!({"starts": 1, "od_mm": 80.0}), json!({}));
+        let errors = plan(&conn, &req).unwrap_err();
         let fields: Vec<&str> = errors.iter().map(|e| e.field.as_str()).collect();
         assert_eq!(
             fields,
@@ -473,13 +687,10 @@ mod tests {
     #[test]
     fn a_hob_id_with_inline_data_is_ambiguous() {
         let conn = db::open_in_memory().unwrap();
-        let hob = HobSpec {
-            id: Some(gearcam_proto::HobId::new("HOB-M3-80").unwrap()),
-            od_mm: Some(80.0),
-            ..HobSpec::default()
-        };
-        let errors = plan(&conn, &request(hob, ProcessOverrides::default())).unwrap_err();
+        let req = request(json!({"id": "HOB-M3-80", "od_mm": 80.0}), json!({}));
+        let errors = plan(&conn, &req).unwrap_err();
         assert_eq!(errors[0].code, "HOB_AMBIGUOUS");
+        let _ = ProcessOverrides::default();
     }
 
     #[test]
@@ -488,9 +699,13 @@ mod tests {
         let path = dir.path().join("kb/knowledge.db");
         let conn = db::open(&path).unwrap();
         assert_eq!(db::hobs(&conn).unwrap().len(), 5);
+        assert_eq!(db::schema_version(&conn).unwrap(), 2);
+        let n = library::list(&conn, &library::CASES).unwrap().len();
+        assert_eq!(n, 14);
         drop(conn);
         let conn = db::open(&path).unwrap();
         assert_eq!(db::hobs(&conn).unwrap().len(), 5);
+        assert_eq!(library::list(&conn, &library::CASES).unwrap().len(), n);
         assert_eq!(db::machines(&conn).unwrap()[0], db::seed_machine_h01());
     }
 }

@@ -1,0 +1,305 @@
+//! The learning loop: the knowledge service records every job it plans and
+//! every delivery it hears of; after delivery the planner confirms the job
+//! with the values actually used and the outcome, and the job becomes a case.
+//! The hob's shift position and remaining life move on by the quantity cut.
+
+use gearcam_proto::{DeliveryReceipt, ProcessPlan, Source};
+use rusqlite::Connection;
+use serde_json::{json, Value};
+
+use crate::history;
+use crate::hobmatch;
+use crate::library::{self, kb_err, Outcome, Record};
+use crate::KnowledgeError;
+
+/// Records a planned job (state `planned`; a re-plan replaces the row and
+/// starts the job over).
+pub fn record_planned(
+    conn: &Connection,
+    plan: &ProcessPlan,
+    at_ms: u64,
+) -> Result<(), KnowledgeError> {
+    conn.execute(
+        "INSERT OR REPLACE INTO jobs (job_id, part_number, machine, class, quantity, hob_id, state,
+                                      confidence, plan_json, planned_at_ms)
+         VALUES (?1, ?2, ?3, ?4, ?5, ?6, 'planned', ?7, ?8, ?9)",
+        rusqlite::params![
+            plan.job_id.as_str(),
+            plan.request.spec.job.part_number,
+            plan.machine.id.as_str(),
+            plan.class,
+            plan.request.spec.job.quantity,
+            plan.hob.id,
+            plan.confidence,
+            serde_json::to_string(plan)?,
+            at_ms as i64,
+        ],
+    )?;
+    Ok(())
+}
+
+/// Marks a planned job delivered (from the agent's `delivered` event).
+/// Returns false when the job is unknown or already past delivery.
+pub fn record_delivered(conn: &Connection, r: &DeliveryReceipt) -> Result<bool, KnowledgeError> {
+    let n = conn.execute(
+        "UPDATE jobs SET state = 'delivered', delivered_at_ms = ?2, program_name = ?3
+         WHERE job_id = ?1 AND state = 'planned'",
+        rusqlite::params![r.job_id.as_str(), r.stored_at_ms as i64, r.name],
+    )?;
+    Ok(n == 1)
+}
+
+/// What the planner confirms about a delivered job.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Confirmation {
+    /// The job.
+    pub job_id: String,
+    /// Parts actually cut (default: the job's quantity).
+    pub quantity: Option<u32>,
+    /// Cutting speed actually used, m/min (default: the plan's).
+    pub cutting_speed_m_min: Option<f64>,
+    /// Feed actually used, mm/rev (default: the plan's).
+    pub feed_mm_per_rev: Option<f64>,
+    /// Cuts actually made (default: the plan's).
+    pub cuts: Option<u32>,
+    /// `ok`, `rework`, `scrap` or `unknown`.
+    pub outcome: String,
+    /// Grade measured.
+    pub quality_achieved: Option<u8>,
+    /// Remarks.
+    pub notes: String,
+    /// How far to trust the new case, 0–1.
+    pub confidence: f64,
+    /// Who confirms.
+    pub by: String,
+    /// When, ms since the epoch.
+    pub at_ms: u64,
+    /// Accept a job still in state `planned` (its delivery was not heard, e.g.
+    /// it was cut from a program delivered another way).
+    pub allow_undelivered: bool,
+}
+
+/// The result of a confirmation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Confirmed {
+    /// The new case.
+    pub case: Record,
+    /// The hob after the update, when it is a library hob.
+    pub hob: Option<Record>,
+    /// The job after the update.
+    pub job: Record,
+}
+
+/// Confirms a delivered job: it becomes a case, the hob's shift position and
+/// remaining life move on, the job is marked confirmed; all in one transaction.
+pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
+    let Some(job) = library::get(conn, &library::JOBS, &c.job_id)? else {
+        return Err(vec![kb_err(
+            "UNKNOWN_JOB",
+            "job",
+            "a job the knowledge service planned (gearcam kb list jobs)",
+            c.job_id.as_str(),
+            "only jobs planned by this knowledge base can be confirmed",
+        )]);
+    };
+    let state = job.get("state").and_then(Value::as_str).unwrap_or_default();
+    let ok_state = state == "delivered" || (c.allow_undelivered && state == "planned");
+    if !ok_state {
+        return Err(vec![kb_err(
+            "JOB_STATE",
+            "state",
+            if c.allow_undelivered {
+                "delivered or planned"
+            } else {
+                "delivered (or pass --undelivered for a job cut from a program delivered another way)"
+            },
+            state,
+            format!(
+                "job {} is {state}; a job is confirmed once, after delivery",
+                c.job_id
+            ),
+        )]);
+    }
+    let plan_json = job.get("plan_json").and_then(Value::as_str).unwrap_or("{}");
+    let plan: ProcessPlan = serde_json::from_str(plan_json).map_err(KnowledgeError::from)?;
+    let g = &plan.request.spec.gear;
+    let quantity = c.quantity.unwrap_or(plan.request.spec.job.quantity);
+    let material = history::material(conn, &g.material)?;
+    let lib_hob = if plan.hob.source == Source::Library {
+        library::get(conn, &library::HOBS, &plan.hob.id)?
+    } else {
+        None
+    };
+    let text = |r: &Option<Record>, k: &str, default: &str| {
+        r.as_ref()
+            .and_then(|r| r.get(k))
+            .and_then(Value::as_str)
+            .unwrap_or(default)
+            .to_string()
+    };
+    let vc = c
+        .cutting_speed_m_min
+        .unwrap_or(plan.process.cutting_speed_m_min);
+    let fa = c.feed_mm_per_rev.unwrap_or(plan.process.feed_mm_per_rev);
+    let cuts = c.cuts.unwrap_or(plan.process.cuts);
+    let mut changed = Vec::new();
+    if c.cutting_speed_m_min.is_some() {
+        changed.push(format!("vc {vc} m/min"));
+    }
+    if c.feed_mm_per_rev.is_some() {
+        changed.push(format!("fa {fa} mm/rev"));
+    }
+    if c.cuts.is_some() {
+        changed.push(format!("{cuts} cuts"));
+    }
+    let case_id = format!("JOB-{}", c.job_id);
+    let case = json!({
+        "id": case_id,
+        "class": plan.class,
+        "machine": plan.machine.id.as_str(),
+        "material": g.material.trim(),
+        "material_group": material.as_ref().map(|m| m.0.as_str()).unwrap_or("unknown"),
+        "hardness_hb": material.as_ref().and_then(|m| m.1),
+        "module_mm": g.module_mm,
+        "teeth": g.teeth,
+        "helix_angle_deg": g.helix_angle_deg.abs(),
+        "face_width_mm": g.face_width_mm,
+        "quality_grade": g.quality_grade,
+        "hob_material": text(&lib_hob, "material", "unknown"),
+        "hob_coating": text(&lib_hob, "coating", "unknown"),
+        "hob_starts": plan.hob.starts,
+        "hob_od_mm": plan.hob.od_mm,
+        "operation": "finish",
+        "cutting_speed_m_min": vc,
+        "feed_mm_per_rev": fa,
+        "hob_rpm": vc * 1000.0 / (std::f64::consts::PI * plan.hob.od_mm),
+        "cuts": cuts,
+        "cut_mode": match plan.process.cut_mode {
+            gearcam_proto::CutMode::Climb => "climb",
+            gearcam_proto::CutMode::Conventional => "conventional",
+        },
+        "outcome": c.outcome,
+        "quality_achieved": c.quality_achieved,
+        "notes": c.notes,
+        "confidence": c.confidence,
+        "provenance": format!(
+            "confirmed job {} ({} parts of {}) by {}{}",
+            c.job_id,
+            quantity,
+            plan.request.spec.job.part_number,
+            c.by,
+            if changed.is_empty() {
+                ": values as planned".to_string()
+            } else {
+                format!(": values actually used differ from the plan: {}", changed.join(", "))
+            }
+        ),
+        "job_id": c.job_id,
+        "created_at_ms": c.at_ms,
+    });
+    let Value::Object(case) = case else {
+        unreachable!("a JSON object")
+    };
+    let tx = conn.unchecked_transaction().map_err(KnowledgeError::from)?;
+    let case = library::add(&tx, &library::CASES, &case)?;
+    let hob = match lib_hob {
+        Some(h) => {
+            let lh = history::hob_from_record(&h);
+            let used = hobmatch::shift_needed_mm(&lh.hob, quantity);
+            let pos = (lh.hob.shift_position_mm + used).min(lh.hob.usable_length_mm);
+            let life = lh
+                .hob
+                .remaining_life_parts
+                .saturating_sub(u64::from(quantity));
+            let mut set = Record::new();
+            set.insert("shift_position_mm".into(), json!(pos));
+            set.insert("remaining_life_parts".into(), json!(life));
+            Some(library::edit(&tx, &library::HOBS, &plan.hob.id, &set)?)
+        }
+        None => None,
+    };
+    let mut set = Record::new();
+    set.insert("state".into(), json!("confirmed"));
+    set.insert("confirmed_at_ms".into(), json!(c.at_ms));
+    set.insert("delivered_quantity".into(), json!(quantity));
+    set.insert("case_id".into(), json!(case_id));
+    let job = library::edit(&tx, &library::JOBS, &c.job_id, &set)?;
+    tx.commit().map_err(KnowledgeError::from)?;
+    Ok(Confirmed { case, hob, job })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{cbr, db, plan};
+    use serde_json::json;
+
+    fn confirmation(job: &str) -> Confirmation {
+        Confirmation {
+            job_id: job.into(),
+            quantity: Some(20),
+            cutting_speed_m_min: Some(95.0),
+            feed_mm_per_rev: None,
+            cuts: None,
+            outcome: "ok".into(),
+            quality_achieved: Some(7),
+            notes: "good flanks".into(),
+            confidence: 0.9,
+            by: "test".into(),
+            at_ms: 1_700_000_000_000,
+            allow_undelivered: false,
+        }
+    }
+
+    #[test]
+    fn a_confirmed_job_becomes_the_best_case_for_the_same_job_and_wears_the_hob() {
+        let conn = db::open_in_memory().unwrap();
+        let req = plan::tests::request(json!({}), json!({}));
+        let p = plan::plan(&conn, &req).unwrap();
+        record_planned(&conn, &p, 1).unwrap();
+        // Not delivered yet: refused with the state named.
+        let e = confirm(&conn, &confirmation("J1")).unwrap_err();
+        assert_eq!(
+            (e[0].code.as_str(), e[0].got.as_str()),
+            ("JOB_STATE", "planned")
+        );
+        let receipt: DeliveryReceipt = serde_json::from_value(json!({
+            "job_id": "J1", "machine": "H01", "name": "P_1", "file_name": "_N_P_1_MPF",
+            "path": "/x", "revision": 1, "sha256": "00", "size_bytes": 1,
+            "stored_at_ms": 2, "duplicate": false
+        }))
+        .unwrap();
+        assert!(record_delivered(&conn, &receipt).unwrap());
+        let hob_before = library::get(&conn, &library::HOBS, &p.hob.id)
+            .unwrap()
+            .unwrap();
+        let done = confirm(&conn, &confirmation("J1")).unwrap();
+        assert_eq!(done.case["id"], "JOB-J1");
+        assert_eq!(done.case["cutting_speed_m_min"], 95.0);
+        assert!(done.case["provenance"]
+            .as_str()
+            .unwrap()
+            .contains("vc 95 m/min"));
+        assert_eq!(done.job["state"], "confirmed");
+        // 20 parts at 2 parts per 0.5 mm step: 5 mm of shift, 20 parts of life.
+        let hob = done.hob.unwrap();
+        assert_eq!(
+            hob["shift_position_mm"].as_f64().unwrap(),
+            hob_before["shift_position_mm"].as_f64().unwrap() + 5.0
+        );
+        assert_eq!(
+            hob["remaining_life_parts"].as_i64().unwrap(),
+            hob_before["remaining_life_parts"].as_i64().unwrap() - 20
+        );
+        // The same job again now retrieves its own case first, with similarity 1.
+        let again = plan::plan(&conn, &req).unwrap();
+        assert_eq!(again.cases[0].id, "JOB-J1");
+        assert_eq!(again.cases[0].similarity, 1.0);
+        assert_eq!(again.cases.len(), cbr::TOP_K);
+        // Once only.
+        let e = confirm(&conn, &confirmation("J1")).unwrap_err();
+        assert_eq!(e[0].got, "confirmed");
+        let e = confirm(&conn, &confirmation("NOPE")).unwrap_err();
+        assert_eq!(e[0].code, "UNKNOWN_JOB");
+    }
+}

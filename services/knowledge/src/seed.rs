@@ -1,0 +1,257 @@
+//! Seed data of schema version 2: the class tree, hob accuracy/life data,
+//! material hardness, starting cases, retrieval weights and example
+//! workpieces. Every row says where its values come from; where a value is
+//! our own estimate it says "engineering estimate", and a shop replaces it
+//! by importing its history (`gearcam kb import cases FILE.csv`).
+
+use rusqlite::{params, Transaction};
+use serde_json::{json, Value};
+
+use crate::library::{self, Record};
+use crate::KnowledgeError;
+
+/// Provenance of the starting cutting data.
+pub const ESTIMATE: &str = "gearcam seed: engineering estimate for TiN-coated HSS hobs, one cut, \
+from general hobbing practice (not shop history); feeds for modules 2 and 4 scaled from \
+module 3 by sqrt(m/3), the same rule retrieval adapts with; replace by importing your cases";
+
+/// Provenance of seed 000's bevel-gear example.
+pub const SEED000: &str = "seed 000 (Cao, Yan, Guo 2015, CIMS 21(1), §4.2): straight bevel \
+(conical involute) gear, cone 6.5°, hobbed rough with an AA hob on a 5-axis hobbing machine \
+(840D); hob_rpm, axial and radial feed as published. Not published, derived here: \
+cutting_speed_m_min = π·70·rpm/1000 assuming a 70 mm hob (the paper gives no hob diameter); \
+feed_mm_per_rev = axial feed / (z0·rpm/z). Hob material not stated (HSS assumed), coating unknown";
+
+fn insert(tx: &Transaction<'_>, lib: &library::Library, v: Value) -> Result<(), KnowledgeError> {
+    let Value::Object(rec) = v else {
+        unreachable!("seed records are objects")
+    };
+    let rec: Record = rec;
+    match library::add(tx, lib, &rec) {
+        Ok(_) => Ok(()),
+        Err(errors) => Err(KnowledgeError::Seed(format!(
+            "{} seed record invalid: {}",
+            lib.name,
+            errors
+                .iter()
+                .map(|e| e.to_string())
+                .collect::<Vec<_>>()
+                .join("; ")
+        ))),
+    }
+}
+
+/// Seeds the tables of migration 2.
+pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
+    const GT: &str = "SPEC §3 / seed 000 §2.1 (group-technology classification tree)";
+    for (id, parent, name, trace, deformation, method, programmable) in [
+        ("gear", None, "hobbed gears", "-", "-", "hobbing", false),
+        (
+            "cylindrical",
+            Some("gear"),
+            "cylindrical (spur, helical)",
+            "straight or helix",
+            "none",
+            "axial or radial-axial hobbing (patent model)",
+            true,
+        ),
+        (
+            "conical",
+            Some("gear"),
+            "conical involute (beveloid)",
+            "straight",
+            "linear taper",
+            "X follows Z along the cone angle",
+            false,
+        ),
+        (
+            "worm_wheel",
+            Some("gear"),
+            "worm wheel",
+            "helix",
+            "throated",
+            "radial or tangential infeed",
+            false,
+        ),
+        (
+            "crowned",
+            Some("gear"),
+            "crowned (drum)",
+            "helix",
+            "crowned (barrel)",
+            "X follows Z on the crowning curve",
+            false,
+        ),
+        (
+            "curved_tooth",
+            Some("gear"),
+            "curved-tooth",
+            "curved",
+            "-",
+            "classified; not programmed yet",
+            false,
+        ),
+        (
+            "multi_gear",
+            Some("gear"),
+            "multi-gear (cluster), derived",
+            "per unit",
+            "per unit",
+            "each unit by its own class",
+            false,
+        ),
+    ] {
+        insert(
+            tx,
+            &library::CLASSES_LIB,
+            json!({"id": id, "parent": parent, "name": name, "tooth_trace": trace,
+                   "deformation": deformation, "hobbing_method": method,
+                   "programmable": programmable, "source": GT}),
+        )?;
+    }
+
+    // Hobs of migration 1 gain accuracy class, material, coating, shift plan
+    // and life. Classes AA for the module-2/3 single-start hobs (grade 7 work,
+    // as in seed 000's example), A for the others.
+    const HOB_LIFE: &str = "; accuracy class, shift step 0.5 mm per 2 parts and remaining life 400 parts: engineering estimate, set them from your tool room";
+    for (id, class) in [
+        ("HOB-M2-70", "AA"),
+        ("HOB-M3-80", "AA"),
+        ("HOB-M3-80L", "AA"),
+        ("HOB-M3-100-2", "A"),
+        ("HOB-M4-90", "A"),
+    ] {
+        tx.execute(
+            "UPDATE hobs SET accuracy_class = ?2, shift_position_mm = 0, shift_step_mm = 0.5,
+                             parts_per_shift = 2, remaining_life_parts = 400, source = source || ?3
+             WHERE id = ?1",
+            params![id, class, HOB_LIFE],
+        )?;
+    }
+
+    // Typical hardness when hobbed (soft / normalised or quenched and
+    // tempered as usually supplied): engineering estimates from common
+    // material data, to be replaced by the shop's incoming-inspection values.
+    const HB: &str = "gearcam seed: typical hardness as hobbed, engineering estimate";
+    for (name, hb) in [
+        ("20CrMnTi", 180.0),
+        ("16MnCr5", 180.0),
+        ("20MnCr5", 185.0),
+        ("18CrNiMo7-6", 200.0),
+        ("20CrMo", 180.0),
+        ("42CrMo4", 280.0),
+        ("42CrMo", 280.0),
+        ("40Cr", 250.0),
+        ("C45", 200.0),
+        ("45", 200.0),
+        ("GG25", 200.0),
+        ("HT250", 200.0),
+        ("EN-GJL-250", 200.0),
+        ("QT600", 230.0),
+        ("CuSn12", 95.0),
+        ("brass", 100.0),
+    ] {
+        tx.execute(
+            "UPDATE materials SET hardness_hb = ?2, source = ?3 WHERE name = ?1",
+            params![name, hb, HB],
+        )?;
+    }
+
+    for (feature, weight) in crate::cbr::DEFAULT_WEIGHTS {
+        insert(
+            tx,
+            &library::WEIGHTS,
+            json!({"feature": feature, "weight": weight,
+                   "source": "gearcam default: engineering estimate (module, hob material, starts and rough/finish matter most)"}),
+        )?;
+    }
+
+    // Starting cases: per material group at modules 2, 3, 4 (finish hobbing,
+    // spur, 30 teeth, 30 mm face, grade 8, TiN-coated HSS, one start).
+    for (group, material, hb, vc, fa3, conf) in [
+        ("case_hardening_steel", "20CrMnTi", 180.0, 90.0, 2.0, 0.5),
+        ("quenched_tempered_steel", "42CrMo4", 280.0, 80.0, 1.8, 0.5),
+        ("cast_iron", "GG25", 200.0, 100.0, 2.5, 0.4),
+        ("nonferrous", "CuSn12", 95.0, 150.0, 2.5, 0.3),
+    ] {
+        for module in [2.0_f64, 3.0, 4.0] {
+            let fa = (fa3 * (module / 3.0).sqrt() * 100.0).round() / 100.0;
+            let id = format!("SEED-{}-M{}", group_code(group), module as u32);
+            insert(
+                tx,
+                &library::CASES,
+                json!({"id": id, "class": "cylindrical", "material": material,
+                       "material_group": group, "hardness_hb": hb, "module_mm": module,
+                       "teeth": 30, "helix_angle_deg": 0.0, "face_width_mm": 30.0,
+                       "quality_grade": 8, "hob_material": "HSS", "hob_coating": "TiN",
+                       "hob_starts": 1, "operation": "finish",
+                       "cutting_speed_m_min": vc, "feed_mm_per_rev": fa, "cuts": 1,
+                       "outcome": "unknown", "confidence": conf, "provenance": ESTIMATE}),
+            )?;
+        }
+    }
+
+    // Seed 000 §4.2: the paper's system proposal and the hand-programmed values.
+    for (id, rpm, vf, vr, conf, what) in [
+        (
+            "SEED000-BEVEL-CBR",
+            246.0,
+            105.0,
+            36.0,
+            0.6,
+            "the paper's proposed values",
+        ),
+        (
+            "SEED000-BEVEL-HAND",
+            236.0,
+            96.0,
+            32.0,
+            0.5,
+            "the hand-programmed values the paper compares with",
+        ),
+    ] {
+        let vc = std::f64::consts::PI * 70.0 * rpm / 1000.0;
+        let fa = vf / (rpm / 19.0);
+        insert(
+            tx,
+            &library::CASES,
+            json!({"id": id, "class": "conical", "material": "40Cr",
+                   "material_group": "quenched_tempered_steel", "module_mm": 2.0,
+                   "teeth": 19, "helix_angle_deg": 0.0, "quality_grade": 7,
+                   "hob_material": "HSS", "hob_coating": "unknown", "hob_starts": 1,
+                   "operation": "rough", "cutting_speed_m_min": (vc * 10.0).round() / 10.0,
+                   "feed_mm_per_rev": (fa * 100.0).round() / 100.0, "hob_rpm": rpm,
+                   "axial_feed_mm_min": vf, "radial_feed_mm_min": vr, "cuts": 1,
+                   "allowance_mm": 2.5, "shifting": false, "outcome": "ok",
+                   "notes": format!("{what}; blank OD 42.5 mm, coolant on, tailstock clamp, no shift"),
+                   "confidence": conf, "provenance": SEED000}),
+        )?;
+    }
+
+    // Example workpieces: the parts of the bundled example jobs.
+    const EX: &str = "gearcam example job files (examples/*.toml)";
+    for w in [
+        json!({"part_number": "SP-1001", "description": "spur gear of the patent embodiment",
+               "module_mm": 3.0, "teeth": 25, "face_width_mm": 30.0, "blank_od_mm": 81.0,
+               "material": "20CrMnTi", "quality_grade": 7, "fixture_height_mm": 50.0, "source": EX}),
+        json!({"part_number": "HG-2002", "description": "right-hand helical gear",
+               "module_mm": 3.0, "teeth": 25, "helix_angle_deg": 15.0, "helix_hand": "right",
+               "face_width_mm": 40.0, "material": "42CrMo4", "quality_grade": 7,
+               "fixture_height_mm": 60.0, "source": EX}),
+        json!({"part_number": "HG-3003-L", "description": "left-hand helical gear, climb cut",
+               "module_mm": 3.0, "teeth": 31, "helix_angle_deg": 20.0, "helix_hand": "left",
+               "face_width_mm": 25.0, "material": "16MnCr5", "fixture_height_mm": 45.0, "source": EX}),
+    ] {
+        insert(tx, &library::WORKPIECES, w)?;
+    }
+    Ok(())
+}
+
+fn group_code(group: &str) -> &'static str {
+    match group {
+        "case_hardening_steel" => "CASE",
+        "quenched_tempered_steel" => "QT",
+        "cast_iron" => "CI",
+        _ => "NF",
+    }
+}
