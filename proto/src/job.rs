@@ -90,6 +90,144 @@ pub struct GearSpec {
     pub quality_grade: u8,
     /// Distance H from the lower tooth face to the table (fixture height), mm.
     pub fixture_height_mm: f64,
+    /// Ball (pin) diameter DM for the measurement over balls, mm (default 1.7·mn).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ball_diameter_mm: Option<f64>,
+    /// The mating gear, for the pair geometry (working pressure angle, centre
+    /// distance, contact ratio).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mate: Option<MateSpec>,
+    /// `[gear.cone]`: a conical involute gear (beveloid); tip and root on a cone.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cone: Option<ConeSpec>,
+    /// `[gear.crowning]`: a crowned (barrel) gear.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crowning: Option<CrowningSpec>,
+    /// `[gear.worm_wheel]`: a worm wheel (throated), hobbed radially or tangentially.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub worm_wheel: Option<WormWheelSpec>,
+    /// `[gear.curved_tooth]`: a gear with a curved tooth trace.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub curved_tooth: Option<CurvedToothSpec>,
+}
+
+/// `[gear.mate]`: the gear this one meshes with.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MateSpec {
+    /// Teeth of the mate z2.
+    pub teeth: u32,
+    /// Profile shift coefficient x2 (default 0).
+    #[serde(default)]
+    pub profile_shift: f64,
+    /// Tip diameter da2, mm (default d2 + 2·mn·(ha* + x2)).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tip_diameter_mm: Option<f64>,
+    /// Working centre distance, mm; when given the working pressure angle is
+    /// taken from it, otherwise from the sum of the profile shifts.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub centre_distance_mm: Option<f64>,
+}
+
+/// Which face of a conical gear has the larger diameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LargeEnd {
+    /// The lower face (nearer the table).
+    #[default]
+    Bottom,
+    /// The upper face.
+    Top,
+}
+
+/// `[gear.cone]`: the cone of a conical involute gear.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConeSpec {
+    /// Cone angle δ between the tip line and the gear axis, degrees (seed 000: 6.5°).
+    pub angle_deg: f64,
+    /// The face with the larger diameter (default bottom); `blank_od_mm` is taken there.
+    #[serde(default)]
+    pub large_end: LargeEnd,
+}
+
+/// Shape of a crowning.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CrowningShape {
+    /// Circular arc (exact G2/G3 / CIP arc in X–Z).
+    #[default]
+    Circular,
+    /// Parabola, approximated by chords.
+    Parabolic,
+}
+
+/// `[gear.crowning]`: crowning along the face width.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CrowningSpec {
+    /// Crowning amount Cb: radial X lift at each face against the middle, mm.
+    pub amount_mm: f64,
+    /// Shape (default circular).
+    #[serde(default)]
+    pub shape: CrowningShape,
+    /// Chord tolerance of a parabolic crowning, mm (default 0.001).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub chord_tolerance_mm: Option<f64>,
+}
+
+/// How a worm wheel is hobbed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum WormInfeed {
+    /// Radial infeed to the final centre distance.
+    #[default]
+    Radial,
+    /// Tangential infeed along the hob axis at the final centre distance.
+    Tangential,
+}
+
+/// `[gear.worm_wheel]`: hobbing data of a worm wheel.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WormWheelSpec {
+    /// Infeed method (default radial).
+    #[serde(default)]
+    pub infeed: WormInfeed,
+    /// Radial feed per wheel revolution, mm/rev (default: a third of the axial feed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radial_feed_mm_per_rev: Option<f64>,
+    /// Tangential feed per wheel revolution, mm/rev (default: the axial feed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tangential_feed_mm_per_rev: Option<f64>,
+    /// Dwell at the final centre distance, wheel revolutions (default 2).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dwell_rev: Option<f64>,
+}
+
+/// `[gear.curved_tooth]`: a curved tooth trace (classified, not yet programmable).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CurvedToothSpec {
+    /// Radius of the tooth trace (cutter radius), mm.
+    pub trace_radius_mm: f64,
+}
+
+/// `[[units]]`: a further gear unit of a multi-gear (cluster) part. The job's
+/// `[gear]` and `[hob]` are the first unit, at Z offset 0.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UnitSpec {
+    /// Name of the unit, e.g. `upper gear` (default `unit N`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Height of the unit's lower tooth face above the first unit's, mm.
+    pub z_offset_mm: f64,
+    /// Drawing data of the unit (its own class: cylindrical, conical, crowned).
+    pub gear: GearSpec,
+    /// The unit's hob, inline; empty means the job's hob.
+    #[serde(default)]
+    pub hob: HobSpec,
 }
 
 /// `[hob]`: either a library `id` or the hob's data inline, or nothing (the
@@ -143,7 +281,7 @@ pub struct ProcessOverrides {
     /// Cutting mode (default conventional, as in the patent).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cut_mode: Option<CutMode>,
-    /// Number of cuts (this release programs one cut).
+    /// Number of cuts: rough cuts leave `finish_allowance_mm`, the last cut finishes.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cuts: Option<u32>,
     /// Cutting speed vc, m/min.
@@ -158,6 +296,64 @@ pub struct ProcessOverrides {
     /// Safety distance added to the clearance ΔH′ in the Z positions, mm (default from the machine).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub safety_mm: Option<f64>,
+    /// Infeed mode of a cylindrical gear (default axial).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub infeed: Option<Infeed>,
+    /// Radial stock the rough cuts leave for the finishing cut, mm (default 0.1·mn).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub finish_allowance_mm: Option<f64>,
+    /// Axial feed of the finishing cut, mm/rev (default the rough feed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub finish_feed_mm_per_rev: Option<f64>,
+    /// Radial feed of a radial plunge, mm per workpiece revolution (default a third of the axial feed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radial_feed_mm_per_rev: Option<f64>,
+    /// Hob shifting (patent: shift start, end, per step, parts per step).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shift: Option<ShiftSpec>,
+}
+
+/// Infeed mode of hobbing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Infeed {
+    /// Axial feed over the face width from outside the blank.
+    #[default]
+    Axial,
+    /// A radial plunge at the entry face, then axial feed.
+    RadialAxial,
+}
+
+/// When the hob shifts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ShiftMode {
+    /// After every `parts_per_step` parts.
+    #[default]
+    Part,
+    /// Before every cut after the first, and per part as well.
+    Cut,
+}
+
+/// `[process.shift]`: hob shifting along its axis (Y).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShiftSpec {
+    /// Per part or per cut (default part).
+    #[serde(default)]
+    pub mode: ShiftMode,
+    /// First shift position relative to the hob centre, mm (default: the start of the usable range).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start_mm: Option<f64>,
+    /// Last shift position, mm (default: the end of the usable range).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub end_mm: Option<f64>,
+    /// Shift per step, mm (default: one axial pitch of the hob, π·mn0/cos γ0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub step_mm: Option<f64>,
+    /// Parts cut before each step (default 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub parts_per_step: Option<u32>,
 }
 
 /// `[options]`: machine functions switched on or off (patent "other parameters").
@@ -214,6 +410,9 @@ pub struct JobSpec {
     /// `[options]`
     #[serde(default)]
     pub options: Options,
+    /// `[[units]]`: further gear units of a multi-gear part (empty for one gear).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub units: Vec<UnitSpec>,
 }
 
 /// Message: a planning station asks for a job to be programmed and delivered.

@@ -44,10 +44,12 @@ fn err(
     }
 }
 
-/// The group-technology class of a job. This release knows cylindrical gears
-/// (spur and helical); later classes are added with their models.
-pub fn classify(_req: &JobRequest) -> &'static str {
-    "cylindrical"
+/// The group-technology class of a job (SPEC §3), by the rule in
+/// [`gearcam_proto::classify`]: `[[units]]` make a multi-gear part, otherwise
+/// the `[gear]` table's class marker (cone, crowning, worm wheel, curved
+/// tooth) or cylindrical.
+pub fn classify(req: &JobRequest) -> &'static str {
+    gearcam_proto::classify(&req.spec).as_str()
 }
 
 /// Builds the process plan for a request, or every reason it cannot be built.

@@ -12,19 +12,30 @@
 //! - [`validate`]: the parameter checks and the patent's five physical checks
 //!   (all failures together, stable codes), and the machine-limit checks of
 //!   the computed kinematics.
-//! - [`hobbing`]: hob swivel, approach clearance ΔH′, positions A–E, speeds,
-//!   feed, differential, coupling and machining time.
+//! - [`hobbing`]: hob swivel, approach clearance ΔH′, cuts with positions
+//!   A–E, speeds, feed, differential, coupling factors and machining time.
+//! - [`path`]: the X–Z(–Y) moves of a cut for each class (axial, radial-axial,
+//!   conical, crowned, worm wheel).
+//! - [`shift`]: hob shifting per part and per cut inside the usable length.
+//! - [`units`]: multi-gear parts, unit by unit, with hob changes.
+//! - [`explain`]: where each value came from.
 //! - [`service`]: the Zenoh service around [`compute`].
 //!
 //! The entry point is [`compute`].
 #![forbid(unsafe_code)]
 
+pub mod explain;
 pub mod geometry;
 pub mod hobbing;
+pub mod path;
 pub mod service;
+pub mod shift;
+pub mod units;
 pub mod validate;
 
-use gearcam_proto::{GearSpec, Geometry, JobError, MachiningModel, ProcessPlan};
+use gearcam_proto::{
+    classify, GearClass, GearSpec, Geometry, JobError, MachiningModel, ProcessPlan,
+};
 
 /// Version of the model code, written into every [`MachiningModel`].
 pub const MODEL_VERSION: &str = concat!("gearcam-model ", env!("CARGO_PKG_VERSION"));
@@ -47,7 +58,11 @@ pub fn compute(plan: &ProcessPlan) -> Result<MachiningModel, Vec<JobError>> {
         return Err(report.errors);
     }
     let geometry = geometry_of(&plan.request.spec.gear);
-    let model = hobbing::kinematics(plan, &geometry);
+    let mut model = hobbing::kinematics(plan, &geometry);
+    if classify(&plan.request.spec) == GearClass::MultiGear {
+        model = units::kinematics(plan, model);
+    }
+    model.explain = explain::explain(plan, &geometry, &model);
     let limit_errors = validate::check_limits(plan, &model);
     if !limit_errors.is_empty() {
         return Err(limit_errors);
@@ -90,6 +105,12 @@ pub(crate) mod fixtures {
             material: "42CrMo4".into(),
             quality_grade: 8,
             fixture_height_mm: 50.0,
+            ball_diameter_mm: None,
+            mate: None,
+            cone: None,
+            crowning: None,
+            worm_wheel: None,
+            curved_tooth: None,
         }
     }
 
@@ -189,6 +210,7 @@ pub(crate) mod fixtures {
                 },
                 process: ProcessOverrides::default(),
                 options: Options::default(),
+                units: Vec::new(),
             },
         };
         let mut values = BTreeMap::new();
@@ -272,11 +294,11 @@ mod tests {
     fn returns_all_validation_errors_without_computing() {
         let mut plan = fixtures::plan();
         plan.hob.module_mm = 2.5;
-        plan.process.cuts = 2;
+        plan.process.cuts = 0;
         let errors = compute(&plan).unwrap_err();
         let codes: Vec<_> = errors.iter().map(|e| e.code.as_str()).collect();
         assert!(codes.contains(&"BASE_PITCH_MISMATCH"), "{codes:?}");
-        assert!(codes.contains(&"CUTS_UNSUPPORTED"), "{codes:?}");
+        assert!(codes.contains(&"CUTS_RANGE"), "{codes:?}");
     }
 
     #[test]

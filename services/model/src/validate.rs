@@ -18,8 +18,10 @@
 // fails the check instead of slipping through.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use gearcam_proto::class::unit_markers;
 use gearcam_proto::{
-    GearSpec, Geometry, HobData, JobError, Kinematics, Position, ProcessPlan, Stage, Warning,
+    classify, CrowningShape, GearClass, GearSpec, Geometry, HobData, Infeed, JobError, Kinematics,
+    MachineProfile, Move, Position, ProcessPlan, Stage, Warning, WormInfeed,
 };
 
 use crate::geometry::{geometry, is_spur, lead_mm};
@@ -34,6 +36,66 @@ pub const BASE_PITCH_TOLERANCE_MM: f64 = 1e-4;
 /// A blank OD that uses more than 1 − this fraction of its allowed deviation
 /// from da (on its side of da) gets a [`codes::BLANK_OD_EDGE`] warning.
 pub const EDGE_FRACTION: f64 = 0.1;
+
+/// Most cuts a job may ask for.
+pub const MAX_CUTS: u32 = 6;
+
+/// Tolerances and windows of validation for one machine (SPEC §4.2).
+///
+/// The windows come from the machine profile's settings
+/// ([`Config::for_machine`]); the tolerances default to [`TOLERANCE_MM`],
+/// [`BASE_PITCH_TOLERANCE_MM`] and [`EDGE_FRACTION`]; [`Config::default`] is
+/// the documented default machine: blank OD 2 mm under to 0.5 mm over da
+/// (the patent allows 1–2 mm under), depth allowance 0.5 mm, at most
+/// [`MAX_CUTS`] cuts and [`crate::path::MAX_CHORDS`] chords.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Config {
+    /// Tolerance of length comparisons, in the job's favour, mm.
+    pub length_tolerance_mm: f64,
+    /// Tolerance of the base-pitch equality, mm.
+    pub base_pitch_tolerance_mm: f64,
+    /// A blank using more than 1 − this fraction of its window is warned about.
+    pub edge_fraction: f64,
+    /// The blank OD may lie this far under da, mm.
+    pub blank_od_below_mm: f64,
+    /// The blank OD may lie this far over da, mm.
+    pub blank_od_above_mm: f64,
+    /// The depth may exceed the whole depth by this much, mm.
+    pub depth_allowance_mm: f64,
+    /// Most cuts.
+    pub max_cuts: u32,
+    /// Most chords of a parabolic crowning.
+    pub max_chords: u32,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            length_tolerance_mm: TOLERANCE_MM,
+            base_pitch_tolerance_mm: BASE_PITCH_TOLERANCE_MM,
+            edge_fraction: EDGE_FRACTION,
+            blank_od_below_mm: 2.0,
+            blank_od_above_mm: 0.5,
+            depth_allowance_mm: 0.5,
+            max_cuts: MAX_CUTS,
+            max_chords: crate::path::MAX_CHORDS,
+        }
+    }
+}
+
+impl Config {
+    /// The defaults with the machine profile's windows (blank OD and depth
+    /// allowance).
+    pub fn for_machine(machine: &MachineProfile) -> Config {
+        let s = &machine.settings;
+        Config {
+            blank_od_below_mm: s.blank_od_below_mm,
+            blank_od_above_mm: s.blank_od_above_mm,
+            depth_allowance_mm: s.depth_allowance_mm,
+            ..Config::default()
+        }
+    }
+}
 
 /// Stable error and warning codes of the model stage.
 pub mod codes {
@@ -75,8 +137,38 @@ pub mod codes {
     pub const CUTTING_SPEED_RANGE: &str = "CUTTING_SPEED_RANGE";
     /// Safety distance negative.
     pub const SAFETY_RANGE: &str = "SAFETY_RANGE";
-    /// More than one cut (this release programs one cut).
-    pub const CUTS_UNSUPPORTED: &str = "CUTS_UNSUPPORTED";
+    /// Number of cuts outside 1 to the most cuts.
+    pub const CUTS_RANGE: &str = "CUTS_RANGE";
+    /// Finish allowance not positive or not below the depth.
+    pub const FINISH_ALLOWANCE_RANGE: &str = "FINISH_ALLOWANCE_RANGE";
+    /// Radial, tangential or finishing feed not positive.
+    pub const FEED_RATE_RANGE: &str = "FEED_RATE_RANGE";
+    /// The gear is classified into a class that cannot be programmed yet.
+    pub const CLASS_NOT_PROGRAMMABLE: &str = "CLASS_NOT_PROGRAMMABLE";
+    /// The gear carries the markers of more than one class.
+    pub const CLASS_AMBIGUOUS: &str = "CLASS_AMBIGUOUS";
+    /// An option that the gear's class does not support.
+    pub const CLASS_OPTION_UNSUPPORTED: &str = "CLASS_OPTION_UNSUPPORTED";
+    /// Cone angle outside (0°, 45°) or a cone that ends below the root.
+    pub const CONE_ANGLE_RANGE: &str = "CONE_ANGLE_RANGE";
+    /// Crowning amount outside (0, b/2).
+    pub const CROWNING_RANGE: &str = "CROWNING_RANGE";
+    /// Chord tolerance not positive or needing too many chords.
+    pub const CHORD_TOLERANCE_RANGE: &str = "CHORD_TOLERANCE_RANGE";
+    /// Worm wheel dwell negative.
+    pub const DWELL_RANGE: &str = "DWELL_RANGE";
+    /// Shift settings outside the usable hob length or not positive.
+    pub const SHIFT_RANGE: &str = "SHIFT_RANGE";
+    /// The hob is too short to shift at all.
+    pub const HOB_TOO_SHORT_FOR_SHIFT: &str = "HOB_TOO_SHORT_FOR_SHIFT";
+    /// Ball diameter not positive.
+    pub const BALL_DIAMETER_RANGE: &str = "BALL_DIAMETER_RANGE";
+    /// Mating gear data out of range.
+    pub const MATE_RANGE: &str = "MATE_RANGE";
+    /// A unit of a multi-gear part is out of range.
+    pub const UNIT_RANGE: &str = "UNIT_RANGE";
+    /// Computed radial or tangential feed above the machine's feed limit.
+    pub const FEED_RATE_LIMIT: &str = "FEED_RATE_LIMIT";
     /// Hob starts below 1.
     pub const HOB_STARTS_RANGE: &str = "HOB_STARTS_RANGE";
     /// Hob OD not positive.
@@ -200,33 +292,39 @@ fn open(v: f64, lo: f64, hi: f64) -> bool {
 /// Warning `BLANK_OD_EDGE` when the blank uses more than 90 % of its allowed
 /// deviation from da.
 pub fn validate(plan: &ProcessPlan) -> Report {
+    validate_with(plan, &Config::for_machine(&plan.machine))
+}
+
+/// [`validate`] with explicit tolerances and windows.
+pub fn validate_with(plan: &ProcessPlan, cfg: &Config) -> Report {
     let mut report = Report::default();
     let gear = &plan.request.spec.gear;
     let gear_ok = check_gear(&mut report, gear);
     let hob_ok = check_hob(&mut report, &plan.hob);
-    check_process(&mut report, plan, gear_ok);
+    check_process(&mut report, plan, gear_ok, cfg);
+    check_class(&mut report, plan, cfg);
     let settings_ok = check_machine_settings(&mut report, plan);
 
     let mut geo = None;
     if gear_ok {
         let g = geometry(gear);
-        check_machine_limits(&mut report, plan, &g);
+        check_machine_limits(&mut report, plan, &g, cfg);
         geo = Some(g);
     } else {
-        check_hob_od_limit(&mut report, plan);
+        check_hob_od_limit(&mut report, plan, cfg);
     }
 
     if let (Some(g), true) = (&geo, settings_ok) {
-        check_blank_window(&mut report, plan, g);
+        check_blank_window(&mut report, plan, g, cfg);
     }
     if hob_ok && gear_ok {
-        check_base_pitch(&mut report, gear, &plan.hob);
-        check_hob_od(&mut report, gear, &plan.hob);
+        check_base_pitch(&mut report, gear, &plan.hob, cfg);
+        check_hob_od(&mut report, gear, &plan.hob, cfg);
     }
     if let (Some(g), true, true) = (&geo, hob_ok, settings_ok) {
         let set = setup(plan, g);
-        check_depth(&mut report, plan, g, &set);
-        check_centre_distance(&mut report, &set);
+        check_depth(&mut report, g, &set, cfg);
+        check_centre_distance(&mut report, &set, cfg);
     }
     report
 }
@@ -391,7 +489,7 @@ fn check_hob(r: &mut Report, h: &HobData) -> bool {
     r.errors.len() == before
 }
 
-fn check_process(r: &mut Report, plan: &ProcessPlan, gear_ok: bool) {
+fn check_process(r: &mut Report, plan: &ProcessPlan, gear_ok: bool, cfg: &Config) {
     let p = &plan.process;
     let quantity = plan.request.spec.job.quantity;
     if quantity < 1 {
@@ -403,13 +501,13 @@ fn check_process(r: &mut Report, plan: &ProcessPlan, gear_ok: bool) {
             "A job makes at least one part; correct job.quantity.",
         );
     }
-    if p.cuts != 1 {
+    if !(1..=cfg.max_cuts).contains(&p.cuts) {
         r.error(
-            codes::CUTS_UNSUPPORTED,
+            codes::CUTS_RANGE,
             "process.cuts",
-            "1",
+            format!("1 to {}", cfg.max_cuts),
             p.cuts.to_string(),
-            "This release programs exactly one cut; set process.cuts = 1 (several cuts come later).",
+            format!("A job has one to {} cuts (rough cuts, then one finishing cut); correct process.cuts.", cfg.max_cuts),
         );
     }
     if !(p.cutting_speed_m_min > 0.0 && p.cutting_speed_m_min.is_finite()) {
@@ -453,6 +551,309 @@ fn check_process(r: &mut Report, plan: &ProcessPlan, gear_ok: bool) {
     }
 }
 
+/// Class markers, class-specific data, process options of the class, shift,
+/// measurement data, mate and the units of a multi-gear part.
+fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
+    let spec = &plan.request.spec;
+    let g = &spec.gear;
+    let o = &spec.process;
+    let markers = unit_markers(g);
+    if markers.len() > 1 {
+        let names: Vec<&str> = markers.iter().map(|c| c.as_str()).collect();
+        r.error(
+            codes::CLASS_AMBIGUOUS,
+            "gear",
+            "at most one of cone, crowning, worm_wheel, curved_tooth",
+            names.join(", "),
+            "A gear belongs to exactly one class; keep the one table of [gear.cone], [gear.crowning], [gear.worm_wheel] or [gear.curved_tooth] that describes it.",
+        );
+    }
+    let class = classify(spec);
+    if markers.contains(&GearClass::CurvedTooth) {
+        r.error(
+            codes::CLASS_NOT_PROGRAMMABLE,
+            "gear.curved_tooth",
+            "a programmable class: cylindrical, conical, crowned, worm_wheel or multi_gear",
+            GearClass::CurvedTooth.as_str(),
+            "Curved-tooth gears are classified (SPEC §3) but not yet programmable: gearcam has no hobbing model for a curved tooth trace. Program this part by hand for now, or remove [gear.curved_tooth] if the trace is in fact straight.",
+        );
+    }
+    let unit = gearcam_proto::class::unit_class(g);
+    if o.infeed == Some(Infeed::RadialAxial) && unit != GearClass::Cylindrical {
+        r.error(
+            codes::CLASS_OPTION_UNSUPPORTED,
+            "process.infeed",
+            "axial for a conical, crowned or worm-wheel gear",
+            "radial_axial",
+            format!("Radial-axial infeed is programmed for cylindrical gears only; this gear is {unit}. Leave process.infeed out."),
+        );
+    }
+    if let Some(cone) = &g.cone {
+        if !open(cone.angle_deg, 0.0, 45.0) {
+            r.error(
+                codes::CONE_ANGLE_RANGE,
+                "gear.cone.angle_deg",
+                "(0°, 45°)",
+                format!("{}°", num(cone.angle_deg)),
+                "The cone angle of a conical gear lies between 0° and 45° (seed 000's example: 6.5°); correct gear.cone.angle_deg.",
+            );
+        }
+    }
+    if let Some(cr) = &g.crowning {
+        let half = g.face_width_mm / 2.0;
+        if !(cr.amount_mm > 0.0 && cr.amount_mm < half) {
+            r.error(
+                codes::CROWNING_RANGE,
+                "gear.crowning.amount_mm",
+                format!("> 0 and < {} mm (half the face width)", num(half)),
+                format!("{} mm", num(cr.amount_mm)),
+                "The crowning amount is the small radial lift at each face against the middle (typically 0.01–0.05 mm); correct gear.crowning.amount_mm.",
+            );
+        } else if cr.shape == CrowningShape::Parabolic {
+            let tol = cr
+                .chord_tolerance_mm
+                .unwrap_or(crate::path::DEFAULT_CHORD_TOLERANCE_MM);
+            let chords = crate::path::parabolic_chords(cr.amount_mm, tol);
+            if !(tol > 0.0) || chords > cfg.max_chords {
+                r.error(
+                    codes::CHORD_TOLERANCE_RANGE,
+                    "gear.crowning.chord_tolerance_mm",
+                    format!(
+                        "> 0 mm and at least {} mm (at most {} chords)",
+                        num(cr.amount_mm / f64::from(cfg.max_chords).powi(2)),
+                        cfg.max_chords
+                    ),
+                    format!("{} mm", num(tol)),
+                    "The chord tolerance of a parabolic crowning must be positive and not so fine that the program needs thousands of chords; correct gear.crowning.chord_tolerance_mm.",
+                );
+            }
+        }
+    }
+    let positive = |r: &mut Report, field: &str, v: Option<f64>, unit: &str, what: &str| {
+        if let Some(v) = v {
+            if !(v > 0.0 && v.is_finite()) {
+                r.error(
+                    codes::FEED_RATE_RANGE,
+                    field,
+                    format!("> 0 {unit}"),
+                    format!("{} {unit}", num(v)),
+                    format!("The {what} must be positive; correct {field}."),
+                );
+            }
+        }
+    };
+    if let Some(w) = &g.worm_wheel {
+        positive(
+            r,
+            "gear.worm_wheel.radial_feed_mm_per_rev",
+            w.radial_feed_mm_per_rev,
+            "mm/rev",
+            "radial feed",
+        );
+        positive(
+            r,
+            "gear.worm_wheel.tangential_feed_mm_per_rev",
+            w.tangential_feed_mm_per_rev,
+            "mm/rev",
+            "tangential feed",
+        );
+        if let Some(d) = w.dwell_rev {
+            if !(d >= 0.0 && d.is_finite()) {
+                r.error(
+                    codes::DWELL_RANGE,
+                    "gear.worm_wheel.dwell_rev",
+                    "≥ 0 revolutions",
+                    num(d),
+                    "The dwell at the final centre distance is a number of wheel revolutions, 0 or more; correct gear.worm_wheel.dwell_rev.",
+                );
+            }
+        }
+        if w.infeed == WormInfeed::Tangential && o.shift.is_some() {
+            r.error(
+                codes::CLASS_OPTION_UNSUPPORTED,
+                "process.shift",
+                "no hob shifting with tangential infeed",
+                "shift",
+                "Tangential infeed already moves the hob along its axis; leave [process.shift] out.",
+            );
+        }
+    }
+    positive(
+        r,
+        "process.finish_feed_mm_per_rev",
+        o.finish_feed_mm_per_rev,
+        "mm/rev",
+        "finishing feed",
+    );
+    positive(
+        r,
+        "process.radial_feed_mm_per_rev",
+        o.radial_feed_mm_per_rev,
+        "mm/rev",
+        "radial feed",
+    );
+    if let Some(a) = o.finish_allowance_mm {
+        let whole = (2.0 * g.addendum_coef + g.clearance_coef) * g.module_mm;
+        if !(a > 0.0 && a < whole) {
+            r.error(
+                codes::FINISH_ALLOWANCE_RANGE,
+                "process.finish_allowance_mm",
+                format!("> 0 and < {} mm (the whole depth)", num(whole)),
+                format!("{} mm", num(a)),
+                "The finish allowance is the radial stock the rough cuts leave (typically 0.1–0.5 mm); correct process.finish_allowance_mm.",
+            );
+        }
+    }
+    if let Some(dm) = g.ball_diameter_mm {
+        if !(dm > 0.0 && dm.is_finite()) {
+            r.error(
+                codes::BALL_DIAMETER_RANGE,
+                "gear.ball_diameter_mm",
+                "> 0 mm",
+                format!("{} mm", num(dm)),
+                "The ball diameter of the measurement over balls must be positive (about 1.7·mn); correct gear.ball_diameter_mm.",
+            );
+        }
+    }
+    if let Some(m) = &g.mate {
+        let bad_a = m
+            .centre_distance_mm
+            .is_some_and(|a| !(a > 0.0 && a.is_finite()));
+        if m.teeth < 1 || !m.profile_shift.is_finite() || bad_a {
+            r.error(
+                codes::MATE_RANGE,
+                "gear.mate",
+                "teeth ≥ 1, a finite profile shift and a positive centre distance",
+                format!(
+                    "teeth {}, profile shift {}, centre distance {}",
+                    m.teeth,
+                    num(m.profile_shift),
+                    m.centre_distance_mm
+                        .map(num)
+                        .unwrap_or_else(|| "none".into())
+                ),
+                "Correct the mating gear's data in [gear.mate].",
+            );
+        }
+    }
+    check_shift(r, plan, cfg);
+    if class == GearClass::MultiGear {
+        check_units(r, plan, cfg);
+    }
+}
+
+/// Hob shifting: positive step and parts per step, positions inside the
+/// usable hob length.
+fn check_shift(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
+    let Some(spec) = &plan.request.spec.process.shift else {
+        return;
+    };
+    let hob = &plan.hob;
+    if !(hob.length_mm > 0.0
+        && open(hob.pressure_angle_deg, 0.0, 45.0)
+        && open(hob.lead_angle_deg, 0.0, 45.0)
+        && hob.module_mm > 0.0)
+    {
+        return; // the hob checks report this
+    }
+    let g = &plan.request.spec.gear;
+    let depth = plan
+        .process
+        .depth_mm
+        .unwrap_or((2.0 * g.addendum_coef + g.clearance_coef) * g.module_mm);
+    let res = crate::shift::Resolved::new(spec, hob, depth);
+    let [lo, hi] = res.usable_mm;
+    if hi < 0.0 {
+        r.error(
+            codes::HOB_TOO_SHORT_FOR_SHIFT,
+            "hob.length_mm",
+            format!("≥ {} mm (the active length)", num(res.active_length_mm)),
+            format!("{} mm", num(hob.length_mm)),
+            format!("Hob {} is shorter than its active length, so it cannot shift; leave [process.shift] out or use a longer hob.", hob.id),
+        );
+        return;
+    }
+    if !(res.step_mm > 0.0 && res.step_mm.is_finite()) {
+        r.error(
+            codes::SHIFT_RANGE,
+            "process.shift.step_mm",
+            "> 0 mm",
+            format!("{} mm", num(res.step_mm)),
+            "The shift per step must be positive; correct process.shift.step_mm.",
+        );
+    }
+    if spec.parts_per_step == Some(0) {
+        r.error(
+            codes::SHIFT_RANGE,
+            "process.shift.parts_per_step",
+            "≥ 1",
+            "0",
+            "At least one part is cut per shift step; correct process.shift.parts_per_step.",
+        );
+    }
+    let tol = cfg.length_tolerance_mm;
+    for (field, v) in [
+        ("process.shift.start_mm", res.start_mm),
+        ("process.shift.end_mm", res.end_mm),
+    ] {
+        if !(v >= lo - tol && v <= hi + tol) {
+            r.error(
+                codes::SHIFT_RANGE,
+                field,
+                format!("{} to {} mm (usable hob length)", num(lo), num(hi)),
+                format!("{} mm", num(v)),
+                format!(
+                    "Shift positions must keep the active length {} mm on the hob's {} mm; correct {field} or leave it out.",
+                    num(res.active_length_mm),
+                    num(hob.length_mm)
+                ),
+            );
+        }
+    }
+}
+
+/// The units of a multi-gear part: ascending, non-overlapping Z offsets, a
+/// resolvable hob, and every check of a job for each unit (errors with the
+/// unit's field names).
+fn check_units(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
+    let spec = &plan.request.spec;
+    let mut top = spec.gear.face_width_mm;
+    for (i, u) in spec.units.iter().enumerate() {
+        let field = format!("units[{i}].z_offset_mm");
+        if !(u.z_offset_mm.is_finite() && u.z_offset_mm >= top - cfg.length_tolerance_mm) {
+            r.error(
+                codes::UNIT_RANGE,
+                &field,
+                format!("≥ {} mm (above the previous unit's upper face)", num(top)),
+                format!("{} mm", num(u.z_offset_mm)),
+                "Units are listed from the bottom up and must not overlap; correct the unit's z_offset_mm.",
+            );
+        }
+        top = u.z_offset_mm + u.gear.face_width_mm;
+        let hob = match crate::units::unit_hob(plan, i, u) {
+            Ok(h) => h,
+            Err(errors) => {
+                r.errors.extend(errors);
+                continue;
+            }
+        };
+        let unit_plan = crate::units::unit_plan(plan, i, u, hob);
+        let sub = validate_with(&unit_plan, cfg);
+        let prefix = format!("units[{i}].");
+        for mut e in sub.errors {
+            if e.field.starts_with("gear") || e.field.starts_with("hob") {
+                e.field = format!("{prefix}{}", e.field);
+                e.message = format!("Unit {}: {}", i + 2, e.message);
+                r.errors.push(e);
+            }
+        }
+        for mut w in sub.warnings {
+            w.field = format!("{prefix}{}", w.field);
+            r.warnings.push(w);
+        }
+    }
+}
+
 fn check_machine_settings(r: &mut Report, plan: &ProcessPlan) -> bool {
     let before = r.errors.len();
     let s = &plan.machine.settings;
@@ -491,13 +892,13 @@ fn check_machine_settings(r: &mut Report, plan: &ProcessPlan) -> bool {
     r.errors.len() == before
 }
 
-fn check_machine_limits(r: &mut Report, plan: &ProcessPlan, geo: &Geometry) {
+fn check_machine_limits(r: &mut Report, plan: &ProcessPlan, geo: &Geometry, cfg: &Config) {
     let gear = &plan.request.spec.gear;
     let lim = &plan.machine.limits;
     let id = &plan.machine.id;
     let [lo, hi] = lim.module_mm;
     let mn = gear.module_mm;
-    if !(mn >= lo - TOLERANCE_MM && mn <= hi + TOLERANCE_MM) {
+    if !(mn >= lo - cfg.length_tolerance_mm && mn <= hi + cfg.length_tolerance_mm) {
         r.error(
             codes::MACHINE_MODULE_LIMIT,
             "gear.module_mm",
@@ -507,7 +908,7 @@ fn check_machine_limits(r: &mut Report, plan: &ProcessPlan, geo: &Geometry) {
         );
     }
     let blank = gear.blank_od_mm.unwrap_or(geo.da_mm);
-    if !(blank <= lim.max_workpiece_od_mm + TOLERANCE_MM) {
+    if !(blank <= lim.max_workpiece_od_mm + cfg.length_tolerance_mm) {
         r.error(
             codes::WORKPIECE_OD_LIMIT,
             "gear.blank_od_mm",
@@ -516,13 +917,13 @@ fn check_machine_limits(r: &mut Report, plan: &ProcessPlan, geo: &Geometry) {
             format!("The blank is larger than machine {id} takes; choose a larger machine."),
         );
     }
-    check_hob_od_limit(r, plan);
+    check_hob_od_limit(r, plan, cfg);
 }
 
-fn check_hob_od_limit(r: &mut Report, plan: &ProcessPlan) {
+fn check_hob_od_limit(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
     let lim = &plan.machine.limits;
     let od = plan.hob.od_mm;
-    if od.is_finite() && !(od <= lim.max_hob_od_mm + TOLERANCE_MM) {
+    if od.is_finite() && !(od <= lim.max_hob_od_mm + cfg.length_tolerance_mm) {
         r.error(
             codes::HOB_OD_LIMIT,
             "hob.od_mm",
@@ -537,12 +938,12 @@ fn check_hob_od_limit(r: &mut Report, plan: &ProcessPlan) {
 }
 
 /// Check 1: the blank OD lies in [da − below, da + above]; warns near an edge.
-fn check_blank_window(r: &mut Report, plan: &ProcessPlan, geo: &Geometry) {
-    let s = &plan.machine.settings;
+fn check_blank_window(r: &mut Report, plan: &ProcessPlan, geo: &Geometry, cfg: &Config) {
+    let s = cfg;
     let da = geo.da_mm;
     let blank = blank_od(plan, geo);
     let (lo, hi) = (da - s.blank_od_below_mm, da + s.blank_od_above_mm);
-    if !(blank >= lo - TOLERANCE_MM && blank <= hi + TOLERANCE_MM) {
+    if !(blank >= lo - cfg.length_tolerance_mm && blank <= hi + cfg.length_tolerance_mm) {
         r.error(
             codes::BLANK_OD_WINDOW,
             "gear.blank_od_mm",
@@ -562,14 +963,14 @@ fn check_blank_window(r: &mut Report, plan: &ProcessPlan, geo: &Geometry) {
     } else {
         s.blank_od_above_mm
     };
-    if allowed > 0.0 && dev.abs() > (1.0 - EDGE_FRACTION) * allowed {
+    if allowed > 0.0 && dev.abs() > (1.0 - cfg.edge_fraction) * allowed {
         r.warnings.push(Warning {
             code: codes::BLANK_OD_EDGE.into(),
             field: "gear.blank_od_mm".into(),
             message: format!(
                 "The blank OD {} mm is within {} % of the edge of its window {} to {} mm; check the blank before cutting.",
                 num(blank),
-                num(EDGE_FRACTION * 100.0),
+                num(cfg.edge_fraction * 100.0),
                 num(lo),
                 num(hi)
             ),
@@ -582,11 +983,11 @@ fn blank_od(plan: &ProcessPlan, geo: &Geometry) -> f64 {
 }
 
 /// Check 2: 0 < h ≤ whole depth − (da − Da1)/2 + allowance.
-fn check_depth(r: &mut Report, plan: &ProcessPlan, geo: &Geometry, set: &Setup) {
+fn check_depth(r: &mut Report, geo: &Geometry, set: &Setup, cfg: &Config) {
     let h = set.depth_mm;
-    let allowance = plan.machine.settings.depth_allowance_mm;
+    let allowance = cfg.depth_allowance_mm;
     let max = geo.whole_depth_mm - (geo.da_mm - set.blank_od_mm) / 2.0 + allowance;
-    if h > TOLERANCE_MM && h <= max + TOLERANCE_MM {
+    if h > cfg.length_tolerance_mm && h <= max + cfg.length_tolerance_mm {
         return;
     }
     let what = if set.depth_given {
@@ -614,11 +1015,11 @@ fn check_depth(r: &mut Report, plan: &ProcessPlan, geo: &Geometry, set: &Setup) 
 }
 
 /// Check 3: equal normal base pitch, mn0·cos α0 = mn·cos αn.
-fn check_base_pitch(r: &mut Report, gear: &GearSpec, hob: &HobData) {
+fn check_base_pitch(r: &mut Report, gear: &GearSpec, hob: &HobData, cfg: &Config) {
     let a0 = hob.pressure_angle_deg.to_radians().cos();
     let gear_pitch = gear.module_mm * gear.pressure_angle_deg.to_radians().cos();
     let hob_pitch = hob.module_mm * a0;
-    if (hob_pitch - gear_pitch).abs() <= BASE_PITCH_TOLERANCE_MM {
+    if (hob_pitch - gear_pitch).abs() <= cfg.base_pitch_tolerance_mm {
         return;
     }
     r.error(
@@ -627,7 +1028,7 @@ fn check_base_pitch(r: &mut Report, gear: &GearSpec, hob: &HobData) {
         format!(
             "mn0·cos α0 = {} mm ± {} mm (hob module {} mm at α0 {}°)",
             num(gear_pitch),
-            num(BASE_PITCH_TOLERANCE_MM),
+            num(cfg.base_pitch_tolerance_mm),
             num(gear_pitch / a0),
             num(hob.pressure_angle_deg)
         ),
@@ -647,10 +1048,10 @@ fn check_base_pitch(r: &mut Report, gear: &GearSpec, hob: &HobData) {
 }
 
 /// Check 4: da0 ≥ d0 + 2·(ha* + c*)·mn0.
-fn check_hob_od(r: &mut Report, gear: &GearSpec, hob: &HobData) {
+fn check_hob_od(r: &mut Report, gear: &GearSpec, hob: &HobData, cfg: &Config) {
     let d0 = crate::hobbing::hob_reference_diameter_mm(hob);
     let min = d0 + 2.0 * (gear.addendum_coef + gear.clearance_coef) * hob.module_mm;
-    if hob.od_mm >= min - TOLERANCE_MM {
+    if hob.od_mm >= min - cfg.length_tolerance_mm {
         return;
     }
     r.error(
@@ -666,10 +1067,10 @@ fn check_hob_od(r: &mut Report, gear: &GearSpec, hob: &HobData) {
 }
 
 /// Check 5: L = (da0 + Da1)/2 − h ≥ d0/2 + (d·cos αn / cos α0)/2 + x·mn.
-fn check_centre_distance(r: &mut Report, set: &Setup) {
+fn check_centre_distance(r: &mut Report, set: &Setup, cfg: &Config) {
     let l = set.centre_distance_mm;
     let theory = set.theoretical_centre_distance_mm;
-    if l >= theory - TOLERANCE_MM {
+    if l >= theory - cfg.length_tolerance_mm {
         return;
     }
     r.error(
@@ -681,17 +1082,48 @@ fn check_centre_distance(r: &mut Report, set: &Setup) {
     );
 }
 
-/// Checks computed kinematics against the machine's limits: hob and table
-/// speed, axial feed, swivel and the travel of every position A–E.
+/// Checks computed kinematics against the machine's limits: hob speed and
+/// swivel; table speed, axial and radial feed of every cut; the travel of
+/// every position A–E and of every move's end point; and the same for each
+/// further unit of a multi-gear part. Duplicate findings are reported once.
 pub fn check_limits(plan: &ProcessPlan, k: &Kinematics) -> Vec<JobError> {
+    check_limits_with(plan, k, &Config::for_machine(&plan.machine))
+}
+
+/// [`check_limits`] with explicit tolerances.
+pub fn check_limits_with(plan: &ProcessPlan, k: &Kinematics, cfg: &Config) -> Vec<JobError> {
+    let mut errors = Vec::new();
+    unit_limits(&mut errors, plan, k, cfg, "");
+    for (i, unit) in k.units.iter().enumerate().skip(1) {
+        let spec = &plan.request.spec.units[i - 1];
+        let unit_plan = crate::units::unit_plan(plan, i - 1, spec, unit.hob.clone());
+        unit_limits(
+            &mut errors,
+            &unit_plan,
+            &unit.model,
+            cfg,
+            &format!("units[{}].", i - 1),
+        );
+    }
+    let mut seen = std::collections::BTreeSet::new();
+    errors.retain(|e| seen.insert((e.code.clone(), e.field.clone(), e.got.clone())));
+    errors
+}
+
+fn unit_limits(
+    errors: &mut Vec<JobError>,
+    plan: &ProcessPlan,
+    k: &Kinematics,
+    cfg: &Config,
+    prefix: &str,
+) {
     let lim = &plan.machine.limits;
     let id = &plan.machine.id;
-    let mut errors = Vec::new();
     let mut over = |code: &str, field: &str, v: f64, max: f64, unit: &str, todo: &str| {
-        if !(v.abs() <= max + TOLERANCE_MM) {
+        if !(v.abs() <= max + cfg.length_tolerance_mm) {
             errors.push(job_error(
                 code,
-                field,
+                &format!("{prefix}{field}"),
                 format!("≤ {} {unit}", num(max)),
                 format!("{} {unit}", num(v)),
                 format!(
@@ -733,17 +1165,102 @@ pub fn check_limits(plan: &ProcessPlan, k: &Kinematics) -> Vec<JobError> {
         "°",
         "use a hob of the same hand as the gear helix or another machine",
     );
+    for (i, c) in k.cuts.iter().enumerate().filter(|(_, c)| !c.finish) {
+        over(
+            codes::TABLE_RPM_LIMIT,
+            &format!("model.cuts[{i}].table_rpm"),
+            c.table_rpm,
+            lim.max_table_rpm,
+            "rpm",
+            "lower process.cutting_speed_m_min or use a hob with fewer starts",
+        );
+        over(
+            codes::AXIAL_FEED_LIMIT,
+            &format!("model.cuts[{i}].axial_feed_mm_min"),
+            c.axial_feed_mm_min,
+            lim.max_axial_feed_mm_min,
+            "mm/min",
+            "lower process.feed_mm_per_rev or the cutting speed",
+        );
+    }
+    for (i, c) in k.cuts.iter().enumerate() {
+        for (j, m) in c
+            .moves
+            .iter()
+            .enumerate()
+            .filter(|(_, m)| m.kind != gearcam_proto::MoveKind::Rapid)
+        {
+            let rate = if m.x_mm.is_some() && m.z_mm.is_none() {
+                m.feed_mm_min
+            } else {
+                0.0
+            };
+            over(
+                codes::FEED_RATE_LIMIT,
+                &format!("model.cuts[{i}].moves[{j}].feed_mm_min"),
+                rate,
+                lim.max_axial_feed_mm_min,
+                "mm/min",
+                "lower the radial feed per revolution or the cutting speed",
+            );
+        }
+    }
     let p = &k.positions;
     for (name, pos) in [("A", p.A), ("B", p.B), ("C", p.C), ("D", p.D), ("E", p.E)] {
-        check_travel(&mut errors, plan, name, pos);
+        check_travel(
+            errors,
+            plan,
+            &format!("{prefix}model.positions.{name}"),
+            name,
+            pos,
+            cfg,
+        );
     }
-    errors
+    for (i, c) in k.cuts.iter().enumerate() {
+        let q = &c.positions;
+        for (name, pos) in [("B", q.B), ("C", q.C), ("D", q.D), ("E", q.E)] {
+            check_travel(
+                errors,
+                plan,
+                &format!("{prefix}model.cuts[{i}].positions.{name}"),
+                name,
+                pos,
+                cfg,
+            );
+        }
+        let mut at = q.B;
+        for (j, m) in c.moves.iter().enumerate() {
+            at = move_end(at, m);
+            check_travel(
+                errors,
+                plan,
+                &format!("{prefix}model.cuts[{i}].moves[{j}]"),
+                "move",
+                at,
+                cfg,
+            );
+        }
+    }
 }
 
-fn check_travel(errors: &mut Vec<JobError>, plan: &ProcessPlan, name: &str, pos: Position) {
+fn move_end(from: Position, m: &Move) -> Position {
+    Position {
+        x_mm: m.x_mm.unwrap_or(from.x_mm),
+        z_mm: m.z_mm.unwrap_or(from.z_mm),
+    }
+}
+
+fn check_travel(
+    errors: &mut Vec<JobError>,
+    plan: &ProcessPlan,
+    field: &str,
+    name: &str,
+    pos: Position,
+    cfg: &Config,
+) {
     let lim = &plan.machine.limits;
     for (axis, v, [lo, hi]) in [("x", pos.x_mm, lim.x_mm), ("z", pos.z_mm, lim.z_mm)] {
-        if v >= lo - TOLERANCE_MM && v <= hi + TOLERANCE_MM {
+        if v >= lo - cfg.length_tolerance_mm && v <= hi + cfg.length_tolerance_mm {
             continue;
         }
         let todo = if name == "A" {
@@ -753,11 +1270,24 @@ fn check_travel(errors: &mut Vec<JobError>, plan: &ProcessPlan, name: &str, pos:
         } else {
             "check gear.fixture_height_mm, the face width and the safety distance"
         };
+        // A duplicate of an already reported value (same axis and value) is noise.
+        let got = format!("{} mm", num(v));
+        // Cut positions and moves repeat the top-level positions; report a
+        // value outside the travel once.
+        if field.contains("cuts[")
+            && errors.iter().any(|e| {
+                e.code == codes::POSITION_TRAVEL_LIMIT
+                    && e.got == got
+                    && e.field.ends_with(&format!(".{axis}_mm"))
+            })
+        {
+            continue;
+        }
         errors.push(job_error(
             codes::POSITION_TRAVEL_LIMIT,
-            &format!("model.positions.{name}.{axis}_mm"),
+            &format!("{field}.{axis}_mm"),
             format!("{} to {} mm", num(lo), num(hi)),
-            format!("{} mm", num(v)),
+            got,
             format!(
                 "Position {name} lies outside machine {}'s {} travel; {todo}.",
                 plan.machine.id,
@@ -818,7 +1348,7 @@ mod tests {
     fn reports_several_failures_together() {
         let mut plan = fixtures::plan();
         plan.hob.module_mm = 2.5;
-        plan.process.cuts = 2;
+        plan.process.cuts = 7;
         plan.process.feed_mm_per_rev = 0.0;
         plan.process.cutting_speed_m_min = f64::NAN;
         plan.request.spec.job.quantity = 0;
@@ -829,7 +1359,7 @@ mod tests {
             vec![
                 "HOB_LEAD_ANGLE_RANGE",
                 "QUANTITY_RANGE",
-                "CUTS_UNSUPPORTED",
+                "CUTS_RANGE",
                 "CUTTING_SPEED_RANGE",
                 "FEED_RANGE",
                 "BLANK_OD_WINDOW",
@@ -841,7 +1371,7 @@ mod tests {
             codes_of(&plan),
             vec![
                 "QUANTITY_RANGE",
-                "CUTS_UNSUPPORTED",
+                "CUTS_RANGE",
                 "CUTTING_SPEED_RANGE",
                 "FEED_RANGE",
                 "BLANK_OD_WINDOW",

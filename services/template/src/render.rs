@@ -40,8 +40,18 @@ pub use gearcam_proto::naming::{
     check_name_840d, program_name_840d, MAX_840D_NAME as MAX_NAME_840D,
 };
 
-/// The built-in template for cylindrical gears on SINUMERIK 840D.
+/// The built-in hobbing template for SINUMERIK 840D. It writes the moves the
+/// model computed, so one source serves every programmable gear class.
 const CYLINDRICAL_840D: &str = include_str!("../templates/cylindrical_840d.mpf.j2");
+
+/// The classes the built-in 840D template is registered for (as `{class}_840d`).
+pub const BUILTIN_840D_CLASSES: [&str; 5] = [
+    "cylindrical",
+    "conical",
+    "crowned",
+    "worm_wheel",
+    "multi_gear",
+];
 
 /// A template's source text with its id (`{class}_{dialect}`, e.g. `cylindrical_840d`).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -81,7 +91,9 @@ impl Templates {
         fuel: u64,
     ) -> Result<Self, TemplateError> {
         let mut sources: BTreeMap<String, String> = BTreeMap::new();
-        sources.insert("cylindrical_840d".into(), CYLINDRICAL_840D.into());
+        for class in BUILTIN_840D_CLASSES {
+            sources.insert(format!("{class}_840d"), CYLINDRICAL_840D.into());
+        }
         for s in extra {
             sources.insert(s.id, s.source);
         }
@@ -156,6 +168,7 @@ impl Templates {
         }
         let case_ids: Vec<String> = plan.cases.iter().map(|c| c.id.clone()).collect();
         let spec = &plan.request.spec;
+        let units = unit_contexts(model);
         let ctx = context! {
             program => context! { name => &name, file => format!("_N_{name}_MPF") },
             template => context! { id => &template.id, version => template.version },
@@ -174,6 +187,8 @@ impl Templates {
             geometry => &model.geometry,
             kin => &model.model,
             helical => spec.gear.helix_angle_deg.abs() > HELIX_EPS_DEG,
+            units => &units,
+            any_shift => units.iter().any(|u| u.kin.shift.is_some()),
         };
 
         let text = self.render_bounded(&template.id, ctx)?;
@@ -288,6 +303,49 @@ impl Templates {
 
 /// Helix angles below this are spur gears, degrees.
 const HELIX_EPS_DEG: f64 = 1e-9;
+
+/// One gear unit as the template sees it.
+#[derive(Debug, serde::Serialize)]
+struct UnitContext<'a> {
+    name: &'a str,
+    z_offset_mm: f64,
+    hob_change: bool,
+    gear: &'a gearcam_proto::GearSpec,
+    hob: &'a gearcam_proto::HobData,
+    kin: &'a gearcam_proto::Kinematics,
+    helical: bool,
+}
+
+/// The units to program: every unit of a multi-gear part, or the job's gear.
+fn unit_contexts(model: &MachiningModel) -> Vec<UnitContext<'_>> {
+    let plan = &model.plan;
+    if model.model.units.is_empty() {
+        let gear = &plan.request.spec.gear;
+        return vec![UnitContext {
+            name: "",
+            z_offset_mm: 0.0,
+            hob_change: false,
+            gear,
+            hob: &plan.hob,
+            kin: &model.model,
+            helical: gear.helix_angle_deg.abs() > HELIX_EPS_DEG,
+        }];
+    }
+    model
+        .model
+        .units
+        .iter()
+        .map(|u| UnitContext {
+            name: &u.name,
+            z_offset_mm: u.z_offset_mm,
+            hob_change: u.hob_change,
+            gear: &u.gear,
+            hob: &u.hob,
+            kin: &u.model,
+            helical: u.gear.helix_angle_deg.abs() > HELIX_EPS_DEG,
+        })
+        .collect()
+}
 
 /// The environment every template is compiled into: strict, bounded, with the NC
 /// filters and the block counter.
@@ -516,10 +574,10 @@ mod tests {
     use std::collections::BTreeMap;
 
     use gearcam_proto::{
-        AxisNames, CaseRef, CutMode, GearSpec, Geometry, Hand, HobData, HobSpec, JobHeader, JobId,
-        JobRequest, JobSpec, Kinematics, MCodes, MachineId, MachineLimits, MachineProfile,
-        MachineSettings, Options, Position, Positions, ProcessData, ProcessOverrides, ProcessPlan,
-        Ratio, Source,
+        AxisNames, CaseRef, CouplingFactors, Cut, CutMode, GearClass, GearSpec, Geometry, Hand,
+        HobData, HobSpec, Infeed, JobHeader, JobId, JobRequest, JobSpec, Kinematics, MCodes,
+        MachineId, MachineLimits, MachineProfile, MachineSettings, Move, MoveKind, Options,
+        Position, Positions, ProcessData, ProcessOverrides, ProcessPlan, Ratio, Source,
     };
 
     use super::*;
@@ -602,10 +660,17 @@ mod tests {
                 material: "20CrMnTi".into(),
                 quality_grade: 8,
                 fixture_height_mm: 50.0,
+                ball_diameter_mm: None,
+                mate: None,
+                cone: None,
+                crowning: None,
+                worm_wheel: None,
+                curved_tooth: None,
             },
             hob: HobSpec::default(),
             process: ProcessOverrides::default(),
             options: Options::default(),
+            units: Vec::new(),
         };
         let hob = HobData {
             id: "HOB-M3-80".into(),
@@ -654,7 +719,7 @@ mod tests {
             proposal: Default::default(),
         };
         let p = |x_mm, z_mm| Position { x_mm, z_mm };
-        MachiningModel {
+        let model = MachiningModel {
             job_id,
             plan,
             geometry: Geometry {
@@ -666,6 +731,13 @@ mod tests {
                 alpha_t_deg: 20.0,
                 whole_depth_mm: 6.75,
                 lead_mm: None,
+                base_helix_deg: 0.0,
+                sn_mm: 4.712,
+                span_teeth: 3,
+                span_mm: 23.191,
+                ball_mm: 5.1,
+                over_balls_mm: 81.5,
+                pair: None,
             },
             model: Kinematics {
                 swivel_deg: -2.2,
@@ -690,11 +762,88 @@ mod tests {
                 coupling: Ratio { num: 1, den: 25 },
                 cut_time_min: 2.984,
                 cut_mode: CutMode::Conventional,
-                cuts: 1,
+                cuts: Vec::new(),
+                class: GearClass::Cylindrical,
+                infeed: Infeed::Axial,
+                factors: CouplingFactors::default(),
+                part_time_min: 2.6,
+                job_time_min: 26.0,
+                shift: None,
+                cone: None,
+                crowning: None,
+                worm: None,
+                units: Vec::new(),
+                explain: Vec::new(),
             },
             warnings: Vec::new(),
             model_version: "gearcam-model 0.1.0".into(),
-        }
+        };
+        with_one_cut(model)
+    }
+
+    /// The model with one axial cut built from its top-level positions and
+    /// feed, as the model service writes it: B -> C rapid in X, C -> D feed in
+    /// Z, D -> E rapid in X.
+    fn with_one_cut(mut model: MachiningModel) -> MachiningModel {
+        let k = &model.model;
+        let p = k.positions;
+        let mv = |kind, x_mm, z_mm, feed_mm_min, note: &str| Move {
+            kind,
+            x_mm,
+            z_mm,
+            y_mm: None,
+            feed_mm_min,
+            via: None,
+            radius_mm: None,
+            dwell_s: 0.0,
+            note: note.into(),
+        };
+        let cut = Cut {
+            number: 1,
+            finish: true,
+            depth_mm: k.depth_mm,
+            allowance_mm: 0.0,
+            centre_distance_mm: k.centre_distance_mm,
+            clearance_mm: k.clearance_mm,
+            positions: p,
+            feed_mm_per_rev: 2.0,
+            table_rpm: k.table_rpm,
+            axial_feed_mm_min: k.axial_feed_mm_min,
+            radial_feed_mm_min: 0.0,
+            shift_mm: 0.0,
+            resync: false,
+            moves: vec![
+                mv(
+                    MoveKind::Rapid,
+                    Some(p.C.x_mm),
+                    None,
+                    0.0,
+                    "B -> C: INFEED TO DEPTH",
+                ),
+                mv(
+                    MoveKind::Feed,
+                    None,
+                    Some(p.D.z_mm),
+                    k.axial_feed_mm_min,
+                    "C -> D: AXIAL FEED",
+                ),
+                mv(
+                    MoveKind::Rapid,
+                    Some(p.E.x_mm),
+                    None,
+                    0.0,
+                    "D -> E: RETRACT",
+                ),
+            ],
+            time_min: 2.6,
+        };
+        model.model.factors = CouplingFactors {
+            c_per_b: k.coupling,
+            c_per_z_deg_per_mm: k.differential_deg_per_mm,
+            c_per_y_deg_per_mm: 0.0,
+        };
+        model.model.cuts = vec![cut];
+        model
     }
 
     /// The spur model turned helical: β = 15° right hand, differential
@@ -708,7 +857,7 @@ mod tests {
         m.model.swivel_deg = -12.8;
         m.model.swivel_axis_deg = -12.8;
         m.model.differential_deg_per_mm = 360.0 * beta.sin() / (std::f64::consts::PI * 3.0 * 25.0);
-        m
+        with_one_cut(m)
     }
 
     fn render(model: &MachiningModel) -> NcProgram {
@@ -752,7 +901,7 @@ mod tests {
         assert_eq!(lines[4], "; PART SP-1001");
         assert_eq!(lines[5], "; CLASS cylindrical");
         assert_eq!(lines[6], "; MACHINE H01 YK3126 CNC hobbing machine");
-        assert_eq!(lines[7], "; TEMPLATE cylindrical_840d VERSION 1");
+        assert_eq!(lines[7], "; TEMPLATE cylindrical_840d VERSION 2");
         assert_eq!(lines[8], "; CASES CD-STEEL-HSS-1 CASE-0042");
         assert_eq!(lines[9], "; MODEL gearcam-model 0.1.0");
         assert_eq!(lines[10], format!("; GENERATOR {GENERATOR}"));
@@ -781,7 +930,7 @@ mod tests {
             program.template,
             TemplateRef {
                 id: "cylindrical_840d".into(),
-                version: 1
+                version: 2
             }
         );
         assert_eq!(program.cases, vec!["CD-STEEL-HSS-1", "CASE-0042"]);
@@ -876,6 +1025,7 @@ mod tests {
     fn negative_differential_keeps_its_sign() {
         let mut model = helical_model();
         model.model.differential_deg_per_mm = -0.395_446_2;
+        let model = with_one_cut(model);
         let text = render(&model).text;
         assert_eq!(
             block(&text, "EGON"),
@@ -899,6 +1049,7 @@ mod tests {
         pos.C.z_mm = 25.5;
         pos.D.z_mm = 104.5;
         pos.E.z_mm = 104.5;
+        let model = with_one_cut(model);
         let text = render(&model).text;
         assert_eq!(
             block(&text, "G0 G90 X=173.75"),
@@ -1034,6 +1185,7 @@ mod tests {
         let mut model = spur_model();
         model.model.swivel_axis_deg = -0.000_01;
         model.model.positions.A.z_mm = -0.0001;
+        let model = with_one_cut(model);
         let text = render(&model).text;
         assert!(
             !text.contains("-0.0 ") && !text.contains("-0.0\n"),
@@ -1051,6 +1203,7 @@ mod tests {
     fn non_finite_numbers_fail_with_a_typed_error() {
         let mut model = spur_model();
         model.model.axial_feed_mm_min = f64::NAN;
+        let model = with_one_cut(model);
         let errors = Templates::builtin().render(&model).unwrap_err();
         assert_eq!(errors.len(), 1);
         assert_eq!(errors[0].code, "TEMPLATE_RENDER_FAILED");
@@ -1061,15 +1214,15 @@ mod tests {
     #[test]
     fn unknown_class_is_template_not_found_on_class() {
         let mut model = spur_model();
-        model.plan.class = "worm_wheel".into();
+        model.plan.class = "curved_tooth".into();
         let errors = Templates::builtin().render(&model).unwrap_err();
         assert_eq!(errors.len(), 1);
         let e = &errors[0];
         assert_eq!(e.stage, Stage::Template);
         assert_eq!(e.code, "TEMPLATE_NOT_FOUND");
         assert_eq!(e.field, "class");
-        assert_eq!(e.expected, "one of cylindrical/sinumerik840d");
-        assert_eq!(e.got, "worm_wheel/sinumerik840d");
+        assert_eq!(e.expected, "one of conical/sinumerik840d, crowned/sinumerik840d, cylindrical/sinumerik840d, multi_gear/sinumerik840d, worm_wheel/sinumerik840d");
+        assert_eq!(e.got, "curved_tooth/sinumerik840d");
     }
 
     #[test]
@@ -1080,7 +1233,7 @@ mod tests {
         let e = &errors[0];
         assert_eq!(e.code, "TEMPLATE_NOT_FOUND");
         assert_eq!(e.field, "job.machine");
-        assert_eq!(e.expected, "one of cylindrical/sinumerik840d");
+        assert_eq!(e.expected, "one of conical/sinumerik840d, crowned/sinumerik840d, cylindrical/sinumerik840d, multi_gear/sinumerik840d, worm_wheel/sinumerik840d");
         assert_eq!(e.got, "cylindrical/fanuc");
         assert!(e.message.contains("H01"), "{}", e.message);
     }
@@ -1243,13 +1396,16 @@ mod tests {
             program.text,
             "%_N_SP_1001_MPF\n;$PATH=/_N_MPF_DIR\nN10 M30\n"
         );
-        assert_eq!(
-            templates.list(),
-            vec![TemplateRef {
-                id: "cylindrical_840d".into(),
-                version: 7
-            }]
-        );
+        // The other classes keep the built-in.
+        let list = templates.list();
+        assert!(list.contains(&TemplateRef {
+            id: "cylindrical_840d".into(),
+            version: 7
+        }));
+        assert!(list.contains(&TemplateRef {
+            id: "conical_840d".into(),
+            version: 2
+        }));
     }
 
     #[test]
@@ -1295,15 +1451,20 @@ mod tests {
     }
 
     #[test]
-    fn builtin_library_lists_the_cylindrical_template() {
+    fn builtin_library_lists_the_hobbing_template_for_every_programmable_class() {
         let templates = Templates::builtin();
+        let ids: Vec<String> = templates.list().into_iter().map(|t| t.id).collect();
         assert_eq!(
-            templates.list(),
-            vec![TemplateRef {
-                id: "cylindrical_840d".into(),
-                version: 1
-            }]
+            ids,
+            vec![
+                "conical_840d",
+                "crowned_840d",
+                "cylindrical_840d",
+                "multi_gear_840d",
+                "worm_wheel_840d"
+            ]
         );
+        assert!(templates.list().iter().all(|t| t.version == 2));
         assert_eq!(templates.find("cylindrical", Dialect::Fanuc), None);
     }
 }

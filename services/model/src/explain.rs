@@ -1,0 +1,368 @@
+//! Where every value of a model came from (issue 3, "explanation"): the job,
+//! a knowledge-base case, the tool library, the machine profile, a documented
+//! default, or the model's own computation (with its formula).
+
+use gearcam_proto::{Explained, Geometry, Kinematics, Origin, ProcessPlan, Source};
+
+use crate::hobbing::{DEFAULT_FINISH_ALLOWANCE_PER_MODULE, DEFAULT_RADIAL_FEED_FRACTION};
+
+/// The origin of a plan's [`Source`].
+pub fn origin(source: Source) -> Origin {
+    match source {
+        Source::Job => Origin::Job,
+        Source::Case => Origin::Case,
+        Source::Machine => Origin::Machine,
+        Source::Default => Origin::Default,
+        Source::Library => Origin::Library,
+    }
+}
+
+fn e(name: &str, value: f64, unit: &str, origin: Origin, note: &str) -> Explained {
+    Explained {
+        name: name.into(),
+        value,
+        unit: unit.into(),
+        origin,
+        note: note.into(),
+    }
+}
+
+/// Every input and result of a model with its origin, in reading order:
+/// drawing data, hob, process, machine, geometry, kinematics.
+pub fn explain(plan: &ProcessPlan, geo: &Geometry, k: &Kinematics) -> Vec<Explained> {
+    let spec = &plan.request.spec;
+    let g = &spec.gear;
+    let o = &spec.process;
+    let hob = &plan.hob;
+    let m = &plan.machine;
+    // The plan records each decided value's source; a value it does not list
+    // took gearcam's default.
+    let from_values = |name: &str| {
+        plan.values
+            .get(name)
+            .map(|s| origin(s.source))
+            .unwrap_or(Origin::Default)
+    };
+    let job_or = |given: bool, other: Origin| if given { Origin::Job } else { other };
+    let hob_origin = origin(hob.source);
+    let mut out = vec![
+        e(
+            "gear.module_mm",
+            g.module_mm,
+            "mm",
+            Origin::Job,
+            "normal module mn",
+        ),
+        e(
+            "gear.teeth",
+            f64::from(g.teeth),
+            "",
+            Origin::Job,
+            "number of teeth z",
+        ),
+        e(
+            "gear.pressure_angle_deg",
+            g.pressure_angle_deg,
+            "deg",
+            Origin::Job,
+            "normal pressure angle αn (default 20)",
+        ),
+        e(
+            "gear.helix_angle_deg",
+            g.helix_angle_deg,
+            "deg",
+            Origin::Job,
+            "helix angle β (default 0)",
+        ),
+        e(
+            "gear.face_width_mm",
+            g.face_width_mm,
+            "mm",
+            Origin::Job,
+            "face width b",
+        ),
+        e(
+            "gear.profile_shift",
+            g.profile_shift,
+            "",
+            Origin::Job,
+            "profile shift coefficient x (default 0)",
+        ),
+        e(
+            "gear.blank_od_mm",
+            k.blank_od_mm,
+            "mm",
+            job_or(g.blank_od_mm.is_some(), Origin::Computed),
+            if g.blank_od_mm.is_some() {
+                "blank outside diameter Da1"
+            } else {
+                "default: the tip diameter da"
+            },
+        ),
+        e(
+            "gear.fixture_height_mm",
+            g.fixture_height_mm,
+            "mm",
+            Origin::Job,
+            "H, lower tooth face above the table",
+        ),
+        e(
+            "hob.starts",
+            f64::from(hob.starts),
+            "",
+            hob_origin,
+            &format!("hob {}", hob.id),
+        ),
+        e(
+            "hob.od_mm",
+            hob.od_mm,
+            "mm",
+            hob_origin,
+            "hob outside diameter da0",
+        ),
+        e(
+            "hob.module_mm",
+            hob.module_mm,
+            "mm",
+            hob_origin,
+            "hob normal module mn0",
+        ),
+        e(
+            "hob.lead_angle_deg",
+            hob.lead_angle_deg,
+            "deg",
+            hob_origin,
+            "hob lead angle γ0",
+        ),
+        e(
+            "hob.length_mm",
+            hob.length_mm,
+            "mm",
+            hob_origin,
+            "usable hob length",
+        ),
+        e(
+            "process.cutting_speed_m_min",
+            plan.process.cutting_speed_m_min,
+            "m/min",
+            from_values("cutting_speed_m_min"),
+            "cutting speed vc",
+        ),
+        e(
+            "process.feed_mm_per_rev",
+            plan.process.feed_mm_per_rev,
+            "mm/rev",
+            from_values("feed_mm_per_rev"),
+            "axial feed per workpiece revolution fa",
+        ),
+        e(
+            "process.cuts",
+            f64::from(plan.process.cuts),
+            "",
+            from_values("cuts"),
+            "number of cuts",
+        ),
+        e(
+            "process.safety_mm",
+            plan.process.safety_mm,
+            "mm",
+            from_values("safety_mm"),
+            "safety distance added to ΔH′",
+        ),
+        e(
+            "process.depth_mm",
+            k.depth_mm,
+            "mm",
+            job_or(plan.process.depth_mm.is_some(), Origin::Computed),
+            if plan.process.depth_mm.is_some() {
+                "radial depth h"
+            } else {
+                "h = (da0 + Da1)/2 − theoretical centre distance (SPEC §4.2)"
+            },
+        ),
+    ];
+    if plan.process.cuts > 1 {
+        let allowance = k.cuts.first().map(|c| c.allowance_mm).unwrap_or(0.0);
+        out.push(e(
+            "process.finish_allowance_mm",
+            allowance,
+            "mm",
+            job_or(o.finish_allowance_mm.is_some(), Origin::Default),
+            &format!(
+                "radial stock of the rough cuts (default {DEFAULT_FINISH_ALLOWANCE_PER_MODULE}·mn)"
+            ),
+        ));
+        out.push(e(
+            "process.finish_feed_mm_per_rev",
+            k.cuts.last().map(|c| c.feed_mm_per_rev).unwrap_or(0.0),
+            "mm/rev",
+            job_or(o.finish_feed_mm_per_rev.is_some(), Origin::Default),
+            "feed of the finishing cut (default: the feed)",
+        ));
+    }
+    if let Some(c) = k.cuts.iter().find(|c| c.radial_feed_mm_min > 0.0) {
+        let given = o.radial_feed_mm_per_rev.is_some()
+            || g.worm_wheel
+                .as_ref()
+                .is_some_and(|w| w.radial_feed_mm_per_rev.is_some());
+        out.push(e(
+            "process.radial_feed_mm_min",
+            c.radial_feed_mm_min,
+            "mm/min",
+            job_or(given, Origin::Default),
+            &format!(
+                "radial feed rate (default {DEFAULT_RADIAL_FEED_FRACTION:.4}·fa per revolution)"
+            ),
+        ));
+    }
+    out.extend([
+        e(
+            "machine.retract_mm",
+            m.settings.retract_mm,
+            "mm",
+            Origin::Machine,
+            "X lift of B over C",
+        ),
+        e(
+            "machine.exit_mm",
+            m.settings.exit_mm,
+            "mm",
+            Origin::Machine,
+            "X lift of E over D",
+        ),
+        e(
+            "machine.swivel_sign",
+            m.settings.swivel_sign,
+            "",
+            Origin::Machine,
+            "sign of the swivel axis",
+        ),
+        e(
+            "machine.home_x_mm",
+            m.home_x_mm,
+            "mm",
+            Origin::Machine,
+            "position A, X",
+        ),
+        e(
+            "machine.home_z_mm",
+            m.home_z_mm,
+            "mm",
+            Origin::Machine,
+            "position A, Z",
+        ),
+        e(
+            "geometry.d_mm",
+            geo.d_mm,
+            "mm",
+            Origin::Computed,
+            "d = z·mn / cos β",
+        ),
+        e(
+            "geometry.da_mm",
+            geo.da_mm,
+            "mm",
+            Origin::Computed,
+            "da = d + 2·mn·(ha* + x)",
+        ),
+        e(
+            "geometry.sn_mm",
+            geo.sn_mm,
+            "mm",
+            Origin::Computed,
+            "sn = mn·(π/2 + 2·x·tan αn)",
+        ),
+        e(
+            "geometry.span_mm",
+            geo.span_mm,
+            "mm",
+            Origin::Computed,
+            &format!("Wk over k = {} teeth (ISO 21771)", geo.span_teeth),
+        ),
+        e(
+            "geometry.over_balls_mm",
+            geo.over_balls_mm,
+            "mm",
+            Origin::Computed,
+            &format!("MdK over {} mm balls (ISO 21771)", geo.ball_mm),
+        ),
+        e(
+            "model.swivel_deg",
+            k.swivel_deg,
+            "deg",
+            Origin::Computed,
+            "γ = −(|β| ∓ |γ0|) (SPEC §4.3)",
+        ),
+        e(
+            "model.clearance_mm",
+            k.clearance_mm,
+            "mm",
+            Origin::Computed,
+            "ΔH′ = max ΔH(x) within the hob length (SPEC §4.3)",
+        ),
+        e(
+            "model.centre_distance_mm",
+            k.centre_distance_mm,
+            "mm",
+            Origin::Computed,
+            "L = (da0 + Da1)/2 − h",
+        ),
+        e(
+            "model.hob_rpm",
+            k.hob_rpm,
+            "rpm",
+            Origin::Computed,
+            "Nt = 1000·vc / (π·da0)",
+        ),
+        e(
+            "model.index_rpm",
+            k.index_rpm,
+            "rpm",
+            Origin::Computed,
+            "Ni = z0·Nt / z",
+        ),
+        e(
+            "model.table_rpm",
+            k.table_rpm,
+            "rpm",
+            Origin::Computed,
+            "Nw = Ni / (1 ∓ fa/Pz)",
+        ),
+        e(
+            "model.axial_feed_mm_min",
+            k.axial_feed_mm_min,
+            "mm/min",
+            Origin::Computed,
+            "Vf = fa·Nw",
+        ),
+        e(
+            "model.factors.c_per_z_deg_per_mm",
+            k.factors.c_per_z_deg_per_mm,
+            "deg/mm",
+            Origin::Computed,
+            "±360·sin β / (π·mn·z)",
+        ),
+        e(
+            "model.factors.c_per_y_deg_per_mm",
+            k.factors.c_per_y_deg_per_mm,
+            "deg/mm",
+            Origin::Computed,
+            "±360·cos γ0 / (π·mn0·z)",
+        ),
+        e(
+            "model.cut_time_min",
+            k.cut_time_min,
+            "min",
+            Origin::Computed,
+            "(b + 2·ΔH′)·z / (Nt·z0·fa) (SPEC §4.3)",
+        ),
+        e(
+            "model.part_time_min",
+            k.part_time_min,
+            "min",
+            Origin::Computed,
+            "every cut's feed moves and dwells",
+        ),
+    ]);
+    out
+}
