@@ -15,13 +15,19 @@ use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 /// The path of a workspace binary built next to the test executable
-/// (`target/<profile>/<name>`). The README's test command builds them first.
+/// (`target/<profile>/<name>`), or in `$GEARCAM_BIN_DIR` when set. The
+/// README's test command builds them first.
 pub fn bin(name: &str) -> PathBuf {
-    let exe = std::env::current_exe().expect("test executable path");
-    let dir = exe
-        .parent()
-        .and_then(|deps| deps.parent())
-        .expect("target/<profile>/deps/<test>");
+    let dir = match std::env::var_os("GEARCAM_BIN_DIR") {
+        Some(d) => PathBuf::from(d),
+        None => {
+            let exe = std::env::current_exe().expect("test executable path");
+            exe.parent()
+                .and_then(|deps| deps.parent())
+                .expect("target/<profile>/deps/<test>")
+                .to_path_buf()
+        }
+    };
     let path = dir.join(name);
     assert!(
         path.exists(),
@@ -111,8 +117,9 @@ pub struct Cluster {
 }
 
 impl Cluster {
-    /// Starts a router, the knowledge, model and template services and the
-    /// agent of machine H01, each a separate process, as clients of the router.
+    /// Starts a router, the planning station, the knowledge, model and
+    /// template services and the agent of machine H01, each a separate
+    /// process, as clients of the router.
     pub fn start() -> Cluster {
         let dir = tempfile::tempdir().expect("temp dir");
         let port = free_port();
@@ -144,6 +151,18 @@ impl Cluster {
             ],
         )];
         wait_for_port(port, Duration::from_secs(20));
+        let journal = d.join("station.db").display().to_string();
+        procs.push(Proc::start(
+            d,
+            "station",
+            "gearcam",
+            &client(&["--journal", &journal, "--redrive-ms", "1000"])
+                .into_iter()
+                .fold(vec!["station".to_string()], |mut v, a| {
+                    v.push(a);
+                    v
+                }),
+        ));
         let db = d.join("knowledge.db").display().to_string();
         let programs = d.join("H01/programs").display().to_string();
         let index = d.join("H01/index.db").display().to_string();

@@ -4,7 +4,7 @@
 use std::time::Duration;
 
 use approx::assert_abs_diff_eq;
-use gearcam_proto::{decode, EventKind, JobEvent};
+use gearcam_proto::{decode, DeliveryReply, EventKind, JobEvent};
 use gearcam_tests::Cluster;
 use sha2::{Digest, Sha256};
 
@@ -261,8 +261,30 @@ fn every_service_survives_malformed_messages_and_reports_them() {
                 "UNKNOWN_SCHEMA_VERSION",
             ),
         ];
-        for (key, payload, _, _) in &targets {
-            session.put(*key, payload.clone()).await.unwrap();
+        for (key, payload, stage, _) in &targets {
+            if *stage == "agent" {
+                // Delivery to an agent is a request: the refusal is also the reply.
+                let replies = session
+                    .get(*key)
+                    .payload(payload.clone())
+                    .timeout(Duration::from_secs(10))
+                    .await
+                    .unwrap();
+                let reply = replies.recv_async().await.expect("the agent answers");
+                let bytes = reply
+                    .result()
+                    .expect("an ok reply carrying the refusal")
+                    .payload()
+                    .to_bytes();
+                match decode::<DeliveryReply>(&bytes).unwrap() {
+                    DeliveryReply::Refused { error } => {
+                        assert_eq!(error.code, "UNKNOWN_SCHEMA_VERSION")
+                    }
+                    other => panic!("expected a refusal, got {other:?}"),
+                }
+            } else {
+                session.put(*key, payload.clone()).await.unwrap();
+            }
         }
         let mut seen = Vec::new();
         while seen.len() < targets.len() {

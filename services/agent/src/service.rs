@@ -1,9 +1,15 @@
-//! The agent on the bus: subscribes to its machine's programs, stores each one,
-//! and publishes the receipt (or a typed refusal) on the job's events key.
+//! The agent on the bus. Delivery is a request: the template service queries
+//! `gearcam/v1/machines/{machine}/programs/{job}` with the program, and the
+//! agent answers with its receipt only once file and index row are durable (or
+//! with a typed refusal), and publishes the same as a job event. The store is
+//! also queryable for lost receipts, history, versions and rollback.
 
-use gearcam_bus::stage::{run_stage, Handled};
+use gearcam_bus::query::{run_queryable, Answer};
+use gearcam_bus::stage::codec_error;
 use gearcam_bus::{Bus, CancellationToken};
-use gearcam_proto::{keys, EventKind, JobError, NcProgram, Stage};
+use gearcam_proto::{
+    decode, keys, DeliveryReply, EventKind, JobError, JobId, NcProgram, ProgramHistory, Stage,
+};
 
 use crate::store::{Store, StoreConfig};
 use crate::AgentError;
@@ -17,24 +23,112 @@ pub async fn run(
     let machine = config.machine.clone();
     let mut store = Store::open(config)?;
     tracing::info!(%machine, dir = %store.config().program_dir.display(), "program store open");
-    run_stage::<NcProgram, _>(&bus, &keys::machine_programs(&machine), &keys::agent_service(&machine), Stage::Agent, shutdown, |key, p| {
-        if keys::job_of(key).as_ref() != Some(&p.job_id) {
-            return Err(vec![JobError {
+    let prefix = format!("{}/machines/{machine}/", keys::PREFIX);
+    let pattern = format!("{prefix}**");
+    run_queryable(
+        &bus,
+        &pattern,
+        Some(&keys::agent_service(&machine)),
+        Stage::Agent,
+        shutdown,
+        |key, payload| {
+            let rest = key.strip_prefix(&prefix).unwrap_or_default();
+            let parts: Vec<&str> = rest.split('/').collect();
+            match parts.as_slice() {
+                ["programs", job] => deliver(&mut store, job, payload),
+                ["store", "jobs", job] => match store.stored_receipt(job) {
+                    Ok(Some(receipt)) => Answer::message(&DeliveryReply::Stored { receipt }),
+                    Ok(None) => Answer::message(&DeliveryReply::NotStored),
+                    Err(e) => Answer::error(e.to_string()),
+                },
+                ["store", "programs"] => history(&store, None),
+                ["store", "programs", name] => history(&store, Some(name)),
+                ["store", "programs", _name, "versions", seq] => {
+                    match seq.parse::<u64>().map(|s| store.version(s)) {
+                        Ok(Ok(Some(text))) => Answer::message(&text),
+                        Ok(Ok(None)) => Answer::error(format!(
+                            "no version {seq} in the store of {}",
+                            store.config().machine
+                        )),
+                        Ok(Err(e)) => Answer::error(e.to_string()),
+                        Err(_) => Answer::error(format!("version must be a number, got {seq:?}")),
+                    }
+                }
+                ["store", "programs", name, "rollback", seq] => match seq.parse::<u64>() {
+                    Ok(seq) => match store.rollback(name, seq) {
+                        Ok(receipt) => Answer::message(&DeliveryReply::Stored { receipt }),
+                        Err(error) => Answer::message(&DeliveryReply::Refused { error }),
+                    },
+                    Err(_) => Answer::error(format!("version must be a number, got {seq:?}")),
+                },
+                _ => Answer::error(format!("unknown agent key {key}")),
+            }
+        },
+    )
+    .await?;
+    Ok(())
+}
+
+fn history(store: &Store, name: Option<&str>) -> Answer {
+    match store.history(name) {
+        Ok(versions) => Answer::message(&ProgramHistory {
+            machine: store.config().machine.clone(),
+            versions,
+        }),
+        Err(e) => Answer::error(e.to_string()),
+    }
+}
+
+fn refused(job: Option<JobId>, error: JobError) -> Answer {
+    let mut a = Answer::message(&DeliveryReply::Refused {
+        error: error.clone(),
+    });
+    if let Some(job) = job {
+        a.events.push((
+            job,
+            EventKind::Failed {
+                errors: vec![error],
+            },
+        ));
+    }
+    a
+}
+
+fn deliver(store: &mut Store, job: &str, payload: &[u8]) -> Answer {
+    let job_id = JobId::new(job).ok();
+    let program = match decode::<NcProgram>(payload) {
+        Ok(p) => p,
+        Err(e) => {
+            tracing::warn!(job, error = %e, "refusing an undecodable program");
+            return refused(job_id, codec_error::<NcProgram>(Stage::Agent, &e));
+        }
+    };
+    if job_id.as_ref() != Some(&program.job_id) {
+        return refused(
+            job_id,
+            JobError {
                 stage: Stage::Agent,
                 code: "JOB_ID_MISMATCH".into(),
                 field: "job_id".into(),
-                expected: key.to_string(),
-                got: p.job_id.to_string(),
+                expected: job.to_string(),
+                got: program.job_id.to_string(),
                 message: "the program's job id differs from the job id in its key".into(),
-            }]);
+            },
+        );
+    }
+    match store.store(&program) {
+        Ok(receipt) => {
+            tracing::info!(job = %receipt.job_id, file = receipt.file_name, sha256 = receipt.sha256, duplicate = receipt.duplicate, "program stored");
+            let mut a = Answer::message(&DeliveryReply::Stored {
+                receipt: receipt.clone(),
+            });
+            a.events
+                .push((program.job_id, EventKind::Delivered { receipt }));
+            a
         }
-        let receipt = store.store(&p).map_err(|e| vec![e])?;
-        tracing::info!(job = %receipt.job_id, file = receipt.file_name, sha256 = receipt.sha256, duplicate = receipt.duplicate, "program stored");
-        Ok(Handled {
-            events: vec![EventKind::Delivered { receipt }],
-            outputs: vec![],
-        })
-    })
-    .await?;
-    Ok(())
+        Err(error) => {
+            tracing::info!(job, code = error.code, "program refused");
+            refused(Some(program.job_id), error)
+        }
+    }
 }

@@ -13,7 +13,8 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use gearcam_proto::{
-    naming, now_ms, DeliveryReceipt, Dialect, JobError, MachineId, NcProgram, Stage,
+    naming, now_ms, DeliveryReceipt, Dialect, JobError, MachineId, NcProgram, ProgramText,
+    ProgramVersion, Stage,
 };
 use rusqlite::{params, Connection, OptionalExtension};
 use sha2::{Digest, Sha256};
@@ -92,8 +93,9 @@ impl Store {
                  dialect      TEXT NOT NULL,
                  stored_at_ms INTEGER NOT NULL,
                  state        TEXT NOT NULL,
-                 UNIQUE (job, revision)
+                 text         TEXT NOT NULL
              );
+             CREATE UNIQUE INDEX IF NOT EXISTS programs_by_job ON programs (job, revision) WHERE state = 'stored';
              CREATE INDEX IF NOT EXISTS programs_by_file ON programs (file_name, seq);",
         )?;
         Ok(Store { config, conn })
@@ -198,7 +200,7 @@ impl Store {
         let existing = self
             .conn
             .query_row(
-                "SELECT * FROM programs WHERE job = ?1 AND revision = ?2",
+                "SELECT * FROM programs WHERE job = ?1 AND revision = ?2 AND state = 'stored'",
                 params![p.job_id.as_str(), p.revision],
                 |r| {
                     Ok((
@@ -224,36 +226,7 @@ impl Store {
 
         // A program changed at the machine is never overwritten silently.
         let path = self.config.program_dir.join(&file_name);
-        if path.exists() {
-            let on_disk = fs::read(&path).map_err(|e| {
-                refuse(
-                    "STORE_IO_ERROR",
-                    "-",
-                    "a readable file",
-                    e.to_string(),
-                    format!("cannot read {}", path.display()),
-                )
-            })?;
-            let disk_hash = sha256_hex(&on_disk);
-            let indexed: Option<String> = self
-                .conn
-                .query_row(
-                    "SELECT sha256 FROM programs WHERE file_name = ?1 ORDER BY seq DESC LIMIT 1",
-                    [&file_name],
-                    |r| r.get(0),
-                )
-                .optional()
-                .map_err(db_err)?;
-            if indexed.as_deref() != Some(disk_hash.as_str()) {
-                return Err(refuse(
-                    "PROGRAM_CHANGED_AT_MACHINE",
-                    "name",
-                    format!("{file_name} unchanged since gearcam stored it"),
-                    format!("a file with sha256 {disk_hash}"),
-                    "the program on the machine was changed or created there; it was kept; resolve the conflict at the machine",
-                ));
-            }
-        }
+        self.check_unchanged_at_machine(&file_name)?;
 
         write_atomically(&self.config.program_dir, &file_name, p.text.as_bytes()).map_err(|e| {
             refuse(
@@ -267,9 +240,9 @@ impl Store {
         let stored_at = now_ms();
         self.conn
             .execute(
-                "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state)
-                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'stored')",
-                params![p.name, file_name, p.job_id.as_str(), p.revision, hash, p.text.len() as i64, p.dialect.as_str(), stored_at as i64],
+                "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'stored', ?9)",
+                params![p.name, file_name, p.job_id.as_str(), p.revision, hash, p.text.len() as i64, p.dialect.as_str(), stored_at as i64, p.text],
             )
             .map_err(db_err)?;
         Ok(DeliveryReceipt {
@@ -285,6 +258,184 @@ impl Store {
             duplicate: false,
         })
     }
+}
+
+impl Store {
+    /// Refuses when the file in the program directory differs from the last
+    /// version the index knows (changed or created at the machine).
+    fn check_unchanged_at_machine(&self, file_name: &str) -> Result<(), JobError> {
+        let path = self.config.program_dir.join(file_name);
+        if !path.exists() {
+            return Ok(());
+        }
+        let on_disk = fs::read(&path).map_err(|e| {
+            refuse(
+                "STORE_IO_ERROR",
+                "-",
+                "a readable file",
+                e.to_string(),
+                format!("cannot read {}", path.display()),
+            )
+        })?;
+        let disk_hash = sha256_hex(&on_disk);
+        let indexed: Option<String> = self
+            .conn
+            .query_row(
+                "SELECT sha256 FROM programs WHERE file_name = ?1 ORDER BY seq DESC LIMIT 1",
+                [file_name],
+                |r| r.get(0),
+            )
+            .optional()
+            .map_err(index_error)?;
+        if indexed.as_deref() != Some(disk_hash.as_str()) {
+            return Err(refuse(
+                "PROGRAM_CHANGED_AT_MACHINE",
+                "name",
+                format!("{file_name} unchanged since gearcam stored it"),
+                format!("a file with sha256 {disk_hash}"),
+                "the program on the machine was changed or created there; it was kept; resolve the conflict at the machine",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The receipt of a job already stored (latest revision), for a station
+    /// whose receipt was lost.
+    pub fn stored_receipt(&self, job: &str) -> Result<Option<DeliveryReceipt>, AgentError> {
+        Ok(self
+            .conn
+            .query_row(
+                "SELECT * FROM programs WHERE job = ?1 AND state = 'stored' ORDER BY revision DESC LIMIT 1",
+                [job],
+                |r| self.receipt_from_row(r, true),
+            )
+            .optional()?)
+    }
+
+    /// Every stored version, newest first; only those of program `name` if given.
+    pub fn history(&self, name: Option<&str>) -> Result<Vec<ProgramVersion>, AgentError> {
+        let mut stmt = self.conn.prepare(
+            "SELECT seq, name, file_name, job, revision, sha256, size_bytes, stored_at_ms, state,
+                    seq = (SELECT MAX(seq) FROM programs p2 WHERE p2.file_name = programs.file_name) AS current
+             FROM programs WHERE ?1 IS NULL OR name = ?1 ORDER BY seq DESC",
+        )?;
+        let rows = stmt.query_map([name], |r| {
+            Ok(ProgramVersion {
+                seq: r.get::<_, i64>(0)? as u64,
+                name: r.get(1)?,
+                file_name: r.get(2)?,
+                job: r.get(3)?,
+                revision: r.get(4)?,
+                sha256: r.get(5)?,
+                size_bytes: r.get::<_, i64>(6)? as u64,
+                stored_at_ms: r.get::<_, i64>(7)? as u64,
+                state: r.get(8)?,
+                current: r.get(9)?,
+            })
+        })?;
+        Ok(rows.collect::<Result<_, _>>()?)
+    }
+
+    /// One version's text.
+    pub fn version(&self, seq: u64) -> Result<Option<ProgramText>, AgentError> {
+        let text: Option<String> = self
+            .conn
+            .query_row(
+                "SELECT text FROM programs WHERE seq = ?1",
+                [seq as i64],
+                |r| r.get(0),
+            )
+            .optional()?;
+        let Some(text) = text else { return Ok(None) };
+        let version = self.history(None)?.into_iter().find(|v| v.seq == seq);
+        Ok(version.map(|version| ProgramText { version, text }))
+    }
+
+    /// Makes version `seq` of program `name` current again: writes its text to
+    /// the program directory (atomically) and records a `rollback` version.
+    pub fn rollback(&mut self, name: &str, seq: u64) -> Result<DeliveryReceipt, JobError> {
+        let v = self
+            .version(seq)
+            .map_err(|e| {
+                refuse(
+                    "STORE_INDEX_ERROR",
+                    "-",
+                    "a readable index",
+                    e.to_string(),
+                    "the program index could not be read",
+                )
+            })?
+            .filter(|v| v.version.name == name)
+            .ok_or_else(|| {
+                refuse(
+                    "UNKNOWN_VERSION",
+                    "seq",
+                    format!("a stored version of {name} (gearcam program history)"),
+                    seq.to_string(),
+                    "no such version of this program in the store",
+                )
+            })?;
+        let file_name = v.version.file_name.clone();
+        self.check_unchanged_at_machine(&file_name)?;
+        let path = self.config.program_dir.join(&file_name);
+        write_atomically(&self.config.program_dir, &file_name, v.text.as_bytes()).map_err(|e| {
+            refuse(
+                "STORE_IO_ERROR",
+                "-",
+                "a writable program directory",
+                e.to_string(),
+                format!("cannot write {}", path.display()),
+            )
+        })?;
+        let stored_at = now_ms();
+        self.conn
+            .execute(
+                "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'rollback', ?9)",
+                params![
+                    v.version.name,
+                    file_name,
+                    v.version.job,
+                    v.version.revision,
+                    v.version.sha256,
+                    v.text.len() as i64,
+                    self.config.dialect.as_str(),
+                    stored_at as i64,
+                    v.text
+                ],
+            )
+            .map_err(index_error)?;
+        Ok(DeliveryReceipt {
+            job_id: gearcam_proto::JobId::new(v.version.job.clone()).map_err(|e| {
+                refuse(
+                    "STORE_INDEX_ERROR",
+                    "job",
+                    "a valid job id",
+                    v.version.job.clone(),
+                    e.to_string(),
+                )
+            })?,
+            machine: self.config.machine.clone(),
+            name: v.version.name,
+            path: path.display().to_string(),
+            file_name,
+            revision: v.version.revision,
+            sha256: v.version.sha256,
+            size_bytes: v.text.len() as u64,
+            stored_at_ms: stored_at,
+            duplicate: false,
+        })
+    }
+}
+
+fn index_error(e: rusqlite::Error) -> JobError {
+    refuse(
+        "STORE_INDEX_ERROR",
+        "-",
+        "a writable index",
+        e.to_string(),
+        "the program index could not be read or written",
+    )
 }
 
 /// Writes `bytes` to `dir/file_name` atomically and durably.
@@ -390,5 +541,35 @@ mod tests {
         let err = s.store(&program("J2", "SP_1", "second\n")).unwrap_err();
         assert_eq!(err.code, "PROGRAM_CHANGED_AT_MACHINE");
         assert_eq!(fs::read_to_string(&path).unwrap(), "operator edit\n");
+    }
+
+    #[test]
+    fn keeps_versions_and_rolls_back() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = store(dir.path());
+        s.store(&program("J1", "SP_1", "first\n")).unwrap();
+        s.store(&program("J2", "SP_1", "second\n")).unwrap();
+        let path = dir.path().join("programs/_N_SP_1_MPF");
+        assert_eq!(fs::read_to_string(&path).unwrap(), "second\n");
+        let h = s.history(Some("SP_1")).unwrap();
+        assert_eq!(h.len(), 2);
+        assert!(h[0].current && !h[1].current);
+        let first = h[1].seq;
+        assert_eq!(s.version(first).unwrap().unwrap().text, "first\n");
+        let r = s.rollback("SP_1", first).unwrap();
+        assert_eq!(fs::read_to_string(&path).unwrap(), "first\n");
+        assert_eq!(r.sha256, sha256_hex(b"first\n"));
+        let h = s.history(Some("SP_1")).unwrap();
+        assert_eq!(
+            (h.len(), h[0].state.as_str(), h[0].current),
+            (3, "rollback", true)
+        );
+        assert_eq!(s.rollback("SP_1", 999).unwrap_err().code, "UNKNOWN_VERSION");
+        // The receipt of a job can be asked for again.
+        assert_eq!(
+            s.stored_receipt("J2").unwrap().unwrap().sha256,
+            sha256_hex(b"second\n")
+        );
+        assert!(s.stored_receipt("J9").unwrap().is_none());
     }
 }

@@ -9,10 +9,12 @@
 //!   tokens and waiting for other services to be alive.
 //! - [`stage`]: the loop every pipeline stage runs: subscribe, decode and
 //!   validate, handle, publish, report typed errors; never panic, never silence.
+//! - [`query`]: typed request/reply with retries, and a serving loop for queryables.
 //! - [`shutdown`]: one future for SIGINT and SIGTERM.
 #![forbid(unsafe_code)]
 
 pub mod config;
+pub mod query;
 pub mod shutdown;
 pub mod stage;
 

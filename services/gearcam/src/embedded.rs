@@ -23,6 +23,11 @@ impl DataLayout {
         self.root.join("knowledge.db")
     }
 
+    /// The planning station's job journal.
+    pub fn journal(&self) -> PathBuf {
+        self.root.join("station.db")
+    }
+
     /// A machine's program directory.
     pub fn program_dir(&self, machine: &MachineProfile) -> PathBuf {
         self.root
@@ -98,8 +103,22 @@ impl Embedded {
                     .map_err(Into::into),
             )
         });
+        let (b, s) = (bus.clone(), shutdown.clone());
+        let station = crate::station_service::StationConfig {
+            journal: layout.journal(),
+            redrive: Duration::from_secs(5),
+        };
+        tasks.spawn(async move {
+            (
+                "station",
+                crate::station_service::run(b, station, s)
+                    .await
+                    .map_err(Into::into),
+            )
+        });
         let mut served = Vec::new();
         let mut services = vec![
+            gearcam_proto::keys::STATION_SERVICE.to_string(),
             gearcam_knowledge::service::SERVICE.to_string(),
             gearcam_model::service::SERVICE.to_string(),
             gearcam_template::service::SERVICE.to_string(),

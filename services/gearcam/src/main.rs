@@ -10,7 +10,11 @@ use gearcam::check::{self, CheckReport};
 use gearcam::embedded::Embedded;
 use gearcam::station::{self, Outcome, SubmitOptions};
 use gearcam::{jobfile, DEFAULT_ENDPOINT};
+use gearcam_bus::query::Retry;
 use gearcam_bus::{cancel_on_signal, init_tracing, Bus, BusArgs, BusConfig, Mode};
+use gearcam_proto::{
+    keys, DeliveryReply, JobId, JobRequest, MachineId, ProgramHistory, ProgramText,
+};
 use gearcam_template::Templates;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::json;
@@ -66,8 +70,83 @@ enum Command {
         #[arg(long, default_value = "gearcam-data")]
         data: PathBuf,
     },
+    /// Run the planning station service on its own (job journal, re-drives).
+    Station {
+        /// The job journal (SQLite).
+        #[arg(long, default_value = "gearcam-data/station.db")]
+        journal: PathBuf,
+        /// Re-drive a job after this many milliseconds without progress (then with backoff).
+        #[arg(long, default_value_t = 5000)]
+        redrive_ms: u64,
+        #[command(flatten)]
+        bus: BusArgs,
+    },
+    /// List every job in the station's journal.
+    Jobs {
+        #[command(flatten)]
+        bus: BusArgs,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Show one job's state.
+    Status {
+        /// The job id.
+        job: JobId,
+        #[command(flatten)]
+        bus: BusArgs,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// A machine's stored programs: history, show a version, roll back.
+    Program {
+        #[command(subcommand)]
+        action: ProgramAction,
+    },
     /// Run a Zenoh router (for a shop network without zenohd, and for tests).
     Router {
+        #[command(flatten)]
+        bus: BusArgs,
+    },
+}
+
+#[derive(Debug, Subcommand)]
+enum ProgramAction {
+    /// Every stored version (of one program, if named), newest first.
+    History {
+        /// The machine, e.g. H01.
+        #[arg(long)]
+        machine: MachineId,
+        /// Program name, e.g. SP_1001.
+        name: Option<String>,
+        #[command(flatten)]
+        bus: BusArgs,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Print one stored version's text.
+    Show {
+        /// The machine, e.g. H01.
+        #[arg(long)]
+        machine: MachineId,
+        /// Program name.
+        name: String,
+        /// Version number (from `history`).
+        seq: u64,
+        #[command(flatten)]
+        bus: BusArgs,
+    },
+    /// Make a stored version current again in the machine's program directory.
+    Rollback {
+        /// The machine, e.g. H01.
+        #[arg(long)]
+        machine: MachineId,
+        /// Program name.
+        name: String,
+        /// Version number (from `history`).
+        seq: u64,
         #[command(flatten)]
         bus: BusArgs,
     },
@@ -131,6 +210,14 @@ async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         } => submit(&job, &bus, wait, json, timeout).await,
         Command::Check { job, json, data } => Ok(check_cmd(&job, json, &data)),
         Command::Router { bus } => router(&bus).await,
+        Command::Station {
+            journal,
+            redrive_ms,
+            bus,
+        } => station_cmd(journal, redrive_ms, &bus).await,
+        Command::Jobs { bus, json } => jobs_cmd(&bus, json).await,
+        Command::Status { job, bus, json } => status_cmd(&job, &bus, json).await,
+        Command::Program { action } => program_cmd(action).await,
     }
 }
 
@@ -280,14 +367,7 @@ async fn submit(
         }
     };
     let req = jobfile::request(spec);
-    let mut config = bus_args.to_config();
-    if config.connect.is_empty() && config.config_file.is_none() {
-        config.connect = vec![DEFAULT_ENDPOINT.to_string()];
-    }
-    if config.config_file.is_none() {
-        config.mode.get_or_insert(Mode::Client);
-        config.multicast_scouting.get_or_insert(false);
-    }
+    let config = client_config(bus_args);
     let bus = Bus::open(&config).await.context("joining the bus")?;
     let opts = SubmitOptions {
         wait,
@@ -295,7 +375,7 @@ async fn submit(
         timeout: Duration::from_secs(timeout),
     };
     let pb = progress(json);
-    pb.set_message(format!("job {} submitted", req.job_id));
+    pb.set_message(format!("job {}", req.job_id));
     let outcome = station::submit(&bus, &req, &opts, |ev| {
         if !json {
             pb.suspend(|| eprintln!("{}", station::describe(ev)));
@@ -319,7 +399,7 @@ async fn submit(
         }
     };
     let (value, code) = match &outcome {
-        Outcome::Submitted(job) => (json!({"job": job, "state": "submitted"}), ExitCode::SUCCESS),
+        Outcome::Submitted(s) => (serde_json::to_value(s)?, ExitCode::SUCCESS),
         Outcome::Delivered(r) => (
             json!({"job": r.job_id, "state": "delivered", "program": {"name": r.name, "sha256": r.sha256, "path": r.path}, "receipt": r}),
             ExitCode::SUCCESS,
@@ -328,35 +408,180 @@ async fn submit(
             json!({"job": req.job_id, "state": "failed", "errors": errors}),
             ExitCode::FAILURE,
         ),
-        Outcome::TimedOut { job, last_stage } => (
-            json!({"job": job, "state": "timed_out", "last_stage": last_stage}),
-            ExitCode::from(2),
-        ),
+        Outcome::TimedOut(s) => (serde_json::to_value(s)?, ExitCode::from(2)),
     };
     if json {
         println!("{value}");
     } else {
         match &outcome {
-            Outcome::Submitted(job) => println!("job {job} submitted"),
-            Outcome::Delivered(r) => println!(
-                "job {} delivered: {} (sha256 {})",
-                r.job_id, r.path, r.sha256
-            ),
+            Outcome::Submitted(s) => println!("job {} journaled by the station ({})", s.job, s.state.as_str()),
+            Outcome::Delivered(r) => println!("job {} delivered: {} (sha256 {})", r.job_id, r.path, r.sha256),
             Outcome::Failed(errors) => {
-                eprintln!(
-                    "job {} refused with {} error(s):\n{}",
-                    req.job_id,
-                    errors.len(),
-                    check::format_errors(errors)
-                )
+                eprintln!("job {} refused with {} error(s):\n{}", req.job_id, errors.len(), check::format_errors(errors))
             }
-            Outcome::TimedOut { job, last_stage } => eprintln!(
-                "job {job}: no outcome within {timeout} s (last heard from: {})",
-                last_stage.map(|s| s.as_str()).unwrap_or("no stage")
+            Outcome::TimedOut(s) => eprintln!(
+                "job {}: not finished within {timeout} s; it stays journaled and the station keeps driving it\n  {}",
+                s.job,
+                station::describe_status(s)
             ),
         }
     }
     Ok(code)
+}
+
+/// A client configuration: the given endpoints, or the local `gearcam up`.
+fn client_config(bus_args: &BusArgs) -> BusConfig {
+    let mut config = bus_args.to_config();
+    if config.connect.is_empty() && config.config_file.is_none() {
+        config.connect = vec![DEFAULT_ENDPOINT.to_string()];
+    }
+    if config.config_file.is_none() {
+        config.mode.get_or_insert(Mode::Client);
+        config.multicast_scouting.get_or_insert(false);
+    }
+    config
+}
+
+async fn station_cmd(
+    journal: PathBuf,
+    redrive_ms: u64,
+    bus_args: &BusArgs,
+) -> anyhow::Result<ExitCode> {
+    let mut config = bus_args.to_config();
+    if config.config_file.is_none() && config.connect.is_empty() && config.listen.is_empty() {
+        config = client_config(bus_args);
+    }
+    let bus = Bus::open(&config).await.context("joining the bus")?;
+    let cfg = gearcam::station_service::StationConfig {
+        journal,
+        redrive: Duration::from_millis(redrive_ms),
+    };
+    gearcam::station_service::run(bus, cfg, cancel_on_signal()).await?;
+    Ok(ExitCode::SUCCESS)
+}
+
+async fn jobs_cmd(bus_args: &BusArgs, json: bool) -> anyhow::Result<ExitCode> {
+    let bus = Bus::open(&client_config(bus_args))
+        .await
+        .context("joining the bus")?;
+    let list = station::jobs(&bus).await;
+    bus.close().await;
+    let list = list.context("asking the station")?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&list.jobs)?);
+    } else {
+        for s in &list.jobs {
+            println!("{}", station::describe_status(s));
+        }
+        println!("{} job(s)", list.jobs.len());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+async fn status_cmd(job: &JobId, bus_args: &BusArgs, json: bool) -> anyhow::Result<ExitCode> {
+    let bus = Bus::open(&client_config(bus_args))
+        .await
+        .context("joining the bus")?;
+    let status = station::status(&bus, job).await;
+    bus.close().await;
+    let status = status.context("asking the station")?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&status)?);
+    } else {
+        println!("{}", station::describe_status(&status));
+        print!("{}", check::format_errors(&status.errors));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+async fn program_cmd(action: ProgramAction) -> anyhow::Result<ExitCode> {
+    let retry = Retry::default();
+    match action {
+        ProgramAction::History {
+            machine,
+            name,
+            bus,
+            json,
+        } => {
+            let bus = Bus::open(&client_config(&bus))
+                .await
+                .context("joining the bus")?;
+            let mut key = keys::store_programs(&machine);
+            if let Some(n) = &name {
+                key = format!("{key}/{n}");
+            }
+            let h: Result<ProgramHistory, _> = bus
+                .call::<JobRequest, ProgramHistory>(&key, None, retry)
+                .await;
+            bus.close().await;
+            let h = h.context(format!("asking the agent of {machine}"))?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&h)?);
+            } else {
+                for v in &h.versions {
+                    println!(
+                        "{:>6} {} {:<24} {:<10} job {} rev {} sha256 {} {} bytes",
+                        v.seq,
+                        if v.current { "*" } else { " " },
+                        v.name,
+                        v.state,
+                        v.job,
+                        v.revision,
+                        &v.sha256[..12.min(v.sha256.len())],
+                        v.size_bytes
+                    );
+                }
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        ProgramAction::Show {
+            machine,
+            name,
+            seq,
+            bus,
+        } => {
+            let bus = Bus::open(&client_config(&bus))
+                .await
+                .context("joining the bus")?;
+            let key = format!("{}/{name}/versions/{seq}", keys::store_programs(&machine));
+            let t = bus.call::<JobRequest, ProgramText>(&key, None, retry).await;
+            bus.close().await;
+            print!(
+                "{}",
+                t.context(format!("asking the agent of {machine}"))?.text
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+        ProgramAction::Rollback {
+            machine,
+            name,
+            seq,
+            bus,
+        } => {
+            let bus = Bus::open(&client_config(&bus))
+                .await
+                .context("joining the bus")?;
+            let key = format!("{}/{name}/rollback/{seq}", keys::store_programs(&machine));
+            let r = bus
+                .call::<JobRequest, DeliveryReply>(&key, None, retry)
+                .await;
+            bus.close().await;
+            match r.context(format!("asking the agent of {machine}"))? {
+                DeliveryReply::Stored { receipt } => {
+                    println!(
+                        "{} is version {seq} again: {} (sha256 {})",
+                        name, receipt.path, receipt.sha256
+                    );
+                    Ok(ExitCode::SUCCESS)
+                }
+                DeliveryReply::Refused { error } => {
+                    eprint!("{}", check::format_errors(&[error]));
+                    Ok(ExitCode::FAILURE)
+                }
+                DeliveryReply::NotStored => Ok(ExitCode::FAILURE),
+            }
+        }
+    }
 }
 
 fn check_cmd(job: &Path, json: bool, data: &Path) -> ExitCode {

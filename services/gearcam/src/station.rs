@@ -1,11 +1,14 @@
-//! The planning station's side of a job on the bus: wait for the services,
-//! submit the request, follow its events until the receipt or an error.
+//! The client side of the planning station: submit a job to the station
+//! service (which journals it before it answers), follow it to its end, and
+//! read the journal.
 
 use std::time::Duration;
 
-use gearcam_bus::{Bus, BusError};
+use gearcam_bus::query::{CallError, Retry};
+use gearcam_bus::Bus;
 use gearcam_proto::{
-    decode, keys, DeliveryReceipt, EventKind, JobError, JobEvent, JobId, JobRequest, Stage,
+    decode, keys, DeliveryReceipt, EventKind, JobError, JobEvent, JobId, JobList, JobRequest,
+    JobState, JobStatus, StationReply,
 };
 
 /// How to submit.
@@ -13,93 +16,114 @@ use gearcam_proto::{
 pub struct SubmitOptions {
     /// Follow the job until delivered or failed.
     pub wait: bool,
-    /// How long to wait for the services to be alive.
+    /// How long to wait for the station to be reachable.
     pub alive_timeout: Duration,
-    /// How long to wait for the outcome once submitted.
+    /// How long to wait for the outcome once journaled.
     pub timeout: Duration,
 }
 
 /// How a submission ended.
 #[derive(Debug, Clone)]
 pub enum Outcome {
-    /// Submitted; not followed.
-    Submitted(JobId),
+    /// Journaled by the station; not followed.
+    Submitted(Box<JobStatus>),
     /// The agent stored the program.
-    Delivered(DeliveryReceipt),
-    /// A stage refused the job.
+    Delivered(Box<DeliveryReceipt>),
+    /// The station or a stage refused the job.
     Failed(Vec<JobError>),
-    /// No outcome within the timeout; the last stage heard from.
-    TimedOut {
-        /// The job.
-        job: JobId,
-        /// Last stage that reported, if any.
-        last_stage: Option<Stage>,
-    },
+    /// Not finished within the timeout; the job stays journaled and the station
+    /// keeps driving it.
+    TimedOut(Box<JobStatus>),
 }
 
-/// The services a job for `machine` passes through.
-pub fn services_for(req: &JobRequest) -> Vec<String> {
-    vec![
-        gearcam_knowledge::service::SERVICE.to_string(),
-        gearcam_model::service::SERVICE.to_string(),
-        gearcam_template::service::SERVICE.to_string(),
-        keys::agent_service(&req.spec.job.machine),
-    ]
+/// Errors reaching the station.
+#[derive(Debug, thiserror::Error)]
+pub enum StationClientError {
+    /// The station did not answer.
+    #[error("the planning station did not answer ({0}); is `gearcam up` (or `gearcam station`) running and reachable?")]
+    Unreachable(String),
 }
 
-/// Submits a job and, with `wait`, follows it; `on_event` sees every event.
+/// Submits a job to the station and, with `wait`, follows it; `on_event`
+/// sees every event of the job.
 pub async fn submit(
     bus: &Bus,
     req: &JobRequest,
     opts: &SubmitOptions,
     mut on_event: impl FnMut(&JobEvent),
-) -> Result<Outcome, BusError> {
-    let services = if opts.wait {
-        services_for(req)
-    } else {
-        vec![gearcam_knowledge::service::SERVICE.to_string()]
-    };
-    bus.wait_alive(&services, opts.alive_timeout).await?;
-    // Subscribe before publishing, so no event can be missed.
+) -> Result<Outcome, StationClientError> {
+    bus.wait_alive(&[keys::STATION_SERVICE.to_string()], opts.alive_timeout)
+        .await
+        .map_err(|e| StationClientError::Unreachable(e.to_string()))?;
+    // Subscribe before submitting, so no progress event is missed.
     let events = bus
         .session()
         .declare_subscriber(keys::job_events(&req.job_id))
         .await
-        .map_err(|e| BusError::Zenoh {
-            op: "declare subscriber",
-            detail: e.to_string(),
-        })?;
-    bus.put(&keys::job_request(&req.job_id), req).await?;
+        .map_err(|e| StationClientError::Unreachable(e.to_string()))?;
+    let retry = Retry {
+        timeout: Duration::from_secs(10),
+        attempts: 3,
+        pause: Duration::from_millis(300),
+    };
+    let reply: StationReply = bus
+        .call(keys::STATION_SUBMIT, Some(req), retry)
+        .await
+        .map_err(|e| StationClientError::Unreachable(e.to_string()))?;
+    let accepted = match reply {
+        StationReply::Refused { errors } => return Ok(Outcome::Failed(errors)),
+        StationReply::Accepted { status } => status,
+    };
     if !opts.wait {
-        return Ok(Outcome::Submitted(req.job_id.clone()));
+        return Ok(Outcome::Submitted(Box::new(accepted)));
     }
     let deadline = tokio::time::Instant::now() + opts.timeout;
-    let mut last_stage = None;
+    let mut last = accepted;
     loop {
-        let sample = match tokio::time::timeout_at(deadline, events.recv_async()).await {
-            Ok(Ok(s)) => s,
-            Ok(Err(_)) | Err(_) => {
-                return Ok(Outcome::TimedOut {
-                    job: req.job_id.clone(),
-                    last_stage,
-                })
+        if let Some(outcome) = final_outcome(&last) {
+            return Ok(outcome);
+        }
+        let poll = tokio::time::sleep(Duration::from_millis(500));
+        tokio::select! {
+            _ = tokio::time::sleep_until(deadline) => return Ok(Outcome::TimedOut(Box::new(last))),
+            s = events.recv_async() => {
+                if let Ok(s) = s {
+                    if let Ok(ev) = decode::<JobEvent>(&s.payload().to_bytes()) {
+                        on_event(&ev);
+                        let end = matches!(ev.event, EventKind::Delivered { .. } | EventKind::Failed { .. });
+                        if !end {
+                            continue;
+                        }
+                    }
+                }
             }
-        };
-        let ev = match decode::<JobEvent>(&sample.payload().to_bytes()) {
-            Ok(ev) => ev,
-            Err(e) => {
-                tracing::warn!(error = %e, "ignoring an undecodable event");
-                continue;
-            }
-        };
-        last_stage = Some(ev.stage);
-        on_event(&ev);
-        match ev.event {
-            EventKind::Delivered { receipt } => return Ok(Outcome::Delivered(receipt)),
-            EventKind::Failed { errors } => return Ok(Outcome::Failed(errors)),
-            _ => {}
+            _ = poll => {}
+        }
+        // The journal is the truth: read it after a final event or a poll interval.
+        if let Ok(s) = status(bus, &req.job_id).await {
+            last = s;
         }
     }
+}
+
+fn final_outcome(s: &JobStatus) -> Option<Outcome> {
+    match s.state {
+        JobState::Delivered => s.receipt.clone().map(|r| Outcome::Delivered(Box::new(r))),
+        JobState::Failed => Some(Outcome::Failed(s.errors.clone())),
+        _ => None,
+    }
+}
+
+/// One job's status from the station's journal.
+pub async fn status(bus: &Bus, job: &JobId) -> Result<JobStatus, CallError> {
+    bus.call::<JobRequest, JobStatus>(&keys::station_job(job), None, Retry::default())
+        .await
+}
+
+/// Every job in the station's journal.
+pub async fn jobs(bus: &Bus) -> Result<JobList, CallError> {
+    bus.call::<JobRequest, JobList>(keys::STATION_JOBS, None, Retry::default())
+        .await
 }
 
 /// One line describing an event, for progress output.
@@ -135,4 +159,30 @@ pub fn describe(ev: &JobEvent) -> String {
             errors.len()
         ),
     }
+}
+
+/// A status line for `gearcam jobs` / `gearcam status`.
+pub fn describe_status(s: &JobStatus) -> String {
+    let mut line = format!(
+        "{:<40} {:<10} {:<6} {:<16} attempts {}",
+        s.job,
+        s.state.as_str(),
+        s.machine,
+        s.part_number,
+        s.attempts
+    );
+    if let Some(w) = &s.waiting_for {
+        line.push_str(&format!("  ({w})"));
+    }
+    if let Some(p) = &s.program {
+        line.push_str(&format!(
+            "  {} sha256 {}",
+            p.path,
+            &p.sha256[..12.min(p.sha256.len())]
+        ));
+    }
+    if let Some(e) = s.errors.first() {
+        line.push_str(&format!("  {} {}", e.code, e.field));
+    }
+    line
 }

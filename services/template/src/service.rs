@@ -1,15 +1,28 @@
 //! The template service on the bus: subscribes to machining models, renders the
-//! machine's NC program and sends it to the machine's delivery agent, with a
-//! `programmed` event; failures come back as typed errors.
+//! machine's NC program (`programmed` event), and delivers it to the machine's
+//! agent as a request (query) answered by the agent's receipt or refusal.
+//!
+//! Delivery runs in its own task per program, so a slow or absent agent never
+//! holds up programs for other machines. When the agent is offline or does not
+//! answer, the job gets a `waiting` event; the planning station re-drives it
+//! when the agent is back (every stage is idempotent, and the agent answers a
+//! repeat with the original receipt).
 
-use gearcam_bus::stage::{codec_error, run_stage, Handled, Output};
+use std::time::Duration;
+
+use gearcam_bus::query::{CallError, Retry};
+use gearcam_bus::stage::{run_stage, Handled};
 use gearcam_bus::{Bus, BusError, CancellationToken};
-use gearcam_proto::{encode, keys, EventKind, JobError, MachiningModel, Stage};
+use gearcam_proto::{keys, DeliveryReply, EventKind, JobError, MachiningModel, NcProgram, Stage};
+use tokio::sync::mpsc;
 
 use crate::Templates;
 
 /// The liveliness name of the template service.
 pub const SERVICE: &str = "template";
+
+/// How long one delivery attempt waits for the agent's receipt.
+pub const DELIVERY_TIMEOUT: Duration = Duration::from_secs(10);
 
 /// Runs the template service until `shutdown` is cancelled.
 pub async fn run(
@@ -17,7 +30,19 @@ pub async fn run(
     templates: Templates,
     shutdown: CancellationToken,
 ) -> Result<(), BusError> {
-    run_stage::<MachiningModel, _>(
+    let (tx, mut rx) = mpsc::unbounded_channel::<NcProgram>();
+    let delivery_bus = bus.clone();
+    let stop = shutdown.clone();
+    let deliveries = tokio::spawn(async move {
+        loop {
+            let program = tokio::select! {
+                _ = stop.cancelled() => break,
+                p = rx.recv() => match p { Some(p) => p, None => break },
+            };
+            tokio::spawn(deliver(delivery_bus.clone(), program));
+        }
+    });
+    let result = run_stage::<MachiningModel, _>(
         &bus,
         keys::ALL_JOB_MODELS,
         SERVICE,
@@ -35,19 +60,65 @@ pub async fn run(
                 }]);
             }
             let program = templates.render(&model)?;
-            let payload = encode(&program)
-                .map_err(|e| vec![codec_error::<MachiningModel>(Stage::Template, &e)])?;
+            let event = EventKind::Programmed {
+                name: program.name.clone(),
+                sha256: program.sha256.clone(),
+            };
+            // The receiver lives until shutdown; a send after it is gone is moot.
+            let _ = tx.send(program);
             Ok(Handled {
-                events: vec![EventKind::Programmed {
-                    name: program.name.clone(),
-                    sha256: program.sha256.clone(),
-                }],
-                outputs: vec![Output {
-                    key: keys::machine_program(&program.machine, &program.job_id),
-                    payload,
-                }],
+                events: vec![event],
+                outputs: vec![],
             })
         },
     )
-    .await
+    .await;
+    deliveries.abort();
+    result
+}
+
+/// Hands one program to its machine's agent.
+pub async fn deliver(bus: Bus, program: NcProgram) {
+    let job = program.job_id.clone();
+    let agent = keys::agent_service(&program.machine);
+    let waiting = |reason: String| EventKind::Waiting { reason };
+    let event = match bus.is_alive(&agent).await {
+        Ok(false) => Some(waiting(format!(
+            "the agent of machine {} is offline",
+            program.machine
+        ))),
+        Err(e) => Some(waiting(format!("cannot reach the bus: {e}"))),
+        Ok(true) => {
+            let retry = Retry {
+                timeout: DELIVERY_TIMEOUT,
+                attempts: 3,
+                pause: Duration::from_millis(300),
+            };
+            let key = keys::machine_program(&program.machine, &job);
+            match bus
+                .call::<NcProgram, DeliveryReply>(&key, Some(&program), retry)
+                .await
+            {
+                // The agent publishes `delivered` or `failed` itself.
+                Ok(DeliveryReply::Stored { .. }) | Ok(DeliveryReply::Refused { .. }) => None,
+                Ok(DeliveryReply::NotStored) => {
+                    Some(waiting("the agent answered without storing".into()))
+                }
+                Err(CallError::NoReply { .. }) => Some(waiting(format!(
+                    "the agent of machine {} did not answer",
+                    program.machine
+                ))),
+                Err(e) => Some(waiting(format!(
+                    "delivery to machine {} failed: {e}",
+                    program.machine
+                ))),
+            }
+        }
+    };
+    if let Some(ev) = event {
+        tracing::info!(%job, ?ev, "delivery pending");
+        if let Err(e) = bus.event(&job, Stage::Template, ev).await {
+            tracing::warn!(%job, error = %e, "cannot publish event");
+        }
+    }
 }

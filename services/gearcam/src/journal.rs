@@ -1,0 +1,410 @@
+//! The planning station's durable job journal (SQLite, synchronous FULL).
+//!
+//! Every accepted job is a row holding its encoded request, state, attempts and
+//! the time it is next due to be re-driven. A job is acknowledged to the
+//! submitter only after its row is committed, so a station killed at any point
+//! and started again re-drives every journaled job that is not final.
+
+use std::path::Path;
+
+use gearcam_proto::{
+    decode, encode, DeliveryReceipt, EventKind, JobError, JobEvent, JobId, JobRequest, JobState,
+    JobStatus, MachineId, ProgramRef, Stage,
+};
+use rusqlite::{params, Connection, OptionalExtension};
+use sha2::{Digest, Sha256};
+
+/// A journal error.
+#[derive(Debug, thiserror::Error)]
+pub enum JournalError {
+    /// SQLite failed.
+    #[error("job journal (SQLite): {0}")]
+    Sqlite(#[from] rusqlite::Error),
+    /// A stored column is unreadable.
+    #[error("job journal: unreadable {what}: {detail}")]
+    Corrupt {
+        /// Which column.
+        what: &'static str,
+        /// Why.
+        detail: String,
+    },
+    /// The journal's directory cannot be created.
+    #[error("{path}: {source}")]
+    Io {
+        /// The path.
+        path: String,
+        /// The error.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// A job due to be (re)driven.
+#[derive(Debug, Clone)]
+pub struct Due {
+    /// The job.
+    pub job: JobId,
+    /// Its machine.
+    pub machine: MachineId,
+    /// Its state.
+    pub state: JobState,
+    /// Attempts so far.
+    pub attempts: u32,
+    /// The encoded request, ready to publish.
+    pub request: Vec<u8>,
+}
+
+/// The journal.
+#[derive(Debug)]
+pub struct Journal {
+    conn: Connection,
+}
+
+fn sha(bytes: &[u8]) -> String {
+    hex::encode(Sha256::digest(bytes))
+}
+
+impl Journal {
+    /// Opens (creating if needed) the journal at `path`.
+    pub fn open(path: &Path) -> Result<Journal, JournalError> {
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir).map_err(|e| JournalError::Io {
+                path: dir.display().to_string(),
+                source: e,
+            })?;
+        }
+        let conn = Connection::open(path)?;
+        conn.pragma_update(None, "journal_mode", "WAL")?;
+        conn.pragma_update(None, "synchronous", "FULL")?;
+        conn.busy_timeout(std::time::Duration::from_secs(5))?;
+        conn.execute_batch(
+            "CREATE TABLE IF NOT EXISTS jobs (
+                 seq             INTEGER PRIMARY KEY AUTOINCREMENT,
+                 job             TEXT NOT NULL UNIQUE,
+                 machine         TEXT NOT NULL,
+                 part_number     TEXT NOT NULL,
+                 request         BLOB NOT NULL,
+                 request_sha256  TEXT NOT NULL,
+                 state           TEXT NOT NULL,
+                 attempts        INTEGER NOT NULL DEFAULT 0,
+                 accepted_at_ms  INTEGER NOT NULL,
+                 updated_at_ms   INTEGER NOT NULL,
+                 next_attempt_ms INTEGER NOT NULL,
+                 waiting_for     TEXT,
+                 receipt_json    TEXT,
+                 errors_json     TEXT
+             );
+             CREATE INDEX IF NOT EXISTS jobs_due ON jobs (next_attempt_ms) WHERE state NOT IN ('delivered', 'failed');",
+        )?;
+        Ok(Journal { conn })
+    }
+
+    /// Runs `f` in one transaction (group commit for a batch of changes).
+    pub fn batch<T>(&mut self, f: impl FnOnce(&Journal) -> T) -> Result<T, JournalError> {
+        self.conn.execute_batch("BEGIN IMMEDIATE")?;
+        let out = f(self);
+        self.conn.execute_batch("COMMIT")?;
+        Ok(out)
+    }
+
+    /// Journals a request. The same request again is accepted as is (idempotent);
+    /// a different request under a known job id is refused.
+    pub fn submit(&self, req: &JobRequest, now: u64) -> Result<JobStatus, JobError> {
+        let bytes = encode(req).map_err(|e| {
+            station_error("ENCODE_FAILED", "-", "an encodable request", &e.to_string())
+        })?;
+        let hash = sha(&bytes);
+        let known: Option<String> = self
+            .conn
+            .query_row(
+                "SELECT request_sha256 FROM jobs WHERE job = ?1",
+                [req.job_id.as_str()],
+                |r| r.get(0),
+            )
+            .optional()
+            .map_err(db_error)?;
+        match known {
+            Some(h) if h == hash => {}
+            Some(_) => {
+                return Err(station_error(
+                    "JOB_ID_EXISTS",
+                    "job.id",
+                    "a job id not used by another request",
+                    req.job_id.as_str(),
+                ))
+            }
+            None => {
+                self.conn
+                    .execute(
+                        "INSERT INTO jobs (job, machine, part_number, request, request_sha256, state, accepted_at_ms, updated_at_ms, next_attempt_ms)
+                         VALUES (?1, ?2, ?3, ?4, ?5, 'accepted', ?6, ?6, ?6)",
+                        params![req.job_id.as_str(), req.spec.job.machine.as_str(), req.spec.job.part_number, bytes, hash, now as i64],
+                    )
+                    .map_err(db_error)?;
+            }
+        }
+        self.status(&req.job_id)
+            .map_err(|e| station_error("JOURNAL_ERROR", "-", "a readable journal", &e.to_string()))?
+            .ok_or_else(|| station_error("JOURNAL_ERROR", "-", "the row just written", "nothing"))
+    }
+
+    /// Applies a job event; returns true when the job is known and changed.
+    /// Final states never change; progress pushes the next re-drive to
+    /// `now + redrive_ms`.
+    pub fn apply(&self, ev: &JobEvent, now: u64, redrive_ms: u64) -> Result<bool, JournalError> {
+        let current: Option<String> = self
+            .conn
+            .query_row(
+                "SELECT state FROM jobs WHERE job = ?1",
+                [ev.job_id.as_str()],
+                |r| r.get(0),
+            )
+            .optional()?;
+        let Some(current) = current.and_then(|s| JobState::parse(&s)) else {
+            return Ok(false);
+        };
+        if current.is_final() {
+            return Ok(false);
+        }
+        let next = (now + redrive_ms) as i64;
+        let job = ev.job_id.as_str();
+        let n = match &ev.event {
+            EventKind::Planned { .. } => self.set_state(job, JobState::Planned, now, next)?,
+            EventKind::Modelled { .. } => self.set_state(job, JobState::Modelled, now, next)?,
+            EventKind::Programmed { .. } => self.set_state(job, JobState::Programmed, now, next)?,
+            EventKind::Waiting { reason } => self.conn.execute(
+                "UPDATE jobs SET state = 'waiting', waiting_for = ?2, updated_at_ms = ?3, next_attempt_ms = ?4 WHERE job = ?1",
+                params![job, reason, now as i64, next],
+            )?,
+            EventKind::Delivered { receipt } => self.delivered(receipt, now)?,
+            EventKind::Failed { errors } => self.conn.execute(
+                "UPDATE jobs SET state = 'failed', errors_json = ?2, updated_at_ms = ?3, waiting_for = NULL WHERE job = ?1",
+                params![job, serde_json::to_string(errors).unwrap_or_default(), now as i64],
+            )?,
+        };
+        Ok(n > 0)
+    }
+
+    fn set_state(
+        &self,
+        job: &str,
+        state: JobState,
+        now: u64,
+        next: i64,
+    ) -> Result<usize, JournalError> {
+        Ok(self.conn.execute(
+            "UPDATE jobs SET state = ?2, waiting_for = NULL, updated_at_ms = ?3, next_attempt_ms = ?4 WHERE job = ?1",
+            params![job, state.as_str(), now as i64, next],
+        )?)
+    }
+
+    /// Records a job as delivered with its receipt.
+    pub fn delivered(&self, receipt: &DeliveryReceipt, now: u64) -> Result<usize, JournalError> {
+        Ok(self.conn.execute(
+            "UPDATE jobs SET state = 'delivered', receipt_json = ?2, waiting_for = NULL, updated_at_ms = ?3
+             WHERE job = ?1 AND state NOT IN ('delivered', 'failed')",
+            params![
+                receipt.job_id.as_str(),
+                serde_json::to_string(receipt).unwrap_or_default(),
+                now as i64
+            ],
+        )?)
+    }
+
+    /// Records that the job was (re)sent.
+    pub fn sent(&self, job: &JobId, now: u64, next_attempt: u64) -> Result<(), JournalError> {
+        self.conn.execute(
+            "UPDATE jobs SET attempts = attempts + 1, waiting_for = NULL, updated_at_ms = ?2, next_attempt_ms = ?3,
+                    state = CASE WHEN state = 'waiting' THEN 'accepted' ELSE state END
+             WHERE job = ?1",
+            params![job.as_str(), now as i64, next_attempt as i64],
+        )?;
+        Ok(())
+    }
+
+    /// Records that the job waits for something, until `next_attempt`.
+    pub fn waiting(
+        &self,
+        job: &JobId,
+        reason: &str,
+        now: u64,
+        next_attempt: u64,
+    ) -> Result<(), JournalError> {
+        self.conn.execute(
+            "UPDATE jobs SET state = 'waiting', waiting_for = ?2, updated_at_ms = ?3, next_attempt_ms = ?4
+             WHERE job = ?1 AND state NOT IN ('delivered', 'failed')",
+            params![job.as_str(), reason, now as i64, next_attempt as i64],
+        )?;
+        Ok(())
+    }
+
+    /// Makes every unfinished job of `machine` (or of every machine) due now.
+    pub fn wake(&self, machine: Option<&str>, now: u64) -> Result<usize, JournalError> {
+        Ok(self.conn.execute(
+            "UPDATE jobs SET next_attempt_ms = ?2 WHERE state NOT IN ('delivered', 'failed') AND (?1 IS NULL OR machine = ?1)",
+            params![machine, now as i64],
+        )?)
+    }
+
+    /// Unfinished jobs due at `now`, oldest first, at most `limit`.
+    pub fn due(&self, now: u64, limit: usize) -> Result<Vec<Due>, JournalError> {
+        let mut stmt = self.conn.prepare_cached(
+            "SELECT job, machine, state, attempts, request FROM jobs
+             WHERE state NOT IN ('delivered', 'failed') AND next_attempt_ms <= ?1 ORDER BY seq LIMIT ?2",
+        )?;
+        let rows = stmt.query_map(params![now as i64, limit as i64], |r| {
+            Ok((
+                r.get::<_, String>(0)?,
+                r.get::<_, String>(1)?,
+                r.get::<_, String>(2)?,
+                r.get::<_, u32>(3)?,
+                r.get::<_, Vec<u8>>(4)?,
+            ))
+        })?;
+        let mut out = Vec::new();
+        for row in rows {
+            let (job, machine, state, attempts, request) = row?;
+            out.push(Due {
+                job: JobId::new(job).map_err(|e| corrupt("job", e))?,
+                machine: MachineId::new(machine).map_err(|e| corrupt("machine", e))?,
+                state: JobState::parse(&state).ok_or_else(|| corrupt("state", state))?,
+                attempts,
+                request,
+            });
+        }
+        Ok(out)
+    }
+
+    /// One job's status.
+    pub fn status(&self, job: &JobId) -> Result<Option<JobStatus>, JournalError> {
+        let mut stmt = self
+            .conn
+            .prepare_cached(&format!("{SELECT_STATUS} WHERE job = ?1"))?;
+        let row = stmt.query_row([job.as_str()], row_parts).optional()?;
+        row.map(status_from).transpose()
+    }
+
+    /// Every job, oldest first.
+    pub fn list(&self) -> Result<Vec<JobStatus>, JournalError> {
+        let mut stmt = self
+            .conn
+            .prepare_cached(&format!("{SELECT_STATUS} ORDER BY seq"))?;
+        let rows = stmt.query_map([], row_parts)?;
+        let mut out = Vec::new();
+        for r in rows {
+            out.push(status_from(r?)?);
+        }
+        Ok(out)
+    }
+
+    /// The request of a job, decoded.
+    pub fn request(&self, job: &JobId) -> Result<Option<JobRequest>, JournalError> {
+        let bytes: Option<Vec<u8>> = self
+            .conn
+            .query_row(
+                "SELECT request FROM jobs WHERE job = ?1",
+                [job.as_str()],
+                |r| r.get(0),
+            )
+            .optional()?;
+        bytes
+            .map(|b| decode(&b).map_err(|e| corrupt("request", e)))
+            .transpose()
+    }
+}
+
+const SELECT_STATUS: &str = "SELECT job, machine, part_number, state, attempts, accepted_at_ms, updated_at_ms, waiting_for, receipt_json, errors_json FROM jobs";
+
+type Parts = (
+    String,
+    String,
+    String,
+    String,
+    u32,
+    i64,
+    i64,
+    Option<String>,
+    Option<String>,
+    Option<String>,
+);
+
+fn row_parts(r: &rusqlite::Row<'_>) -> rusqlite::Result<Parts> {
+    Ok((
+        r.get(0)?,
+        r.get(1)?,
+        r.get(2)?,
+        r.get(3)?,
+        r.get(4)?,
+        r.get(5)?,
+        r.get(6)?,
+        r.get(7)?,
+        r.get(8)?,
+        r.get(9)?,
+    ))
+}
+
+fn status_from(p: Parts) -> Result<JobStatus, JournalError> {
+    let (
+        job,
+        machine,
+        part_number,
+        state,
+        attempts,
+        accepted,
+        updated,
+        waiting_for,
+        receipt,
+        errors,
+    ) = p;
+    let receipt: Option<DeliveryReceipt> = receipt
+        .map(|j| serde_json::from_str(&j).map_err(|e| corrupt("receipt", e)))
+        .transpose()?;
+    let errors: Vec<JobError> = errors
+        .map(|j| serde_json::from_str(&j).map_err(|e| corrupt("errors", e)))
+        .transpose()?
+        .unwrap_or_default();
+    Ok(JobStatus {
+        job: JobId::new(job).map_err(|e| corrupt("job", e))?,
+        machine: MachineId::new(machine).map_err(|e| corrupt("machine", e))?,
+        part_number,
+        state: JobState::parse(&state).ok_or_else(|| corrupt("state", state))?,
+        attempts,
+        accepted_at_ms: accepted as u64,
+        updated_at_ms: updated as u64,
+        waiting_for,
+        program: receipt.as_ref().map(|r| ProgramRef {
+            name: r.name.clone(),
+            sha256: r.sha256.clone(),
+            path: r.path.clone(),
+        }),
+        receipt,
+        errors,
+    })
+}
+
+fn corrupt(what: &'static str, e: impl std::fmt::Display) -> JournalError {
+    JournalError::Corrupt {
+        what,
+        detail: e.to_string(),
+    }
+}
+
+fn station_error(code: &str, field: &str, expected: &str, got: &str) -> JobError {
+    JobError {
+        stage: Stage::Station,
+        code: code.into(),
+        field: field.into(),
+        expected: expected.into(),
+        got: got.into(),
+        message: match code {
+            "JOB_ID_EXISTS" => {
+                "this job id is already journaled with a different request; use a new job id".into()
+            }
+            _ => "the station could not journal the job; see its log".into(),
+        },
+    }
+}
+
+fn db_error(e: rusqlite::Error) -> JobError {
+    station_error("JOURNAL_ERROR", "-", "a writable journal", &e.to_string())
+}
