@@ -1,0 +1,158 @@
+//! Every job file in `examples/` through knowledge (seeded in-memory base),
+//! model and template, as `gearcam check` runs them: a valid example yields a
+//! model of its class and an 840D program; an invalid one (marked
+//! `# expect: CODE`) is refused with that named error.
+
+use std::path::PathBuf;
+
+use gearcam_proto::{classify, GearClass, JobId, JobRequest, JobSpec, MachiningModel, MoveKind};
+
+fn examples() -> Vec<(String, String)> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    files
+        .into_iter()
+        .map(|p| {
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            (name, std::fs::read_to_string(&p).unwrap())
+        })
+        .collect()
+}
+
+fn expected_code(text: &str) -> Option<&str> {
+    text.lines()
+        .find_map(|l| l.strip_prefix("# expect: "))
+        .map(str::trim)
+}
+
+/// Plan, model and program of one job file, or the errors of the first
+/// stage that refuses it.
+fn run(
+    name: &str,
+    text: &str,
+) -> Result<(MachiningModel, gearcam_proto::NcProgram), Vec<gearcam_proto::JobError>> {
+    let spec: JobSpec = toml::from_str(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let req = JobRequest {
+        job_id: JobId::new("EXAMPLE-1").unwrap(),
+        submitted_at_ms: 0,
+        submitted_by: "test".into(),
+        spec,
+    };
+    let conn = gearcam_knowledge::db::open_in_memory().unwrap();
+    let plan = gearcam_knowledge::plan::plan(&conn, &req)?;
+    let model = gearcam_model::compute(&plan)?;
+    let program = gearcam_template::Templates::builtin().render(&model)?;
+    Ok((model, program))
+}
+
+#[test]
+fn every_example_runs_or_fails_with_its_named_error() {
+    let all = examples();
+    assert!(all.len() >= 12, "{} examples", all.len());
+    let mut classes = std::collections::BTreeSet::new();
+    for (name, text) in &all {
+        match (expected_code(text), run(name, text)) {
+            (None, Ok((model, program))) => {
+                let spec: JobSpec = toml::from_str(text).unwrap();
+                assert_eq!(model.model.class, classify(&spec), "{name}");
+                assert!(program.text.contains("EGON("), "{name}");
+                assert!(!model.model.cuts.is_empty(), "{name}");
+                assert!(model.model.part_time_min > 0.0, "{name}");
+                classes.insert(model.model.class);
+            }
+            (Some(code), Err(errors)) => {
+                assert!(
+                    errors.iter().any(|e| e.code == code),
+                    "{name}: expected {code}, got {errors:#?}"
+                );
+            }
+            (None, Err(errors)) => panic!("{name} fails: {errors:#?}"),
+            (Some(code), Ok(_)) => panic!("{name} should fail with {code}"),
+        }
+    }
+    for class in GearClass::ALL.into_iter().filter(|c| c.programmable()) {
+        assert!(classes.contains(&class), "no example of class {class}");
+    }
+}
+
+fn example(name: &str) -> (MachiningModel, String) {
+    let text = examples()
+        .into_iter()
+        .find(|(n, _)| n == name)
+        .unwrap_or_else(|| panic!("{name} missing"))
+        .1;
+    let (m, p) = run(name, &text).unwrap_or_else(|e| panic!("{name}: {e:#?}"));
+    (m, p.text)
+}
+
+#[test]
+fn multi_cut_example_re_synchronises_and_shifts_per_part() {
+    let (m, text) = example("multi_cut_shift_840d.toml");
+    let k = &m.model;
+    assert_eq!(k.cuts.len(), 2);
+    let (rough, finish) = (&k.cuts[0], &k.cuts[1]);
+    assert!(!rough.finish && finish.finish && finish.resync && !rough.resync);
+    // The rough cut stops 0.3 mm short of the depth.
+    assert!(
+        (rough.allowance_mm - 0.3).abs() < 1e-9,
+        "{}",
+        rough.allowance_mm
+    );
+    assert!((rough.centre_distance_mm - finish.centre_distance_mm - 0.3).abs() < 1e-9);
+    assert!(
+        text.contains("EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25"),
+        "{text}"
+    );
+    let shift = k.shift.as_ref().expect("shift plan");
+    assert_eq!(shift.parts_per_step, 4);
+    assert!(shift.start_mm >= shift.usable_mm[0] && shift.end_mm <= shift.usable_mm[1]);
+    assert!(text.contains("Y=R20+R22*(R26 MOD R24)"), "{text}");
+    assert!(text.contains("R25=R25+1"), "{text}");
+    // Radial-axial: each cut plunges radially at the radial feed before feeding axially.
+    assert_eq!(rough.moves[1].kind, MoveKind::Feed);
+    assert!(rough.moves[1].z_mm.is_none() && rough.radial_feed_mm_min > 0.0);
+}
+
+#[test]
+fn crowned_example_is_one_arc_and_conical_follows_the_cone() {
+    let (m, text) = example("crowned_840d.toml");
+    let arc = m.model.cuts[0]
+        .moves
+        .iter()
+        .find(|mv| mv.kind == MoveKind::Arc)
+        .expect("an arc");
+    assert!(arc.via.is_some());
+    assert!(text.contains("CIP X="), "{text}");
+    let (m, _) = example("conical_840d.toml");
+    let cone = m.model.cone.expect("cone model");
+    let p = m.model.positions;
+    let slope = (p.D.x_mm - p.C.x_mm) / (p.D.z_mm - p.C.z_mm);
+    assert!((slope - cone.x_per_z).abs() < 1e-12);
+    assert!((cone.x_per_z + 6.5f64.to_radians().tan()).abs() < 1e-12);
+}
+
+#[test]
+fn worm_wheel_and_multi_gear_examples() {
+    let (m, text) = example("worm_wheel_840d.toml");
+    let w = m.model.worm.as_ref().expect("worm model");
+    assert!((m.model.positions.D.x_mm - w.centre_distance_mm).abs() < 1e-9);
+    assert!(text.contains("G4 F="), "{text}");
+    // The wheel helix equals the hob lead angle to the 6 decimals of the job file.
+    assert!(m.model.swivel_deg.abs() < 1e-6, "{}", m.model.swivel_deg);
+    let (m, text) = example("worm_wheel_tangential_840d.toml");
+    assert!(text.contains("EGDEF(C,B,1,Y,1)"), "{text}");
+    assert!(m.model.worm.as_ref().unwrap().start_y_mm < 0.0);
+    let (m, text) = example("multi_gear_840d.toml");
+    assert_eq!(m.model.class, GearClass::MultiGear);
+    assert_eq!(m.model.units.len(), 2);
+    assert!(m.model.units[1].hob_change);
+    assert!((m.model.units[1].gear.fixture_height_mm - 95.0).abs() < 1e-12);
+    assert!(text.contains("M0 ; STOP FOR THE HOB CHANGE"), "{text}");
+    let sum: f64 = m.model.units.iter().map(|u| u.model.part_time_min).sum();
+    assert!((m.model.part_time_min - sum).abs() < 1e-12);
+}
