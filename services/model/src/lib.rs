@@ -28,6 +28,8 @@ pub mod explain;
 pub mod geometry;
 pub mod hobbing;
 pub mod path;
+#[cfg(test)]
+mod properties;
 pub mod service;
 pub mod shift;
 pub mod units;
