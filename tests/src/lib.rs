@@ -65,26 +65,28 @@ pub struct Proc {
     child: Child,
     /// Log file with the process's stderr.
     pub log: PathBuf,
+    bin: String,
+    args: Vec<String>,
 }
 
 impl Proc {
     /// Starts `bin(name)` with `args`, logging to `dir/name.log`.
     pub fn start(dir: &Path, label: &str, name: &str, args: &[String]) -> Proc {
         let log = dir.join(format!("{label}.log"));
-        let file = std::fs::File::create(&log).expect("log file");
-        let child = Command::new(bin(name))
-            .args(args)
-            .env("RUST_LOG", "info")
-            .stdin(Stdio::null())
-            .stdout(file.try_clone().expect("log file"))
-            .stderr(file)
-            .spawn()
-            .unwrap_or_else(|e| panic!("cannot start {name}: {e}"));
+        let child = spawn(&log, name, args);
         Proc {
             name: label.to_string(),
             child,
             log,
+            bin: name.to_string(),
+            args: args.to_vec(),
         }
+    }
+
+    /// Starts the process again with the same arguments (after a kill).
+    pub fn restart(&mut self) {
+        self.kill();
+        self.child = spawn(&self.log, &self.bin, &self.args);
     }
 
     /// True while the process runs.
@@ -105,6 +107,22 @@ impl Drop for Proc {
     }
 }
 
+fn spawn(log: &Path, name: &str, args: &[String]) -> Child {
+    let file = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(log)
+        .expect("log file");
+    Command::new(bin(name))
+        .args(args)
+        .env("RUST_LOG", "info")
+        .stdin(Stdio::null())
+        .stdout(file.try_clone().expect("log file"))
+        .stderr(file)
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot start {name}: {e}"))
+}
+
 /// A router and every service as separate processes on loopback.
 #[derive(Debug)]
 pub struct Cluster {
@@ -121,6 +139,13 @@ impl Cluster {
     /// template services and the agent of machine H01, each a separate
     /// process, as clients of the router.
     pub fn start() -> Cluster {
+        let mut c = Cluster::start_without_agent();
+        c.start_agent();
+        c
+    }
+
+    /// Like [`Cluster::start`] but the agent of H01 is not started (offline).
+    pub fn start_without_agent() -> Cluster {
         let dir = tempfile::tempdir().expect("temp dir");
         let port = free_port();
         let endpoint = format!("tcp/127.0.0.1:{port}");
@@ -164,8 +189,6 @@ impl Cluster {
                 }),
         ));
         let db = d.join("knowledge.db").display().to_string();
-        let programs = d.join("H01/programs").display().to_string();
-        let index = d.join("H01/index.db").display().to_string();
         procs.push(Proc::start(
             d,
             "knowledge",
@@ -174,24 +197,42 @@ impl Cluster {
         ));
         procs.push(Proc::start(d, "model", "gearcam-model", &client(&[])));
         procs.push(Proc::start(d, "template", "gearcam-template", &client(&[])));
-        procs.push(Proc::start(
-            d,
-            "agent",
-            "gearcam-agent",
-            &client(&[
+        Cluster {
+            dir,
+            endpoint,
+            procs,
+        }
+    }
+
+    /// Starts the agent of machine H01 (a separate process).
+    pub fn start_agent(&mut self) {
+        let d = self.dir.path();
+        let programs = d.join("H01/programs").display().to_string();
+        let index = d.join("H01/index.db").display().to_string();
+        let mut args: Vec<String> = [
+            "--mode",
+            "client",
+            "--connect",
+            &self.endpoint,
+            "--no-multicast-scouting",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        args.extend(
+            [
                 "--machine",
                 "H01",
                 "--program-dir",
                 &programs,
                 "--index",
                 &index,
-            ]),
-        ));
-        Cluster {
-            dir,
-            endpoint,
-            procs,
-        }
+            ]
+            .iter()
+            .map(|s| s.to_string()),
+        );
+        let agent = Proc::start(d, "agent", "gearcam-agent", &args);
+        self.procs.push(agent);
     }
 
     /// The agent's program directory.
@@ -236,6 +277,77 @@ impl Cluster {
             )
         });
         (out, value)
+    }
+
+    /// The process with this label (`router`, `station`, `knowledge`, `model`, `template`, `agent`).
+    pub fn proc(&mut self, label: &str) -> &mut Proc {
+        self.procs
+            .iter_mut()
+            .find(|p| p.name == label)
+            .unwrap_or_else(|| panic!("no process {label}"))
+    }
+
+    /// Runs `gearcam submit FILE --connect <router> --json` (returns once journaled).
+    pub fn submit(&self, job: &Path) -> serde_json::Value {
+        let out = Command::new(bin("gearcam"))
+            .args([
+                "submit",
+                &job.display().to_string(),
+                "--connect",
+                &self.endpoint,
+                "--json",
+                "--timeout",
+                "60",
+            ])
+            .stdin(Stdio::null())
+            .output()
+            .expect("gearcam submit runs");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "submit failed: {stdout} {}\n{}",
+            String::from_utf8_lossy(&out.stderr),
+            self.logs()
+        );
+        serde_json::from_str(stdout.trim())
+            .unwrap_or_else(|e| panic!("submit printed no JSON ({e}): {stdout:?}"))
+    }
+
+    /// `gearcam jobs --json` through the router: every journaled job.
+    pub fn jobs(&self) -> Option<Vec<serde_json::Value>> {
+        let out = Command::new(bin("gearcam"))
+            .args(["jobs", "--connect", &self.endpoint, "--json"])
+            .stdin(Stdio::null())
+            .output()
+            .expect("gearcam jobs runs");
+        if !out.status.success() {
+            return None;
+        }
+        serde_json::from_slice::<Vec<serde_json::Value>>(&out.stdout).ok()
+    }
+
+    /// Waits until the station reports `n` jobs, all delivered; returns them.
+    pub fn wait_all_delivered(&self, n: usize, timeout: Duration) -> Vec<serde_json::Value> {
+        let start = Instant::now();
+        let mut last = None;
+        while start.elapsed() < timeout {
+            if let Some(jobs) = self.jobs() {
+                if jobs.len() == n && jobs.iter().all(|j| j["state"] == "delivered") {
+                    return jobs;
+                }
+                last = Some(jobs);
+            }
+            std::thread::sleep(Duration::from_millis(300));
+        }
+        let states: Vec<String> = last
+            .unwrap_or_default()
+            .iter()
+            .map(|j| format!("{} {} {}", j["job"], j["state"], j["waiting_for"]))
+            .collect();
+        panic!(
+            "not all {n} jobs delivered after {timeout:?}: {states:#?}\n{}",
+            self.logs()
+        );
     }
 
     /// Every process's log, for failure messages.
