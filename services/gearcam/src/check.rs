@@ -228,6 +228,11 @@ pub fn format_human(r: &CheckReport) -> String {
             "geometry  d {:.4}  db {:.4}  da {:.4}  df {:.4} mm",
             g.d_mm, g.db_mm, g.da_mm, g.df_mm
         );
+        let _ = writeln!(
+            out,
+            "  sn {:.4}  span over k = {} teeth Wk {:.4}  over {} mm balls MdK {:.4} mm",
+            g.sn_mm, g.span_teeth, g.span_mm, g.ball_mm, g.over_balls_mm
+        );
     }
     if let Some(m) = &r.model {
         let _ = writeln!(
@@ -250,6 +255,20 @@ pub fn format_human(r: &CheckReport) -> String {
             m.coupling.den,
             m.cut_time_min
         );
+        let _ = writeln!(
+            out,
+            "  class {}  {} cut(s)  {:.2} min per part",
+            m.class,
+            m.cuts.len(),
+            m.part_time_min
+        );
+        for e in &m.explain {
+            let _ = writeln!(
+                out,
+                "    {:<34} {:>12.4} {:<6} from {:?}: {}",
+                e.name, e.value, e.unit, e.origin, e.note
+            );
+        }
     }
     for w in &r.warnings {
         let _ = writeln!(out, "  ! {} {}: {}", w.code, w.field, w.message);

@@ -156,3 +156,80 @@ fn worm_wheel_and_multi_gear_examples() {
     let sum: f64 = m.model.units.iter().map(|u| u.model.part_time_min).sum();
     assert!((m.model.part_time_min - sum).abs() < 1e-12);
 }
+
+/// SPEC §10's MESYS gear (mn 1, αn 20°, z 20, x 0, ha* 1, 1.7 mm balls) with
+/// a matching inline module-1 hob, on H01.
+const MESYS_JOB: &str = r#"
+[job]
+machine = "H01"
+part_number = "MESYS-1"
+[gear]
+module_mm = 1.0
+teeth = 20
+face_width_mm = 10.0
+ball_diameter_mm = 1.7
+fixture_height_mm = 50.0
+[hob]
+starts = 1
+od_mm = 40.0
+module_mm = 1.0
+lead_angle_deg = 1.5281
+hand = "right"
+length_mm = 40.0
+[process]
+cutting_speed_m_min = 60.0
+feed_mm_per_rev = 1.0
+"#;
+
+#[test]
+// MESYS prints sn = 1.5708 (π/2 for x = 0 to four decimals); the printed
+// value is the oracle.
+#[allow(clippy::approx_constant)]
+fn check_json_fields_carry_the_published_geometry_and_the_cut_list() {
+    // `gearcam check --json` writes `geometry` and `model` as these structs
+    // serialise; the MESYS values (SPEC §10) to their printed precision.
+    let (m, _) = run("MESYS", MESYS_JOB).unwrap_or_else(|e| panic!("{e:#?}"));
+    let geometry = serde_json::to_value(&m.geometry).unwrap();
+    let model = serde_json::to_value(&m.model).unwrap();
+    let num = |v: &serde_json::Value, k: &str| v[k].as_f64().unwrap_or_else(|| panic!("{k}"));
+    assert!((num(&geometry, "sn_mm") - 1.5708).abs() < 5e-5);
+    assert_eq!(geometry["span_teeth"], 2);
+    assert!((num(&geometry, "span_mm") - 4.7083).abs() < 5e-5);
+    assert!((num(&geometry, "over_balls_mm") - 22.2941).abs() < 5e-5);
+    for key in ["d_mm", "db_mm", "da_mm", "df_mm"] {
+        assert!(geometry[key].is_number(), "{key}");
+    }
+    assert_eq!(model["class"], "cylindrical");
+    let cuts = model["cuts"].as_array().expect("model.cuts is a list");
+    assert_eq!(cuts.len(), 1);
+    assert_eq!(cuts[0]["positions"], model["positions"]);
+    for key in [
+        "swivel_deg",
+        "clearance_mm",
+        "centre_distance_mm",
+        "hob_rpm",
+        "table_rpm",
+        "axial_feed_mm_min",
+        "differential_deg_per_mm",
+    ] {
+        assert!(model[key].is_number(), "{key}");
+    }
+    for p in ["A", "B", "C", "D", "E"] {
+        assert!(model["positions"][p]["x_mm"].is_number(), "{p}");
+        assert!(model["positions"][p]["z_mm"].is_number(), "{p}");
+    }
+    // Every explained value names its origin.
+    let explain = model["explain"].as_array().unwrap();
+    assert!(explain
+        .iter()
+        .any(|e| e["name"] == "process.cutting_speed_m_min" && e["origin"] == "job"));
+    assert!(explain
+        .iter()
+        .any(|e| e["name"] == "hob.od_mm" && e["origin"] == "job"));
+    assert!(explain
+        .iter()
+        .any(|e| e["name"] == "machine.retract_mm" && e["origin"] == "machine"));
+    assert!(explain
+        .iter()
+        .any(|e| e["name"] == "model.hob_rpm" && e["origin"] == "computed"));
+}
