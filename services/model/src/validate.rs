@@ -1539,4 +1539,91 @@ mod tests {
         assert_eq!(num(1.0 / 3.0), "0.333333");
         assert_eq!(num(f64::NAN), "NaN");
     }
+
+    #[test]
+    fn tolerances_and_windows_come_from_the_config() {
+        // A blank 1 mm over da fails H01's +0.5 mm window but passes a
+        // machine configured for +1.5 mm; the defaults are documented.
+        let mut plan = fixtures::plan();
+        plan.request.spec.gear.blank_od_mm = Some(82.0);
+        assert_eq!(codes_of(&plan), vec![codes::BLANK_OD_WINDOW]);
+        let cfg = Config {
+            blank_od_above_mm: 1.5,
+            ..Config::for_machine(&plan.machine)
+        };
+        let report = validate_with(&plan, &cfg);
+        assert!(report.is_ok(), "{:?}", report.errors);
+        let d = Config::default();
+        assert_eq!(
+            (d.length_tolerance_mm, d.base_pitch_tolerance_mm),
+            (1e-6, 1e-4)
+        );
+        assert_eq!(
+            (
+                d.blank_od_below_mm,
+                d.blank_od_above_mm,
+                d.depth_allowance_mm
+            ),
+            (2.0, 0.5, 0.5)
+        );
+        // A base-pitch tolerance is a per-machine choice too.
+        let mut off = fixtures::plan();
+        off.hob.module_mm = 2.9995;
+        assert_eq!(codes_of(&off), vec![codes::BASE_PITCH_MISMATCH]);
+        let loose = Config {
+            base_pitch_tolerance_mm: 1e-3,
+            ..Config::default()
+        };
+        assert!(validate_with(&off, &loose).is_ok());
+    }
+
+    #[test]
+    fn class_options_and_cut_settings_are_checked() {
+        let mut plan = fixtures::plan();
+        plan.request.spec.gear.cone = Some(gearcam_proto::ConeSpec {
+            angle_deg: 6.5,
+            large_end: gearcam_proto::LargeEnd::Bottom,
+        });
+        plan.request.spec.process.infeed = Some(Infeed::RadialAxial);
+        plan.process.cuts = 2;
+        plan.request.spec.process.finish_allowance_mm = Some(9.0);
+        plan.request.spec.process.radial_feed_mm_per_rev = Some(0.0);
+        assert_eq!(
+            codes_of(&plan),
+            vec![
+                codes::CLASS_OPTION_UNSUPPORTED,
+                codes::FEED_RATE_RANGE,
+                codes::FINISH_ALLOWANCE_RANGE
+            ]
+        );
+    }
+
+    #[test]
+    fn unit_errors_name_the_unit() {
+        let mut plan = fixtures::plan();
+        let mut g = fixtures::gear();
+        g.module_mm = 2.0;
+        plan.request.spec.units.push(gearcam_proto::UnitSpec {
+            name: None,
+            z_offset_mm: 10.0,
+            gear: g,
+            hob: Default::default(),
+        });
+        let report = validate(&plan);
+        // The unit overlaps unit 1 (30 mm face) and a module-2 gear does not fit
+        // the job's module-3 hob.
+        let fields: Vec<(&str, &str)> = report
+            .errors
+            .iter()
+            .map(|e| (e.code.as_str(), e.field.as_str()))
+            .collect();
+        assert!(
+            fields.contains(&(codes::UNIT_RANGE, "units[0].z_offset_mm")),
+            "{fields:?}"
+        );
+        assert!(
+            fields.contains(&(codes::BASE_PITCH_MISMATCH, "units[0].hob.module_mm")),
+            "{fields:?}"
+        );
+    }
 }
