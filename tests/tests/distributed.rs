@@ -356,3 +356,81 @@ fn future_version_envelope() -> Vec<u8> {
     v.push(0x80); // empty map
     v
 }
+
+/// A station that re-drives a job while its first delivery is still under
+/// way makes the whole pipeline run twice; the agent must store the program
+/// once and answer the repeat with the original receipt (idempotency).
+#[test]
+fn a_repeated_request_is_stored_once_and_answered_with_the_original_receipt() {
+    let mut cluster = Cluster::start();
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .unwrap();
+    let receipts = rt.block_on(async {
+        let mut config = zenoh::Config::default();
+        config.insert_json5("mode", "\"client\"").unwrap();
+        config.insert_json5("connect/endpoints", &format!("[\"{}\"]", cluster.endpoint)).unwrap();
+        config.insert_json5("scouting/multicast/enabled", "false").unwrap();
+        let session = zenoh::open(config).await.unwrap();
+        for service in ["knowledge", "model", "template", "agent/H01"] {
+            let key = format!("gearcam/v1/alive/{service}");
+            let deadline = std::time::Instant::now() + Duration::from_secs(30);
+            loop {
+                let replies = session.liveliness().get(&key).timeout(Duration::from_millis(500)).await.unwrap();
+                if replies.recv_async().await.is_ok() {
+                    break;
+                }
+                assert!(std::time::Instant::now() < deadline, "{service} never became alive");
+                tokio::time::sleep(Duration::from_millis(100)).await;
+            }
+        }
+        let spec: gearcam_proto::JobSpec = serde_json::from_value(serde_json::json!({
+            "job": {"machine": "H01", "part_number": "REP-1"},
+            "gear": {"module_mm": 3.0, "teeth": 25, "face_width_mm": 30.0, "fixture_height_mm": 50.0},
+            "hob": {"id": "HOB-M3-80"}
+        }))
+        .unwrap();
+        let req = gearcam_proto::JobRequest {
+            job_id: gearcam_proto::JobId::new("REP-1").unwrap(),
+            submitted_at_ms: 1,
+            submitted_by: "test".into(),
+            spec,
+        };
+        let events = session.declare_subscriber("gearcam/v1/jobs/REP-1/events").await.unwrap();
+        let bytes = gearcam_proto::encode(&req).unwrap();
+        // Twice, back to back, as a re-drive racing the first delivery would.
+        session.put("gearcam/v1/jobs/REP-1/request", bytes.clone()).await.unwrap();
+        session.put("gearcam/v1/jobs/REP-1/request", bytes).await.unwrap();
+        let mut receipts = Vec::new();
+        while receipts.len() < 2 {
+            let sample = tokio::time::timeout(Duration::from_secs(30), events.recv_async())
+                .await
+                .expect("both deliveries answered")
+                .unwrap();
+            let ev: JobEvent = decode(&sample.payload().to_bytes()).unwrap();
+            match ev.event {
+                EventKind::Delivered { receipt } => receipts.push(receipt),
+                EventKind::Failed { errors } => panic!("a repeat was refused: {errors:?}"),
+                _ => {}
+            }
+        }
+        session.close().await.unwrap();
+        receipts
+    });
+    assert_eq!(receipts[0].sha256, receipts[1].sha256);
+    assert_eq!(
+        receipts[0].stored_at_ms, receipts[1].stored_at_ms,
+        "the repeat gets the original receipt"
+    );
+    assert_eq!(
+        (receipts[0].duplicate, receipts[1].duplicate),
+        (false, true)
+    );
+    let conn = rusqlite::Connection::open(cluster.index_db()).unwrap();
+    let rows: i64 = conn
+        .query_row("SELECT COUNT(*) FROM programs", [], |r| r.get(0))
+        .unwrap();
+    assert_eq!(rows, 1);
+    cluster.assert_all_running();
+}
