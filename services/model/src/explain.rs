@@ -187,7 +187,11 @@ pub fn explain(plan: &ProcessPlan, geo: &Geometry, k: &Kinematics) -> Vec<Explai
             "process.finish_allowance_mm",
             allowance,
             "mm",
-            job_or(o.finish_allowance_mm.is_some(), Origin::Default),
+            match (o.finish_allowance_mm, plan.values.get("allowance_mm")) {
+                (Some(_), _) => Origin::Job,
+                (None, Some(v)) if v.value > 0.0 => origin(v.source),
+                _ => Origin::Default,
+            },
             &format!(
                 "radial stock of the rough cuts (default {DEFAULT_FINISH_ALLOWANCE_PER_MODULE}·mn)"
             ),

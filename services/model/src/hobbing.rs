@@ -335,6 +335,8 @@ pub struct Unit<'a> {
     pub quantity: u32,
     /// Unit class (never multi-gear).
     pub class: GearClass,
+    /// Finish allowance the knowledge base proposed (plan value `allowance_mm`).
+    pub proposed_allowance_mm: Option<f64>,
 }
 
 impl<'a> Unit<'a> {
@@ -349,17 +351,20 @@ impl<'a> Unit<'a> {
             machine: &plan.machine,
             quantity: spec.job.quantity,
             class: unit_class(&spec.gear),
+            proposed_allowance_mm: plan.values.get("allowance_mm").map(|v| v.value),
         }
     }
 
     /// Radial stock the rough cuts leave: 0 for one cut, else the job's
-    /// `finish_allowance_mm` or [`DEFAULT_FINISH_ALLOWANCE_PER_MODULE`]·mn.
+    /// `finish_allowance_mm`, the knowledge base's proposal, or
+    /// [`DEFAULT_FINISH_ALLOWANCE_PER_MODULE`]·mn.
     pub fn finish_allowance_mm(&self) -> f64 {
         if self.process.cuts <= 1 {
             0.0
         } else {
             self.overrides
                 .finish_allowance_mm
+                .or(self.proposed_allowance_mm.filter(|a| *a > 0.0))
                 .unwrap_or(DEFAULT_FINISH_ALLOWANCE_PER_MODULE * self.gear.module_mm)
         }
     }
@@ -938,6 +943,56 @@ mod tests {
         assert_eq!(coupling(1, 25), Ratio { num: 1, den: 25 });
         assert_eq!(coupling(2, 40), Ratio { num: 1, den: 20 });
         assert_eq!(coupling(3, 40), Ratio { num: 3, den: 40 });
+    }
+
+    #[test]
+    fn rough_cuts_leave_the_allowance_from_job_case_or_default() {
+        use gearcam_proto::{Source, Sourced};
+        let mut plan = fixtures::plan();
+        plan.process.cuts = 3;
+        // Default 0.1·mn = 0.3 mm; rough cuts share h − 0.3 evenly.
+        let k = kin(&plan);
+        let h = k.depth_mm;
+        let depths: Vec<f64> = k.cuts.iter().map(|c| c.depth_mm).collect();
+        assert_relative_eq!(depths[0], (h - 0.3) / 2.0, epsilon = 1e-12);
+        assert_relative_eq!(depths[1], h - 0.3, epsilon = 1e-12);
+        assert_relative_eq!(depths[2], h, epsilon = 1e-12);
+        assert!(k.cuts[1].resync && k.cuts[2].resync && !k.cuts[0].resync);
+        // A case's proposal replaces the default; the job's value wins over both.
+        plan.values.insert(
+            "allowance_mm".into(),
+            Sourced {
+                value: 0.4,
+                source: Source::Case,
+            },
+        );
+        assert_relative_eq!(kin(&plan).cuts[1].allowance_mm, 0.4, epsilon = 1e-12);
+        plan.request.spec.process.finish_allowance_mm = Some(0.25);
+        assert_relative_eq!(kin(&plan).cuts[1].allowance_mm, 0.25, epsilon = 1e-12);
+        // Each cut is timed from its own feed stroke; the part time is their sum.
+        let k = kin(&plan);
+        let sum: f64 = k.cuts.iter().map(|c| c.time_min).sum();
+        assert_relative_eq!(k.part_time_min, sum, epsilon = 1e-12);
+        assert_relative_eq!(k.job_time_min, sum * 10.0, epsilon = 1e-9);
+    }
+
+    #[test]
+    fn shift_compensation_is_one_gear_pitch_per_hob_axial_pitch() {
+        // C per Y = 360·cos γ0/(π·mn0·z): a shift by px0 = π·mn0/cos γ0 turns
+        // the table by 360°/z.
+        let hob = fixtures::hob();
+        let c = shift_compensation_deg_per_mm(&hob, 25);
+        let px0 = PI * 3.0 / 2.3716f64.to_radians().cos();
+        assert_relative_eq!(c * px0, 360.0 / 25.0, epsilon = 1e-12);
+        let left = HobData {
+            hand: Hand::Left,
+            ..hob
+        };
+        assert_relative_eq!(
+            shift_compensation_deg_per_mm(&left, 25),
+            -c,
+            epsilon = 1e-15
+        );
     }
 
     #[test]
