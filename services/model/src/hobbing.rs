@@ -691,7 +691,13 @@ pub fn unit_kinematics(u: &Unit, geometry: &Geometry) -> Kinematics {
         axial_feed_mm_min: last.axial_feed_mm_min,
         differential_deg_per_mm: if axial { differential } else { 0.0 },
         coupling,
-        cut_time_min: (gear.face_width_mm + 2.0 * last.clearance_mm) * z / (hob_rpm * z0 * fa),
+        // The SPEC's axial-feed formula; a worm wheel has no axial stroke, so
+        // its cut time is the finishing cut's radial or tangential feed time.
+        cut_time_min: if axial {
+            (gear.face_width_mm + 2.0 * last.clearance_mm) * z / (hob_rpm * z0 * fa)
+        } else {
+            last.time_min
+        },
         cut_mode: process.cut_mode,
         cuts,
         class: u.class,
