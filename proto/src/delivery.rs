@@ -126,7 +126,7 @@ pub enum StationReply {
     /// Journaled (or already journaled: the same request again).
     Accepted {
         /// The job's status.
-        status: JobStatus,
+        status: Box<JobStatus>,
     },
     /// Not journaled.
     Refused {

@@ -72,7 +72,7 @@ pub async fn submit(
         .map_err(|e| StationClientError::Unreachable(e.to_string()))?;
     let accepted = match reply {
         StationReply::Refused { errors } => return Ok(Outcome::Failed(errors)),
-        StationReply::Accepted { status } => status,
+        StationReply::Accepted { status } => *status,
     };
     if !opts.wait {
         return Ok(Outcome::Submitted(Box::new(accepted)));

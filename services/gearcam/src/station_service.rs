@@ -180,7 +180,9 @@ pub async fn run(
                                         });
                                     }
                                 }
-                                StationReply::Accepted { status }
+                                StationReply::Accepted {
+                                    status: Box::new(status),
+                                }
                             }
                             Err(e) => StationReply::Refused { errors: vec![e] },
                         },
