@@ -167,6 +167,8 @@ pub mod codes {
     pub const MATE_RANGE: &str = "MATE_RANGE";
     /// A unit of a multi-gear part is out of range.
     pub const UNIT_RANGE: &str = "UNIT_RANGE";
+    /// The hob would cut into another unit of a multi-gear part.
+    pub const UNIT_COLLISION: &str = "UNIT_COLLISION";
     /// Computed radial or tangential feed above the machine's feed limit.
     pub const FEED_RATE_LIMIT: &str = "FEED_RATE_LIMIT";
     /// Hob starts below 1.
@@ -1105,9 +1107,80 @@ pub fn check_limits_with(plan: &ProcessPlan, k: &Kinematics, cfg: &Config) -> Ve
             &format!("units[{}].", i - 1),
         );
     }
+    check_unit_collisions(&mut errors, k, cfg);
     let mut seen = std::collections::BTreeSet::new();
     errors.retain(|e| seen.insert((e.code.clone(), e.field.clone(), e.got.clone())));
     errors
+}
+
+/// Multi-gear parts: while cutting one unit, the hob must stay clear of the
+/// other units. For a neighbour of radius Rn, the hob (radius r, swivel γ) at
+/// the unit's centre distance L overlaps it radially by hn = Rn + r − L; when
+/// hn > 0 the hob centre must stay ΔH′(Rn, r, hn, γ) away from the
+/// neighbour's face (the same clearance as the approach, SPEC §4.3), over the
+/// unit's whole feed stroke.
+fn check_unit_collisions(errors: &mut Vec<JobError>, k: &Kinematics, cfg: &Config) {
+    for (i, u) in k.units.iter().enumerate() {
+        let stroke: Vec<f64> = u
+            .model
+            .cuts
+            .iter()
+            .flat_map(|c| [c.positions.C.z_mm, c.positions.D.z_mm])
+            .collect();
+        let lowest = stroke.iter().copied().fold(f64::INFINITY, f64::min);
+        let highest = stroke.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let bottom = u.gear.fixture_height_mm;
+        let top = bottom + u.gear.face_width_mm;
+        for (_, n) in k.units.iter().enumerate().filter(|(j, _)| *j != i) {
+            let r_n = n.model.blank_od_mm / 2.0;
+            let overlap = r_n + u.hob.od_mm / 2.0 - u.model.centre_distance_mm;
+            if !(overlap > 0.0) {
+                continue;
+            }
+            let clear = crate::hobbing::Clearance {
+                blank_od_mm: n.model.blank_od_mm,
+                hob_od_mm: u.hob.od_mm,
+                depth_mm: overlap,
+                swivel_deg: u.model.swivel_deg,
+                hob_length_mm: u.hob.length_mm,
+            }
+            .solve()
+            .clearance_mm;
+            let n_bottom = n.gear.fixture_height_mm;
+            let n_top = n_bottom + n.gear.face_width_mm;
+            let (bad, limit, got) = if n_top <= bottom + cfg.length_tolerance_mm {
+                let min = n_top + clear;
+                (
+                    lowest < min - cfg.length_tolerance_mm,
+                    format!("hob centre ≥ {} mm", num(min)),
+                    lowest,
+                )
+            } else if n_bottom >= top - cfg.length_tolerance_mm {
+                let max = n_bottom - clear;
+                (
+                    highest > max + cfg.length_tolerance_mm,
+                    format!("hob centre ≤ {} mm", num(max)),
+                    highest,
+                )
+            } else {
+                continue; // overlapping units are reported by validation
+            };
+            if bad {
+                errors.push(job_error(
+                    codes::UNIT_COLLISION,
+                    &format!("units[{i}].model.positions"),
+                    limit,
+                    format!("hob centre at {} mm", num(got)),
+                    format!(
+                        "While cutting {} the hob would cut into {} (it needs {} mm of clearance from that unit's face); move the units apart with z_offset_mm or plan a run-out groove.",
+                        u.name,
+                        n.name,
+                        num(clear)
+                    ),
+                ));
+            }
+        }
+    }
 }
 
 fn unit_limits(

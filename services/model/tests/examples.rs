@@ -151,7 +151,7 @@ fn worm_wheel_and_multi_gear_examples() {
     assert_eq!(m.model.class, GearClass::MultiGear);
     assert_eq!(m.model.units.len(), 2);
     assert!(m.model.units[1].hob_change);
-    assert!((m.model.units[1].gear.fixture_height_mm - 95.0).abs() < 1e-12);
+    assert!((m.model.units[1].gear.fixture_height_mm - 140.0).abs() < 1e-12);
     assert!(text.contains("M0 ; STOP FOR THE HOB CHANGE"), "{text}");
     let sum: f64 = m.model.units.iter().map(|u| u.model.part_time_min).sum();
     assert!((m.model.part_time_min - sum).abs() < 1e-12);
@@ -232,4 +232,25 @@ fn check_json_fields_carry_the_published_geometry_and_the_cut_list() {
     assert!(explain
         .iter()
         .any(|e| e["name"] == "model.hob_rpm" && e["origin"] == "computed"));
+}
+
+#[test]
+fn units_too_close_for_the_hob_run_out_collide() {
+    // Unit 2 of the cluster example 45 mm above unit 1: cutting unit 2, its
+    // hob (r 35 mm) at L 51.1 mm overlaps unit 1 (R 40.5 mm) by 24.4 mm
+    // radially, so its centre must stay about 33 mm above unit 1's top face
+    // (80 mm) and cannot reach unit 2's lower face (95 mm) less its run-out.
+    let text = examples()
+        .into_iter()
+        .find(|(n, _)| n == "multi_gear_840d.toml")
+        .unwrap()
+        .1
+        .replace("z_offset_mm = 90.0", "z_offset_mm = 45.0");
+    let errors = run("close units", &text).unwrap_err();
+    assert!(
+        errors
+            .iter()
+            .any(|e| e.code == "UNIT_COLLISION" && e.field == "units[1].model.positions"),
+        "{errors:#?}"
+    );
 }
