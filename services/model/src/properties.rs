@@ -1,11 +1,15 @@
-//! Property tests over wide random valid inputs (issue 3): positions ordered,
+//! Property tests over wide random valid inputs (issue 3), cylindrical,
+//! conical and crowned gears: positions ordered,
 //! ΔH′ at least the spur approach length when γ = 0, speeds and feeds
 //! positive and within the machine's limits or reported, results finite,
 //! crowning chords within their tolerance, span steps of one base pitch.
 
 use std::f64::consts::PI;
 
-use gearcam_proto::{CutMode, Hand, Infeed, Kinematics, MoveKind, ProcessPlan};
+use gearcam_proto::{
+    ConeSpec, CrowningShape, CrowningSpec, CutMode, Hand, Infeed, Kinematics, LargeEnd, MoveKind,
+    ProcessPlan,
+};
 use proptest::prelude::*;
 
 use crate::fixtures;
@@ -33,14 +37,14 @@ fn plans() -> impl Strategy<Value = ProcessPlan> {
             0.3f64..4.0,
             20.0f64..250.0,
         ),
-        (0.0f64..120.0, 0.0f64..5.0),
+        (0.0f64..120.0, 0.0f64..5.0, 0u8..4, 0.0f64..1.0),
     )
         .prop_map(
             |(
                 (mn, z, beta, right, b),
                 (z0, od_per_mn, hob_len_per_mn),
                 (climb, cuts, radial_axial, fa, vc),
-                (h_fixture, safety),
+                (h_fixture, safety, class, shape_param),
             )| {
                 let mut g = fixtures::gear();
                 g.module_mm = mn;
@@ -67,9 +71,36 @@ fn plans() -> impl Strategy<Value = ProcessPlan> {
                 plan.process.feed_mm_per_rev = fa;
                 plan.process.cutting_speed_m_min = vc;
                 plan.process.safety_mm = safety;
-                if radial_axial {
-                    plan.request.spec.process.infeed = Some(Infeed::RadialAxial);
+                // 0: cylindrical, 1: conical, 2: circular crowning, 3: parabolic.
+                match class {
+                    1 => {
+                        plan.request.spec.gear.cone = Some(ConeSpec {
+                            angle_deg: 1.0 + 19.0 * shape_param,
+                            large_end: if right {
+                                LargeEnd::Bottom
+                            } else {
+                                LargeEnd::Top
+                            },
+                        })
+                    }
+                    2 | 3 => {
+                        plan.request.spec.gear.crowning = Some(CrowningSpec {
+                            amount_mm: 0.005 + 0.1 * shape_param,
+                            shape: if class == 2 {
+                                CrowningShape::Circular
+                            } else {
+                                CrowningShape::Parabolic
+                            },
+                            chord_tolerance_mm: Some(0.0005),
+                        })
+                    }
+                    _ => {
+                        if radial_axial {
+                            plan.request.spec.process.infeed = Some(Infeed::RadialAxial);
+                        }
+                    }
                 }
+                plan.class = gearcam_proto::classify(&plan.request.spec).as_str().into();
                 // A machine large enough for the positions most of the time.
                 let lim = &mut plan.machine.limits;
                 lim.module_mm = [0.1, 10.0];
@@ -150,6 +181,15 @@ proptest! {
             prop_assert!(c.clearance_mm > 0.0);
             // Retract points lie outside the cutting X; the feed crosses the face.
             prop_assert!(p.B.x_mm > p.C.x_mm && p.E.x_mm > p.D.x_mm);
+            // The path's X stays at or outside the finishing X of the cut at
+            // the reference section, except along a cone, where it follows δ.
+            if k.class != gearcam_proto::GearClass::Conical {
+                for m in &c.moves {
+                    if let Some(x) = m.x_mm {
+                        prop_assert!(x >= c.centre_distance_mm + plan.request.spec.gear.od_correction_mm - 1e-9);
+                    }
+                }
+            }
             match plan.process.cut_mode {
                 CutMode::Conventional => {
                     prop_assert!(p.D.z_mm < p.C.z_mm);
