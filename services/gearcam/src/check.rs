@@ -5,6 +5,7 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
+use gearcam_proto::plan::HobChoice;
 use gearcam_proto::{
     Geometry, JobError, JobRequest, Kinematics, Source, Sourced, Stage, TemplateRef, Warning,
 };
@@ -47,8 +48,17 @@ pub struct PlanSummary {
     pub confidence: f64,
     /// Records used.
     pub cases: Vec<CaseSummary>,
-    /// Every decided value with its source.
+    /// Every decided value with its source: `job` (the job file's override),
+    /// `case` (proposed from retrieved cases), `machine` (the machine profile,
+    /// or a proposal clamped to its limits) or `default`.
     pub values: BTreeMap<String, Sourced>,
+    /// What the knowledge base proposed for each value, before the job's overrides.
+    pub proposed: BTreeMap<String, Sourced>,
+    /// The values the job overrode.
+    pub overridden: Vec<String>,
+    /// How the hob was chosen (absent when the job named or gave its hob).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hob_choice: Option<HobChoice>,
 }
 
 /// The program in brief, with its text.
@@ -140,6 +150,9 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
             })
             .collect(),
         values: plan.values.clone(),
+        proposed: plan.proposal.values.clone(),
+        overridden: plan.proposal.overridden.clone(),
+        hob_choice: plan.proposal.hob.clone(),
     });
     let model = match gearcam_model::compute(&plan) {
         Ok(m) => m,
@@ -218,8 +231,28 @@ pub fn format_human(r: &CheckReport) -> String {
                 c.id, c.similarity, c.provenance
             );
         }
+        if let Some(h) = &p.hob_choice {
+            let _ = writeln!(out, "  hob choice: {}", h.reason);
+            if !h.alternatives.is_empty() {
+                let _ = writeln!(out, "    also fit: {}", h.alternatives.join(", "));
+            }
+            for r in &h.rejected {
+                let _ = writeln!(out, "    rejected {}: {}", r.id, r.reasons.join("; "));
+            }
+        }
         for (k, v) in &p.values {
-            let _ = writeln!(out, "  {k:<22} {:>10.4}  from {}", v.value, src(v.source));
+            let proposed = match p.proposed.get(k) {
+                Some(pv) if p.overridden.contains(k) => {
+                    format!("  (proposed {:.4} from {})", pv.value, src(pv.source))
+                }
+                _ => String::new(),
+            };
+            let _ = writeln!(
+                out,
+                "  {k:<22} {:>10.4}  from {}{proposed}",
+                v.value,
+                src(v.source)
+            );
         }
     }
     if let Some(g) = &r.geometry {

@@ -1,5 +1,7 @@
 //! `gearcam`: the planning station command.
 
+mod kb;
+
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
@@ -104,6 +106,10 @@ enum Command {
         #[command(subcommand)]
         action: ProgramAction,
     },
+    /// The knowledge base's libraries: list, show, add, edit, remove, CSV import/export.
+    Kb(kb::KbArgs),
+    /// After delivery: record the values actually used and the outcome; the job becomes a case.
+    Confirm(kb::ConfirmArgs),
     /// Run a Zenoh router (for a shop network without zenohd, and for tests).
     Router {
         #[command(flatten)]
@@ -210,6 +216,8 @@ async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         } => submit(&job, &bus, wait, json, timeout).await,
         Command::Check { job, json, data } => Ok(check_cmd(&job, json, &data)),
         Command::Router { bus } => router(&bus).await,
+        Command::Kb(args) => Ok(kb::run(args)),
+        Command::Confirm(args) => Ok(kb::confirm(args)),
         Command::Station {
             journal,
             redrive_ms,

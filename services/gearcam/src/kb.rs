@@ -1,0 +1,501 @@
+//! `gearcam kb ...` and `gearcam confirm JOB ...`: the knowledge base's
+//! libraries from the command line, on the database in the data directory
+//! (the same file `gearcam up` serves; SQLite lets both work at once).
+//!
+//! Exit codes: 0 done, 1 refused (every error printed with field, expected
+//! and got), 2 the database or a file could not be opened.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, Subcommand};
+use gearcam_knowledge::library::{self, Library, Record};
+use gearcam_knowledge::{csvio, db, learn};
+use gearcam_proto::JobError;
+use serde_json::Value;
+
+/// `gearcam kb`: list, show, add, edit, remove, import and export library records.
+#[derive(Debug, Args)]
+pub struct KbArgs {
+    /// Data directory holding the knowledge base (created and seeded if missing).
+    #[arg(long, default_value = "gearcam-data", global = true)]
+    pub data: PathBuf,
+    /// Print records as JSON.
+    #[arg(long, global = true)]
+    pub json: bool,
+    #[command(subcommand)]
+    pub command: KbCommand,
+}
+
+/// A `gearcam kb` command. LIBRARY is one of classes, workpieces, hobs,
+/// machines, cases, jobs, materials, weights.
+#[derive(Debug, Subcommand)]
+pub enum KbCommand {
+    /// The libraries and their fields (name, type, default, meaning).
+    Libraries,
+    /// Every record of a library.
+    List {
+        /// The library.
+        library: String,
+    },
+    /// One record, every field.
+    Show {
+        /// The library.
+        library: String,
+        /// The record's id (key).
+        id: String,
+    },
+    /// Add a record: `--set field=value` for each field (defaults fill the rest).
+    Add {
+        /// The library.
+        library: String,
+        /// A field value, e.g. `--set module_mm=3` (repeat).
+        #[arg(long = "set", value_name = "FIELD=VALUE")]
+        set: Vec<String>,
+        /// Or the whole record as a JSON file (machines: a complete profile).
+        #[arg(long, value_name = "FILE.json")]
+        from_json: Option<PathBuf>,
+    },
+    /// Change fields of a record: `--set field=value`, nested machine fields by
+    /// dotted path (`--set limits.max_hob_rpm=1200`).
+    Edit {
+        /// The library.
+        library: String,
+        /// The record's id.
+        id: String,
+        /// A field value (repeat).
+        #[arg(long = "set", value_name = "FIELD=VALUE", required = true)]
+        set: Vec<String>,
+    },
+    /// Remove a record.
+    Remove {
+        /// The library.
+        library: String,
+        /// The record's id.
+        id: String,
+    },
+    /// Import a CSV file (header row = field names); all rows or none.
+    Import {
+        /// workpieces, hobs, cases or materials.
+        library: String,
+        /// The CSV file.
+        file: PathBuf,
+    },
+    /// Export a library as CSV (to stdout when no file is given).
+    Export {
+        /// workpieces, hobs, cases or materials.
+        library: String,
+        /// The CSV file to write.
+        file: Option<PathBuf>,
+    },
+}
+
+/// `gearcam confirm JOB`: after delivery, record the values actually used and
+/// the outcome; the job becomes a case and its hob's shift and life move on.
+#[derive(Debug, Args)]
+pub struct ConfirmArgs {
+    /// The job id (as planned by the knowledge service; `gearcam kb list jobs`).
+    pub job: String,
+    /// Data directory holding the knowledge base.
+    #[arg(long, default_value = "gearcam-data")]
+    pub data: PathBuf,
+    /// Parts actually cut (default: the job's quantity).
+    #[arg(long)]
+    pub quantity: Option<u32>,
+    /// Cutting speed actually used, m/min (default: the plan's).
+    #[arg(long)]
+    pub cutting_speed: Option<f64>,
+    /// Feed actually used, mm/rev (default: the plan's).
+    #[arg(long)]
+    pub feed: Option<f64>,
+    /// Cuts actually made (default: the plan's).
+    #[arg(long)]
+    pub cuts: Option<u32>,
+    /// Outcome: ok, rework, scrap or unknown.
+    #[arg(long, default_value = "ok")]
+    pub outcome: String,
+    /// Accuracy grade measured.
+    #[arg(long)]
+    pub quality: Option<u8>,
+    /// Remarks.
+    #[arg(long, default_value = "")]
+    pub notes: String,
+    /// How far to trust the new case, 0–1.
+    #[arg(long, default_value_t = 0.8)]
+    pub confidence: f64,
+    /// Who confirms (default: $USER).
+    #[arg(long, env = "USER", default_value = "planner")]
+    pub by: String,
+    /// Accept a job whose delivery the knowledge service did not hear.
+    #[arg(long)]
+    pub undelivered: bool,
+    /// Print the new case as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn open(data: &Path) -> Result<rusqlite::Connection, ExitCode> {
+    db::open(&data.join("knowledge.db")).map_err(|e| {
+        eprintln!(
+            "gearcam: cannot open the knowledge base in {}: {e}",
+            data.display()
+        );
+        ExitCode::from(2)
+    })
+}
+
+fn refused(errors: &[JobError]) -> ExitCode {
+    eprintln!(
+        "gearcam: refused with {} error(s):\n{}",
+        errors.len(),
+        gearcam::check::format_errors(errors)
+    );
+    ExitCode::FAILURE
+}
+
+/// Parses `--set field=value` pairs by the library's field types.
+pub fn parse_sets(lib: &Library, sets: &[String]) -> Result<Record, Vec<JobError>> {
+    let mut rec = Record::new();
+    let mut errors = Vec::new();
+    for s in sets {
+        let Some((k, v)) = s.split_once('=') else {
+            errors.push(library::kb_err(
+                "BAD_ARGUMENT",
+                "--set",
+                "FIELD=VALUE",
+                s.as_str(),
+                "each --set names a field and its value",
+            ));
+            continue;
+        };
+        match library::parse_value(lib, k.trim(), v) {
+            Ok(val) => {
+                rec.insert(k.trim().to_string(), val);
+            }
+            Err(e) => errors.push(e),
+        }
+    }
+    if errors.is_empty() {
+        Ok(rec)
+    } else {
+        Err(errors)
+    }
+}
+
+/// The columns `gearcam kb list` shows per library.
+fn columns(lib: &Library) -> &'static [&'static str] {
+    match lib.name {
+        "classes" => &["id", "parent", "name", "programmable"],
+        "workpieces" => &[
+            "part_number",
+            "class",
+            "module_mm",
+            "teeth",
+            "helix_angle_deg",
+            "material",
+            "quality_grade",
+        ],
+        "hobs" => &[
+            "id",
+            "module_mm",
+            "starts",
+            "hand",
+            "od_mm",
+            "accuracy_class",
+            "material",
+            "coating",
+            "shift_position_mm",
+            "remaining_life_parts",
+        ],
+        "machines" => &["id", "name", "dialect"],
+        "cases" => &[
+            "id",
+            "class",
+            "material",
+            "module_mm",
+            "teeth",
+            "operation",
+            "cutting_speed_m_min",
+            "feed_mm_per_rev",
+            "confidence",
+            "outcome",
+        ],
+        "jobs" => &[
+            "job_id",
+            "part_number",
+            "machine",
+            "state",
+            "hob_id",
+            "confidence",
+        ],
+        "materials" => &["name", "material_group", "hardness_hb"],
+        _ => &["feature", "weight", "source"],
+    }
+}
+
+fn short(v: &Value) -> String {
+    match v {
+        Value::Number(n) => match n.as_f64() {
+            Some(x) if x.fract() != 0.0 => format!("{:.4}", x).trim_end_matches('0').to_string(),
+            _ => n.to_string(),
+        },
+        other => library::cell(other),
+    }
+}
+
+fn table(lib: &Library, records: &[Record]) -> String {
+    let cols = columns(lib);
+    let rows: Vec<Vec<String>> = records
+        .iter()
+        .map(|r| {
+            cols.iter()
+                .map(|c| short(r.get(*c).unwrap_or(&Value::Null)))
+                .collect()
+        })
+        .collect();
+    let widths: Vec<usize> = cols
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            rows.iter()
+                .map(|r| r[i].chars().count())
+                .chain([c.len()])
+                .max()
+                .unwrap_or(0)
+                .min(40)
+        })
+        .collect();
+    let line = |cells: &[String]| {
+        cells
+            .iter()
+            .zip(&widths)
+            .map(|(c, w)| {
+                let c: String = c.chars().take(*w).collect();
+                format!("{c:<w$}")
+            })
+            .collect::<Vec<_>>()
+            .join("  ")
+            .trim_end()
+            .to_string()
+    };
+    let mut out = line(&cols.iter().map(|c| c.to_string()).collect::<Vec<_>>());
+    out.push('\n');
+    for r in &rows {
+        out.push_str(&line(r));
+        out.push('\n');
+    }
+    out.push_str(&format!("({} {})\n", records.len(), lib.name));
+    out
+}
+
+fn print_record(r: &Record, json: bool) {
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(r).unwrap_or_else(|e| e.to_string())
+        );
+        return;
+    }
+    for (k, v) in r {
+        match v {
+            Value::Object(_) | Value::Array(_) => println!(
+                "{k}: {}",
+                serde_json::to_string(v).unwrap_or_else(|e| e.to_string())
+            ),
+            other => println!("{k}: {}", library::cell(other)),
+        }
+    }
+}
+
+/// Runs `gearcam kb ...`.
+pub fn run(args: KbArgs) -> ExitCode {
+    if let KbCommand::Libraries = args.command {
+        for lib in library::LIBRARIES {
+            println!(
+                "{} (key {}{}): {}",
+                lib.name,
+                lib.key,
+                if lib.csv { ", CSV" } else { "" },
+                lib.doc
+            );
+            for f in lib.fields {
+                println!("    {:<22} {:?} {:?}  {}", f.name, f.kind, f.need, f.doc);
+            }
+        }
+        return ExitCode::SUCCESS;
+    }
+    let conn = match open(&args.data) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    let lib_of = |name: &str| library::library(name).map_err(|e| refused(&[e]));
+    let result: Result<(), ExitCode> = (|| {
+        match &args.command {
+            KbCommand::Libraries => {}
+            KbCommand::List { library: l } => {
+                let lib = lib_of(l)?;
+                let records = library::list(&conn, &lib).map_err(|e| refused(&Vec::from(e)))?;
+                if args.json {
+                    println!(
+                        "{}",
+                        serde_json::to_string_pretty(&records).unwrap_or_default()
+                    );
+                } else {
+                    print!("{}", table(&lib, &records));
+                }
+            }
+            KbCommand::Show { library: l, id } => {
+                let lib = lib_of(l)?;
+                match library::get(&conn, &lib, id).map_err(|e| refused(&Vec::from(e)))? {
+                    Some(r) => print_record(&r, args.json),
+                    None => {
+                        return Err(refused(&[library::kb_err(
+                            "NOT_FOUND",
+                            lib.key,
+                            format!("an existing {} id (gearcam kb list {})", lib.name, lib.name),
+                            id.as_str(),
+                            format!("there is no record {id:?} in {}", lib.name),
+                        )]))
+                    }
+                }
+            }
+            KbCommand::Add {
+                library: l,
+                set,
+                from_json,
+            } => {
+                let lib = lib_of(l)?;
+                let mut rec = match from_json {
+                    Some(path) => {
+                        let text = std::fs::read_to_string(path).map_err(|e| {
+                            eprintln!("gearcam: cannot read {}: {e}", path.display());
+                            ExitCode::from(2)
+                        })?;
+                        match serde_json::from_str::<Record>(&text) {
+                            Ok(r) => r,
+                            Err(e) => {
+                                return Err(refused(&[library::kb_err(
+                                    "BAD_JSON",
+                                    &path.display().to_string(),
+                                    "a JSON object of the record's fields",
+                                    e.to_string(),
+                                    "the file is not a JSON object",
+                                )]))
+                            }
+                        }
+                    }
+                    None => Record::new(),
+                };
+                rec.extend(parse_sets(&lib, set).map_err(|e| refused(&e))?);
+                let r = library::add(&conn, &lib, &rec).map_err(|e| refused(&e))?;
+                println!(
+                    "added {} {}",
+                    lib.name,
+                    library::cell(r.get(lib.key).unwrap_or(&Value::Null))
+                );
+                print_record(&r, args.json);
+            }
+            KbCommand::Edit {
+                library: l,
+                id,
+                set,
+            } => {
+                let lib = lib_of(l)?;
+                let set = parse_sets(&lib, set).map_err(|e| refused(&e))?;
+                let r = library::edit(&conn, &lib, id, &set).map_err(|e| refused(&e))?;
+                println!("changed {} {id}", lib.name);
+                print_record(&r, args.json);
+            }
+            KbCommand::Remove { library: l, id } => {
+                let lib = lib_of(l)?;
+                library::remove(&conn, &lib, id).map_err(|e| refused(&e))?;
+                println!("removed {} {id}", lib.name);
+            }
+            KbCommand::Import { library: l, file } => {
+                let lib = lib_of(l)?;
+                let f = std::fs::File::open(file).map_err(|e| {
+                    eprintln!("gearcam: cannot open {}: {e}", file.display());
+                    ExitCode::from(2)
+                })?;
+                let r = csvio::import(&conn, &lib, f).map_err(|e| refused(&e))?;
+                println!(
+                    "imported {} into {}: {} added, {} replaced",
+                    file.display(),
+                    lib.name,
+                    r.added,
+                    r.replaced
+                );
+            }
+            KbCommand::Export { library: l, file } => {
+                let lib = lib_of(l)?;
+                match file {
+                    Some(path) => {
+                        let f = std::fs::File::create(path).map_err(|e| {
+                            eprintln!("gearcam: cannot create {}: {e}", path.display());
+                            ExitCode::from(2)
+                        })?;
+                        let n = csvio::export(&conn, &lib, f).map_err(|e| refused(&e))?;
+                        println!("exported {n} {} to {}", lib.name, path.display());
+                    }
+                    None => {
+                        csvio::export(&conn, &lib, std::io::stdout().lock())
+                            .map_err(|e| refused(&e))?;
+                    }
+                }
+            }
+        }
+        Ok(())
+    })();
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(code) => code,
+    }
+}
+
+/// Runs `gearcam confirm JOB ...`.
+pub fn confirm(args: ConfirmArgs) -> ExitCode {
+    let conn = match open(&args.data) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    let c = learn::Confirmation {
+        job_id: args.job.clone(),
+        quantity: args.quantity,
+        cutting_speed_m_min: args.cutting_speed,
+        feed_mm_per_rev: args.feed,
+        cuts: args.cuts,
+        outcome: args.outcome,
+        quality_achieved: args.quality,
+        notes: args.notes,
+        confidence: args.confidence,
+        by: args.by,
+        at_ms: gearcam_proto::now_ms(),
+        allow_undelivered: args.undelivered,
+    };
+    match learn::confirm(&conn, &c) {
+        Ok(done) => {
+            if args.json {
+                print_record(&done.case, true);
+            } else {
+                println!(
+                    "job {} confirmed: case {} (vc {} m/min, fa {} mm/rev, outcome {})",
+                    args.job,
+                    library::cell(&done.case["id"]),
+                    short(&done.case["cutting_speed_m_min"]),
+                    short(&done.case["feed_mm_per_rev"]),
+                    library::cell(&done.case["outcome"]),
+                );
+                if let Some(h) = &done.hob {
+                    println!(
+                        "hob {}: shift position {} mm, remaining life {} parts",
+                        library::cell(&h["id"]),
+                        short(&h["shift_position_mm"]),
+                        short(&h["remaining_life_parts"])
+                    );
+                }
+            }
+            ExitCode::SUCCESS
+        }
+        Err(errors) => refused(&errors),
+    }
+}
