@@ -15,8 +15,9 @@ use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 /// The path of a workspace binary built next to the test executable
-/// (`target/<profile>/<name>`), or in `$GEARCAM_BIN_DIR` when set. The
-/// README's test command builds them first.
+/// (`target/<profile>/<name>`), or in `$GEARCAM_BIN_DIR` when set.
+/// `cargo test --workspace` builds them: every package with a binary has an
+/// integration test, which makes cargo build that binary.
 pub fn bin(name: &str) -> PathBuf {
     let dir = match std::env::var_os("GEARCAM_BIN_DIR") {
         Some(d) => PathBuf::from(d),
@@ -31,7 +32,7 @@ pub fn bin(name: &str) -> PathBuf {
     let path = dir.join(name);
     assert!(
         path.exists(),
-        "{} is missing: build the binaries first (`cargo build --workspace --bins`, as the README's test command does)",
+        "{} is missing: run the tests with `cargo test --workspace` (it builds every service binary), or `cargo build --workspace --bins` first",
         path.display()
     );
     path

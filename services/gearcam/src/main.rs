@@ -376,7 +376,21 @@ async fn submit(
     };
     let req = jobfile::request(spec);
     let config = client_config(bus_args);
-    let bus = Bus::open(&config).await.context("joining the bus")?;
+    let bus = match Bus::open(&config).await {
+        Ok(bus) => bus,
+        Err(e) => {
+            let message = format!(
+                "cannot join the bus at {}: {e}; is `gearcam up` (or a router) running there?",
+                config.connect.join(", ")
+            );
+            if json {
+                println!("{}", json!({"job": req.job_id, "state": "unreachable", "message": message}));
+            } else {
+                eprintln!("gearcam: {message}");
+            }
+            return Ok(ExitCode::from(2));
+        }
+    };
     let opts = SubmitOptions {
         wait,
         alive_timeout: Duration::from_secs(timeout.min(30)),

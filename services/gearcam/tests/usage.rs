@@ -1,0 +1,53 @@
+//! The `gearcam` binary against a bus where nothing answers, run as a process.
+
+use std::process::Command;
+
+#[test]
+fn submit_to_an_unreachable_bus_exits_2_and_names_the_endpoint() {
+    // A port nobody listens on: the client session opens, no station answers.
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let job =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/spur_840d.toml");
+    let out = Command::new(env!("CARGO_BIN_EXE_gearcam"))
+        .args([
+            "submit",
+            &job.display().to_string(),
+            "--connect",
+            &format!("tcp/127.0.0.1:{port}"),
+            "--json",
+            "--timeout",
+            "1",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["state"], "unreachable");
+    assert!(
+        v["message"]
+            .as_str()
+            .unwrap()
+            .contains(&format!("tcp/127.0.0.1:{port}")),
+        "{v}"
+    );
+}
+
+#[test]
+fn submit_refuses_an_unreadable_job_file_before_touching_the_bus() {
+    let out = Command::new(env!("CARGO_BIN_EXE_gearcam"))
+        .args(["submit", "/nonexistent/job.toml", "--json"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["errors"][0]["code"], "JOB_FILE_UNREADABLE");
+}
