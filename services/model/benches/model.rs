@@ -47,10 +47,15 @@ fn bench(c: &mut Criterion) {
     c.bench_function("geometry only", |b| {
         b.iter(|| gearcam_model::geometry_of(black_box(&geo_only)))
     });
-    let helical = plan(&SPUR.replace(
-        "teeth = 25",
-        "teeth = 25\nhelix_angle_deg = 15.0\nhelix_hand = \"right\"",
-    ));
+    // The blank of the helical gear is its own tip diameter (the default).
+    let helical = plan(
+        &SPUR
+            .replace(
+                "teeth = 25",
+                "teeth = 25\nhelix_angle_deg = 15.0\nhelix_hand = \"right\"",
+            )
+            .replace("blank_od_mm = 81.0\n", ""),
+    );
     c.bench_function("geometry+model, helical gear, one cut", |b| {
         b.iter(|| gearcam_model::compute(black_box(&helical)).unwrap())
     });

@@ -227,9 +227,28 @@ impl Clearance {
             };
         }
         let half = self.hob_length_mm / 2.0;
+        // ΔH and the hob-axial y at x with the trigonometry hoisted out of
+        // the scan: the same expressions as `delta_h` and `hob_axial_mm`
+        // (y = (Yg − sin γ·z)/cos γ from the Yg row of `hob_to_gear`), which
+        // the tests compare against each other.
+        let (big_r, r, l) = self.radii();
+        let g = self.swivel_deg.abs().to_radians();
+        let (sin_g, cos_g) = g.sin_cos();
+        let tan_g = g.tan();
+        let hob_factor = cos_g - tan_g * sin_g;
+        let roots = move |x: f64| {
+            let z = (r * r - x * x).max(0.0).sqrt();
+            let yg = (big_r * big_r - (l - x) * (l - x)).max(0.0).sqrt();
+            (z, yg)
+        };
+        let free = |x: f64| {
+            let (z, yg) = roots(x);
+            z * hob_factor + yg * tan_g
+        };
         let bounded = |x: f64| {
-            if self.hob_axial_mm(x).abs() <= half {
-                self.delta_h(x)
+            let (z, yg) = roots(x);
+            if ((yg - sin_g * z) / cos_g).abs() <= half {
+                z * hob_factor + yg * tan_g
             } else {
                 f64::NEG_INFINITY
             }
@@ -237,7 +256,7 @@ impl Clearance {
         let mut best = self.maximise(lo, hi, &bounded);
         let mut ignored = false;
         if best.1 == f64::NEG_INFINITY {
-            best = self.maximise(lo, hi, &|x| self.delta_h(x));
+            best = self.maximise(lo, hi, &free);
             ignored = true;
         }
         ClearanceSolution {
