@@ -20,7 +20,7 @@ use crate::path::{self, CutFrame, WormFrame};
 use crate::shift;
 
 /// Samples of the dense scan for ΔH′ before golden-section refinement.
-pub const CLEARANCE_SAMPLES: usize = 512;
+pub const CLEARANCE_SAMPLES: usize = 128;
 
 /// Hob reference diameter d0 = z0·mn0 / sin γ0, mm (SPEC §4.2 check 4).
 pub fn hob_reference_diameter_mm(hob: &HobData) -> f64 {
