@@ -1263,11 +1263,10 @@ fn unit_limits(
             .enumerate()
             .filter(|(_, m)| m.kind != gearcam_proto::MoveKind::Rapid)
         {
-            let rate = if m.x_mm.is_some() && m.z_mm.is_none() {
-                m.feed_mm_min
-            } else {
-                0.0
-            };
+            if !(m.x_mm.is_some() && m.z_mm.is_none()) {
+                continue;
+            }
+            let rate = m.feed_mm_min;
             over(
                 codes::FEED_RATE_LIMIT,
                 &format!("model.cuts[{i}].moves[{j}].feed_mm_min"),
@@ -1283,7 +1282,7 @@ fn unit_limits(
         check_travel(
             errors,
             plan,
-            &format!("{prefix}model.positions.{name}"),
+            &|| format!("{prefix}model.positions.{name}"),
             name,
             pos,
             cfg,
@@ -1295,7 +1294,7 @@ fn unit_limits(
             check_travel(
                 errors,
                 plan,
-                &format!("{prefix}model.cuts[{i}].positions.{name}"),
+                &|| format!("{prefix}model.cuts[{i}].positions.{name}"),
                 name,
                 pos,
                 cfg,
@@ -1307,7 +1306,7 @@ fn unit_limits(
             check_travel(
                 errors,
                 plan,
-                &format!("{prefix}model.cuts[{i}].moves[{j}]"),
+                &|| format!("{prefix}model.cuts[{i}].moves[{j}]"),
                 "move",
                 at,
                 cfg,
@@ -1326,7 +1325,7 @@ fn move_end(from: Position, m: &Move) -> Position {
 fn check_travel(
     errors: &mut Vec<JobError>,
     plan: &ProcessPlan,
-    field: &str,
+    field: &dyn Fn() -> String,
     name: &str,
     pos: Position,
     cfg: &Config,
@@ -1347,6 +1346,7 @@ fn check_travel(
         let got = format!("{} mm", num(v));
         // Cut positions and moves repeat the top-level positions; report a
         // value outside the travel once.
+        let field = field();
         if field.contains("cuts[")
             && errors.iter().any(|e| {
                 e.code == codes::POSITION_TRAVEL_LIMIT
