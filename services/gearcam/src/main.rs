@@ -384,7 +384,10 @@ async fn submit(
                 config.connect.join(", ")
             );
             if json {
-                println!("{}", json!({"job": req.job_id, "state": "unreachable", "message": message}));
+                println!(
+                    "{}",
+                    json!({"job": req.job_id, "state": "unreachable", "message": message})
+                );
             } else {
                 eprintln!("gearcam: {message}");
             }
