@@ -158,7 +158,8 @@ enum ProgramAction {
     },
 }
 
-/// The example jobs `gearcam demo` submits, bundled into the binary.
+/// The example jobs `gearcam demo` submits, bundled into the binary: one or
+/// more per gear class.
 const DEMO_JOBS: &[(&str, &str)] = &[
     (
         "examples/spur_840d.toml",
@@ -172,14 +173,67 @@ const DEMO_JOBS: &[(&str, &str)] = &[
         "examples/helical_climb_840d.toml",
         include_str!("../../../examples/helical_climb_840d.toml"),
     ),
+    (
+        "examples/multi_cut_shift_840d.toml",
+        include_str!("../../../examples/multi_cut_shift_840d.toml"),
+    ),
+    (
+        "examples/conical_840d.toml",
+        include_str!("../../../examples/conical_840d.toml"),
+    ),
+    (
+        "examples/crowned_840d.toml",
+        include_str!("../../../examples/crowned_840d.toml"),
+    ),
+    (
+        "examples/crowned_parabolic_840d.toml",
+        include_str!("../../../examples/crowned_parabolic_840d.toml"),
+    ),
+    (
+        "examples/worm_wheel_840d.toml",
+        include_str!("../../../examples/worm_wheel_840d.toml"),
+    ),
+    (
+        "examples/worm_wheel_tangential_840d.toml",
+        include_str!("../../../examples/worm_wheel_tangential_840d.toml"),
+    ),
+    (
+        "examples/multi_gear_840d.toml",
+        include_str!("../../../examples/multi_gear_840d.toml"),
+    ),
 ];
 
-/// An invalid job `gearcam demo` submits to show a typed refusal, and the code it must get.
-const DEMO_INVALID: (&str, &str, &str) = (
-    "examples/invalid_base_pitch.toml",
-    include_str!("../../../examples/invalid_base_pitch.toml"),
-    "BASE_PITCH_MISMATCH",
-);
+/// Invalid jobs `gearcam demo` submits to show typed refusals; each file names
+/// the error code it must get in a `# expect: CODE` line.
+const DEMO_INVALID: &[(&str, &str)] = &[
+    (
+        "examples/invalid_base_pitch.toml",
+        include_str!("../../../examples/invalid_base_pitch.toml"),
+    ),
+    (
+        "examples/invalid_two_classes.toml",
+        include_str!("../../../examples/invalid_two_classes.toml"),
+    ),
+    (
+        "examples/invalid_crowning.toml",
+        include_str!("../../../examples/invalid_crowning.toml"),
+    ),
+    (
+        "examples/invalid_shift_range.toml",
+        include_str!("../../../examples/invalid_shift_range.toml"),
+    ),
+    (
+        "examples/invalid_curved_tooth.toml",
+        include_str!("../../../examples/invalid_curved_tooth.toml"),
+    ),
+];
+
+/// The code an invalid example expects (its `# expect:` line).
+fn expected_code(text: &str) -> Option<&str> {
+    text.lines()
+        .find_map(|l| l.trim().strip_prefix("# expect:"))
+        .map(str::trim)
+}
 
 fn main() -> ExitCode {
     init_tracing("warn");
@@ -317,31 +371,42 @@ async fn demo(data: &Path) -> anyhow::Result<ExitCode> {
             }
         }
     }
-    let (origin, text, code) = DEMO_INVALID;
-    let spec = jobfile::parse(text, origin).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let req = jobfile::request(spec);
-    println!(
-        "── {origin}: job {} (invalid on purpose: expect {code})",
-        req.job_id
-    );
-    match station::submit(&services.bus, &req, &opts, |_| {}).await? {
-        Outcome::Failed(errors) => {
-            print!("{}", check::format_errors(&errors));
-            if !errors.iter().any(|e| e.code == code) {
-                all_ok = false;
-                println!("   expected the refusal to name {code}");
+    for (origin, text) in DEMO_INVALID {
+        let code = expected_code(text).unwrap_or("an error");
+        let spec = match jobfile::parse(text, origin) {
+            Ok(spec) => spec,
+            Err(e) => {
+                print!(
+                    "── {origin}: refused at the station\n{}",
+                    check::format_errors(&[e])
+                );
+                continue;
             }
-        }
-        other => {
-            all_ok = false;
-            println!("   expected a refusal, got {other:?}");
+        };
+        let req = jobfile::request(spec);
+        println!(
+            "── {origin}: job {} (invalid on purpose: expect {code})",
+            req.job_id
+        );
+        match station::submit(&services.bus, &req, &opts, |_| {}).await? {
+            Outcome::Failed(errors) => {
+                print!("{}", check::format_errors(&errors));
+                if !errors.iter().any(|e| e.code == code) {
+                    all_ok = false;
+                    println!("   expected the refusal to name {code}");
+                }
+            }
+            other => {
+                all_ok = false;
+                println!("   expected a refusal, got {other:?}");
+            }
         }
     }
     services.stop().await;
     println!(
         "\ngearcam demo: {}",
         if all_ok {
-            "every example delivered, the invalid one refused"
+            "every example delivered, every invalid one refused with its named error"
         } else {
             "FAILED"
         }
