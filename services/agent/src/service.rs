@@ -4,7 +4,7 @@
 //! with a typed refusal), and publishes the same as a job event. The store is
 //! also queryable for lost receipts, history, versions and rollback.
 
-use gearcam_bus::query::{run_queryable, Answer};
+use gearcam_bus::query::{run_queryable_batched, Answer};
 use gearcam_bus::stage::codec_error;
 use gearcam_bus::{Bus, CancellationToken};
 use gearcam_proto::{
@@ -25,48 +25,81 @@ pub async fn run(
     tracing::info!(%machine, dir = %store.config().program_dir.display(), "program store open");
     let prefix = format!("{}/machines/{machine}/", keys::PREFIX);
     let pattern = format!("{prefix}**");
-    run_queryable(
+    run_queryable_batched(
         &bus,
         &pattern,
         Some(&keys::agent_service(&machine)),
         Stage::Agent,
         shutdown,
-        |key, payload| {
-            let rest = key.strip_prefix(&prefix).unwrap_or_default();
-            let parts: Vec<&str> = rest.split('/').collect();
-            match parts.as_slice() {
-                ["programs", job] => deliver(&mut store, job, payload),
-                ["store", "jobs", job] => match store.stored_receipt(job) {
-                    Ok(Some(receipt)) => Answer::message(&DeliveryReply::Stored { receipt }),
-                    Ok(None) => Answer::message(&DeliveryReply::NotStored),
-                    Err(e) => Answer::error(e.to_string()),
-                },
-                ["store", "programs"] => history(&store, None),
-                ["store", "programs", name] => history(&store, Some(name)),
-                ["store", "programs", _name, "versions", seq] => {
-                    match seq.parse::<u64>().map(|s| store.version(s)) {
-                        Ok(Ok(Some(text))) => Answer::message(&text),
-                        Ok(Ok(None)) => Answer::error(format!(
-                            "no version {seq} in the store of {}",
-                            store.config().machine
-                        )),
-                        Ok(Err(e)) => Answer::error(e.to_string()),
-                        Err(_) => Answer::error(format!("version must be a number, got {seq:?}")),
+        MAX_BATCH,
+        |batch| {
+            // Deliveries are stored together (one group commit); every other
+            // query is answered on its own, after them.
+            let mut answers: Vec<Option<Answer>> = batch.iter().map(|_| None).collect();
+            let mut deliveries = Vec::new();
+            for (i, (key, payload)) in batch.iter().enumerate() {
+                let rest = key.strip_prefix(&prefix).unwrap_or_default();
+                if let ["programs", job] = rest.split('/').collect::<Vec<_>>().as_slice() {
+                    match decode_delivery(job, payload) {
+                        Ok(program) => deliveries.push((i, program)),
+                        Err(answer) => answers[i] = Some(answer),
                     }
                 }
-                ["store", "programs", name, "rollback", seq] => match seq.parse::<u64>() {
-                    Ok(seq) => match store.rollback(name, seq) {
-                        Ok(receipt) => Answer::message(&DeliveryReply::Stored { receipt }),
-                        Err(error) => Answer::message(&DeliveryReply::Refused { error }),
-                    },
-                    Err(_) => Answer::error(format!("version must be a number, got {seq:?}")),
-                },
-                _ => Answer::error(format!("unknown agent key {key}")),
             }
+            let programs: Vec<NcProgram> = deliveries.iter().map(|(_, p)| p.clone()).collect();
+            for ((i, program), result) in deliveries.into_iter().zip(store.store_batch(&programs)) {
+                answers[i] = Some(delivered(program, result));
+            }
+            for (i, (key, _)) in batch.iter().enumerate() {
+                if answers[i].is_none() {
+                    answers[i] = Some(answer_store_query(&mut store, &prefix, key));
+                }
+            }
+            answers
+                .into_iter()
+                .map(|a| a.expect("every query answered"))
+                .collect()
         },
     )
     .await?;
     Ok(())
+}
+
+/// Largest group of deliveries committed together.
+const MAX_BATCH: usize = 256;
+
+/// Answers a store query (lost receipts, history, versions, rollback).
+fn answer_store_query(store: &mut Store, prefix: &str, key: &str) -> Answer {
+    let rest = key.strip_prefix(prefix).unwrap_or_default();
+    let parts: Vec<&str> = rest.split('/').collect();
+    match parts.as_slice() {
+        ["store", "jobs", job] => match store.stored_receipt(job) {
+            Ok(Some(receipt)) => Answer::message(&DeliveryReply::Stored { receipt }),
+            Ok(None) => Answer::message(&DeliveryReply::NotStored),
+            Err(e) => Answer::error(e.to_string()),
+        },
+        ["store", "programs"] => history(store, None),
+        ["store", "programs", name] => history(store, Some(name)),
+        ["store", "programs", _name, "versions", seq] => {
+            match seq.parse::<u64>().map(|s| store.version(s)) {
+                Ok(Ok(Some(text))) => Answer::message(&text),
+                Ok(Ok(None)) => Answer::error(format!(
+                    "no version {seq} in the store of {}",
+                    store.config().machine
+                )),
+                Ok(Err(e)) => Answer::error(e.to_string()),
+                Err(_) => Answer::error(format!("version must be a number, got {seq:?}")),
+            }
+        }
+        ["store", "programs", name, "rollback", seq] => match seq.parse::<u64>() {
+            Ok(seq) => match store.rollback(name, seq) {
+                Ok(receipt) => Answer::message(&DeliveryReply::Stored { receipt }),
+                Err(error) => Answer::message(&DeliveryReply::Refused { error }),
+            },
+            Err(_) => Answer::error(format!("version must be a number, got {seq:?}")),
+        },
+        _ => Answer::error(format!("unknown agent key {key}")),
+    }
 }
 
 fn history(store: &Store, name: Option<&str>) -> Answer {
@@ -94,17 +127,18 @@ fn refused(job: Option<JobId>, error: JobError) -> Answer {
     a
 }
 
-fn deliver(store: &mut Store, job: &str, payload: &[u8]) -> Answer {
+/// Decodes a delivery's program, or the refusal to answer with.
+fn decode_delivery(job: &str, payload: &[u8]) -> Result<NcProgram, Answer> {
     let job_id = JobId::new(job).ok();
     let program = match decode::<NcProgram>(payload) {
         Ok(p) => p,
         Err(e) => {
             tracing::warn!(job, error = %e, "refusing an undecodable program");
-            return refused(job_id, codec_error::<NcProgram>(Stage::Agent, &e));
+            return Err(refused(job_id, codec_error::<NcProgram>(Stage::Agent, &e)));
         }
     };
     if job_id.as_ref() != Some(&program.job_id) {
-        return refused(
+        return Err(refused(
             job_id,
             JobError {
                 stage: Stage::Agent,
@@ -114,9 +148,17 @@ fn deliver(store: &mut Store, job: &str, payload: &[u8]) -> Answer {
                 got: program.job_id.to_string(),
                 message: "the program's job id differs from the job id in its key".into(),
             },
-        );
+        ));
     }
-    match store.store(&program) {
+    Ok(program)
+}
+
+/// The answer to a delivery once the store has decided.
+fn delivered(
+    program: NcProgram,
+    result: Result<gearcam_proto::DeliveryReceipt, JobError>,
+) -> Answer {
+    match result {
         Ok(receipt) => {
             tracing::info!(job = %receipt.job_id, file = receipt.file_name, sha256 = receipt.sha256, duplicate = receipt.duplicate, "program stored");
             let mut a = Answer::message(&DeliveryReply::Stored {
@@ -127,7 +169,7 @@ fn deliver(store: &mut Store, job: &str, payload: &[u8]) -> Answer {
             a
         }
         Err(error) => {
-            tracing::info!(job, code = error.code, "program refused");
+            tracing::info!(job = %program.job_id, code = error.code, "program refused");
             refused(Some(program.job_id), error)
         }
     }

@@ -140,6 +140,50 @@ impl Store {
     /// Validates and stores a program; returns the receipt once the file and
     /// the index row are durable, or a typed refusal.
     pub fn store(&mut self, p: &NcProgram) -> Result<DeliveryReceipt, JobError> {
+        self.store_batch(std::slice::from_ref(p))
+            .pop()
+            .expect("one result per program")
+    }
+
+    /// Stores several programs with one group commit: every file is written
+    /// and fsynced (in parallel), renamed, the directory fsynced once, and all
+    /// index rows inserted in one transaction; each result is as [`Store::store`]
+    /// would give it alone. Programs that touch a file or job already pending
+    /// in the batch are committed in a later group, so order is kept.
+    pub fn store_batch(
+        &mut self,
+        programs: &[NcProgram],
+    ) -> Vec<Result<DeliveryReceipt, JobError>> {
+        let mut results: Vec<Option<Result<DeliveryReceipt, JobError>>> =
+            vec![None; programs.len()];
+        let mut pending: Vec<Pending> = Vec::new();
+        for (i, p) in programs.iter().enumerate() {
+            let clashes = pending.iter().any(|q| {
+                let q = &programs[q.index];
+                q.name == p.name || (q.job_id == p.job_id && q.revision == p.revision)
+            });
+            if clashes {
+                self.flush(programs, std::mem::take(&mut pending), &mut results);
+            }
+            match self.prepare(p) {
+                Ok(Prepared::Stored(receipt)) => results[i] = Some(Ok(receipt)),
+                Ok(Prepared::Write { file_name, hash }) => pending.push(Pending {
+                    index: i,
+                    file_name,
+                    hash,
+                }),
+                Err(e) => results[i] = Some(Err(e)),
+            }
+        }
+        self.flush(programs, pending, &mut results);
+        results
+            .into_iter()
+            .map(|r| r.expect("every program has a result"))
+            .collect()
+    }
+
+    /// Checks a program and decides whether it must be written.
+    fn prepare(&self, p: &NcProgram) -> Result<Prepared, JobError> {
         if p.machine != self.config.machine {
             return Err(refuse(
                 "WRONG_MACHINE",
@@ -186,16 +230,6 @@ impl Store {
                 "the program text does not match its hash; it was damaged on the way",
             ));
         }
-        let db_err = |e: rusqlite::Error| {
-            refuse(
-                "STORE_INDEX_ERROR",
-                "-",
-                "a writable index",
-                e.to_string(),
-                "the program index could not be read or written",
-            )
-        };
-
         // Idempotency: the same job and revision.
         let existing = self
             .conn
@@ -210,10 +244,10 @@ impl Store {
                 },
             )
             .optional()
-            .map_err(db_err)?;
+            .map_err(index_error)?;
         if let Some((stored_hash, receipt)) = existing {
             if stored_hash == hash {
-                return Ok(receipt);
+                return Ok(Prepared::Stored(receipt));
             }
             return Err(refuse(
                 "REVISION_CONFLICT",
@@ -223,41 +257,137 @@ impl Store {
                 "this job revision was already stored with different content; send a new revision",
             ));
         }
-
         // A program changed at the machine is never overwritten silently.
-        let path = self.config.program_dir.join(&file_name);
         self.check_unchanged_at_machine(&file_name)?;
+        Ok(Prepared::Write { file_name, hash })
+    }
 
-        write_atomically(&self.config.program_dir, &file_name, p.text.as_bytes()).map_err(|e| {
+    /// Writes the pending programs durably and records them in one transaction.
+    fn flush(
+        &mut self,
+        programs: &[NcProgram],
+        pending: Vec<Pending>,
+        results: &mut [Option<Result<DeliveryReceipt, JobError>>],
+    ) {
+        if pending.is_empty() {
+            return;
+        }
+        let dir = self.config.program_dir.clone();
+        let io_error = |file_name: &str, e: std::io::Error| {
             refuse(
                 "STORE_IO_ERROR",
                 "-",
                 "a writable program directory",
                 e.to_string(),
-                format!("cannot write {}", path.display()),
+                format!("cannot write {}", dir.join(file_name).display()),
             )
-        })?;
+        };
+        // Temporary files written and fsynced in parallel: concurrent fsyncs
+        // share the file system's journal commits.
+        let written: Vec<std::io::Result<PathBuf>> = std::thread::scope(|scope| {
+            let handles: Vec<_> = pending
+                .chunks(pending.len().div_ceil(8))
+                .map(|chunk| {
+                    let dir = &dir;
+                    scope.spawn(move || {
+                        chunk
+                            .iter()
+                            .map(|q| {
+                                write_temp(dir, &q.file_name, programs[q.index].text.as_bytes())
+                            })
+                            .collect::<Vec<_>>()
+                    })
+                })
+                .collect();
+            handles
+                .into_iter()
+                .flat_map(|h| {
+                    h.join().unwrap_or_else(|_| {
+                        vec![Err(std::io::Error::other("writer thread panicked"))]
+                    })
+                })
+                .collect()
+        });
+        let mut renamed = Vec::new();
+        for (q, tmp) in pending.into_iter().zip(written) {
+            match tmp.and_then(|tmp| fs::rename(&tmp, dir.join(&q.file_name))) {
+                Ok(()) => renamed.push(q),
+                Err(e) => results[q.index] = Some(Err(io_error(&q.file_name, e))),
+            }
+        }
+        if let Err(e) = File::open(&dir).and_then(|d| d.sync_all()) {
+            for q in renamed {
+                results[q.index] = Some(Err(io_error(&q.file_name, e.kind().into())));
+            }
+            return;
+        }
         let stored_at = now_ms();
-        self.conn
-            .execute(
-                "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text)
-                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'stored', ?9)",
-                params![p.name, file_name, p.job_id.as_str(), p.revision, hash, p.text.len() as i64, p.dialect.as_str(), stored_at as i64, p.text],
-            )
-            .map_err(db_err)?;
-        Ok(DeliveryReceipt {
-            job_id: p.job_id.clone(),
-            machine: self.config.machine.clone(),
-            name: p.name.clone(),
-            path: path.display().to_string(),
-            file_name,
-            revision: p.revision,
-            sha256: hash,
-            size_bytes: p.text.len() as u64,
-            stored_at_ms: stored_at,
-            duplicate: false,
-        })
+        let committed = (|| -> rusqlite::Result<()> {
+            let tx = self.conn.transaction()?;
+            {
+                let mut insert = tx.prepare_cached(
+                    "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text)
+                     VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'stored', ?9)",
+                )?;
+                for q in &renamed {
+                    let p = &programs[q.index];
+                    insert.execute(params![
+                        p.name,
+                        q.file_name,
+                        p.job_id.as_str(),
+                        p.revision,
+                        q.hash,
+                        p.text.len() as i64,
+                        p.dialect.as_str(),
+                        stored_at as i64,
+                        p.text
+                    ])?;
+                }
+            }
+            tx.commit()
+        })();
+        for q in renamed {
+            let p = &programs[q.index];
+            results[q.index] = Some(match &committed {
+                Err(e) => Err(refuse(
+                    "STORE_INDEX_ERROR",
+                    "-",
+                    "a writable index",
+                    e.to_string(),
+                    "the program index could not be written",
+                )),
+                Ok(()) => Ok(DeliveryReceipt {
+                    job_id: p.job_id.clone(),
+                    machine: self.config.machine.clone(),
+                    name: p.name.clone(),
+                    path: dir.join(&q.file_name).display().to_string(),
+                    file_name: q.file_name,
+                    revision: p.revision,
+                    sha256: q.hash,
+                    size_bytes: p.text.len() as u64,
+                    stored_at_ms: stored_at,
+                    duplicate: false,
+                }),
+            });
+        }
     }
+}
+
+/// A program of a batch that must be written.
+#[derive(Debug)]
+struct Pending {
+    index: usize,
+    file_name: String,
+    hash: String,
+}
+
+/// What storing a program needs.
+#[derive(Debug)]
+enum Prepared {
+    /// Already stored: the original receipt.
+    Stored(DeliveryReceipt),
+    /// To be written under this file name.
+    Write { file_name: String, hash: String },
 }
 
 impl Store {
@@ -438,6 +568,15 @@ fn index_error(e: rusqlite::Error) -> JobError {
     )
 }
 
+/// Writes `bytes` to a temporary file beside `dir/file_name` and fsyncs it.
+fn write_temp(dir: &Path, file_name: &str, bytes: &[u8]) -> std::io::Result<PathBuf> {
+    let tmp = dir.join(format!(".{file_name}.tmp-{}", std::process::id()));
+    let mut f = File::create(&tmp)?;
+    f.write_all(bytes)?;
+    f.sync_all()?;
+    Ok(tmp)
+}
+
 /// Writes `bytes` to `dir/file_name` atomically and durably.
 fn write_atomically(dir: &Path, file_name: &str, bytes: &[u8]) -> std::io::Result<()> {
     let tmp = dir.join(format!(".{file_name}.tmp-{}", std::process::id()));
@@ -541,6 +680,44 @@ mod tests {
         let err = s.store(&program("J2", "SP_1", "second\n")).unwrap_err();
         assert_eq!(err.code, "PROGRAM_CHANGED_AT_MACHINE");
         assert_eq!(fs::read_to_string(&path).unwrap(), "operator edit\n");
+    }
+
+    #[test]
+    fn a_batch_stores_each_program_once_in_order() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = store(dir.path());
+        let mut bad = program("J4", "SP_4", "x");
+        bad.sha256 = "00".into();
+        let batch = vec![
+            program("J1", "SP_1", "one\n"),
+            program("J2", "SP_2", "two\n"),
+            program("J1", "SP_1", "one\n"), // repeat inside the batch
+            program("J3", "SP_1", "one again\n"), // same file, later job
+            bad,
+        ];
+        let results = s.store_batch(&batch);
+        assert!(!results[0].as_ref().unwrap().duplicate);
+        assert!(!results[1].as_ref().unwrap().duplicate);
+        let repeat = results[2].as_ref().unwrap();
+        assert!(repeat.duplicate);
+        assert_eq!(
+            repeat.stored_at_ms,
+            results[0].as_ref().unwrap().stored_at_ms
+        );
+        assert!(results[3].is_ok());
+        assert_eq!(results[4].as_ref().unwrap_err().code, "HASH_MISMATCH");
+        let path = dir.path().join("programs/_N_SP_1_MPF");
+        assert_eq!(fs::read_to_string(path).unwrap(), "one again\n");
+        let rows: i64 = s
+            .conn
+            .query_row("SELECT COUNT(*) FROM programs", [], |r| r.get(0))
+            .unwrap();
+        assert_eq!(rows, 3);
+        let names: Vec<_> = fs::read_dir(dir.path().join("programs"))
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names.len(), 2, "no temporary files left: {names:?}");
     }
 
     #[test]

@@ -158,6 +158,27 @@ pub async fn run_queryable<F>(
 where
     F: FnMut(&str, &[u8]) -> Answer,
 {
+    run_queryable_batched(bus, pattern, service, stage, shutdown, 1, |batch| {
+        batch.iter().map(|(k, p)| handle(k, p)).collect()
+    })
+    .await
+}
+
+/// Like [`run_queryable`], but hands `handle` every query already waiting (up
+/// to `max_batch`) at once, so a durable store can commit them as a group.
+/// `handle` returns one answer per query, in order.
+pub async fn run_queryable_batched<F>(
+    bus: &Bus,
+    pattern: &str,
+    service: Option<&str>,
+    stage: Stage,
+    shutdown: CancellationToken,
+    max_batch: usize,
+    mut handle: F,
+) -> Result<(), BusError>
+where
+    F: FnMut(&[(String, Vec<u8>)]) -> Vec<Answer>,
+{
     let queryable = bus
         .session()
         .declare_queryable(pattern)
@@ -172,35 +193,55 @@ where
     };
     tracing::info!(stage = stage.as_str(), pattern, "serving queries");
     loop {
-        let query = tokio::select! {
+        let first = tokio::select! {
             _ = shutdown.cancelled() => break,
             q = queryable.recv_async() => match q {
                 Ok(q) => q,
                 Err(_) => break,
             },
         };
-        let key = query.key_expr().as_str().to_string();
-        let payload = query
-            .payload()
-            .map(|p| p.to_bytes().into_owned())
-            .unwrap_or_default();
-        let answer =
-            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| handle(&key, &payload)))
-                .unwrap_or_else(|_| {
-                    Answer::error(format!(
-                        "internal error in the {} stage; please report it",
-                        stage.as_str()
-                    ))
-                });
-        let sent = match answer.reply {
-            Ok(bytes) => query.reply(query.key_expr().clone(), bytes).await,
-            Err(text) => query.reply_err(text.into_bytes()).await,
-        };
-        if let Err(e) = sent {
-            tracing::warn!(key, error = %e, "cannot send reply");
+        let mut queries = vec![first];
+        while queries.len() < max_batch.max(1) {
+            match queryable.try_recv() {
+                Ok(Some(q)) => queries.push(q),
+                _ => break,
+            }
         }
-        drop(query);
-        for (job, ev) in answer.events {
+        let batch: Vec<(String, Vec<u8>)> = queries
+            .iter()
+            .map(|q| {
+                (
+                    q.key_expr().as_str().to_string(),
+                    q.payload()
+                        .map(|p| p.to_bytes().into_owned())
+                        .unwrap_or_default(),
+                )
+            })
+            .collect();
+        let answers = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| handle(&batch)))
+            .unwrap_or_else(|_| {
+                batch
+                    .iter()
+                    .map(|_| {
+                        Answer::error(format!(
+                            "internal error in the {} stage; please report it",
+                            stage.as_str()
+                        ))
+                    })
+                    .collect()
+            });
+        let mut events = Vec::new();
+        for (query, answer) in queries.into_iter().zip(answers) {
+            let sent = match answer.reply {
+                Ok(bytes) => query.reply(query.key_expr().clone(), bytes).await,
+                Err(text) => query.reply_err(text.into_bytes()).await,
+            };
+            if let Err(e) = sent {
+                tracing::warn!(key = %query.key_expr(), error = %e, "cannot send reply");
+            }
+            events.extend(answer.events);
+        }
+        for (job, ev) in events {
             if let Err(e) = bus.event(&job, stage, ev).await {
                 tracing::warn!(%job, error = %e, "cannot publish event");
             }
