@@ -428,6 +428,7 @@ impl CaseBase {
         let n = b.index.len();
         let mut heap: BinaryHeap<Reverse<Ranked>> = BinaryHeap::with_capacity(k + 1);
         let mut scores = [0f32; CHUNK];
+        let mut threshold = -1.0f32;
         let mut start = 0;
         while start < n {
             let end = (start + CHUNK).min(n);
@@ -448,6 +449,25 @@ impl CaseBase {
             let mc = &b.machine[start..end];
             let vc = &b.vc[start..end];
             let out = &mut scores[..len];
+            let (lm, lz, hx, lf, fk, mt, hb, hk) = (
+                &lm[..len],
+                &lz[..len],
+                &hx[..len],
+                &lf[..len],
+                &fk[..len],
+                &mt[..len],
+                &hb[..len],
+                &hk[..len],
+            );
+            let (gr, hm, co, st, op, mc, vc) = (
+                &gr[..len],
+                &hm[..len],
+                &co[..len],
+                &st[..len],
+                &op[..len],
+                &mc[..len],
+                &vc[..len],
+            );
             for i in 0..len {
                 let s0 = (1.0 - (qm - lm[i]).abs() * inv_ln2).max(0.0);
                 let s1 = (1.0 - (qz - lz[i]).abs() * inv_ln3).max(0.0);
@@ -478,8 +498,11 @@ impl CaseBase {
                 num += w[11] * s11;
                 out[i] = if vc[i] <= vmax { num } else { -1.0 };
             }
+            // Within a block indices grow with the scan, so a later case that
+            // only ties the current k-th best never displaces it: comparing
+            // with the k-th best score is exact.
             for (i, &num) in out.iter().enumerate() {
-                if num < 0.0 {
+                if num < 0.0 || num <= threshold {
                     continue;
                 }
                 let r = Ranked {
@@ -488,11 +511,12 @@ impl CaseBase {
                 };
                 if heap.len() < k {
                     heap.push(Reverse(r));
-                } else if let Some(Reverse(worst)) = heap.peek() {
-                    if r > *worst {
-                        heap.pop();
-                        heap.push(Reverse(r));
-                    }
+                } else {
+                    heap.pop();
+                    heap.push(Reverse(r));
+                }
+                if heap.len() == k {
+                    threshold = heap.peek().map(|Reverse(w)| w.score).unwrap_or(-1.0);
                 }
             }
             start = end;
