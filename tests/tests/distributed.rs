@@ -434,3 +434,123 @@ fn a_repeated_request_is_stored_once_and_answered_with_the_original_receipt() {
     assert_eq!(rows, 1);
     cluster.assert_all_running();
 }
+
+/// A client session to the cluster's router, once every service is alive.
+async fn session_with_services(endpoint: &str) -> zenoh::Session {
+    let mut config = zenoh::Config::default();
+    config.insert_json5("mode", "\"client\"").unwrap();
+    config
+        .insert_json5("connect/endpoints", &format!("[\"{endpoint}\"]"))
+        .unwrap();
+    config
+        .insert_json5("scouting/multicast/enabled", "false")
+        .unwrap();
+    let session = zenoh::open(config).await.unwrap();
+    for service in ["station", "knowledge", "model", "template", "agent/H01"] {
+        let key = format!("gearcam/v1/alive/{service}");
+        let deadline = std::time::Instant::now() + Duration::from_secs(30);
+        loop {
+            let replies = session
+                .liveliness()
+                .get(&key)
+                .timeout(Duration::from_millis(500))
+                .await
+                .unwrap();
+            if replies.recv_async().await.is_ok() {
+                break;
+            }
+            assert!(
+                std::time::Instant::now() < deadline,
+                "{service} never became alive"
+            );
+            tokio::time::sleep(Duration::from_millis(100)).await;
+        }
+    }
+    session
+}
+
+/// A well-formed program for H01 under `name` (its hash right).
+fn program_named(job: &str, name: &str) -> gearcam_proto::NcProgram {
+    let text = format!("%_N_X_MPF\n; {job}\nM2\n");
+    gearcam_proto::NcProgram {
+        job_id: gearcam_proto::JobId::new(job).unwrap(),
+        machine: gearcam_proto::MachineId::new("H01").unwrap(),
+        name: name.into(),
+        revision: 1,
+        dialect: gearcam_proto::Dialect::Sinumerik840d,
+        sha256: hex::encode(Sha256::digest(text.as_bytes())),
+        text,
+        template: gearcam_proto::TemplateRef {
+            id: "t".into(),
+            version: 1,
+        },
+        part_number: "P".into(),
+        cases: vec![],
+        model_version: "-".into(),
+        generator: "-".into(),
+    }
+}
+
+#[test]
+fn oversize_payloads_and_path_names_are_refused_and_nothing_is_stored() {
+    let mut cluster = Cluster::start();
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .unwrap();
+    rt.block_on(async {
+        let session = session_with_services(&cluster.endpoint).await;
+        // An oversize request: the knowledge service refuses it with a typed error.
+        let events = session
+            .declare_subscriber("gearcam/v1/jobs/BIG-1/events")
+            .await
+            .unwrap();
+        let big = vec![0x90u8; gearcam_proto::MAX_MESSAGE_BYTES + 1];
+        session
+            .put("gearcam/v1/jobs/BIG-1/request", big)
+            .await
+            .unwrap();
+        let sample = tokio::time::timeout(Duration::from_secs(30), events.recv_async())
+            .await
+            .expect("a typed error for the oversize payload")
+            .unwrap();
+        let ev: JobEvent = decode(&sample.payload().to_bytes()).unwrap();
+        match ev.event {
+            EventKind::Failed { errors } => assert_eq!(errors[0].code, "MESSAGE_TOO_LARGE"),
+            other => panic!("expected a refusal, got {other:?}"),
+        }
+        // Program names that would leave the program directory are refused.
+        for (job, name) in [
+            ("PATH-1", "../../EVIL"),
+            ("PATH-2", "AB/EVIL"),
+            ("PATH-3", ".."),
+        ] {
+            let replies = session
+                .get(format!("gearcam/v1/machines/H01/programs/{job}"))
+                .payload(gearcam_proto::encode(&program_named(job, name)).unwrap())
+                .timeout(Duration::from_secs(10))
+                .await
+                .unwrap();
+            let reply = replies.recv_async().await.expect("the agent answers");
+            match decode::<DeliveryReply>(&reply.result().unwrap().payload().to_bytes()).unwrap() {
+                DeliveryReply::Refused { error } => {
+                    assert_eq!(error.code, "BAD_PROGRAM_NAME", "{name}")
+                }
+                other => panic!("{name}: expected a refusal, got {other:?}"),
+            }
+        }
+        session.close().await.unwrap();
+    });
+    let programs = cluster.program_dir();
+    assert_eq!(
+        std::fs::read_dir(&programs).map(|d| d.count()).unwrap_or(0),
+        0
+    );
+    let root = cluster.dir.path();
+    assert!(!root.join("EVIL").exists() && !root.join("H01/EVIL").exists());
+    // Still serving.
+    cluster.assert_all_running();
+    let job = cluster.job_file("spur.toml", SPUR_JOB);
+    let (out, v) = cluster.submit_wait(&job);
+    assert!(out.status.success(), "{v}\n{}", cluster.logs());
+}

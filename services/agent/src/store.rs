@@ -98,6 +98,7 @@ impl Store {
              CREATE UNIQUE INDEX IF NOT EXISTS programs_by_job ON programs (job, revision) WHERE state = 'stored';
              CREATE INDEX IF NOT EXISTS programs_by_file ON programs (file_name, seq);",
         )?;
+        remove_stale_temporaries(&config.program_dir);
         Ok(Store { config, conn })
     }
 
@@ -568,6 +569,26 @@ fn index_error(e: rusqlite::Error) -> JobError {
     )
 }
 
+/// Removes temporary files a killed agent left behind (`.{name}.tmp-{pid}`):
+/// they never became programs, since a program exists only once renamed.
+fn remove_stale_temporaries(dir: &Path) {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        if name.starts_with('.') && name.contains(".tmp-") {
+            match fs::remove_file(entry.path()) {
+                Ok(()) => tracing::info!(file = %name, "removed an unfinished temporary file"),
+                Err(e) => {
+                    tracing::warn!(file = %name, error = %e, "cannot remove an unfinished temporary file")
+                }
+            }
+        }
+    }
+}
+
 /// Writes `bytes` to a temporary file beside `dir/file_name` and fsyncs it.
 fn write_temp(dir: &Path, file_name: &str, bytes: &[u8]) -> std::io::Result<PathBuf> {
     let tmp = dir.join(format!(".{file_name}.tmp-{}", std::process::id()));
@@ -718,6 +739,24 @@ mod tests {
             .map(|e| e.unwrap().file_name())
             .collect();
         assert_eq!(names.len(), 2, "no temporary files left: {names:?}");
+    }
+
+    #[test]
+    fn an_unfinished_temporary_file_is_removed_at_open() {
+        let dir = tempfile::tempdir().unwrap();
+        fs::create_dir_all(dir.path().join("programs")).unwrap();
+        fs::write(
+            dir.path().join("programs/._N_SP_1_MPF.tmp-99999"),
+            "half a prog",
+        )
+        .unwrap();
+        fs::write(dir.path().join("programs/_N_OPERATOR_MPF"), "kept").unwrap();
+        let _s = store(dir.path());
+        let names: Vec<_> = fs::read_dir(dir.path().join("programs"))
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names, vec![std::ffi::OsString::from("_N_OPERATOR_MPF")]);
     }
 
     #[test]

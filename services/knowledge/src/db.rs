@@ -163,7 +163,11 @@ pub fn open(path: &Path) -> Result<Connection, KnowledgeError> {
     }
     let mut conn = Connection::open(path)?;
     conn.pragma_update(None, "journal_mode", "WAL")?;
-    conn.pragma_update(None, "synchronous", "FULL")?;
+    // WAL with synchronous NORMAL: every commit is atomic and survives a crash
+    // of the process; only a power loss can drop the last commits. The
+    // knowledge base is not the record of accepted jobs (the station's journal
+    // is, with FULL), and a fsync per planned job would cap the pipeline.
+    conn.pragma_update(None, "synchronous", "NORMAL")?;
     conn.busy_timeout(std::time::Duration::from_secs(5))?;
     migrate(&mut conn)?;
     Ok(conn)
