@@ -198,36 +198,7 @@ fn every_service_survives_malformed_messages_and_reports_them() {
         .build()
         .unwrap();
     let reports = rt.block_on(async {
-        let mut config = zenoh::Config::default();
-        config.insert_json5("mode", "\"client\"").unwrap();
-        config
-            .insert_json5("connect/endpoints", &format!("[\"{}\"]", cluster.endpoint))
-            .unwrap();
-        config
-            .insert_json5("scouting/multicast/enabled", "false")
-            .unwrap();
-        let session = zenoh::open(config).await.unwrap();
-        // Wait until every service has declared its liveliness token.
-        for service in ["knowledge", "model", "template", "agent/H01"] {
-            let key = format!("gearcam/v1/alive/{service}");
-            let deadline = std::time::Instant::now() + Duration::from_secs(30);
-            loop {
-                let replies = session
-                    .liveliness()
-                    .get(&key)
-                    .timeout(Duration::from_millis(500))
-                    .await
-                    .unwrap();
-                if replies.recv_async().await.is_ok() {
-                    break;
-                }
-                assert!(
-                    std::time::Instant::now() < deadline,
-                    "{service} never became alive"
-                );
-                tokio::time::sleep(Duration::from_millis(100)).await;
-            }
-        }
+        let session = session_with_services(&cluster.endpoint).await;
         let events = session
             .declare_subscriber("gearcam/v1/jobs/*/events")
             .await
@@ -368,23 +339,7 @@ fn a_repeated_request_is_stored_once_and_answered_with_the_original_receipt() {
         .build()
         .unwrap();
     let receipts = rt.block_on(async {
-        let mut config = zenoh::Config::default();
-        config.insert_json5("mode", "\"client\"").unwrap();
-        config.insert_json5("connect/endpoints", &format!("[\"{}\"]", cluster.endpoint)).unwrap();
-        config.insert_json5("scouting/multicast/enabled", "false").unwrap();
-        let session = zenoh::open(config).await.unwrap();
-        for service in ["knowledge", "model", "template", "agent/H01"] {
-            let key = format!("gearcam/v1/alive/{service}");
-            let deadline = std::time::Instant::now() + Duration::from_secs(30);
-            loop {
-                let replies = session.liveliness().get(&key).timeout(Duration::from_millis(500)).await.unwrap();
-                if replies.recv_async().await.is_ok() {
-                    break;
-                }
-                assert!(std::time::Instant::now() < deadline, "{service} never became alive");
-                tokio::time::sleep(Duration::from_millis(100)).await;
-            }
-        }
+        let session = session_with_services(&cluster.endpoint).await;
         let spec: gearcam_proto::JobSpec = serde_json::from_value(serde_json::json!({
             "job": {"machine": "H01", "part_number": "REP-1"},
             "gear": {"module_mm": 3.0, "teeth": 25, "face_width_mm": 30.0, "fixture_height_mm": 50.0},
