@@ -92,28 +92,7 @@ pub(crate) mod fixtures {
 
     /// Spur gear mn 3, z 25, αn 20°, b 30, x 0, ha* 1, c* 0.25, H 50, blank at da.
     pub(crate) fn gear() -> GearSpec {
-        GearSpec {
-            module_mm: 3.0,
-            teeth: 25,
-            pressure_angle_deg: 20.0,
-            helix_angle_deg: 0.0,
-            helix_hand: None,
-            face_width_mm: 30.0,
-            profile_shift: 0.0,
-            addendum_coef: 1.0,
-            clearance_coef: 0.25,
-            blank_od_mm: None,
-            od_correction_mm: 0.0,
-            material: "42CrMo4".into(),
-            quality_grade: 8,
-            fixture_height_mm: 50.0,
-            ball_diameter_mm: None,
-            mate: None,
-            cone: None,
-            crowning: None,
-            worm_wheel: None,
-            curved_tooth: None,
-        }
+        crate::geometry::tests::gear(3.0, 25, 0.0)
     }
 
     /// Machine H01: 840D, axes X Z A B C Y, module 0.5–8 mm, X 0–400, Z −50–400.
