@@ -53,5 +53,6 @@ pub use plan::{
     ProcessData, ProcessPlan, Source, Sourced,
 };
 pub use program::{
-    now_ms, DeliveryReceipt, EventKind, JobError, JobEvent, NcProgram, Stage, TemplateRef,
+    now_ms, DeliveryReceipt, EventKind, JobError, JobEvent, NcProgram, PathCheck, PathFinding,
+    Stage, TemplateRef,
 };

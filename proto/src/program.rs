@@ -15,6 +15,27 @@ pub struct TemplateRef {
     pub version: u32,
 }
 
+/// One finding of the path check: a program line that breaks a rule.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PathFinding {
+    /// 1-based line number in the program text.
+    pub line: u32,
+    /// Rule id, e.g. `RAPID_CLEARANCE` (the rules are listed in
+    /// `services/template/DIALECTS.md`).
+    pub rule: String,
+    /// What is wrong, in one sentence naming the values.
+    pub message: String,
+}
+
+/// The result of parsing a program back and simulating its axis motion.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub struct PathCheck {
+    /// True when there are no findings.
+    pub ok: bool,
+    /// Every finding, in line order.
+    pub findings: Vec<PathFinding>,
+}
+
 /// Message: an NC program for one machine.
 ///
 /// Key `gearcam/v1/machines/{machine}/programs/{job}`; published by the template
