@@ -20,9 +20,11 @@
 #![forbid(unsafe_code)]
 
 pub mod error;
+pub mod expr;
 pub mod render;
 pub mod service;
 pub mod source;
+pub mod stdcode;
 
 pub use error::TemplateError;
 pub use render::{
