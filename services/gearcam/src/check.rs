@@ -37,11 +37,24 @@ pub struct CaseSummary {
     pub provenance: String,
 }
 
+/// The machine a plan is for, in brief.
+#[derive(Debug, Clone, Serialize)]
+pub struct MachineSummary {
+    /// Machine id, e.g. `H02`.
+    pub id: String,
+    /// Human name.
+    pub name: String,
+    /// Controller dialect, e.g. `sinumerik840d` or `fanuc`.
+    pub dialect: String,
+}
+
 /// The process plan in brief.
 #[derive(Debug, Clone, Serialize)]
 pub struct PlanSummary {
     /// Group-technology class.
     pub class: String,
+    /// The machine, and so the dialect of the program.
+    pub machine: MachineSummary,
     /// Hob chosen.
     pub hob_id: String,
     /// Confidence of the proposal.
@@ -138,6 +151,11 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
     };
     report.plan = Some(PlanSummary {
         class: plan.class.clone(),
+        machine: MachineSummary {
+            id: plan.machine.id.to_string(),
+            name: plan.machine.name.clone(),
+            dialect: plan.machine.dialect.as_str().into(),
+        },
         hob_id: plan.hob.id.clone(),
         confidence: plan.confidence,
         cases: plan
@@ -219,6 +237,11 @@ pub fn format_human(r: &CheckReport) -> String {
         );
     }
     if let Some(p) = &r.plan {
+        let _ = writeln!(
+            out,
+            "machine {} ({}, {})",
+            p.machine.id, p.machine.name, p.machine.dialect
+        );
         let _ = writeln!(
             out,
             "class {}  hob {}  confidence {:.2}",
@@ -324,4 +347,71 @@ pub fn format_human(r: &CheckReport) -> String {
 /// The stage a check error belongs to, for exit codes and summaries.
 pub fn first_stage(r: &CheckReport) -> Option<Stage> {
     r.errors.first().map(|e| e.stage)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every valid example of `examples/` with `machine = "H02"`.
+    fn examples_on_h02() -> Vec<(String, String)> {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+        let mut files: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+            .collect();
+        files.sort();
+        files
+            .into_iter()
+            .map(|p| {
+                let text = std::fs::read_to_string(&p).unwrap();
+                (p.display().to_string(), text)
+            })
+            .filter(|(_, text)| !text.contains("# expect:"))
+            .map(|(name, text)| {
+                assert!(text.contains("machine = \"H01\""), "{name}");
+                (
+                    name,
+                    text.replacen("machine = \"H01\"", "machine = \"H02\"", 1),
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn every_example_on_the_fanuc_machine_h02_gets_a_fanuc_plan_and_a_model() {
+        let conn = gearcam_knowledge::db::open_in_memory().unwrap();
+        let templates = Templates::builtin();
+        let all = examples_on_h02();
+        assert!(all.len() >= 10, "{} examples", all.len());
+        for (name, text) in all {
+            let spec = crate::jobfile::parse(&text, &name).unwrap();
+            let report = check(&conn, &templates, &crate::jobfile::request(spec));
+            let plan = report
+                .plan
+                .as_ref()
+                .unwrap_or_else(|| panic!("{name}: no plan: {}", format_errors(&report.errors)));
+            assert_eq!(
+                (plan.machine.id.as_str(), plan.machine.dialect.as_str()),
+                ("H02", "fanuc"),
+                "{name}"
+            );
+            assert!(
+                report.model.is_some(),
+                "{name} does not fit H02: {}",
+                format_errors(&report.errors)
+            );
+            // Until the FANUC templates land the template stage refuses the
+            // job; nothing before it may.
+            assert!(
+                report.errors.iter().all(|e| e.stage == Stage::Template),
+                "{name}: {}",
+                format_errors(&report.errors)
+            );
+            if let Some(p) = &report.program {
+                assert_eq!(p.dialect, "fanuc", "{name}");
+            }
+        }
+    }
 }

@@ -210,3 +210,41 @@ fn check_json_carries_the_proposal_with_cases_similarities_and_sources() {
         "{text}"
     );
 }
+
+#[test]
+fn kb_shows_the_fanuc_machine_h02_and_check_plans_for_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let o = gearcam(&data, &["kb", "list", "machines"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(out.contains("H01") && out.contains("H02"), "{out}");
+
+    let o = gearcam(&data, &["kb", "show", "machines", "H02", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let m: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(m["dialect"], "fanuc");
+    assert_eq!(m["mcodes"]["coolant_on"], 8);
+    assert_eq!(m["mcodes"]["outer_support_on"], 68);
+    assert_eq!(m["mcodes"]["program_end"], 30);
+    assert_eq!(m["limits"]["max_hob_rpm"], 1000.0);
+    assert_eq!(m["limits"]["max_table_rpm"], 100.0);
+    assert!(m["source"].as_str().unwrap().contains("EGB"), "{m}");
+
+    // The job names the machine, and so the dialect.
+    let job = dir.path().join("job.toml");
+    std::fs::write(&job, NO_PROCESS.replace("\"H01\"", "\"H02\"")).unwrap();
+    let o = gearcam(&data, &["check", job.to_str().unwrap(), "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout)
+        .unwrap_or_else(|e| panic!("no JSON ({e}): {}", stderr(&o)));
+    assert_eq!(v["plan"]["machine"]["id"], "H02");
+    assert_eq!(v["plan"]["machine"]["dialect"], "fanuc");
+    assert_eq!(v["plan"]["values"]["safety_mm"]["value"], 3.0);
+    assert!(v["model"]["hob_rpm"].as_f64().unwrap() <= 1000.0, "{v:#}");
+    for e in v["errors"].as_array().unwrap() {
+        assert_eq!(
+            e["stage"], "template",
+            "only the FANUC template may be missing: {e}"
+        );
+    }
+}

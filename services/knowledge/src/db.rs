@@ -151,6 +151,9 @@ CREATE TABLE cbr_weights (
 );
 DROP TABLE cutting_data;
 "#,
+    // Version 3 changes no table: it seeds the FANUC machine H02, into new
+    // databases and into those created before it alike.
+    "",
 ];
 
 /// Opens (creating and seeding if new) the knowledge base at `path`.
@@ -191,6 +194,7 @@ fn migrate(conn: &mut Connection) -> Result<(), KnowledgeError> {
         match i {
             0 => seed(&tx)?,
             1 => crate::seed::seed_v2(&tx)?,
+            2 => crate::seed::seed_v3(&tx)?,
             _ => {}
         }
         tx.pragma_update(None, "user_version", (i + 1) as i64)?;
@@ -261,6 +265,99 @@ pub fn seed_machine_h01() -> MachineProfile {
     }
 }
 
+/// Provenance of the seeded FANUC machine `H02`.
+pub const H02_SOURCE: &str =
+    "gearcam seed: example FANUC hobbing machine (Series 0i-TF Plus / 30i-B \
+with the EGB electronic gear box option: the hob spindle leads, the table C follows, coupled by \
+G81 T_ L_ Q_ P_ ... G80); X is programmed as a radius, i.e. the centre distance (parameter 1006#3 \
+DIAx = 0). M3/M5 spindle, M8/M9 coolant and M30 end are ISO/FANUC conventions; M10/M11 fixture, \
+M24/M25 chip conveyor, M26/M27 mist separator and M68/M69 outer support are this shop's \
+assignments (M-codes beyond M3/M5/M8/M9/M30 are machine-builder specific): check them against \
+your machine builder's M-code list. Travels and limits: a larger machine than H01 (engineering \
+estimate); set them to your machine's";
+
+/// The seeded FANUC hobbing machine `H02`: a larger machine than `H01`
+/// (slower hob and table spindles, longer travels), programmed in the FANUC
+/// dialect with the EGB hobbing cycle (see [`H02_SOURCE`]).
+pub fn seed_machine_h02() -> MachineProfile {
+    MachineProfile {
+        id: MachineId::new("H02").expect("valid id"),
+        name: "six-axis CNC hobbing machine, FANUC 0i-TF Plus with EGB".into(),
+        dialect: Dialect::Fanuc,
+        axes: AxisNames {
+            // X radial (radius programming), Z axial, A hob head swivel,
+            // C table, Y hob shift. The hob spindle is the EGB master
+            // spindle, commanded by S and coupled by G81, never as an axis
+            // word; `B` only names it in messages.
+            radial: "X".into(),
+            axial: "Z".into(),
+            swivel: "A".into(),
+            hob: "B".into(),
+            table: "C".into(),
+            shift: "Y".into(),
+        },
+        // M3/M5, M8/M9 and M30 as on every FANUC control; the others are
+        // this shop's assignments on H02 (see H02_SOURCE).
+        mcodes: MCodes {
+            spindle_on: 3,
+            spindle_off: 5,
+            coolant_on: 8,
+            coolant_off: 9,
+            outer_support_on: 68,
+            outer_support_off: 69,
+            fixture_clamp: 10,
+            fixture_unclamp: 11,
+            chip_conveyor_on: 24,
+            chip_conveyor_off: 25,
+            mist_on: 26,
+            mist_off: 27,
+            program_end: 30,
+        },
+        limits: MachineLimits {
+            module_mm: [1.0, 8.0],
+            max_workpiece_od_mm: 500.0,
+            max_hob_od_mm: 180.0,
+            x_mm: [0.0, 500.0],
+            z_mm: [-50.0, 600.0],
+            max_hob_rpm: 1000.0,
+            max_table_rpm: 100.0,
+            max_axial_feed_mm_min: 1500.0,
+            max_swivel_deg: 45.0,
+        },
+        settings: MachineSettings {
+            blank_od_below_mm: 2.0,
+            blank_od_above_mm: 0.5,
+            depth_allowance_mm: 0.5,
+            safety_mm: 3.0,
+            retract_mm: 120.0,
+            exit_mm: 5.0,
+            swivel_sign: 1.0,
+        },
+        home_x_mm: 450.0,
+        home_z_mm: 550.0,
+    }
+}
+
+/// Inserts a seed machine unless the database already has a machine with
+/// its id (a shop that added its own `H02` keeps it).
+pub(crate) fn seed_machine(
+    tx: &rusqlite::Transaction<'_>,
+    m: &MachineProfile,
+    source: &str,
+) -> Result<(), KnowledgeError> {
+    tx.execute(
+        "INSERT OR IGNORE INTO machines (id, name, dialect, profile_json, source) VALUES (?1, ?2, ?3, ?4, ?5)",
+        params![
+            m.id.as_str(),
+            m.name,
+            m.dialect.as_str(),
+            serde_json::to_string(m)?,
+            source,
+        ],
+    )?;
+    Ok(())
+}
+
 struct SeedHob {
     id: &'static str,
     module_mm: f64,
@@ -318,16 +415,10 @@ const SEED_HOBS: &[SeedHob] = &[
 ];
 
 fn seed(tx: &rusqlite::Transaction<'_>) -> Result<(), KnowledgeError> {
-    let h01 = seed_machine_h01();
-    tx.execute(
-        "INSERT INTO machines (id, name, dialect, profile_json, source) VALUES (?1, ?2, ?3, ?4, ?5)",
-        params![
-            h01.id.as_str(),
-            h01.name,
-            h01.dialect.as_str(),
-            serde_json::to_string(&h01)?,
-            "gearcam seed: example 840D hobbing machine; M-codes of the patent CN1838008 program; set travels and limits to your machine's",
-        ],
+    seed_machine(
+        tx,
+        &seed_machine_h01(),
+        "gearcam seed: example 840D hobbing machine; M-codes of the patent CN1838008 program; set travels and limits to your machine's",
     )?;
     for h in SEED_HOBS {
         let d0 = h.od_mm - 2.0 * 1.25 * h.module_mm;
@@ -459,4 +550,63 @@ pub fn material_group(conn: &Connection, material: &str) -> Result<Option<String
             |r| r.get(0),
         )
         .optional()?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::library;
+
+    #[test]
+    fn a_fresh_knowledge_base_has_the_840d_machine_h01_and_the_fanuc_machine_h02() {
+        let conn = open_in_memory().unwrap();
+        let machines = machines(&conn).unwrap();
+        assert_eq!(machines, [seed_machine_h01(), seed_machine_h02()]);
+        let h02 = &machines[1];
+        assert_eq!(h02.dialect, Dialect::Fanuc);
+        assert_eq!(
+            (h02.mcodes.coolant_on, h02.mcodes.coolant_off),
+            (8, 9),
+            "FANUC coolant M8/M9"
+        );
+        assert_eq!(h02.mcodes.program_end, 30);
+        assert_eq!(
+            (h02.limits.max_hob_rpm, h02.limits.max_table_rpm),
+            (1000.0, 100.0)
+        );
+        // The seed passes the library's own validation of machine profiles.
+        let rec = library::get(&conn, &library::MACHINES, "H02")
+            .unwrap()
+            .unwrap();
+        library::validate(&library::MACHINES, &rec).unwrap();
+        assert!(rec["source"]
+            .as_str()
+            .unwrap()
+            .contains("machine-builder specific"));
+    }
+
+    #[test]
+    fn a_knowledge_base_of_version_2_gains_h02_and_keeps_a_shops_own_h02() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("knowledge.db");
+        // A version-2 database: as a fresh one, without H02.
+        let conn = open(&path).unwrap();
+        conn.execute("DELETE FROM machines WHERE id = 'H02'", [])
+            .unwrap();
+        conn.pragma_update(None, "user_version", 2).unwrap();
+        drop(conn);
+        let conn = open(&path).unwrap();
+        assert_eq!(schema_version(&conn).unwrap(), 3);
+        let id = MachineId::new("H02").unwrap();
+        assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h02()));
+
+        // A shop that already had its own H02 keeps it.
+        let mut set = library::Record::new();
+        set.insert("name".into(), "our own H02".into());
+        library::edit(&conn, &library::MACHINES, "H02", &set).unwrap();
+        conn.pragma_update(None, "user_version", 2).unwrap();
+        drop(conn);
+        let conn = open(&path).unwrap();
+        assert_eq!(machine(&conn, &id).unwrap().unwrap().name, "our own H02");
+    }
 }

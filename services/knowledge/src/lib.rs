@@ -7,7 +7,7 @@
 //! # Layout
 //!
 //! - [`db`]: schema migrations, seed data of version 1, machine and hob reads.
-//! - [`seed`]: seed data of version 2 (classes, cases, weights, workpieces), with provenance.
+//! - [`seed`]: seed data of versions 2 (classes, cases, weights, workpieces) and 3 (machine H02), with provenance.
 //! - [`library`]: every library as records: list, get, add, edit, remove, validation.
 //! - [`csvio`]: CSV import and export of workpieces, hobs, cases and materials.
 //! - [`cbr`]: case retrieval (hard constraints, weighted similarity, top-k) and adaptation; pure.

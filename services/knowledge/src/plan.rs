@@ -540,6 +540,67 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn a_job_on_the_fanuc_machine_h02_gets_the_general_cases_as_on_h01() {
+        let conn = db::open_in_memory().unwrap();
+        let h01 = plan(&conn, &request(json!({}), json!({}))).unwrap();
+        let mut req = request(json!({}), json!({}));
+        req.spec.job.machine = MachineId::new("H02").unwrap();
+        let h02 = plan(&conn, &req).unwrap();
+        assert_eq!(h02.machine, db::seed_machine_h02());
+        assert_eq!(h02.machine.dialect, gearcam_proto::Dialect::Fanuc);
+        // The seed cases name no machine, so they fit both machines alike.
+        assert_eq!(h02.cases, h01.cases);
+        assert_eq!(h02.values["cutting_speed_m_min"].source, Source::Case);
+        assert_eq!(
+            h02.values["safety_mm"],
+            Sourced {
+                value: 3.0,
+                source: Source::Machine
+            }
+        );
+    }
+
+    #[test]
+    fn a_case_cut_on_h02_ranks_first_for_h02_jobs_only() {
+        let conn = db::open_in_memory().unwrap();
+        let mut rec = library::Record::new();
+        for (k, v) in [
+            ("id", json!("SHOP-H02-1")),
+            ("machine", json!("H02")),
+            ("material", json!("20CrMnTi")),
+            ("material_group", json!("case_hardening_steel")),
+            ("hardness_hb", json!(180.0)),
+            ("module_mm", json!(3.0)),
+            ("teeth", json!(30)),
+            ("face_width_mm", json!(30.0)),
+            ("quality_grade", json!(8)),
+            ("hob_material", json!("HSS")),
+            ("hob_coating", json!("TiN")),
+            ("cutting_speed_m_min", json!(70.0)),
+            ("feed_mm_per_rev", json!(1.6)),
+            ("confidence", json!(0.9)),
+            ("provenance", json!("shop history, H02")),
+        ] {
+            rec.insert(k.into(), v);
+        }
+        library::add(&conn, &library::CASES, &rec).unwrap();
+        // The same problem as SEED-CASE-M3 but for the machine.
+        let h01 = plan(&conn, &request(json!({}), json!({}))).unwrap();
+        assert_eq!(h01.cases[0].id, "SEED-CASE-M3");
+        assert_eq!(h01.cases[1].id, "SHOP-H02-1");
+        assert_abs_diff_eq!(
+            h01.cases[0].similarity,
+            h01.cases[1].similarity,
+            epsilon = 1e-6
+        );
+        let mut req = request(json!({}), json!({}));
+        req.spec.job.machine = MachineId::new("H02").unwrap();
+        let h02 = plan(&conn, &req).unwrap();
+        assert_eq!(h02.cases[0].id, "SHOP-H02-1");
+        assert!(h02.cases[0].similarity > h02.cases[1].similarity);
+    }
+
+    #[test]
     fn overrides_win_and_the_plan_records_what_was_proposed() {
         let conn = db::open_in_memory().unwrap();
         let plan = plan(
@@ -664,7 +725,7 @@ pub(crate) mod tests {
         let errors = plan(&conn, &req).unwrap_err();
         assert_eq!(
             (errors[0].code.as_str(), errors[0].expected.as_str()),
-            ("UNKNOWN_MACHINE", "one of H01")
+            ("UNKNOWN_MACHINE", "one of H01, H02")
         );
     }
 
@@ -701,7 +762,7 @@ pub(crate) mod tests {
         let path = dir.path().join("kb/knowledge.db");
         let conn = db::open(&path).unwrap();
         assert_eq!(db::hobs(&conn).unwrap().len(), 5);
-        assert_eq!(db::schema_version(&conn).unwrap(), 2);
+        assert_eq!(db::schema_version(&conn).unwrap(), 3);
         let n = library::list(&conn, &library::CASES).unwrap().len();
         assert_eq!(n, 14);
         drop(conn);

@@ -1,6 +1,6 @@
-//! Seed data of schema version 2: the class tree, hob accuracy/life data,
+//! Seed data of schema version 2 (the class tree, hob accuracy/life data,
 //! material hardness, starting cases, retrieval weights and example
-//! workpieces. Every row says where its values come from; where a value is
+//! workpieces) and of version 3 (the FANUC machine `H02`). Every row says where its values come from; where a value is
 //! our own estimate it says "engineering estimate", and a shop replaces it
 //! by importing its history (`gearcam kb import cases FILE.csv`).
 
@@ -245,6 +245,21 @@ pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
         insert(tx, &library::WORKPIECES, w)?;
     }
     Ok(())
+}
+
+/// Seeds version 3: the FANUC hobbing machine `H02` beside the 840D machine
+/// `H01`, so a job names its machine and so its dialect.
+///
+/// No cutting-data cases are seeded for H02. The starting cases are general
+/// estimates, recorded without a machine, so they apply to every machine
+/// alike (machine similarity 0.6 for H01 and H02 both): a job on H02 gets
+/// the same proposal as the same job on H01, clamped to H02's slower spindle
+/// and table. That is what a shop expects of data that was never cut on
+/// either machine. Cases the shop confirms on H02 carry `machine = H02` and
+/// then rank above the general ones for H02 jobs (similarity 1 on that
+/// feature), while H01's history stays usable there at 0.6.
+pub fn seed_v3(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
+    crate::db::seed_machine(tx, &crate::db::seed_machine_h02(), crate::db::H02_SOURCE)
 }
 
 fn group_code(group: &str) -> &'static str {
