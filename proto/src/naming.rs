@@ -104,6 +104,39 @@ pub fn program_name_840d(part: &str) -> String {
     name
 }
 
+/// The FANUC program name (`O` and four digits, O0001–O7999) for a part number.
+///
+/// The last run of digits in the part number, when it is 1–7999, is the program
+/// number (`SP-2002` → `O2002`), so the operator finds the part by its number.
+/// Otherwise the number is 1000 + (FNV-1a hash of the part number mod 7000): a
+/// stable number in O1000–O7999. Two parts can share a number; the agent keeps
+/// every version, so nothing is lost, and the program header names the part.
+pub fn program_name_fanuc(part: &str) -> String {
+    let digits: String = {
+        let rev: Vec<char> = part
+            .chars()
+            .rev()
+            .skip_while(|c| !c.is_ascii_digit())
+            .take_while(|c| c.is_ascii_digit())
+            .collect();
+        rev.into_iter().rev().collect()
+    };
+    let from_digits = digits
+        .trim_start_matches('0')
+        .parse::<u32>()
+        .ok()
+        .filter(|n| (1..=7999).contains(n) && digits.len() <= 4);
+    let number = from_digits.unwrap_or_else(|| {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for b in part.bytes() {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0100_0000_01b3);
+        }
+        1000 + (h % 7000) as u32
+    });
+    format!("O{number:04}")
+}
+
 fn starts_840d(name: &str) -> bool {
     let b = name.as_bytes();
     b.len() >= 2 && (b[0].is_ascii_alphabetic() || b[0] == b'_') && b[1].is_ascii_alphabetic()
@@ -156,6 +189,18 @@ mod tests {
         assert_eq!(program_name_840d("1001"), "GC_1001");
         assert_eq!(program_name_840d(&"X".repeat(40)).len(), 24);
         assert!(check_name_840d(&program_name_840d("../../etc/passwd")).is_ok());
+    }
+
+    #[test]
+    fn fanuc_program_names_come_from_the_part_number() {
+        assert_eq!(program_name_fanuc("SP-2002"), "O2002");
+        assert_eq!(program_name_fanuc("HG-42"), "O0042");
+        let hashed = program_name_fanuc("GEAR-A");
+        assert_eq!(hashed, program_name_fanuc("GEAR-A"));
+        for part in ["GEAR-A", "P-9000", "P-0000", "X-123456", ""] {
+            let name = program_name_fanuc(part);
+            assert!(file_name(Dialect::Fanuc, &name).is_ok(), "{part} -> {name}");
+        }
     }
 
     #[test]

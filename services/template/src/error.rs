@@ -10,26 +10,12 @@ use thiserror::Error;
 /// A template that cannot be taken into the library.
 #[derive(Debug, Error)]
 pub enum TemplateError {
-    /// The template's source does not compile (syntax error, unknown tag, ...).
-    #[error("template {id} does not compile: {source}")]
-    Syntax {
-        /// Template id, e.g. `cylindrical_840d`.
-        id: String,
-        /// What minijinja said, with the line.
-        #[source]
-        source: minijinja::Error,
-    },
-    /// The first line is not a `{# version: N #}` comment.
-    #[error(
-        "template {id} has no version line: its first line must be `{{# version: N #}}` \
-         with N a whole number ≥ 1, got {got:?}"
-    )]
-    MissingVersion {
-        /// Template id.
-        id: String,
-        /// The first line found.
-        got: String,
-    },
+    /// A template source is not in the standard-code format.
+    #[error("{0}")]
+    Format(#[from] crate::stdcode::StdCodeError),
+    /// A template's expressions do not compile (unknown parameter, syntax, scope).
+    #[error("{0}")]
+    Compile(#[from] crate::engine::CompileError),
     /// The template id does not name a class and a supported dialect.
     #[error("template id {id:?} is not usable: {reason}")]
     BadId {

@@ -19,6 +19,7 @@
 //! | `has(v)` | `v` is not `null` |
 //! | `if(c, a, b)` | `a` when `c`, else `b` (only the chosen branch is evaluated) |
 //! | `upper(s)` | `s` in upper case |
+//! | `text(v)` | a string, or an integer written without a decimal point, as text |
 //! | `comment(s)` | free text made safe for an NC comment |
 //! | `N()` | the next block number: `N10`, `N20`, ... |
 //!
@@ -30,7 +31,7 @@
 //! slots by index, so a program of a hundred lines instantiates in microseconds.
 
 use std::fmt;
-use std::rc::Rc;
+use std::sync::Arc;
 
 use crate::render::{comment_text, format_fixed};
 
@@ -44,7 +45,7 @@ pub enum Value {
     /// A number.
     Num(f64),
     /// Text.
-    Str(Rc<str>),
+    Str(Arc<str>),
     /// A truth value.
     Bool(bool),
 }
@@ -82,12 +83,12 @@ impl From<bool> for Value {
 }
 impl From<&str> for Value {
     fn from(v: &str) -> Self {
-        Value::Str(Rc::from(v))
+        Value::Str(Arc::from(v))
     }
 }
 impl From<String> for Value {
     fn from(v: String) -> Self {
-        Value::Str(Rc::from(v))
+        Value::Str(Arc::from(v))
     }
 }
 impl From<Option<f64>> for Value {
@@ -196,6 +197,7 @@ enum Func {
     Has,
     If,
     Upper,
+    Text,
     Comment,
     Block,
 }
@@ -219,6 +221,7 @@ impl Func {
             "has" => (Func::Has, 1),
             "if" => (Func::If, 3),
             "upper" => (Func::Upper, 1),
+            "text" => (Func::Text, 1),
             "comment" => (Func::Comment, 1),
             "N" => (Func::Block, 0),
             _ => return None,
@@ -232,7 +235,7 @@ pub enum Expr {
     /// A constant.
     Const(Value),
     /// A parameter or variable slot, with its name for messages.
-    Slot(usize, Rc<str>),
+    Slot(usize, Arc<str>),
     /// `-e`.
     Neg(Box<Expr>),
     /// `not e`.
@@ -464,7 +467,7 @@ impl Parser<'_, '_> {
             if self.eat("(") {
                 let Some((func, arity)) = Func::lookup(name) else {
                     self.pos = start;
-                    return Err(self.err("a known function (nc, deg, factor, int, abs, sqrt, trunc, round, sin, cos, tan, min, max, has, if, upper, comment, N)"));
+                    return Err(self.err("a known function (nc, deg, factor, int, abs, sqrt, trunc, round, sin, cos, tan, min, max, has, if, upper, text, comment, N)"));
                 };
                 let mut args = Vec::new();
                 if !self.eat(")") {
@@ -491,7 +494,7 @@ impl Parser<'_, '_> {
                 self.pos = start;
                 return Err(self.err("a known parameter or a variable set by an earlier calc:"));
             };
-            return Ok(Expr::Slot(slot, Rc::from(name)));
+            return Ok(Expr::Slot(slot, Arc::from(name)));
         }
         Err(self.err("a value"))
     }
@@ -651,6 +654,11 @@ fn call(f: Func, args: &[Expr], vars: &[Value], st: &mut EvalState) -> Result<Va
                 other.type_name()
             ))),
         },
+        Func::Text => {
+            let mut out = String::new();
+            write_output(&mut out, &a)?;
+            Ok(Value::from(out))
+        }
         Func::Comment => Ok(Value::from(comment_text(&plain(&a)))),
         Func::If | Func::Block => unreachable!("handled above"),
     }
@@ -729,6 +737,11 @@ mod tests {
         assert_eq!(run("has(m.x)", &p), Ok(Value::Bool(false)));
         assert_eq!(run("if(has(m.x), nc(m.x), \"\")", &p), Ok(Value::from("")));
         assert_eq!(run("upper(\"right\")", &p), Ok(Value::from("RIGHT")));
+        assert_eq!(
+            run("\"R26*\" + text(2) + text(s)", &p),
+            Ok(Value::from("R26*2a(b);c"))
+        );
+        assert!(run("text(2.5)", &p).is_err());
         assert_eq!(run("int(2.6) + trunc(2.6)", &p), Ok(Value::Num(5.0)));
         assert_eq!(run("round(sin(30) * 1000)", &p), Ok(Value::Num(500.0)));
         assert_eq!(run("max(1, 2) + min(1, 2)", &p), Ok(Value::Num(3.0)));

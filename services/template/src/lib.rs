@@ -19,8 +19,11 @@
 //!   compiled into the binary.
 #![forbid(unsafe_code)]
 
+pub mod builtin;
+pub mod engine;
 pub mod error;
 pub mod expr;
+pub mod params;
 pub mod render;
 pub mod service;
 pub mod source;

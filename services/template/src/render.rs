@@ -1,144 +1,125 @@
 //! Rendering a machining model into an NC program through a compiled template.
 //!
 //! Pure: no I/O, no async, no clock. [`Templates`] compiles every template once
-//! (the built-in ones plus any given at start, see [`crate::source`]) into one
-//! minijinja environment with
+//! (the shipped standard code, [`crate::builtin`], plus any given at start) with
+//! the expression-driven engine of [`crate::engine`]: every record's expressions
+//! are compiled to slot-resolved trees, evaluation is bounded by a step budget
+//! ([`DEFAULT_FUEL`]) and an output limit ([`MAX_PROGRAM_BYTES`]), and numbers
+//! reach NC text only through the NC number functions (`nc`, `deg`, `factor`).
 //!
-//! - strict undefined variables (a misspelt name is an error, never an empty string),
-//! - a fuel limit ([`DEFAULT_FUEL`] instructions per render) and an output limit
-//!   ([`MAX_PROGRAM_BYTES`]), so evaluation is bounded (SPEC §6),
-//! - the NC number filters `nc` (mm, mm/min, rpm: 3 decimals), `deg` (angles:
-//!   4 decimals), `factor` (gearbox coupling factors: 6 decimals), the `comment`
-//!   filter for free text in `;` comments, and the block counter `N()`.
-//!
-//! [`Templates::render`] picks the template by (class, dialect), builds the context
-//! from the [`MachiningModel`] and returns the [`NcProgram`] with its name under the
-//! controller's rules, hash and provenance.
+//! [`Templates::render`] picks the template by (class, dialect), fills the
+//! parameter table from the [`MachiningModel`], instantiates it, and returns the
+//! [`NcProgram`] with its name under the controller's rules, hash and provenance.
 
 use std::collections::BTreeMap;
-use std::io;
 
 use gearcam_proto::{Dialect, JobError, MachiningModel, NcProgram, Stage, TemplateRef};
-use minijinja::{context, AutoEscape, Environment, ErrorKind, State, UndefinedBehavior, Value};
 use sha2::{Digest, Sha256};
 
+use crate::engine::{Compiled, RunFailure};
 use crate::error::TemplateError;
+use crate::params::{PartInput, UnitInput};
+use crate::stdcode::{self, TemplateFile};
 
 /// The generator named in every program: this crate and its version.
 pub const GENERATOR: &str = concat!("gearcam-template ", env!("CARGO_PKG_VERSION"));
 
-/// Instructions one render may execute. The built-in cylindrical template needs
-/// well under a thousand; a template that loops without end runs out long before
-/// it could hurt the service.
-pub const DEFAULT_FUEL: u64 = 50_000;
+/// Expression steps one render may take. The shipped templates need a few
+/// thousand for the largest example; a runaway template stops here.
+pub const DEFAULT_FUEL: u64 = crate::engine::STEP_BUDGET;
 
-/// Largest program text a render may produce, bytes. A hobbing program is a few
-/// kilobytes; this only stops runaway expansion.
-pub const MAX_PROGRAM_BYTES: usize = 1 << 20;
+/// Largest program text a render may produce, bytes.
+pub const MAX_PROGRAM_BYTES: usize = crate::engine::MAX_PROGRAM_BYTES;
 
 pub use gearcam_proto::naming::{
-    check_name_840d, program_name_840d, MAX_840D_NAME as MAX_NAME_840D,
+    check_name_840d, program_name_840d, program_name_fanuc, MAX_840D_NAME as MAX_NAME_840D,
 };
-
-/// The built-in hobbing template for SINUMERIK 840D. It writes the moves the
-/// model computed, so one source serves every programmable gear class.
-const CYLINDRICAL_840D: &str = include_str!("../templates/cylindrical_840d.mpf.j2");
-
-/// The classes the built-in 840D template is registered for (as `{class}_840d`).
-pub const BUILTIN_840D_CLASSES: [&str; 5] = [
-    "cylindrical",
-    "conical",
-    "crowned",
-    "worm_wheel",
-    "multi_gear",
-];
 
 /// A template's source text with its id (`{class}_{dialect}`, e.g. `cylindrical_840d`).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct TemplateSource {
-    /// Template id: the class, `_`, the dialect suffix (`840d`).
+    /// Template id: the class, `_`, the dialect suffix (`840d`, `fanuc`).
     pub id: String,
-    /// Source text; its first line is `{# version: N #}`.
+    /// Source text in the standard-code format ([`crate::stdcode`]).
     pub source: String,
-}
-
-/// What the library knows about one compiled template.
-#[derive(Debug, Clone, PartialEq, Eq)]
-struct Entry {
-    class: String,
-    dialect: Dialect,
-    version: u32,
 }
 
 /// The compiled template library. Build it once at start; rendering borrows it.
 #[derive(Debug, Clone)]
 pub struct Templates {
-    env: Environment<'static>,
-    entries: BTreeMap<String, Entry>,
+    compiled: BTreeMap<String, Compiled>,
+    budget: u64,
 }
 
 impl Templates {
-    /// The built-in templates only, with [`DEFAULT_FUEL`].
+    /// The shipped templates only, with [`DEFAULT_FUEL`].
     pub fn builtin() -> Self {
         Self::new(Vec::new(), DEFAULT_FUEL)
-            .expect("the built-in templates compile (checked by the unit tests)")
+            .expect("the shipped templates compile (checked by the unit tests)")
     }
 
-    /// The built-in templates plus `extra` (which replace built-ins of the same id),
-    /// each render bounded by `fuel` instructions.
+    /// The shipped templates plus `extra` (which replace shipped ones of the same
+    /// id), each render bounded by `budget` expression steps.
     pub fn new(
         extra: impl IntoIterator<Item = TemplateSource>,
-        fuel: u64,
+        budget: u64,
     ) -> Result<Self, TemplateError> {
-        let mut sources: BTreeMap<String, String> = BTreeMap::new();
-        for class in BUILTIN_840D_CLASSES {
-            sources.insert(format!("{class}_840d"), CYLINDRICAL_840D.into());
+        let mut files: BTreeMap<String, TemplateFile> = BTreeMap::new();
+        for (name, text) in crate::builtin::builtin_sources() {
+            let file = stdcode::parse(name, text).map_err(TemplateError::Format)?;
+            files.insert(file.id.clone(), file);
         }
         for s in extra {
-            sources.insert(s.id, s.source);
+            let file = stdcode::parse(&s.id, &s.source).map_err(TemplateError::Format)?;
+            if file.id != s.id {
+                return Err(TemplateError::BadId {
+                    id: s.id,
+                    reason: format!("the file says @template {}", file.id),
+                });
+            }
+            files.insert(file.id.clone(), file);
         }
-        let mut env = base_environment(fuel);
-        let mut entries = BTreeMap::new();
-        for (id, source) in sources {
-            let (class, dialect) = parse_id(&id)?;
-            let version = parse_version(&id, &source)?;
-            env.add_template_owned(id.clone(), source)
-                .map_err(|source| TemplateError::Syntax {
-                    id: id.clone(),
-                    source,
-                })?;
-            entries.insert(
-                id,
-                Entry {
-                    class,
-                    dialect,
-                    version,
-                },
-            );
+        Self::from_files(files.into_values(), budget)
+    }
+
+    /// Compiles assembled templates (e.g. the latest versions from the template
+    /// library) with no shipped ones added.
+    pub fn from_files(
+        files: impl IntoIterator<Item = TemplateFile>,
+        budget: u64,
+    ) -> Result<Self, TemplateError> {
+        let mut compiled = BTreeMap::new();
+        for f in files {
+            let c = Compiled::new(&f).map_err(TemplateError::Compile)?;
+            compiled.insert(f.id.clone(), c);
         }
-        Ok(Templates { env, entries })
+        Ok(Templates { compiled, budget })
     }
 
     /// Every template in the library, by id.
     pub fn list(&self) -> Vec<TemplateRef> {
-        self.entries
-            .iter()
-            .map(|(id, e)| TemplateRef {
-                id: id.clone(),
-                version: e.version,
+        self.compiled
+            .values()
+            .map(|c| TemplateRef {
+                id: c.id.clone(),
+                version: c.version,
             })
             .collect()
     }
 
     /// The template for a (class, dialect) pair, if the library has one.
     pub fn find(&self, class: &str, dialect: Dialect) -> Option<TemplateRef> {
-        self.entries
-            .iter()
-            .find(|(_, e)| e.class == class && e.dialect == dialect)
-            .map(|(id, e)| TemplateRef {
-                id: id.clone(),
-                version: e.version,
-            })
+        self.compiled_for(class, dialect).map(|c| TemplateRef {
+            id: c.id.clone(),
+            version: c.version,
+        })
+    }
+
+    /// The compiled template for a (class, dialect) pair.
+    pub fn compiled_for(&self, class: &str, dialect: Dialect) -> Option<&Compiled> {
+        self.compiled
+            .get(&format!("{class}_{}", stdcode::dialect_suffix(dialect)))
+            .filter(|c| c.dialect == dialect)
     }
 
     /// Renders the NC program of a machining model.
@@ -150,48 +131,76 @@ impl Templates {
     pub fn render(&self, model: &MachiningModel) -> Result<NcProgram, Vec<JobError>> {
         let plan = &model.plan;
         let machine = &plan.machine;
-        let Some(template) = self.find(&plan.class, machine.dialect) else {
+        let Some(template) = self.compiled_for(&plan.class, machine.dialect) else {
             return Err(vec![self.not_found(model)]);
         };
         check_inputs(model)?;
 
         let part_number = &plan.request.spec.job.part_number;
-        let name = program_name_840d(part_number);
-        if let Err(reason) = check_name_840d(&name) {
-            return Err(vec![template_error(
-                "INVALID_PROGRAM_NAME",
-                "job.part_number",
-                "a part number that maps to an 840D program name",
-                &name,
-                format!("the program name {name:?} made from part number {part_number:?} is not valid on 840D: {reason}"),
-            )]);
-        }
-        let case_ids: Vec<String> = plan.cases.iter().map(|c| c.id.clone()).collect();
-        let spec = &plan.request.spec;
-        let units = unit_contexts(model);
-        let ctx = context! {
-            program => context! { name => &name, file => format!("_N_{name}_MPF") },
-            template => context! { id => &template.id, version => template.version },
-            generator => GENERATOR,
-            job_id => model.job_id.as_str(),
-            part_number => part_number,
-            quantity => spec.job.quantity,
-            class => &plan.class,
-            machine => machine,
-            case_ids => &case_ids,
-            model_version => &model.model_version,
-            gear => &spec.gear,
-            options => &spec.options,
-            hob => &plan.hob,
-            process => &plan.process,
-            geometry => &model.geometry,
-            kin => &model.model,
-            helical => spec.gear.helix_angle_deg.abs() > HELIX_EPS_DEG,
-            units => &units,
-            any_shift => units.iter().any(|u| u.kin.shift.is_some()),
+        let (name, file) = match machine.dialect {
+            Dialect::Fanuc => {
+                let name = program_name_fanuc(part_number);
+                (name.clone(), name)
+            }
+            _ => {
+                let name = program_name_840d(part_number);
+                if let Err(reason) = check_name_840d(&name) {
+                    return Err(vec![template_error(
+                        "INVALID_PROGRAM_NAME",
+                        "job.part_number",
+                        "a part number that maps to an 840D program name",
+                        &name,
+                        format!("the program name {name:?} made from part number {part_number:?} is not valid on 840D: {reason}"),
+                    )]);
+                }
+                let file = format!("_N_{name}_MPF");
+                (name, file)
+            }
         };
-
-        let text = self.render_bounded(&template.id, ctx)?;
+        let case_ids: Vec<String> = plan.cases.iter().map(|c| c.id.clone()).collect();
+        let cases = if case_ids.is_empty() {
+            "NONE".to_string()
+        } else {
+            case_ids.join(" ")
+        };
+        let units = unit_inputs(model);
+        let input = PartInput {
+            model,
+            gear: units[0].gear,
+            program_name: &name,
+            program_file: &file,
+            template_id: &template.id,
+            template_version: template.version,
+            generator: GENERATOR,
+            cases: &cases,
+            units: &units,
+        };
+        let text = template.instantiate(&input, self.budget).map_err(|e| {
+            let field = format!("template.{}", template.id);
+            vec![match &e.error {
+                RunFailure::TooLarge => template_error(
+                    "PROGRAM_TOO_LARGE",
+                    &field,
+                    &format!("at most {MAX_PROGRAM_BYTES} bytes"),
+                    &format!("more than {MAX_PROGRAM_BYTES} bytes"),
+                    format!("{e}; check the template for runaway repetition"),
+                ),
+                RunFailure::Eval(crate::expr::EvalError::Budget(n)) => template_error(
+                    "TEMPLATE_FUEL_EXHAUSTED",
+                    &field,
+                    &format!("at most {n} expression steps"),
+                    "more",
+                    format!("{e}; check the template"),
+                ),
+                RunFailure::Eval(_) => template_error(
+                    "TEMPLATE_RENDER_FAILED",
+                    &field,
+                    "a template that instantiates with this model",
+                    &e.error.to_string(),
+                    e.to_string(),
+                ),
+            }]
+        })?;
         let sha256 = hex::encode(Sha256::digest(text.as_bytes()));
         tracing::debug!(job = %model.job_id, template = %template.id, %name, bytes = text.len(), "rendered");
         Ok(NcProgram {
@@ -202,68 +211,14 @@ impl Templates {
             dialect: machine.dialect,
             text,
             sha256,
-            template,
+            template: TemplateRef {
+                id: template.id.clone(),
+                version: template.version,
+            },
             part_number: part_number.clone(),
             cases: case_ids,
             model_version: model.model_version.clone(),
             generator: GENERATOR.to_string(),
-        })
-    }
-
-    /// Renders template `id` with `ctx` under the fuel and output limits.
-    fn render_bounded(&self, id: &str, ctx: Value) -> Result<String, Vec<JobError>> {
-        let field = format!("template.{id}");
-        let tmpl = self.env.get_template(id).map_err(|e| {
-            vec![template_error(
-                "TEMPLATE_NOT_FOUND",
-                &field,
-                "a compiled template",
-                id,
-                format!("template {id} is not in the library: {e}"),
-            )]
-        })?;
-        let mut out = BoundedWriter::new(MAX_PROGRAM_BYTES);
-        match tmpl.render_captured_to(ctx, &mut out) {
-            Ok(_) => {}
-            Err(_) if out.exceeded => {
-                return Err(vec![template_error(
-                    "PROGRAM_TOO_LARGE",
-                    &field,
-                    &format!("at most {MAX_PROGRAM_BYTES} bytes"),
-                    &format!("more than {MAX_PROGRAM_BYTES} bytes"),
-                    format!("template {id} produced a program larger than the limit; check the template for runaway loops"),
-                )]);
-            }
-            Err(e) if e.kind() == ErrorKind::OutOfFuel => {
-                return Err(vec![template_error(
-                    "TEMPLATE_FUEL_EXHAUSTED",
-                    &field,
-                    &format!(
-                        "at most {} template instructions",
-                        self.env.fuel().unwrap_or(0)
-                    ),
-                    "more",
-                    format!("template {id} ran out of fuel; check it for loops that do not end"),
-                )]);
-            }
-            Err(e) => {
-                return Err(vec![template_error(
-                    "TEMPLATE_RENDER_FAILED",
-                    &field,
-                    "a template that renders with this model",
-                    &format!("{e:#}"),
-                    format!("template {id} failed: {e}"),
-                )]);
-            }
-        }
-        String::from_utf8(out.buf).map_err(|e| {
-            vec![template_error(
-                "TEMPLATE_RENDER_FAILED",
-                &field,
-                "UTF-8 program text",
-                &e.to_string(),
-                format!("template {id} produced text that is not UTF-8"),
-            )]
         })
     }
 
@@ -272,11 +227,11 @@ impl Templates {
         let plan = &model.plan;
         let dialect = plan.machine.dialect.as_str();
         let supported: Vec<String> = self
-            .entries
+            .compiled
             .values()
-            .map(|e| format!("{}/{}", e.class, e.dialect.as_str()))
+            .map(|c| format!("{}/{}", c.class, c.dialect.as_str()))
             .collect();
-        let class_known = self.entries.values().any(|e| e.class == plan.class);
+        let class_known = self.compiled.values().any(|c| c.class == plan.class);
         let (field, advice) = if class_known {
             (
                 "job.machine",
@@ -285,7 +240,7 @@ impl Templates {
         } else {
             (
                 "class",
-                "this class cannot be programmed yet; add its template to the template directory",
+                "this class cannot be programmed yet; add its template to the template library",
             )
         };
         template_error(
@@ -301,88 +256,32 @@ impl Templates {
     }
 }
 
-/// Helix angles below this are spur gears, degrees.
-const HELIX_EPS_DEG: f64 = 1e-9;
-
-/// One gear unit as the template sees it.
-#[derive(Debug, serde::Serialize)]
-struct UnitContext<'a> {
-    name: &'a str,
-    z_offset_mm: f64,
-    hob_change: bool,
-    gear: &'a gearcam_proto::GearSpec,
-    hob: &'a gearcam_proto::HobData,
-    kin: &'a gearcam_proto::Kinematics,
-    helical: bool,
-}
-
 /// The units to program: every unit of a multi-gear part, or the job's gear.
-fn unit_contexts(model: &MachiningModel) -> Vec<UnitContext<'_>> {
+pub fn unit_inputs(model: &MachiningModel) -> Vec<UnitInput<'_>> {
     let plan = &model.plan;
     if model.model.units.is_empty() {
-        let gear = &plan.request.spec.gear;
-        return vec![UnitContext {
+        return vec![UnitInput {
             name: "",
             z_offset_mm: 0.0,
             hob_change: false,
-            gear,
+            gear: &plan.request.spec.gear,
             hob: &plan.hob,
             kin: &model.model,
-            helical: gear.helix_angle_deg.abs() > HELIX_EPS_DEG,
         }];
     }
     model
         .model
         .units
         .iter()
-        .map(|u| UnitContext {
+        .map(|u| UnitInput {
             name: &u.name,
             z_offset_mm: u.z_offset_mm,
             hob_change: u.hob_change,
             gear: &u.gear,
             hob: &u.hob,
             kin: &u.model,
-            helical: u.gear.helix_angle_deg.abs() > HELIX_EPS_DEG,
         })
         .collect()
-}
-
-/// The environment every template is compiled into: strict, bounded, with the NC
-/// filters and the block counter.
-fn base_environment(fuel: u64) -> Environment<'static> {
-    let mut env = Environment::new();
-    env.set_undefined_behavior(UndefinedBehavior::Strict);
-    env.set_auto_escape_callback(|_| AutoEscape::None);
-    env.set_trim_blocks(true);
-    env.set_lstrip_blocks(true);
-    env.set_keep_trailing_newline(true);
-    env.set_fuel(Some(fuel));
-    env.add_filter("nc", |v: f64| filter_fixed(v, 3));
-    env.add_filter("deg", |v: f64| filter_fixed(v, 4));
-    env.add_filter("factor", |v: f64| filter_fixed(v, 6));
-    env.add_filter("comment", |v: Value| comment_text(&v.to_string()));
-    env.add_function("N", next_block);
-    env
-}
-
-/// `N()`: the next block number of this render, `N10`, `N20`, ...
-fn next_block(state: &State) -> String {
-    let last = state
-        .get_temp("gearcam_block")
-        .and_then(|v| i64::try_from(v).ok())
-        .unwrap_or(0);
-    let next = last + 10;
-    state.set_temp("gearcam_block", Value::from(next));
-    format!("N{next}")
-}
-
-fn filter_fixed(v: f64, decimals: usize) -> Result<String, minijinja::Error> {
-    format_fixed(v, decimals).ok_or_else(|| {
-        minijinja::Error::new(
-            ErrorKind::InvalidOperation,
-            format!("cannot write {v} as an NC number"),
-        )
-    })
 }
 
 /// Formats a number for an NC word: `decimals` places, trailing zeros trimmed but at
@@ -491,81 +390,6 @@ fn template_error(code: &str, field: &str, expected: &str, got: &str, message: S
         expected: expected.to_string(),
         got: got.to_string(),
         message,
-    }
-}
-
-/// Splits a template id into its class and dialect: `cylindrical_840d` →
-/// (`cylindrical`, SINUMERIK 840D).
-fn parse_id(id: &str) -> Result<(String, Dialect), TemplateError> {
-    let bad = |reason: &str| TemplateError::BadId {
-        id: id.to_string(),
-        reason: reason.to_string(),
-    };
-    if id.is_empty()
-        || !id
-            .chars()
-            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
-    {
-        return Err(bad("ids use only a-z, 0-9 and _"));
-    }
-    match id.rsplit_once('_') {
-        Some((class, "840d")) if !class.is_empty() => Ok((class.to_string(), Dialect::Sinumerik840d)),
-        _ => Err(bad(
-            "an id is {class}_{dialect} and the only dialect with templates so far is 840d, e.g. cylindrical_840d",
-        )),
-    }
-}
-
-/// Reads the version from the first line, `{# version: N #}` (whitespace control
-/// markers `{#-` / `-#}` allowed).
-fn parse_version(id: &str, source: &str) -> Result<u32, TemplateError> {
-    let first = source.lines().next().unwrap_or_default();
-    let missing = || TemplateError::MissingVersion {
-        id: id.to_string(),
-        got: first.to_string(),
-    };
-    let inner = first
-        .trim()
-        .strip_prefix("{#")
-        .and_then(|s| s.strip_suffix("#}"))
-        .ok_or_else(missing)?;
-    let inner = inner.trim_start_matches('-').trim_end_matches('-').trim();
-    let number = inner.strip_prefix("version:").ok_or_else(missing)?.trim();
-    match number.parse::<u32>() {
-        Ok(v) if v >= 1 => Ok(v),
-        _ => Err(missing()),
-    }
-}
-
-/// An output sink that refuses to grow past a limit.
-struct BoundedWriter {
-    buf: Vec<u8>,
-    limit: usize,
-    exceeded: bool,
-}
-
-impl BoundedWriter {
-    fn new(limit: usize) -> Self {
-        BoundedWriter {
-            buf: Vec::with_capacity(4096),
-            limit,
-            exceeded: false,
-        }
-    }
-}
-
-impl io::Write for BoundedWriter {
-    fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
-        if self.buf.len() + bytes.len() > self.limit {
-            self.exceeded = true;
-            return Err(io::Error::other("program text exceeds the size limit"));
-        }
-        self.buf.extend_from_slice(bytes);
-        Ok(bytes.len())
-    }
-
-    fn flush(&mut self) -> io::Result<()> {
-        Ok(())
     }
 }
 
@@ -901,7 +725,7 @@ mod tests {
         assert_eq!(lines[4], "; PART SP-1001");
         assert_eq!(lines[5], "; CLASS cylindrical");
         assert_eq!(lines[6], "; MACHINE H01 YK3126 CNC hobbing machine");
-        assert_eq!(lines[7], "; TEMPLATE cylindrical_840d VERSION 2");
+        assert_eq!(lines[7], "; TEMPLATE cylindrical_840d VERSION 3");
         assert_eq!(lines[8], "; CASES CD-STEEL-HSS-1 CASE-0042");
         assert_eq!(lines[9], "; MODEL gearcam-model 0.1.0");
         assert_eq!(lines[10], format!("; GENERATOR {GENERATOR}"));
@@ -930,7 +754,7 @@ mod tests {
             program.template,
             TemplateRef {
                 id: "cylindrical_840d".into(),
-                version: 2
+                version: 3
             }
         );
         assert_eq!(program.cases, vec!["CD-STEEL-HSS-1", "CASE-0042"]);
@@ -1301,11 +1125,19 @@ mod tests {
         assert_eq!(format_fixed(f64::INFINITY, 3), None);
     }
 
-    fn with_template(id: &str, source: &str, fuel: u64) -> Templates {
+    fn with_template(id: &str, records: &str, fuel: u64) -> Templates {
+        let (class, dialect) = id.rsplit_once('_').unwrap();
+        let dialect = if dialect == "840d" {
+            "sinumerik840d"
+        } else {
+            dialect
+        };
         Templates::new(
             vec![TemplateSource {
                 id: id.into(),
-                source: source.into(),
+                source: format!(
+                    "@template {id}\n@class {class}\n@dialect {dialect}\n@version 1\n{records}"
+                ),
             }],
             fuel,
         )
@@ -1313,11 +1145,12 @@ mod tests {
     }
 
     #[test]
-    fn endless_expansion_is_stopped_by_fuel() {
+    fn evaluation_is_stopped_by_the_step_budget() {
+        // Many steps per record: repeated per move of every cut.
         let templates = with_template(
             "runaway_840d",
-            "{# version: 1 #}\n{% for i in range(100000) %}{% for j in range(100000) %}{{ N() }}\n{% endfor %}{% endfor %}",
-            DEFAULT_FUEL,
+            "main/unit :: ;\nmain/cut :: ;\nmain/move calc: a = 1 + 1 + 1 + 1 + 1 + 1 + 1 + 1 + 1 + 1 :: {N()}\n",
+            20,
         );
         let mut model = spur_model();
         model.plan.class = "runaway".into();
@@ -1325,35 +1158,23 @@ mod tests {
         assert_eq!(errors.len(), 1);
         assert_eq!(errors[0].code, "TEMPLATE_FUEL_EXHAUSTED");
         assert_eq!(errors[0].field, "template.runaway_840d");
-        // The built-in template beside it still renders within the same limits.
-        assert!(templates.render(&spur_model()).is_ok());
-    }
-
-    #[test]
-    fn recursive_macro_is_stopped() {
-        let templates = with_template(
-            "recursive_840d",
-            "{# version: 1 #}\n{% macro r(n) %}{{ r(n + 1) }}{% endmacro %}{{ r(0) }}",
-            DEFAULT_FUEL,
-        );
-        let mut model = spur_model();
-        model.plan.class = "recursive".into();
-        let errors = templates.render(&model).unwrap_err();
-        assert_eq!(errors.len(), 1);
         assert!(
-            ["TEMPLATE_FUEL_EXHAUSTED", "TEMPLATE_RENDER_FAILED"]
-                .contains(&errors[0].code.as_str()),
-            "{:?}",
-            errors[0]
+            errors[0].message.contains("line 7"),
+            "{}",
+            errors[0].message
         );
     }
 
     #[test]
     fn oversized_output_is_stopped_by_the_size_limit() {
+        let mut calc = String::from("a0 = \"XXXXXXXXXXXXXXXX\"");
+        for i in 1..=17 {
+            calc.push_str(&format!("; a{i} = a{} + a{}", i - 1, i - 1));
+        }
         let templates = with_template(
             "huge_840d",
-            "{# version: 1 #}\n{% for i in range(100000) %}{{ \"X\" * 100 }}\n{% endfor %}",
-            10_000_000,
+            &format!("main calc: {calc} :: {{a17}}\n"),
+            DEFAULT_FUEL,
         );
         let mut model = spur_model();
         model.plan.class = "huge".into();
@@ -1362,41 +1183,70 @@ mod tests {
     }
 
     #[test]
-    fn builtin_template_uses_little_fuel() {
-        // Ten times the built-in's consumption must stay under the default fuel,
-        // so a template of this kind never trips the limit.
-        let templates = Templates::new(Vec::new(), DEFAULT_FUEL / 10).unwrap();
+    fn shipped_templates_use_little_of_the_budget() {
+        // A hundredth of the default budget is enough for the largest example, so a
+        // template of this kind never trips the limit.
+        let templates = Templates::new(Vec::new(), DEFAULT_FUEL / 100).unwrap();
         assert!(templates.render(&helical_model()).is_ok());
     }
 
     #[test]
-    fn undefined_names_in_a_template_are_errors() {
-        let templates = with_template(
-            "typo_840d",
-            "{# version: 1 #}\n%{{ program.file }}\nG0 X={{ kin.positons.B.x_mm | nc }}\n",
+    fn unknown_names_are_refused_when_the_template_is_compiled() {
+        let err = Templates::new(
+            vec![TemplateSource {
+                id: "typo_840d".into(),
+                source: "@template typo_840d\n@class typo\n@dialect sinumerik840d\n@version 1\nmain :: %{program.file}\nmotion :: G0 X={nc(kin.positons)}\n".into(),
+            }],
             DEFAULT_FUEL,
+        )
+        .unwrap_err();
+        let text = err.to_string();
+        assert!(
+            text.contains("line 6") && text.contains("kin.positons"),
+            "{text}"
         );
-        let mut model = spur_model();
-        model.plan.class = "typo".into();
-        let errors = templates.render(&model).unwrap_err();
-        assert_eq!(errors[0].code, "TEMPLATE_RENDER_FAILED");
-        assert!(errors[0].got.contains("undefined"), "{:?}", errors[0]);
     }
 
     #[test]
-    fn directory_template_replaces_the_builtin_and_names_its_version() {
-        let templates = with_template(
-            "cylindrical_840d",
-            "{# version: 7 #}\n%{{ program.file }}\n;$PATH=/_N_MPF_DIR\n{{ N() }} M{{ machine.mcodes.program_end }}\n",
+    fn a_move_parameter_outside_the_move_scope_is_refused() {
+        let err = Templates::new(
+            vec![TemplateSource {
+                id: "scope_840d".into(),
+                source: "@template scope_840d\n@class scope\n@dialect sinumerik840d\n@version 1\nmotion :: G0 X={nc(m.x)}\n".into(),
+            }],
             DEFAULT_FUEL,
-        );
+        )
+        .unwrap_err();
+        assert!(err.to_string().contains("m.x"), "{err}");
+    }
+
+    #[test]
+    fn a_fraction_written_without_a_number_function_is_a_render_error() {
+        let templates = with_template("raw_840d", "main :: G0 X{kin.depth}\n", DEFAULT_FUEL);
+        let mut model = spur_model();
+        model.plan.class = "raw".into();
+        let errors = templates.render(&model).unwrap_err();
+        assert_eq!(errors[0].code, "TEMPLATE_RENDER_FAILED");
+        assert!(errors[0].message.contains("nc()"), "{}", errors[0].message);
+    }
+
+    #[test]
+    fn given_template_replaces_the_shipped_one_and_names_its_version() {
+        let templates = Templates::new(
+            vec![TemplateSource {
+                id: "cylindrical_840d".into(),
+                source: "@template cylindrical_840d\n@class cylindrical\n@dialect sinumerik840d\n@version 7\nmain :: %{program.file}\nmain :: ;$PATH=/_N_MPF_DIR\nmain :: {N()} M{mc.program_end}\n".into(),
+            }],
+            DEFAULT_FUEL,
+        )
+        .unwrap();
         let program = templates.render(&spur_model()).unwrap();
         assert_eq!(program.template.version, 7);
         assert_eq!(
             program.text,
             "%_N_SP_1001_MPF\n;$PATH=/_N_MPF_DIR\nN10 M30\n"
         );
-        // The other classes keep the built-in.
+        // The other classes keep the shipped one.
         let list = templates.list();
         assert!(list.contains(&TemplateRef {
             id: "cylindrical_840d".into(),
@@ -1404,12 +1254,12 @@ mod tests {
         }));
         assert!(list.contains(&TemplateRef {
             id: "conical_840d".into(),
-            version: 2
+            version: 3
         }));
     }
 
     #[test]
-    fn templates_without_version_or_with_bad_ids_are_refused() {
+    fn templates_without_version_or_with_mismatched_ids_are_refused() {
         let add = |id: &str, source: &str| {
             Templates::new(
                 vec![TemplateSource {
@@ -1419,52 +1269,50 @@ mod tests {
                 DEFAULT_FUEL,
             )
         };
+        let head = "@template conical_840d\n@class conical\n@dialect sinumerik840d\n";
         assert!(matches!(
-            add("conical_840d", "%_N_X_MPF\n"),
-            Err(TemplateError::MissingVersion { .. })
+            add("conical_840d", &format!("{head}main :: M2\n")),
+            Err(TemplateError::Format(_))
         ));
         assert!(matches!(
-            add("conical_840d", "{# version: 0 #}\n"),
-            Err(TemplateError::MissingVersion { .. })
+            add("conical_840d", &format!("{head}@version 0\nmain :: M2\n")),
+            Err(TemplateError::Format(_))
         ));
         assert!(matches!(
-            add("conical_fanuc", "{# version: 1 #}\n"),
+            add("conical_fanuc", &format!("{head}@version 1\nmain :: M2\n")),
             Err(TemplateError::BadId { .. })
         ));
         assert!(matches!(
-            add("Conical_840d", "{# version: 1 #}\n"),
-            Err(TemplateError::BadId { .. })
-        ));
-        assert!(matches!(
-            add("conical_840d", "{# version: 1 #}\n{% if %}"),
-            Err(TemplateError::Syntax { .. })
+            add(
+                "conical_840d",
+                &format!("{head}@version 1\nmain :: {{1 +}}\n")
+            ),
+            Err(TemplateError::Compile(_))
         ));
         assert_eq!(
-            add("conical_840d", "{#- version: 3 -#}\n")
+            add("conical_840d", &format!("{head}@version 4\nmain :: M2\n"))
                 .unwrap()
                 .find("conical", Dialect::Sinumerik840d),
             Some(TemplateRef {
                 id: "conical_840d".into(),
-                version: 3
+                version: 4
             })
         );
     }
 
     #[test]
-    fn builtin_library_lists_the_hobbing_template_for_every_programmable_class() {
+    fn shipped_library_has_the_hobbing_template_of_every_programmable_class() {
         let templates = Templates::builtin();
         let ids: Vec<String> = templates.list().into_iter().map(|t| t.id).collect();
-        assert_eq!(
-            ids,
-            vec![
-                "conical_840d",
-                "crowned_840d",
-                "cylindrical_840d",
-                "multi_gear_840d",
-                "worm_wheel_840d"
-            ]
-        );
-        assert!(templates.list().iter().all(|t| t.version == 2));
-        assert_eq!(templates.find("cylindrical", Dialect::Fanuc), None);
+        for class in [
+            "conical",
+            "crowned",
+            "cylindrical",
+            "multi_gear",
+            "worm_wheel",
+        ] {
+            assert!(ids.contains(&format!("{class}_840d")), "{ids:?}");
+        }
+        assert!(templates.list().iter().all(|t| t.version >= 3));
     }
 }
