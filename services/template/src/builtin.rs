@@ -14,6 +14,7 @@ pub fn builtin_sources() -> Vec<(&'static str, &'static str)> {
         "conical_840d.tpl",
         "crowned_840d.tpl",
         "cylindrical_840d.tpl",
+        "cylindrical_fanuc.tpl",
         "multi_gear_840d.tpl",
         "worm_wheel_840d.tpl",
     ]

@@ -200,6 +200,7 @@ scope_table!(
     "k.swivel" => u.kin.swivel_axis_deg,
     "k.B.x" => u.kin.cuts.first().map(|c| c.positions.B.x_mm),
     "k.B.z" => u.kin.cuts.first().map(|c| c.positions.B.z_mm),
+    "k.y0" => u.kin.cuts.iter().flat_map(|c| &c.moves).find_map(|m| m.y_mm),
     "k.hob_rpm" => u.kin.hob_rpm,
     "k.cuts" => u.kin.cuts.len() as u32,
     "k.cut_mode" => lower(&u.kin.cut_mode),

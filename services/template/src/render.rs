@@ -311,11 +311,15 @@ pub fn format_fixed(v: f64, decimals: usize) -> Option<String> {
     Some(s)
 }
 
-/// Free text made safe for a `;` comment: one line of printable ASCII (control
-/// characters become spaces, other characters `?`), at most 120 characters.
+/// Free text made safe for an NC comment (840D `; ...`, FANUC `( ... )`): one
+/// line of printable ASCII (control characters become spaces, other characters
+/// `?`), parentheses as brackets (a FANUC comment cannot contain them), at most
+/// 120 characters.
 pub fn comment_text(text: &str) -> String {
     text.chars()
         .map(|c| match c {
+            '(' => '[',
+            ')' => ']',
             ' '..='~' => c,
             c if c.is_control() || c.is_whitespace() => ' ',
             _ => '?',
