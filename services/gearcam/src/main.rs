@@ -1,6 +1,7 @@
 //! `gearcam`: the planning station command.
 
 mod kb;
+mod templates;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -110,6 +111,8 @@ enum Command {
     Kb(kb::KbArgs),
     /// After delivery: record the values actually used and the outcome; the job becomes a case.
     Confirm(kb::ConfirmArgs),
+    /// The standard module library: analyze literal similarity, import, list, show templates.
+    Templates(templates::TemplatesArgs),
     /// Run a Zenoh router (for a shop network without zenohd, and for tests).
     Router {
         #[command(flatten)]
@@ -272,6 +275,7 @@ async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Router { bus } => router(&bus).await,
         Command::Kb(args) => Ok(kb::run(args)),
         Command::Confirm(args) => Ok(kb::confirm(args)),
+        Command::Templates(args) => Ok(templates::run(args)),
         Command::Station {
             journal,
             redrive_ms,

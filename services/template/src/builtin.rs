@@ -12,10 +12,14 @@ pub fn builtin_sources() -> Vec<(&'static str, &'static str)> {
     }
     sources![
         "conical_840d.tpl",
+        "conical_fanuc.tpl",
         "crowned_840d.tpl",
+        "crowned_fanuc.tpl",
         "cylindrical_840d.tpl",
         "cylindrical_fanuc.tpl",
         "multi_gear_840d.tpl",
+        "multi_gear_fanuc.tpl",
         "worm_wheel_840d.tpl",
+        "worm_wheel_fanuc.tpl",
     ]
 }

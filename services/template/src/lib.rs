@@ -23,9 +23,11 @@ pub mod builtin;
 pub mod engine;
 pub mod error;
 pub mod expr;
+pub mod library;
 pub mod params;
 pub mod render;
 pub mod service;
+pub mod similarity;
 pub mod source;
 pub mod stdcode;
 

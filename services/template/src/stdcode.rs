@@ -387,7 +387,7 @@ pub fn parse(file: &str, text: &str) -> Result<TemplateFile, StdCodeError> {
 }
 
 /// Reads one record line (without ID, N and line, set by the caller).
-fn parse_record(line: &str) -> Result<Record, (String, String)> {
+pub(crate) fn parse_record(line: &str) -> Result<Record, (String, String)> {
     let sep = find_outside_quotes(line, "::", 0).ok_or_else(|| {
         (
             "a record `module[/scope] [when: ..] [calc: ..] [if: ..] :: OUTPUT`".to_string(),
@@ -399,12 +399,19 @@ fn parse_record(line: &str) -> Result<Record, (String, String)> {
     check_placeholders(&output)?;
     let (tee, mut rest) = head.split_once(char::is_whitespace).unwrap_or((head, ""));
     let (module, scope) = match tee.split_once('/') {
-        Some((m, s)) => (m, s.parse::<Scope>().map_err(|e| (e, s.to_string()))?),
+        Some((m, s)) => (
+            m,
+            s.parse::<Scope>()
+                .map_err(|_| ("a scope (part, unit, cut, move)".to_string(), s.to_string()))?,
+        ),
         None => (tee, Scope::Part),
     };
-    let module: Module = module
-        .parse()
-        .map_err(|e: String| (e, module.to_string()))?;
+    let module: Module = module.parse().map_err(|_| {
+        (
+            "a module (main, preparation, synchronous, shift, conditions, motion)".to_string(),
+            module.to_string(),
+        )
+    })?;
     let (mut calc_if, mut calc, mut out_if) = (None, Vec::new(), None);
     // Clauses in the fixed order when:, calc:, if: — each optional.
     rest = rest.trim();
@@ -432,7 +439,10 @@ fn parse_record(line: &str) -> Result<Record, (String, String)> {
             .unwrap_or(rest.len());
         let body = rest[body_start..end].trim();
         if body.is_empty() {
-            return Err((format!("an expression after `{}`", clauses[k]), "nothing".into()));
+            return Err((
+                format!("an expression after `{}`", clauses[k]),
+                "nothing".into(),
+            ));
         }
         match k {
             0 => calc_if = Some(body.to_string()),
@@ -574,7 +584,10 @@ mod tests {
         assert_eq!(t.version, 3);
         assert_eq!(t.records.len(), 4);
         let r = &t.records[2];
-        assert_eq!((r.id, r.module, r.n, r.scope), (3, Module::Motion, 1, Scope::Move));
+        assert_eq!(
+            (r.id, r.module, r.n, r.scope),
+            (3, Module::Motion, 1, Scope::Move)
+        );
         assert_eq!(r.calc_if.as_deref(), Some("has(m.x)"));
         assert_eq!(
             r.calc,
@@ -587,7 +600,10 @@ mod tests {
         assert_eq!(r.output, "{N()} G0 G90{w}");
         assert_eq!(r.line, 8);
         // N counts within the module.
-        assert_eq!((t.records[3].module, t.records[3].n), (Module::Preparation, 2));
+        assert_eq!(
+            (t.records[3].module, t.records[3].n),
+            (Module::Preparation, 2)
+        );
     }
 
     #[test]
@@ -605,7 +621,7 @@ mod tests {
     fn errors_name_the_line_and_what_was_expected() {
         let e = parse("t.tpl", &format!("{HEAD}motion/tooth :: G0\n")).unwrap_err();
         assert_eq!(e.line, 5);
-        assert!(e.expected.contains("scope"), "{e}");
+        assert_eq!(e.expected, "a scope (part, unit, cut, move)");
         assert_eq!(e.got, "tooth");
         let e = parse("t.tpl", &format!("{HEAD}shaping :: G0\n")).unwrap_err();
         assert!(e.expected.contains("module"), "{e}");
@@ -631,7 +647,10 @@ mod tests {
             elements("G25 X{nc(Xmin)} ; R1=3.5"),
             vec!["G", "25", "X", "{nc(Xmin)}", ";", "R", "1", "=", "3.5"]
         );
-        assert_eq!(elements("if: m.kind == 1"), vec!["if", ":", "m.kind", "=", "=", "1"]);
+        assert_eq!(
+            elements("if: m.kind == 1"),
+            vec!["if", ":", "m.kind", "=", "=", "1"]
+        );
         assert!(elements("   ").is_empty());
     }
 }
