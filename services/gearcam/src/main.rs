@@ -229,6 +229,10 @@ const DEMO_INVALID: &[(&str, &str)] = &[
         "examples/invalid_curved_tooth.toml",
         include_str!("../../../examples/invalid_curved_tooth.toml"),
     ),
+    (
+        "examples/invalid_unknown_part.toml",
+        include_str!("../../../examples/invalid_unknown_part.toml"),
+    ),
 ];
 
 /// The code an invalid example expects (its `# expect:` line).

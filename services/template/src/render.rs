@@ -1049,7 +1049,7 @@ mod tests {
         assert_eq!(e.stage, Stage::Template);
         assert_eq!(e.code, "TEMPLATE_NOT_FOUND");
         assert_eq!(e.field, "class");
-        assert!(e.expected.starts_with("one of conical/fanuc, conical/sinumerik840d, "), "{}", e.expected);
+        assert!(e.expected.starts_with("one of conical/sinumerik840d, conical/fanuc, "), "{}", e.expected);
         assert!(e.expected.contains("cylindrical/sinumerik840d"), "{}", e.expected);
         assert_eq!(e.got, "curved_tooth/sinumerik840d");
     }
