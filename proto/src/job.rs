@@ -1,9 +1,12 @@
 //! The job: what a planning office asks for. The same structure is the TOML job
 //! file (`examples/*.toml`) and the body of the [`JobRequest`] message.
 //!
-//! Drawing data is required; everything else has a decided default that the
-//! knowledge service fills in and records as such. Unknown keys are rejected so a
-//! misspelt key never silently falls back to a default.
+//! Drawing data is required: in the `[gear]` section, or by a `[job]
+//! part_number` that names a workpiece in the knowledge base's library (the
+//! knowledge service then fills the gear in, see [`JobSpec::has_gear`]).
+//! Everything else has a decided default that the knowledge service fills in
+//! and records as such. Unknown keys are rejected so a misspelt key never
+//! silently falls back to a default.
 
 use serde::{Deserialize, Serialize};
 
@@ -109,6 +112,42 @@ pub struct GearSpec {
     /// `[gear.curved_tooth]`: a gear with a curved tooth trace.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub curved_tooth: Option<CurvedToothSpec>,
+}
+
+impl GearSpec {
+    /// The placeholder of a job without a `[gear]` section: no module, no
+    /// teeth, no face width, every other field at its default. It is never
+    /// a valid gear (the model refuses mn = 0 and z = 0), so it cannot be
+    /// cut by mistake.
+    pub fn absent() -> GearSpec {
+        GearSpec {
+            module_mm: 0.0,
+            teeth: 0,
+            pressure_angle_deg: twenty(),
+            helix_angle_deg: 0.0,
+            helix_hand: None,
+            face_width_mm: 0.0,
+            profile_shift: 0.0,
+            addendum_coef: one_f(),
+            clearance_coef: quarter(),
+            blank_od_mm: None,
+            od_correction_mm: 0.0,
+            material: unspecified(),
+            quality_grade: eight(),
+            fixture_height_mm: 0.0,
+            ball_diameter_mm: None,
+            mate: None,
+            cone: None,
+            crowning: None,
+            worm_wheel: None,
+            curved_tooth: None,
+        }
+    }
+
+    /// True for [`GearSpec::absent`]: the job gave no `[gear]` section.
+    pub fn is_absent(&self) -> bool {
+        *self == GearSpec::absent()
+    }
 }
 
 /// `[gear.mate]`: the gear this one meshes with.
@@ -399,7 +438,16 @@ impl Default for Options {
 pub struct JobSpec {
     /// `[job]`
     pub job: JobHeader,
-    /// `[gear]`
+    /// `[gear]`: the drawing data. A job file may leave the section out when
+    /// its `part_number` names a workpiece in the knowledge base's library;
+    /// the field then holds [`GearSpec::absent`] (and is not written out)
+    /// until the knowledge service fills it from the library. Every plan
+    /// carries the resolved gear in `request.spec.gear`, so the stages after
+    /// the knowledge service read it as it is.
+    #[serde(
+        default = "GearSpec::absent",
+        skip_serializing_if = "GearSpec::is_absent"
+    )]
     pub gear: GearSpec,
     /// `[hob]`
     #[serde(default)]
@@ -413,6 +461,15 @@ pub struct JobSpec {
     /// `[[units]]`: further gear units of a multi-gear part (empty for one gear).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub units: Vec<UnitSpec>,
+}
+
+impl JobSpec {
+    /// True when the job gives its drawing data in a `[gear]` section; false
+    /// when it names the part only (`[job] part_number`), for the knowledge
+    /// service to fill the gear from the workpiece library.
+    pub fn has_gear(&self) -> bool {
+        !self.gear.is_absent()
+    }
 }
 
 /// Message: a planning station asks for a job to be programmed and delivered.
@@ -455,4 +512,47 @@ fn yes() -> bool {
 }
 fn unspecified() -> String {
     "unspecified".into()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{decode, encode};
+
+    fn by_part() -> JobRequest {
+        let spec: JobSpec = serde_json::from_value(serde_json::json!({
+            "job": {"machine": "H01", "part_number": "SP-1001"},
+        }))
+        .unwrap();
+        JobRequest {
+            job_id: JobId::new("J1").unwrap(),
+            submitted_at_ms: 0,
+            submitted_by: "test".into(),
+            spec,
+        }
+    }
+
+    #[test]
+    fn a_job_may_name_its_part_instead_of_giving_a_gear_section() {
+        let req = by_part();
+        assert!(!req.spec.has_gear());
+        assert!(req.spec.gear.is_absent());
+        // The absent gear is not written out, on the wire or as JSON.
+        let json = serde_json::to_value(&req.spec).unwrap();
+        assert!(json.get("gear").is_none(), "{json}");
+        let back: JobRequest = decode(&encode(&req).unwrap()).unwrap();
+        assert_eq!(back, req);
+        assert!(!back.spec.has_gear());
+    }
+
+    #[test]
+    fn a_gear_section_is_kept_and_written_out() {
+        let mut req = by_part();
+        req.spec.gear.module_mm = 3.0;
+        req.spec.gear.teeth = 25;
+        assert!(req.spec.has_gear());
+        let back: JobRequest = decode(&encode(&req).unwrap()).unwrap();
+        assert_eq!(back.spec.gear.teeth, 25);
+        assert!(back.spec.has_gear());
+    }
 }

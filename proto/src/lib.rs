@@ -50,7 +50,7 @@ pub use model::{
 };
 pub use plan::{
     AxisNames, CaseRef, Dialect, HobData, MCodes, MachineLimits, MachineProfile, MachineSettings,
-    ProcessData, ProcessPlan, Source, Sourced,
+    ProcessData, ProcessPlan, Source, Sourced, WorkpieceRef,
 };
 pub use program::{
     now_ms, DeliveryReceipt, EventKind, JobError, JobEvent, NcProgram, PathCheck, PathFinding,

@@ -404,7 +404,8 @@ pub enum Origin {
     Case,
     /// The machine profile.
     Machine,
-    /// The tool library.
+    /// A knowledge-base library: the tool library (hob data) or the
+    /// workpiece library (drawing data by part number).
     Library,
     /// A documented gearcam default.
     Default,

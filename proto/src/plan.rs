@@ -47,7 +47,8 @@ pub enum Source {
     Machine,
     /// A documented default of gearcam.
     Default,
-    /// Taken from the tool library.
+    /// Taken from a knowledge-base library: the tool library (a hob's data)
+    /// or the workpiece library (drawing data by part number).
     Library,
 }
 
@@ -274,6 +275,28 @@ pub struct Proposal {
     /// The similarity weights used for case retrieval, by feature.
     #[serde(default)]
     pub weights: BTreeMap<String, f64>,
+    /// The workpiece library's record of the job's part number, when it has
+    /// one: whether it supplied the drawing data or the job's `[gear]`
+    /// section replaced it. Absent when the part is not in the library.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub workpiece: Option<WorkpieceRef>,
+}
+
+/// The workpiece library's record of a job's part, as the plan used it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WorkpieceRef {
+    /// The part number, e.g. `SP-1001`.
+    pub part_number: String,
+    /// Where the record's data comes from (its `source`).
+    pub provenance: String,
+    /// True when the job had no `[gear]` section and the record supplied
+    /// the drawing data (values `gear.*` with source `library`); false when
+    /// the job's `[gear]` section replaced the record as a whole.
+    pub supplied_gear: bool,
+    /// The drawing-data fields in which the job's `[gear]` differs from the
+    /// record (empty when the record supplied the gear).
+    #[serde(default)]
+    pub differs: Vec<String>,
 }
 
 /// The explained result of hob matching.

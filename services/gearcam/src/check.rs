@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 use gearcam_proto::plan::HobChoice;
 use gearcam_proto::{
     Geometry, JobError, JobRequest, Kinematics, Source, Sourced, Stage, TemplateRef, Warning,
+    WorkpieceRef,
 };
 use gearcam_template::Templates;
 use rusqlite::Connection;
@@ -63,7 +64,8 @@ pub struct PlanSummary {
     pub cases: Vec<CaseSummary>,
     /// Every decided value with its source: `job` (the job file's override),
     /// `case` (proposed from retrieved cases), `machine` (the machine profile,
-    /// or a proposal clamped to its limits) or `default`.
+    /// or a proposal clamped to its limits), `default`, or `library` (the
+    /// drawing data `gear.*` of a part from the workpiece library).
     pub values: BTreeMap<String, Sourced>,
     /// What the knowledge base proposed for each value, before the job's overrides.
     pub proposed: BTreeMap<String, Sourced>,
@@ -72,6 +74,11 @@ pub struct PlanSummary {
     /// How the hob was chosen (absent when the job named or gave its hob).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub hob_choice: Option<HobChoice>,
+    /// The workpiece library's record of the part: whether it supplied the
+    /// drawing data (values `gear.*` from `library`) or the job's `[gear]`
+    /// replaced it. Absent when the part is not in the library.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub workpiece: Option<WorkpieceRef>,
 }
 
 /// The program in brief, with its text.
@@ -141,7 +148,9 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
         part_number: spec.job.part_number.clone(),
         quantity: spec.job.quantity,
     });
-    report.geometry = Some(gearcam_model::geometry_of(&spec.gear));
+    if spec.has_gear() {
+        report.geometry = Some(gearcam_model::geometry_of(&spec.gear));
+    }
     let plan = match gearcam_knowledge::plan::plan(conn, req) {
         Ok(p) => p,
         Err(errors) => {
@@ -149,6 +158,9 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
             return report;
         }
     };
+    // The plan's gear: the job's, or the workpiece library's for a job that
+    // names its part only.
+    report.geometry = Some(gearcam_model::geometry_of(&plan.request.spec.gear));
     report.plan = Some(PlanSummary {
         class: plan.class.clone(),
         machine: MachineSummary {
@@ -171,6 +183,7 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
         proposed: plan.proposal.values.clone(),
         overridden: plan.proposal.overridden.clone(),
         hob_choice: plan.proposal.hob.clone(),
+        workpiece: plan.proposal.workpiece.clone(),
     });
     let model = match gearcam_model::compute(&plan) {
         Ok(m) => m,
@@ -253,6 +266,26 @@ pub fn format_human(r: &CheckReport) -> String {
                 "  case {} (similarity {:.2}): {}",
                 c.id, c.similarity, c.provenance
             );
+        }
+        if let Some(w) = &p.workpiece {
+            if w.supplied_gear {
+                let _ = writeln!(
+                    out,
+                    "  drawing data: workpiece {} from the library ({})",
+                    w.part_number, w.provenance
+                );
+            } else {
+                let _ = writeln!(
+                    out,
+                    "  drawing data: the job's [gear], over workpiece {} of the library{}",
+                    w.part_number,
+                    if w.differs.is_empty() {
+                        " (the same values)".to_string()
+                    } else {
+                        format!(" (differs in {})", w.differs.join(", "))
+                    }
+                );
+            }
         }
         if let Some(h) = &p.hob_choice {
             let _ = writeln!(out, "  hob choice: {}", h.reason);
@@ -377,6 +410,95 @@ mod tests {
                 )
             })
             .collect()
+    }
+
+    fn check_example(name: &str) -> CheckReport {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../examples")
+            .join(name);
+        let spec = crate::jobfile::load(&path).unwrap();
+        let conn = gearcam_knowledge::db::open_in_memory().unwrap();
+        check(&conn, &Templates::builtin(), &crate::jobfile::request(spec))
+    }
+
+    #[test]
+    fn a_job_by_part_number_gets_the_model_of_the_same_job_with_its_gear_written_out() {
+        let by_part = check_example("spur_by_part_840d.toml");
+        let written = check_example("spur_840d.toml");
+        assert!(by_part.ok, "{}", format_errors(&by_part.errors));
+        assert!(written.ok, "{}", format_errors(&written.errors));
+        assert_eq!(by_part.geometry, written.geometry);
+        // The same kinematics; only the explanation's origins differ.
+        let (mut a, mut b) = (by_part.model.unwrap(), written.model.unwrap());
+        let origin = |k: &Kinematics, name: &str| {
+            k.explain
+                .iter()
+                .find(|e| e.name == name)
+                .map(|e| e.origin)
+                .unwrap()
+        };
+        assert_eq!(origin(&a, "gear.module_mm"), gearcam_proto::Origin::Library);
+        assert_eq!(origin(&b, "gear.module_mm"), gearcam_proto::Origin::Job);
+        a.explain.clear();
+        b.explain.clear();
+        assert_eq!(a, b);
+        let (pa, pb) = (by_part.plan.unwrap(), written.plan.unwrap());
+        assert_eq!(pa.cases.len(), pb.cases.len());
+        for name in ["cutting_speed_m_min", "feed_mm_per_rev", "cuts"] {
+            assert_eq!(pa.values[name], pb.values[name], "{name}");
+        }
+        assert_eq!(pa.values["gear.teeth"].source, Source::Library);
+        assert!(pa.workpiece.as_ref().unwrap().supplied_gear);
+        // The written-out job names the same part: the record is found, the
+        // job's [gear] wins, and it differs in nothing.
+        let w = pb.workpiece.unwrap();
+        assert!(!w.supplied_gear && w.differs.is_empty(), "{w:?}");
+        // Both programs are the same but for the header's job id.
+        let (ta, tb) = (by_part.program.unwrap().text, written.program.unwrap().text);
+        let body = |t: &str| {
+            t.lines()
+                .filter(|l| !l.contains("JOB") && !l.contains("job"))
+                .map(str::to_string)
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(body(&ta), body(&tb));
+    }
+
+    /// Regression: the seeded workpiece HG-3003-L lacked the profile shift of
+    /// its example job, so the job's [gear] differed from the library.
+    #[test]
+    fn every_example_that_names_a_library_part_agrees_with_the_library() {
+        let mut named = 0;
+        for name in [
+            "spur_840d.toml",
+            "helical_840d.toml",
+            "helical_climb_840d.toml",
+        ] {
+            let report = check_example(name);
+            let w = report.plan.unwrap().workpiece.unwrap();
+            assert!(w.differs.is_empty(), "{name}: {w:?}");
+            named += 1;
+        }
+        assert_eq!(named, 3);
+    }
+
+    #[test]
+    fn a_job_by_an_unknown_part_number_without_gear_is_refused_naming_the_gear() {
+        let conn = gearcam_knowledge::db::open_in_memory().unwrap();
+        let spec = crate::jobfile::parse(
+            "[job]\nmachine = \"H01\"\npart_number = \"XX-9\"\n",
+            "t.toml",
+        )
+        .unwrap();
+        let report = check(&conn, &Templates::builtin(), &crate::jobfile::request(spec));
+        assert!(!report.ok);
+        assert!(report.geometry.is_none() && report.plan.is_none());
+        let e = &report.errors[0];
+        assert_eq!(
+            (e.stage, e.code.as_str(), e.field.as_str()),
+            (Stage::Knowledge, "GEAR_MISSING", "gear")
+        );
+        assert!(e.got.contains("XX-9"), "{}", e.got);
     }
 
     #[test]

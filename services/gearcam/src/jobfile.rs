@@ -49,6 +49,13 @@ pub fn parse(text: &str, origin: &str) -> Result<JobSpec, JobError> {
         } else {
             ("JOB_FILE_INVALID", path.clone(), "see message".to_string())
         };
+        // A [gear] section is complete drawing data or absent: a part number
+        // from the workpiece library stands for the whole section.
+        let hint = if code == "JOB_FILE_MISSING_KEY" && field.starts_with("gear.") {
+            "; or leave out the whole [gear] section to take the drawing data of the part number from the workpiece library"
+        } else {
+            ""
+        };
         station_error(
             code,
             &field,
@@ -58,7 +65,7 @@ pub fn parse(text: &str, origin: &str) -> Result<JobSpec, JobError> {
             } else {
                 "see message"
             },
-            format!("{origin}{location}: {detail}"),
+            format!("{origin}{location}: {detail}{hint}"),
         )
     })
 }
@@ -166,12 +173,25 @@ fixture_height_mm = 50.0
     }
 
     #[test]
+    fn a_job_without_a_gear_section_parses_for_the_library_to_fill() {
+        let text = MINIMAL.split("[gear]").next().unwrap();
+        let spec = parse(text, "t.toml").unwrap();
+        assert!(!spec.has_gear());
+        assert_eq!(spec.job.part_number, "SP-1");
+    }
+
+    #[test]
     fn a_missing_key_and_a_bad_id_are_named() {
         let text = MINIMAL.replace("teeth = 25\n", "");
         let err = parse(&text, "t.toml").unwrap_err();
         assert_eq!(
             (err.code.as_str(), err.field.as_str()),
             ("JOB_FILE_MISSING_KEY", "gear.teeth")
+        );
+        assert!(
+            err.message.contains("leave out the whole [gear] section"),
+            "{}",
+            err.message
         );
         let text = MINIMAL.replace("machine = \"H01\"", "machine = \"H/01\"");
         let err = parse(&text, "t.toml").unwrap_err();

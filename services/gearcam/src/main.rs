@@ -169,6 +169,10 @@ const DEMO_JOBS: &[(&str, &str)] = &[
         include_str!("../../../examples/spur_840d.toml"),
     ),
     (
+        "examples/spur_by_part_840d.toml",
+        include_str!("../../../examples/spur_by_part_840d.toml"),
+    ),
+    (
         "examples/helical_840d.toml",
         include_str!("../../../examples/helical_840d.toml"),
     ),

@@ -151,8 +151,9 @@ CREATE TABLE cbr_weights (
 );
 DROP TABLE cutting_data;
 "#,
-    // Version 3 changes no table: it seeds the FANUC machine H02, into new
-    // databases and into those created before it alike.
+    // Version 3 changes no table: it seeds the FANUC machine H02 (and
+    // repairs a version-2 workpiece record), into new databases and into
+    // those created before it alike.
     "",
 ];
 
@@ -593,12 +594,22 @@ mod tests {
         let conn = open(&path).unwrap();
         conn.execute("DELETE FROM machines WHERE id = 'H02'", [])
             .unwrap();
+        conn.execute(
+            "UPDATE workpieces SET profile_shift = 0 WHERE part_number = 'HG-3003-L'",
+            [],
+        )
+        .unwrap();
         conn.pragma_update(None, "user_version", 2).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
         assert_eq!(schema_version(&conn).unwrap(), 3);
         let id = MachineId::new("H02").unwrap();
         assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h02()));
+        // The version-2 seed record of HG-3003-L gains its profile shift.
+        let hg = library::get(&conn, &library::WORKPIECES, "HG-3003-L")
+            .unwrap()
+            .unwrap();
+        assert_eq!(hg["profile_shift"], 0.2);
 
         // A shop that already had its own H02 keeps it.
         let mut set = library::Record::new();

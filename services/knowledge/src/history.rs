@@ -2,7 +2,7 @@
 
 use std::collections::BTreeMap;
 
-use gearcam_proto::{CutMode, Hand, HobData, Source};
+use gearcam_proto::{ConeSpec, CutMode, GearSpec, Hand, HobData, LargeEnd, Source};
 use rusqlite::{Connection, OptionalExtension};
 use serde_json::Value;
 
@@ -158,4 +158,57 @@ pub fn library_hobs(conn: &Connection) -> Result<Vec<LibraryHob>, KnowledgeError
         .iter()
         .map(hob_from_record)
         .collect())
+}
+
+/// The drawing data of a workpiece record (a record that passed validation)
+/// as a job's gear. A conical workpiece with a cone angle becomes a conical
+/// gear (cone angle δ, blank OD taken at the bottom face); the library holds
+/// no crowning, worm-wheel, curved-tooth or unit data, see
+/// [`workpiece_lacks_class_data`].
+pub fn gear_from_workpiece(r: &Record) -> GearSpec {
+    let mut g = GearSpec::absent();
+    g.module_mm = f(r, "module_mm").unwrap_or(0.0);
+    g.teeth = f(r, "teeth").unwrap_or(0.0) as u32;
+    g.pressure_angle_deg = f(r, "pressure_angle_deg").unwrap_or(20.0);
+    g.helix_angle_deg = f(r, "helix_angle_deg").unwrap_or(0.0);
+    g.helix_hand = match s(r, "helix_hand").as_deref() {
+        Some("left") => Some(Hand::Left),
+        Some("right") => Some(Hand::Right),
+        _ => None,
+    };
+    g.face_width_mm = f(r, "face_width_mm").unwrap_or(0.0);
+    g.profile_shift = f(r, "profile_shift").unwrap_or(0.0);
+    g.addendum_coef = f(r, "addendum_coef").unwrap_or(1.0);
+    g.clearance_coef = f(r, "clearance_coef").unwrap_or(0.25);
+    g.blank_od_mm = f(r, "blank_od_mm");
+    g.od_correction_mm = f(r, "od_correction_mm").unwrap_or(0.0);
+    if let Some(m) = s(r, "material") {
+        g.material = m;
+    }
+    g.quality_grade = f(r, "quality_grade").unwrap_or(8.0) as u8;
+    g.fixture_height_mm = f(r, "fixture_height_mm").unwrap_or(0.0);
+    if s(r, "class").as_deref() == Some("conical") {
+        g.cone = f(r, "cone_angle_deg").map(|angle_deg| ConeSpec {
+            angle_deg,
+            large_end: LargeEnd::Bottom,
+        });
+    }
+    g
+}
+
+/// What a workpiece record lacks to stand for a whole `[gear]` section:
+/// `None` for a cylindrical part, a conical one with its cone angle, and a
+/// multi-gear part whose job gives the further units (the record is the
+/// first unit); otherwise the class data a job must give itself.
+pub fn workpiece_lacks_class_data(r: &Record, job_has_units: bool) -> Option<&'static str> {
+    match s(r, "class").as_deref().unwrap_or("cylindrical") {
+        "cylindrical" => None,
+        "multi_gear" if job_has_units => None,
+        "conical" if f(r, "cone_angle_deg").is_some() => None,
+        "conical" => Some("the cone angle (cone_angle_deg)"),
+        "crowned" => Some("the crowning ([gear.crowning])"),
+        "worm_wheel" => Some("the worm-wheel hobbing data ([gear.worm_wheel])"),
+        "curved_tooth" => Some("the tooth trace ([gear.curved_tooth])"),
+        _ => Some("the gear units ([[units]]) of a multi-gear part"),
+    }
 }

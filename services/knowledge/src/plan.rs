@@ -4,13 +4,15 @@
 //!
 //! Sources of the decided values: `job` (the job file overrides), `case`
 //! (retrieved and adapted cases, [`crate::cbr`]), `machine` (the machine
-//! profile, or a proposal clamped to the machine's limits) and `default`
-//! (gearcam's documented defaults when no case applies).
+//! profile, or a proposal clamped to the machine's limits), `default`
+//! (gearcam's documented defaults when no case applies) and `library` (the
+//! drawing data `gear.*` of a job that names its part instead of giving a
+//! `[gear]` section; the plan's request carries the filled gear).
 
 use gearcam_proto::plan::Proposal;
 use gearcam_proto::{
-    CaseRef, CutMode, HobData, HobSpec, JobError, JobRequest, MachineProfile, ProcessData,
-    ProcessPlan, Source, Sourced, Stage,
+    CaseRef, CutMode, GearSpec, HobData, HobSpec, JobError, JobRequest, MachineProfile,
+    ProcessData, ProcessPlan, Source, Sourced, Stage, WorkpieceRef,
 };
 use rusqlite::Connection;
 
@@ -105,24 +107,35 @@ fn plan_inner(
     cases: &CaseBase,
     req: &JobRequest,
 ) -> Result<ProcessPlan, PlanError> {
+    let mut proposal = Proposal::default();
+    // The drawing data first: every later step reads the resolved gear, and
+    // the plan carries it in its copy of the request.
+    let resolved = resolve_gear(conn, req, &mut proposal)?;
+    let machine = db::machine(conn, &req.spec.job.machine)?;
+    let (WithGear { req, hardness_hb }, machine) = match (resolved, machine) {
+        (Ok(with_gear), Some(machine)) => (with_gear, machine),
+        (resolved, machine) => {
+            let mut errors: Vec<JobError> = resolved.err().into_iter().collect();
+            if machine.is_none() {
+                let known: Vec<String> = db::machines(conn)?
+                    .into_iter()
+                    .map(|m| m.id.to_string())
+                    .collect();
+                errors.push(err(
+                    "UNKNOWN_MACHINE",
+                    "job.machine",
+                    format!("one of {}", known.join(", ")),
+                    req.spec.job.machine.to_string(),
+                    "the machine is not in the knowledge base; pick a configured machine or add it",
+                ));
+            }
+            return Err(PlanError::Job(errors));
+        }
+    };
+    let req = &req;
     let spec = &req.spec;
     let mut errors = Vec::new();
-    let machine = db::machine(conn, &spec.job.machine)?;
-    let Some(machine) = machine else {
-        let known: Vec<String> = db::machines(conn)?
-            .into_iter()
-            .map(|m| m.id.to_string())
-            .collect();
-        return Err(PlanError::Job(vec![err(
-            "UNKNOWN_MACHINE",
-            "job.machine",
-            format!("one of {}", known.join(", ")),
-            spec.job.machine.to_string(),
-            "the machine is not in the knowledge base; pick a configured machine or add it",
-        )]));
-    };
     let class = classify(req);
-    let mut proposal = Proposal::default();
     let hob = resolve_hob(conn, req, &machine, &mut errors, &mut proposal)?;
 
     // The job as a retrieval problem.
@@ -132,7 +145,9 @@ fn plan_inner(
         class: class.to_string(),
         material: g.material.trim().to_string(),
         material_group: material.as_ref().map(|m| m.0.clone()).unwrap_or_default(),
-        hardness_hb: material.as_ref().and_then(|m| m.1),
+        // The part's own hardness when the workpiece library knows it, else
+        // the material's typical one.
+        hardness_hb: hardness_hb.or_else(|| material.as_ref().and_then(|m| m.1)),
         module_mm: g.module_mm,
         teeth: g.teeth,
         helix_angle_deg: g.helix_angle_deg.abs(),
@@ -252,6 +267,26 @@ fn plan_inner(
         ("depth_mm", p.depth_mm),
     ];
     let mut values = proposal.values.clone();
+    // A job that names a library part and gives its own [gear] overrides the
+    // record's drawing data as a whole.
+    if proposal
+        .workpiece
+        .as_ref()
+        .is_some_and(|w| !w.supplied_gear)
+    {
+        for (name, value) in gear_values(&spec.gear) {
+            values.insert(
+                name.to_string(),
+                Sourced {
+                    value,
+                    source: Source::Job,
+                },
+            );
+            if proposal.values.contains_key(name) {
+                proposal.overridden.push(name.to_string());
+            }
+        }
+    }
     for (name, v) in overrides {
         if let Some(value) = v {
             values.insert(
@@ -314,6 +349,162 @@ fn plan_inner(
         confidence: if from_kb { confidence } else { 1.0 },
         proposal,
     })
+}
+
+/// The numeric drawing data of a gear as plan values (`gear.*`), as the
+/// model's explanation names them.
+fn gear_values(g: &GearSpec) -> Vec<(&'static str, f64)> {
+    let mut v = vec![
+        ("gear.module_mm", g.module_mm),
+        ("gear.teeth", f64::from(g.teeth)),
+        ("gear.pressure_angle_deg", g.pressure_angle_deg),
+        ("gear.helix_angle_deg", g.helix_angle_deg),
+        ("gear.face_width_mm", g.face_width_mm),
+        ("gear.profile_shift", g.profile_shift),
+        ("gear.addendum_coef", g.addendum_coef),
+        ("gear.clearance_coef", g.clearance_coef),
+        ("gear.od_correction_mm", g.od_correction_mm),
+        ("gear.quality_grade", f64::from(g.quality_grade)),
+        ("gear.fixture_height_mm", g.fixture_height_mm),
+    ];
+    if let Some(od) = g.blank_od_mm {
+        v.push(("gear.blank_od_mm", od));
+    }
+    if let Some(c) = &g.cone {
+        v.push(("gear.cone.angle_deg", c.angle_deg));
+    }
+    v
+}
+
+/// The drawing-data fields in which two gears differ, by name.
+fn gear_differences(job: &GearSpec, record: &GearSpec) -> Vec<String> {
+    let theirs: std::collections::BTreeMap<&str, f64> = gear_values(record).into_iter().collect();
+    let ours: std::collections::BTreeMap<&str, f64> = gear_values(job).into_iter().collect();
+    let mut names: Vec<&str> = ours.keys().chain(theirs.keys()).copied().collect();
+    names.sort_unstable();
+    names.dedup();
+    let mut out: Vec<String> = names
+        .into_iter()
+        .filter(|n| ours.get(n) != theirs.get(n))
+        .map(str::to_string)
+        .collect();
+    if job.material.trim() != record.material.trim() {
+        out.push("gear.material".into());
+    }
+    if job.helix_hand != record.helix_hand && job.helix_angle_deg != 0.0 {
+        out.push("gear.helix_hand".into());
+    }
+    if gearcam_proto::class::unit_class(job) != gearcam_proto::class::unit_class(record) {
+        out.push("gear.class".into());
+    }
+    out
+}
+
+/// A request with its drawing data resolved.
+struct WithGear {
+    /// The request, its `spec.gear` filled.
+    req: JobRequest,
+    /// The part's hardness from the workpiece library, when the record gives
+    /// one and the gear is of the record's material.
+    hardness_hb: Option<f64>,
+}
+
+/// The request with its drawing data resolved: the job's `[gear]`, or the
+/// workpiece library's record of its part number. Records the library's
+/// part in the proposal (and its values with source `library`). The inner
+/// error is the job's: no gear and no library part.
+fn resolve_gear(
+    conn: &Connection,
+    req: &JobRequest,
+    proposal: &mut Proposal,
+) -> Result<Result<WithGear, JobError>, KnowledgeError> {
+    let spec = &req.spec;
+    let part = spec.job.part_number.trim();
+    let record = crate::library::get(conn, &crate::library::WORKPIECES, part)?;
+    let Some(record) = record else {
+        if spec.has_gear() {
+            return Ok(Ok(WithGear {
+                req: req.clone(),
+                hardness_hb: None,
+            }));
+        }
+        let known: Vec<String> = crate::library::list(conn, &crate::library::WORKPIECES)?
+            .iter()
+            .filter_map(|r| r.get("part_number").and_then(|v| v.as_str()))
+            .take(20)
+            .map(str::to_string)
+            .collect();
+        return Ok(Err(err(
+            "GEAR_MISSING",
+            "gear",
+            format!(
+                "a [gear] section or a part number in the workpiece library ({})",
+                if known.is_empty() {
+                    "the library is empty".to_string()
+                } else {
+                    format!("one of {}", known.join(", "))
+                }
+            ),
+            format!("no [gear] section, and part number {part:?} is not in the workpiece library"),
+            "the job has no drawing data: add the [gear] section, or add the part to the workpiece library (gearcam kb add workpieces ...) and name it in [job] part_number",
+        )));
+    };
+    let library_gear = history::gear_from_workpiece(&record);
+    let provenance = record
+        .get("source")
+        .and_then(|v| v.as_str())
+        .unwrap_or_default()
+        .to_string();
+    for (name, value) in gear_values(&library_gear) {
+        proposal.values.insert(
+            name.to_string(),
+            Sourced {
+                value,
+                source: Source::Library,
+            },
+        );
+    }
+    let hardness = |g: &GearSpec| {
+        record
+            .get("hardness_hb")
+            .and_then(|v| v.as_f64())
+            .filter(|_| g.material.trim() == library_gear.material.trim())
+    };
+    if spec.has_gear() {
+        proposal.workpiece = Some(WorkpieceRef {
+            part_number: part.to_string(),
+            provenance,
+            supplied_gear: false,
+            differs: gear_differences(&spec.gear, &library_gear),
+        });
+        return Ok(Ok(WithGear {
+            req: req.clone(),
+            hardness_hb: hardness(&spec.gear),
+        }));
+    }
+    if let Some(missing) = history::workpiece_lacks_class_data(&record, !spec.units.is_empty()) {
+        let class = record
+            .get("class")
+            .and_then(|v| v.as_str())
+            .unwrap_or_default();
+        return Ok(Err(err(
+            "WORKPIECE_INCOMPLETE",
+            "gear",
+            format!("a [gear] section with {missing}"),
+            format!("part number {part:?}: a {class} workpiece without {missing}"),
+            format!("the workpiece library has no {missing} of {part}; give the job's [gear] section in full"),
+        )));
+    }
+    proposal.workpiece = Some(WorkpieceRef {
+        part_number: part.to_string(),
+        provenance,
+        supplied_gear: true,
+        differs: Vec::new(),
+    });
+    let hardness_hb = hardness(&library_gear);
+    let mut req = req.clone();
+    req.spec.gear = library_gear;
+    Ok(Ok(WithGear { req, hardness_hb }))
 }
 
 fn inline_hob(h: &HobSpec, errors: &mut Vec<JobError>) -> Option<HobData> {
@@ -598,6 +789,129 @@ pub(crate) mod tests {
         let h02 = plan(&conn, &req).unwrap();
         assert_eq!(h02.cases[0].id, "SHOP-H02-1");
         assert!(h02.cases[0].similarity > h02.cases[1].similarity);
+    }
+
+    /// A request from a job that names part `part` and gives no `[gear]`.
+    fn by_part(part: &str) -> JobRequest {
+        let mut req = request(json!({}), json!({}));
+        req.spec.job.part_number = part.into();
+        req.spec.gear = GearSpec::absent();
+        req
+    }
+
+    #[test]
+    fn a_job_naming_a_library_part_gets_its_drawing_data_from_the_library() {
+        let conn = db::open_in_memory().unwrap();
+        let plan = plan(&conn, &by_part("SP-1001")).unwrap();
+        let g = &plan.request.spec.gear;
+        assert!(plan.request.spec.has_gear());
+        assert_eq!((g.module_mm, g.teeth), (3.0, 25));
+        assert_eq!((g.face_width_mm, g.blank_od_mm), (30.0, Some(81.0)));
+        assert_eq!((g.material.as_str(), g.quality_grade), ("20CrMnTi", 7));
+        assert_eq!(g.fixture_height_mm, 50.0);
+        assert_eq!(plan.class, "cylindrical");
+        for name in ["gear.module_mm", "gear.teeth", "gear.blank_od_mm"] {
+            assert_eq!(plan.values[name].source, Source::Library, "{name}");
+        }
+        assert_eq!(plan.values["gear.teeth"].value, 25.0);
+        let w = plan.proposal.workpiece.as_ref().unwrap();
+        assert!(w.supplied_gear);
+        assert_eq!(w.part_number, "SP-1001");
+        assert!(w.provenance.contains("examples"), "{}", w.provenance);
+        assert!(plan.proposal.overridden.is_empty());
+        // The hob is matched to the library's gear (module 3, spur, grade 7).
+        assert_eq!(plan.hob.id, "HOB-M3-80");
+    }
+
+    #[test]
+    fn a_gear_section_wins_over_the_library_part_and_the_plan_says_where_they_differ() {
+        let conn = db::open_in_memory().unwrap();
+        let mut req = request(json!({}), json!({}));
+        req.spec.job.part_number = "SP-1001".into();
+        let plan = plan(&conn, &req).unwrap();
+        assert_eq!(plan.request.spec.gear, req.spec.gear);
+        assert_eq!(plan.values["gear.teeth"].source, Source::Job);
+        assert_eq!(
+            plan.proposal.values["gear.face_width_mm"],
+            Sourced {
+                value: 30.0,
+                source: Source::Library
+            }
+        );
+        assert!(plan
+            .proposal
+            .overridden
+            .contains(&"gear.helix_angle_deg".to_string()));
+        let w = plan.proposal.workpiece.as_ref().unwrap();
+        assert!(!w.supplied_gear);
+        // The fixture gear is a left-hand 15° helical gear of 16MnCr5 with no
+        // blank OD; the record a spur gear of 20CrMnTi with a blank of 81 mm.
+        assert_eq!(
+            w.differs,
+            [
+                "gear.blank_od_mm",
+                "gear.helix_angle_deg",
+                "gear.material",
+                "gear.helix_hand"
+            ]
+        );
+    }
+
+    #[test]
+    fn a_job_with_neither_gear_nor_library_part_is_refused_naming_the_gear() {
+        let conn = db::open_in_memory().unwrap();
+        let errors = plan(&conn, &by_part("NO-SUCH-PART")).unwrap_err();
+        assert_eq!(errors.len(), 1, "{errors:#?}");
+        let e = &errors[0];
+        assert_eq!(
+            (e.code.as_str(), e.field.as_str()),
+            ("GEAR_MISSING", "gear")
+        );
+        assert!(
+            e.expected
+                .starts_with("a [gear] section or a part number in the workpiece library"),
+            "{}",
+            e.expected
+        );
+        assert!(e.expected.contains("SP-1001"), "{}", e.expected);
+        assert!(e.got.contains("\"NO-SUCH-PART\""), "{}", e.got);
+        // With an unknown machine as well, both are reported.
+        let mut req = by_part("NO-SUCH-PART");
+        req.spec.job.machine = MachineId::new("H99").unwrap();
+        let codes: Vec<String> = plan(&conn, &req)
+            .unwrap_err()
+            .into_iter()
+            .map(|e| e.code)
+            .collect();
+        assert_eq!(codes, ["GEAR_MISSING", "UNKNOWN_MACHINE"]);
+    }
+
+    #[test]
+    fn a_library_part_without_its_class_data_needs_the_gear_section() {
+        let conn = db::open_in_memory().unwrap();
+        let mut rec = library::Record::new();
+        for (k, v) in [
+            ("part_number", json!("CR-1")),
+            ("class", json!("crowned")),
+            ("module_mm", json!(3.0)),
+            ("teeth", json!(25)),
+            ("face_width_mm", json!(30.0)),
+            ("fixture_height_mm", json!(50.0)),
+        ] {
+            rec.insert(k.into(), v);
+        }
+        library::add(&conn, &library::WORKPIECES, &rec).unwrap();
+        let errors = plan(&conn, &by_part("CR-1")).unwrap_err();
+        assert_eq!(errors[0].code, "WORKPIECE_INCOMPLETE");
+        assert!(errors[0].expected.contains("[gear.crowning]"), "{errors:?}");
+        // A conical part with its cone angle is complete.
+        rec.insert("part_number".into(), json!("CO-1"));
+        rec.insert("class".into(), json!("conical"));
+        rec.insert("cone_angle_deg".into(), json!(6.5));
+        library::add(&conn, &library::WORKPIECES, &rec).unwrap();
+        let p = plan(&conn, &by_part("CO-1")).unwrap();
+        assert_eq!(p.class, "conical");
+        assert_eq!(p.values["gear.cone.angle_deg"].value, 6.5);
     }
 
     #[test]

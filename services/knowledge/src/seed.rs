@@ -22,6 +22,9 @@ pub const SEED000: &str = "seed 000 (Cao, Yan, Guo 2015, CIMS 21(1), §4.2): str
 cutting_speed_m_min = π·70·rpm/1000 assuming a 70 mm hob (the paper gives no hob diameter); \
 feed_mm_per_rev = axial feed / (z0·rpm/z). Hob material not stated (HSS assumed), coating unknown";
 
+/// Provenance of the example workpieces.
+pub const EXAMPLES: &str = "gearcam example job files (examples/*.toml)";
+
 fn insert(tx: &Transaction<'_>, lib: &library::Library, v: Value) -> Result<(), KnowledgeError> {
     let Value::Object(rec) = v else {
         unreachable!("seed records are objects")
@@ -229,7 +232,7 @@ pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     }
 
     // Example workpieces: the parts of the bundled example jobs.
-    const EX: &str = "gearcam example job files (examples/*.toml)";
+    const EX: &str = EXAMPLES;
     for w in [
         json!({"part_number": "SP-1001", "description": "spur gear of the patent embodiment",
                "module_mm": 3.0, "teeth": 25, "face_width_mm": 30.0, "blank_od_mm": 81.0,
@@ -240,6 +243,7 @@ pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
                "fixture_height_mm": 60.0, "source": EX}),
         json!({"part_number": "HG-3003-L", "description": "left-hand helical gear, climb cut",
                "module_mm": 3.0, "teeth": 31, "helix_angle_deg": 20.0, "helix_hand": "left",
+               "profile_shift": 0.2,
                "face_width_mm": 25.0, "material": "16MnCr5", "fixture_height_mm": 45.0, "source": EX}),
     ] {
         insert(tx, &library::WORKPIECES, w)?;
@@ -258,8 +262,18 @@ pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
 /// either machine. Cases the shop confirms on H02 carry `machine = H02` and
 /// then rank above the general ones for H02 jobs (similarity 1 on that
 /// feature), while H01's history stays usable there at 0.6.
+///
+/// It also repairs a version-2 seed record: workpiece `HG-3003-L` lacked the
+/// profile shift 0.2 of its example job (`helical_climb_840d.toml`); a record
+/// the shop has changed since is left alone.
 pub fn seed_v3(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
-    crate::db::seed_machine(tx, &crate::db::seed_machine_h02(), crate::db::H02_SOURCE)
+    crate::db::seed_machine(tx, &crate::db::seed_machine_h02(), crate::db::H02_SOURCE)?;
+    tx.execute(
+        "UPDATE workpieces SET profile_shift = 0.2
+         WHERE part_number = 'HG-3003-L' AND profile_shift = 0 AND source = ?1",
+        [EXAMPLES],
+    )?;
+    Ok(())
 }
 
 fn group_code(group: &str) -> &'static str {

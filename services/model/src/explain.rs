@@ -44,55 +44,67 @@ pub fn explain(plan: &ProcessPlan, geo: &Geometry, k: &Kinematics) -> Vec<Explai
             .unwrap_or(Origin::Default)
     };
     let job_or = |given: bool, other: Origin| if given { Origin::Job } else { other };
+    // Drawing data is the job's, unless the plan took it from the workpiece
+    // library (values `gear.*` with source `library`).
+    let gear_origin = |name: &str| {
+        plan.values
+            .get(name)
+            .map(|s| origin(s.source))
+            .unwrap_or(Origin::Job)
+    };
     let hob_origin = origin(hob.source);
     let mut out = vec![
         e(
             "gear.module_mm",
             g.module_mm,
             "mm",
-            Origin::Job,
+            gear_origin("gear.module_mm"),
             "normal module mn",
         ),
         e(
             "gear.teeth",
             f64::from(g.teeth),
             "",
-            Origin::Job,
+            gear_origin("gear.teeth"),
             "number of teeth z",
         ),
         e(
             "gear.pressure_angle_deg",
             g.pressure_angle_deg,
             "deg",
-            Origin::Job,
+            gear_origin("gear.pressure_angle_deg"),
             "normal pressure angle αn (default 20)",
         ),
         e(
             "gear.helix_angle_deg",
             g.helix_angle_deg,
             "deg",
-            Origin::Job,
+            gear_origin("gear.helix_angle_deg"),
             "helix angle β (default 0)",
         ),
         e(
             "gear.face_width_mm",
             g.face_width_mm,
             "mm",
-            Origin::Job,
+            gear_origin("gear.face_width_mm"),
             "face width b",
         ),
         e(
             "gear.profile_shift",
             g.profile_shift,
             "",
-            Origin::Job,
+            gear_origin("gear.profile_shift"),
             "profile shift coefficient x (default 0)",
         ),
         e(
             "gear.blank_od_mm",
             k.blank_od_mm,
             "mm",
-            job_or(g.blank_od_mm.is_some(), Origin::Computed),
+            if g.blank_od_mm.is_some() {
+                gear_origin("gear.blank_od_mm")
+            } else {
+                Origin::Computed
+            },
             if g.blank_od_mm.is_some() {
                 "blank outside diameter Da1"
             } else {
@@ -103,7 +115,7 @@ pub fn explain(plan: &ProcessPlan, geo: &Geometry, k: &Kinematics) -> Vec<Explai
             "gear.fixture_height_mm",
             g.fixture_height_mm,
             "mm",
-            Origin::Job,
+            gear_origin("gear.blank_od_mm"),
             "H, lower tooth face above the table",
         ),
         e(
