@@ -65,7 +65,8 @@ motion/move if: m.kind == "arc" :: {N()} CIP{words} I1={nc(m.via.x)} K1={nc(m.vi
 motion/move if: m.kind == "dwell" :: {N()} G4 F={nc(m.dwell)} ; DWELL, S
 conditions/unit :: {N()} M{mc.spindle_off} ; HOB OFF
 motion :: ; E -> A: BACK TO THE START POINT
-motion :: {N()} G0 {ax.radial}={nc(A.x)} {ax.axial}={nc(A.z)}
+motion :: {N()} G0 G90 {ax.radial}={nc(A.x)} ; RADIAL RETRACT FIRST: THE HOB LEAVES THE BLANK ZONE
+motion :: {N()} G0 G90 {ax.axial}={nc(A.z)}
 synchronous if: options.sync_cancel :: {N()} EGOFS({ax.table}) ; GEARBOX OFF
 synchronous if: options.sync_cancel :: {N()} EGDEL({ax.table}) ; GEARBOX DEFINITION DELETED
 shift if: any_shift :: {N()} R25=R25+1 ; PARTS CUT WITH THIS HOB SETTING

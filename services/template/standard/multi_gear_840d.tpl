@@ -36,7 +36,8 @@ conditions if: options.coolant :: {N()} M{mc.coolant_on} ; COOLANT ON
 conditions if: options.chip_conveyor :: {N()} M{mc.chip_conveyor_on} ; CHIP CONVEYOR ON
 conditions if: options.mist_separator :: {N()} M{mc.mist_on} ; OIL MIST SEPARATOR ON
 main/unit :: ; UNIT {u.index} OF {units}: {comment(u.name)}, {upper(k.class)}, Z OFFSET {nc(u.z_offset)} MM
-preparation/unit if: not u.first and u.hob_change :: {N()} G0 G90 {ax.radial}={nc(A.x)} {ax.axial}={nc(A.z)}
+preparation/unit if: not u.first and u.hob_change :: {N()} G0 G90 {ax.radial}={nc(A.x)}
+preparation/unit if: not u.first and u.hob_change :: {N()} G0 G90 {ax.axial}={nc(A.z)}
 preparation/unit if: not u.first and u.hob_change :: {N()} MSG("CHANGE HOB TO {comment(u.hob.id)}") ; HOB CHANGE
 preparation/unit if: not u.first and u.hob_change :: {N()} M0 ; STOP FOR THE HOB CHANGE
 preparation/unit if: not u.first and u.hob_change :: {N()} MSG()
@@ -75,7 +76,8 @@ conditions/unit :: {N()} M{mc.spindle_off} ; HOB OFF
 synchronous/unit if: not u.last :: {N()} EGOFS({ax.table}) ; GEARBOX OFF BEFORE THE NEXT UNIT
 synchronous/unit if: not u.last :: {N()} EGDEL({ax.table})
 motion :: ; E -> A: BACK TO THE START POINT
-motion :: {N()} G0 {ax.radial}={nc(A.x)} {ax.axial}={nc(A.z)}
+motion :: {N()} G0 G90 {ax.radial}={nc(A.x)} ; RADIAL RETRACT FIRST: THE HOB LEAVES THE BLANK ZONE
+motion :: {N()} G0 G90 {ax.axial}={nc(A.z)}
 synchronous if: options.sync_cancel :: {N()} EGOFS({ax.table}) ; GEARBOX OFF
 synchronous if: options.sync_cancel :: {N()} EGDEL({ax.table}) ; GEARBOX DEFINITION DELETED
 shift if: any_shift :: {N()} R25=R25+1 ; PARTS CUT WITH THIS HOB SETTING

@@ -35,7 +35,8 @@ conditions if: options.coolant :: {N()} M{mc.coolant_on} (COOLANT ON)
 conditions if: options.chip_conveyor :: {N()} M{mc.chip_conveyor_on} (CHIP CONVEYOR ON)
 conditions if: options.mist_separator :: {N()} M{mc.mist_on} (OIL MIST SEPARATOR ON)
 main/unit :: (UNIT {u.index} OF {units}: {upper(comment(u.name))}, {upper(k.class)}, Z OFFSET {nc(u.z_offset)} MM)
-preparation/unit if: not u.first and u.hob_change :: {N()} G00 G90 {ax.radial}{nc(A.x)} {ax.axial}{nc(A.z)}
+preparation/unit if: not u.first and u.hob_change :: {N()} G00 G90 {ax.radial}{nc(A.x)}
+preparation/unit if: not u.first and u.hob_change :: {N()} G00 G90 {ax.axial}{nc(A.z)}
 preparation/unit if: not u.first and u.hob_change :: {N()} M00 (CHANGE HOB TO {upper(comment(u.hob.id))})
 motion/unit if: not u.first :: {N()} G00 G90 {ax.radial}{nc(k.B.x)} {ax.axial}{nc(k.B.z)} {ax.swivel}{deg(k.swivel)}
 motion/unit if: k.has_cone :: (CONE DELTA={deg(k.cone.angle)} LARGE END {upper(k.cone.large_end)}: X FOLLOWS Z BY {factor(k.cone.x_per_z)} MM/MM)
@@ -77,7 +78,8 @@ motion/move if: m.kind == "dwell" :: {N()} G04 X{nc(m.dwell)} (DWELL, S)
 conditions/unit :: {N()} M{mc.spindle_off} (HOB OFF)
 synchronous/unit if: not u.last :: {N()} G80 (EGB OFF BEFORE THE NEXT UNIT)
 motion :: (E TO A: BACK TO THE START POINT)
-motion :: {N()} G00 G90 {ax.radial}{nc(A.x)} {ax.axial}{nc(A.z)}
+motion :: {N()} G00 G90 {ax.radial}{nc(A.x)} (RADIAL RETRACT FIRST: THE HOB LEAVES THE BLANK ZONE)
+motion :: {N()} G00 G90 {ax.axial}{nc(A.z)}
 synchronous if: options.sync_cancel :: {N()} G80 (EGB OFF)
 shift if: any_shift :: #525=#525+1 (PARTS CUT WITH THIS HOB SETTING)
 conditions if: options.coolant :: {N()} M{mc.coolant_off} (COOLANT OFF)

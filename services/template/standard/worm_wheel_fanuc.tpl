@@ -69,7 +69,8 @@ motion/move if: m.kind == "feed" and words != "" :: {N()} G01 G90 G98{words} F{n
 motion/move if: m.kind == "dwell" :: {N()} G04 X{nc(m.dwell)} (DWELL, S)
 conditions/unit :: {N()} M{mc.spindle_off} (HOB OFF)
 motion :: (E TO A: BACK TO THE START POINT)
-motion :: {N()} G00 G90 {ax.radial}{nc(A.x)} {ax.axial}{nc(A.z)}
+motion :: {N()} G00 G90 {ax.radial}{nc(A.x)} (RADIAL RETRACT FIRST: THE HOB LEAVES THE BLANK ZONE)
+motion :: {N()} G00 G90 {ax.axial}{nc(A.z)}
 synchronous if: options.sync_cancel :: {N()} G80 (EGB OFF)
 shift if: any_shift :: #525=#525+1 (PARTS CUT WITH THIS HOB SETTING)
 conditions if: options.coolant :: {N()} M{mc.coolant_off} (COOLANT OFF)
