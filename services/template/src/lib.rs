@@ -24,6 +24,7 @@ pub mod engine;
 pub mod error;
 pub mod expr;
 pub mod library;
+pub mod nc;
 pub mod params;
 pub mod render;
 pub mod service;

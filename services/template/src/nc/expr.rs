@@ -1,0 +1,589 @@
+//! Number literals and the parameter arithmetic of both dialects: 840D
+//! R-parameter expressions (`R20+R22*(R26 MOD R24)`, `TRUNC(R25/R23)`) and
+//! FANUC macro expressions (`#520+#522*#527`, `FIX[#525/#523]`, `[ ]`).
+//!
+//! An expression is compiled once, when its line is parsed, into postfix
+//! tokens; evaluating it walks them with a fixed-size stack, so evaluation
+//! never allocates. Nesting is bounded ([`MAX_NESTING`]) so that no input can
+//! exhaust the parser's stack.
+
+/// Deepest nesting of brackets and functions an expression may have.
+pub const MAX_NESTING: usize = 16;
+
+/// Most tokens one expression may compile to.
+const MAX_TOKENS: usize = 256;
+
+/// Evaluation stack size; [`MAX_NESTING`] bounds the depth to far less.
+const STACK: usize = 64;
+
+/// Number of parameters: 840D `R0`–`R99`, FANUC `#500`–`#599`.
+pub const PARAMS: usize = 100;
+
+/// A byte cursor over one program line.
+#[derive(Debug, Clone)]
+pub(crate) struct Cursor<'a> {
+    s: &'a [u8],
+    pub(crate) i: usize,
+}
+
+impl<'a> Cursor<'a> {
+    pub(crate) fn new(s: &'a str) -> Self {
+        Cursor {
+            s: s.as_bytes(),
+            i: 0,
+        }
+    }
+
+    pub(crate) fn peek(&self) -> Option<u8> {
+        self.s.get(self.i).copied()
+    }
+
+    pub(crate) fn peek_at(&self, ahead: usize) -> Option<u8> {
+        self.s.get(self.i + ahead).copied()
+    }
+
+    pub(crate) fn bump(&mut self) {
+        if self.i < self.s.len() {
+            self.i += 1;
+        }
+    }
+
+    pub(crate) fn at_end(&self) -> bool {
+        self.i >= self.s.len()
+    }
+
+    /// Consumes `b` if it is next.
+    pub(crate) fn eat(&mut self, b: u8) -> bool {
+        if self.peek() == Some(b) {
+            self.i += 1;
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Consumes `word` if the input continues with it.
+    pub(crate) fn eat_str(&mut self, word: &str) -> bool {
+        let w = word.as_bytes();
+        if self.s.len() >= self.i + w.len() && &self.s[self.i..self.i + w.len()] == w {
+            self.i += w.len();
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Consumes `word` if it is next and not followed by a letter or digit.
+    pub(crate) fn eat_keyword(&mut self, word: &str) -> bool {
+        let start = self.i;
+        if self.eat_str(word) && !self.peek().is_some_and(|b| b.is_ascii_alphanumeric()) {
+            true
+        } else {
+            self.i = start;
+            false
+        }
+    }
+
+    /// Skips spaces and tabs; true if any were skipped.
+    pub(crate) fn skip_spaces(&mut self) -> bool {
+        let start = self.i;
+        while matches!(self.peek(), Some(b' ' | b'\t')) {
+            self.i += 1;
+        }
+        self.i > start
+    }
+
+    /// A run of ASCII digits (possibly empty).
+    pub(crate) fn digits(&mut self) -> &'a [u8] {
+        let start = self.i;
+        while self.peek().is_some_and(|b| b.is_ascii_digit()) {
+            self.i += 1;
+        }
+        &self.s[start..self.i]
+    }
+
+    /// A run of identifier characters `A-Z a-z 0-9 _` (possibly empty).
+    pub(crate) fn ident(&mut self) -> &'a [u8] {
+        let start = self.i;
+        while self
+            .peek()
+            .is_some_and(|b| b.is_ascii_alphanumeric() || b == b'_')
+        {
+            self.i += 1;
+        }
+        &self.s[start..self.i]
+    }
+
+    /// The text from `from` to the cursor.
+    pub(crate) fn since(&self, from: usize) -> &'a [u8] {
+        &self.s[from.min(self.i)..self.i]
+    }
+}
+
+/// An unsigned integer of at most 9 digits.
+pub(crate) fn small_uint(digits: &[u8]) -> Option<u32> {
+    if digits.is_empty() || digits.len() > 9 {
+        return None;
+    }
+    Some(
+        digits
+            .iter()
+            .fold(0u32, |n, d| n * 10 + u32::from(d - b'0')),
+    )
+}
+
+/// A number as written in the program: its value, how many decimals it had
+/// and whether it had a decimal point (`12.0` has one; the count `25` not).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Num {
+    /// The value.
+    pub value: f64,
+    /// Digits after the decimal point.
+    pub decimals: u8,
+    /// True when a decimal point was written.
+    pub point: bool,
+}
+
+impl Num {
+    /// The value as an integer, when it was written without a decimal point.
+    pub fn integer(&self) -> Option<i64> {
+        if self.point || self.value.abs() > 1e15 {
+            None
+        } else {
+            Some(self.value as i64)
+        }
+    }
+}
+
+/// A signed decimal literal, `-?d+(.d+)?`, at the cursor. At most 15 digits
+/// before and 9 after the point.
+pub(crate) fn number(c: &mut Cursor<'_>) -> Option<Num> {
+    let start = c.i;
+    let neg = match c.peek() {
+        Some(b'-') => {
+            c.bump();
+            true
+        }
+        Some(b'+') => {
+            c.bump();
+            false
+        }
+        _ => false,
+    };
+    let int = c.digits();
+    if int.is_empty() || int.len() > 15 {
+        c.i = start;
+        return None;
+    }
+    let mut value = int
+        .iter()
+        .fold(0.0f64, |n, d| n * 10.0 + f64::from(d - b'0'));
+    let mut decimals = 0u8;
+    let mut point = false;
+    if c.peek() == Some(b'.') && c.peek_at(1).is_some_and(|b| b.is_ascii_digit()) {
+        c.bump();
+        point = true;
+        let frac = c.digits();
+        if frac.len() > 9 {
+            c.i = start;
+            return None;
+        }
+        decimals = frac.len() as u8;
+        let f = frac
+            .iter()
+            .fold(0.0f64, |n, d| n * 10.0 + f64::from(d - b'0'));
+        value += f / 10f64.powi(i32::from(decimals));
+    }
+    if neg {
+        value = -value;
+    }
+    Some(Num {
+        value,
+        decimals,
+        point,
+    })
+}
+
+/// The two expression syntaxes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Syntax {
+    /// 840D: `R<n>`, `( )`, `TRUNC( )`, `MOD`.
+    Siemens,
+    /// FANUC: `#5nn`, `[ ]`, `FIX[ ]`.
+    Fanuc,
+}
+
+/// One postfix token.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Tok {
+    Num(f64),
+    Var(u8),
+    Neg,
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Mod,
+    Trunc,
+}
+
+/// A compiled parameter expression.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Expr {
+    toks: Box<[Tok]>,
+}
+
+/// Why an expression could not be evaluated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EvalError {
+    /// Division (or `MOD`) by zero.
+    DivisionByZero,
+    /// The result is not a finite number.
+    NotFinite,
+}
+
+impl std::fmt::Display for EvalError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            EvalError::DivisionByZero => f.write_str("it divides by zero"),
+            EvalError::NotFinite => f.write_str("its value is not a finite number"),
+        }
+    }
+}
+
+impl Expr {
+    /// Evaluates with the parameter values `vars` (`R0`… or `#500`…).
+    pub fn eval(&self, vars: &[f64; PARAMS]) -> Result<f64, EvalError> {
+        let mut stack = [0.0f64; STACK];
+        let mut n = 0usize;
+        for t in self.toks.iter() {
+            match *t {
+                Tok::Num(_) | Tok::Var(_) if n >= STACK => return Err(EvalError::NotFinite),
+                Tok::Num(v) => {
+                    stack[n] = v;
+                    n += 1;
+                }
+                Tok::Var(i) => {
+                    stack[n] = vars.get(usize::from(i)).copied().unwrap_or(0.0);
+                    n += 1;
+                }
+                Tok::Neg | Tok::Trunc => {
+                    let Some(top) = n.checked_sub(1) else {
+                        return Err(EvalError::NotFinite);
+                    };
+                    stack[top] = if *t == Tok::Neg {
+                        -stack[top]
+                    } else {
+                        stack[top].trunc()
+                    };
+                }
+                Tok::Add | Tok::Sub | Tok::Mul | Tok::Div | Tok::Mod => {
+                    if n < 2 {
+                        return Err(EvalError::NotFinite);
+                    }
+                    let (a, b) = (stack[n - 2], stack[n - 1]);
+                    n -= 1;
+                    stack[n - 1] = match t {
+                        Tok::Add => a + b,
+                        Tok::Sub => a - b,
+                        Tok::Mul => a * b,
+                        Tok::Div if b == 0.0 => return Err(EvalError::DivisionByZero),
+                        Tok::Div => a / b,
+                        _ if b == 0.0 => return Err(EvalError::DivisionByZero),
+                        _ => a % b,
+                    };
+                }
+            }
+        }
+        match (n, stack[0]) {
+            (1, v) if v.is_finite() => Ok(v),
+            _ => Err(EvalError::NotFinite),
+        }
+    }
+}
+
+/// A word's value: a literal or an expression.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Value {
+    /// A literal number.
+    Num(Num),
+    /// A parameter expression.
+    Expr(Expr),
+}
+
+impl Default for Value {
+    fn default() -> Self {
+        Value::Num(Num::default())
+    }
+}
+
+impl Value {
+    /// The value with the parameters `vars`.
+    pub fn eval(&self, vars: &[f64; PARAMS]) -> Result<f64, EvalError> {
+        match self {
+            Value::Num(n) => Ok(n.value),
+            Value::Expr(e) => e.eval(vars),
+        }
+    }
+
+    /// The literal, when the value is one.
+    pub fn literal(&self) -> Option<Num> {
+        match self {
+            Value::Num(n) => Some(*n),
+            Value::Expr(_) => None,
+        }
+    }
+}
+
+/// Compiles an expression at the cursor. It ends before the first character
+/// that cannot continue it (840D: spaces end it unless an operator follows).
+/// A lone literal comes back as [`Value::Num`].
+pub(crate) fn expression(c: &mut Cursor<'_>, syntax: Syntax) -> Result<Value, &'static str> {
+    let mut p = Compiler {
+        syntax,
+        out: Vec::new(),
+        depth: 0,
+        literal: None,
+    };
+    p.expr(c)?;
+    Ok(p.finish())
+}
+
+/// Compiles one operand at the cursor: a literal, a parameter, a bracketed
+/// expression or a function (the form of a FANUC address value, `X#501`,
+/// `Y[#520+#522*#527]`).
+pub(crate) fn operand(c: &mut Cursor<'_>, syntax: Syntax) -> Result<Value, &'static str> {
+    let mut p = Compiler {
+        syntax,
+        out: Vec::new(),
+        depth: 0,
+        literal: None,
+    };
+    p.factor(c)?;
+    Ok(p.finish())
+}
+
+struct Compiler {
+    syntax: Syntax,
+    out: Vec<Tok>,
+    depth: usize,
+    /// The last literal read, to return a lone literal as such.
+    literal: Option<Num>,
+}
+
+impl Compiler {
+    /// The compiled value; a lone literal stays a literal.
+    fn finish(self) -> Value {
+        match (self.out.as_slice(), self.literal) {
+            ([Tok::Num(_)], Some(n)) => Value::Num(n),
+            _ => Value::Expr(Expr {
+                toks: self.out.into_boxed_slice(),
+            }),
+        }
+    }
+
+    fn push(&mut self, t: Tok) -> Result<(), &'static str> {
+        if self.out.len() >= MAX_TOKENS {
+            return Err("the expression is too long");
+        }
+        self.out.push(t);
+        Ok(())
+    }
+
+    /// Skips spaces only if an operator follows them (840D); FANUC bracket
+    /// contents may not hold spaces at all in our subset, but are tolerated.
+    fn operator(&self, c: &mut Cursor<'_>, ops: &[&str]) -> Option<usize> {
+        let start = c.i;
+        c.skip_spaces();
+        for (k, op) in ops.iter().enumerate() {
+            let ok = if op.as_bytes()[0].is_ascii_alphabetic() {
+                // A keyword operator needs a space before it and ends at a non-letter.
+                c.i > start && c.eat_keyword(op)
+            } else {
+                c.eat_str(op)
+            };
+            if ok {
+                c.skip_spaces();
+                return Some(k);
+            }
+        }
+        c.i = start;
+        None
+    }
+
+    fn expr(&mut self, c: &mut Cursor<'_>) -> Result<(), &'static str> {
+        self.term(c)?;
+        while let Some(k) = self.operator(c, &["+", "-"]) {
+            self.term(c)?;
+            self.push(if k == 0 { Tok::Add } else { Tok::Sub })?;
+        }
+        Ok(())
+    }
+
+    fn term(&mut self, c: &mut Cursor<'_>) -> Result<(), &'static str> {
+        self.factor(c)?;
+        let ops: &[&str] = match self.syntax {
+            Syntax::Siemens => &["*", "/", "MOD"],
+            Syntax::Fanuc => &["*", "/"],
+        };
+        while let Some(k) = self.operator(c, ops) {
+            self.factor(c)?;
+            self.push([Tok::Mul, Tok::Div, Tok::Mod][k])?;
+        }
+        Ok(())
+    }
+
+    fn factor(&mut self, c: &mut Cursor<'_>) -> Result<(), &'static str> {
+        self.depth += 1;
+        if self.depth > MAX_NESTING {
+            return Err("the expression is nested too deeply");
+        }
+        let r = self.factor_inner(c);
+        self.depth -= 1;
+        r
+    }
+
+    fn factor_inner(&mut self, c: &mut Cursor<'_>) -> Result<(), &'static str> {
+        let (open, close, func) = match self.syntax {
+            Syntax::Siemens => (b'(', b')', "TRUNC("),
+            Syntax::Fanuc => (b'[', b']', "FIX["),
+        };
+        match c.peek() {
+            Some(b'-') if !c.peek_at(1).is_some_and(|b| b.is_ascii_digit()) => {
+                c.bump();
+                self.factor(c)?;
+                self.push(Tok::Neg)
+            }
+            Some(b'-' | b'0'..=b'9') => {
+                let n = number(c).ok_or("a number is malformed")?;
+                self.literal = Some(n);
+                self.push(Tok::Num(n.value))
+            }
+            Some(b) if b == open => {
+                c.bump();
+                self.group(c, close)
+            }
+            Some(b'R') if self.syntax == Syntax::Siemens => {
+                c.bump();
+                let i = param_index(c.digits()).ok_or("an R parameter is not R0 to R99")?;
+                self.push(Tok::Var(i))
+            }
+            Some(b'#') if self.syntax == Syntax::Fanuc => {
+                c.bump();
+                let i = macro_index(c.digits()).ok_or("a macro variable is not #500 to #599")?;
+                self.push(Tok::Var(i))
+            }
+            _ if c.eat_str(func) => {
+                self.group(c, close)?;
+                self.push(Tok::Trunc)
+            }
+            _ => Err("an operand is missing or unknown"),
+        }
+    }
+
+    fn group(&mut self, c: &mut Cursor<'_>, close: u8) -> Result<(), &'static str> {
+        c.skip_spaces();
+        self.expr(c)?;
+        c.skip_spaces();
+        if c.eat(close) {
+            Ok(())
+        } else {
+            Err("a bracket is not closed")
+        }
+    }
+}
+
+/// `R<n>` index from its digits: 0–99.
+pub(crate) fn param_index(digits: &[u8]) -> Option<u8> {
+    match small_uint(digits) {
+        Some(n) if n < PARAMS as u32 && digits.len() <= 2 => Some(n as u8),
+        _ => None,
+    }
+}
+
+/// `#5nn` index from its digits: 500–599 → 0–99.
+pub(crate) fn macro_index(digits: &[u8]) -> Option<u8> {
+    match small_uint(digits) {
+        Some(n) if (500..600).contains(&n) && digits.len() == 3 => Some((n - 500) as u8),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn eval(text: &str, syntax: Syntax, vars: &[f64; PARAMS]) -> Result<f64, EvalError> {
+        let mut c = Cursor::new(text);
+        let v = expression(&mut c, syntax).unwrap();
+        assert!(c.at_end(), "{text}: stopped at {}", c.i);
+        v.eval(vars)
+    }
+
+    #[test]
+    fn siemens_shift_expression_with_mod_and_trunc() {
+        let mut r = [0.0; PARAMS];
+        r[20] = -26.738;
+        r[22] = 9.433;
+        r[23] = 4.0;
+        r[24] = 6.0;
+        r[25] = 27.0;
+        // R26 = TRUNC(27/4) = 6; 6 MOD 6 = 0 → the start again.
+        r[26] = eval("TRUNC(R25/R23)", Syntax::Siemens, &r).unwrap();
+        assert_eq!(r[26], 6.0);
+        let y = eval("R20+R22*(R26 MOD R24)", Syntax::Siemens, &r).unwrap();
+        assert!((y + 26.738).abs() < 1e-12);
+        r[25] = 9.0;
+        r[26] = eval("TRUNC(R25/R23)", Syntax::Siemens, &r).unwrap();
+        let y = eval("R20+R22*(R26 MOD R24)", Syntax::Siemens, &r).unwrap();
+        assert!((y - (-26.738 + 2.0 * 9.433)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn precedence_unary_minus_and_fanuc_brackets() {
+        let mut v = [0.0; PARAMS];
+        v[25] = 9.0;
+        v[23] = 4.0;
+        assert_eq!(eval("1+2*3-4/2", Syntax::Siemens, &v), Ok(5.0));
+        assert_eq!(eval("-(1+2)*-2", Syntax::Siemens, &v), Ok(6.0));
+        assert_eq!(eval("FIX[#525/#523]", Syntax::Fanuc, &v), Ok(2.0));
+        assert_eq!(eval("[1+2]*[3-1]", Syntax::Fanuc, &v), Ok(6.0));
+        assert_eq!(eval("FIX[-7.5]", Syntax::Fanuc, &v), Ok(-7.0));
+        assert_eq!(
+            eval("R1/R2", Syntax::Siemens, &v),
+            Err(EvalError::DivisionByZero)
+        );
+    }
+
+    #[test]
+    fn a_space_ends_the_expression_unless_an_operator_follows() {
+        let mut c = Cursor::new("R1 Z=2.0");
+        let v = expression(&mut c, Syntax::Siemens).unwrap();
+        assert!(matches!(v, Value::Expr(_)));
+        assert_eq!(c.i, 2);
+        let mut c = Cursor::new("-26.738 ;");
+        assert_eq!(
+            expression(&mut c, Syntax::Siemens).unwrap(),
+            Value::Num(Num {
+                value: -26.738,
+                decimals: 3,
+                point: true
+            })
+        );
+    }
+
+    #[test]
+    fn malformed_expressions_are_refused() {
+        for bad in ["R100", "(1+2", "TRUNC(1", "1+", "#499", "MOD 2", "--"] {
+            let mut c = Cursor::new(bad);
+            let syntax = if bad.starts_with('#') {
+                Syntax::Fanuc
+            } else {
+                Syntax::Siemens
+            };
+            assert!(expression(&mut c, syntax).is_err(), "{bad}");
+        }
+        let deep = format!("{}1{}", "(".repeat(100), ")".repeat(100));
+        assert!(expression(&mut Cursor::new(&deep), Syntax::Siemens).is_err());
+    }
+}

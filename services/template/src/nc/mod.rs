@@ -1,0 +1,476 @@
+//! The path check (SPEC §4.5, seed 000 §4): every program is parsed back and
+//! simulated before it leaves the template service.
+//!
+//! [`parse`] reads a program in exactly the subset of its dialect that
+//! `services/template/DIALECTS.md` describes (SINUMERIK 840D, FANUC with the
+//! EGB `G81`) and refuses every other line with a `PARSE` finding naming it.
+//! [`check`] parses and simulates the program against the machining model it
+//! was made from: the parameter arithmetic (840D `R` parameters, FANUC `#5nn`
+//! macro variables, all starting at 0), the axis motion (absolute, and the
+//! incremental FANUC shift move), the electronic gearbox, the hob spindle and
+//! the switched machine functions, and reports every rule the program breaks
+//! ([`rules`]), sorted by line, with a [`Trace`] of what it saw so callers can
+//! compare the program with the model.
+//!
+//! Pure and allocation-light: a ~60-line program is checked in microseconds.
+//! It never panics, whatever the text.
+//!
+//! # Layout
+//!
+//! - [`expr`]: number literals and the parameter arithmetic, compiled once per
+//!   line and evaluated without allocating.
+//! - `siemens`: the 840D line parser.
+//! - `fanuc`: the FANUC line parser.
+//! - `sim`: the contact zones and the simulation that applies the rules.
+
+pub mod expr;
+mod fanuc;
+mod siemens;
+mod sim;
+
+use gearcam_proto::{Dialect, MachiningModel, MoveKind, PathCheck, PathFinding};
+
+pub use expr::{EvalError, Expr, Num, Value};
+
+/// The rule ids of the findings (`services/template/DIALECTS.md`).
+pub mod rules {
+    /// A line outside the dialect's subset (or one whose arithmetic fails).
+    pub const PARSE: &str = "PARSE";
+    /// A rapid move through the zone where the hob can touch the blank.
+    pub const RAPID_CLEARANCE: &str = "RAPID_CLEARANCE";
+    /// A move into the contact zone with the gearbox uncoupled or the hob stopped.
+    pub const DEPTH_UNCOUPLED: &str = "DEPTH_UNCOUPLED";
+    /// A target outside the machine's travel, or a swivel beyond its limit.
+    pub const TRAVEL_LIMIT: &str = "TRAVEL_LIMIT";
+    /// A hob or table speed above the machine's.
+    pub const SPEED_LIMIT: &str = "SPEED_LIMIT";
+    /// A feed above the machine's, or a feed move without a feed.
+    pub const FEED_LIMIT: &str = "FEED_LIMIT";
+    /// A switched function off without on, on twice, or on at the end.
+    pub const MCODE_PAIR: &str = "MCODE_PAIR";
+    /// The program does not end at A, or not with the end code.
+    pub const END_AT_A: &str = "END_AT_A";
+    /// A gearbox coupling that differs from the model's.
+    pub const COUPLING_RATIO: &str = "COUPLING_RATIO";
+}
+
+/// Longest axis name (840D identifiers have at most 8 characters).
+pub const MAX_AXIS_NAME: usize = 8;
+
+/// Most axis words one motion block may hold.
+pub const MAX_AXIS_WORDS: usize = 6;
+
+/// An axis name as written in the program (`X`, `Z`, `X1`), stored inline.
+#[derive(Clone, Copy, PartialEq, Eq, Default)]
+pub struct AxisName {
+    bytes: [u8; MAX_AXIS_NAME],
+    len: u8,
+}
+
+impl AxisName {
+    /// The name, if it is 1–8 ASCII letters, digits or `_` starting with a letter.
+    pub fn new(name: &[u8]) -> Option<AxisName> {
+        let first = *name.first()?;
+        if name.len() > MAX_AXIS_NAME
+            || !first.is_ascii_alphabetic()
+            || !name.iter().all(|b| b.is_ascii_alphanumeric() || *b == b'_')
+        {
+            return None;
+        }
+        let mut bytes = [0u8; MAX_AXIS_NAME];
+        bytes[..name.len()].copy_from_slice(name);
+        Some(AxisName {
+            bytes,
+            len: name.len() as u8,
+        })
+    }
+
+    /// The name as text.
+    pub fn as_str(&self) -> &str {
+        std::str::from_utf8(&self.bytes[..usize::from(self.len).min(MAX_AXIS_NAME)]).unwrap_or("?")
+    }
+
+    /// True when this is `name`.
+    pub fn is(&self, name: &str) -> bool {
+        self.as_str() == name
+    }
+}
+
+impl std::fmt::Debug for AxisName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.as_str())
+    }
+}
+
+impl std::fmt::Display for AxisName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// One axis word: `X=74.05`, `Y=R20+R22*(R26 MOD R24)`, `Y[#520+#522]`.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct AxisWord {
+    /// The axis.
+    pub axis: AxisName,
+    /// Its value (absolute, or an increment under FANUC `G91`).
+    pub value: Value,
+}
+
+/// Interpolation of a motion block.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Interp {
+    /// `G0` / `G00`.
+    Rapid,
+    /// `G1` / `G01`.
+    Linear,
+    /// 840D `CIP`: a circle through an intermediate point.
+    CircleVia,
+    /// FANUC `G02`: clockwise arc in the Z–X plane (G18), radius form.
+    ArcCw,
+    /// FANUC `G03`: counter-clockwise arc in the Z–X plane, radius form.
+    ArcCcw,
+}
+
+/// Absolute or incremental dimensions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Distance {
+    /// `G90`.
+    Absolute,
+    /// `G91` (FANUC shift move only).
+    Incremental,
+}
+
+/// A motion block (or a block that only sets modal motion codes).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Motion {
+    /// Interpolation given in this block.
+    pub interp: Option<Interp>,
+    /// Dimensions given in this block.
+    pub distance: Option<Distance>,
+    /// `G94` / `G98`: feed per minute given in this block.
+    pub per_minute: bool,
+    words: [AxisWord; MAX_AXIS_WORDS],
+    n_words: u8,
+    /// 840D `CIP` intermediate point (`I1`, `K1`): X and Z, absolute.
+    pub via: Option<(Num, Num)>,
+    /// FANUC arc radius `R`.
+    pub radius: Option<Num>,
+    /// Feed `F`, mm/min.
+    pub feed: Option<Num>,
+}
+
+impl Motion {
+    /// The axis words in the order written.
+    pub fn words(&self) -> &[AxisWord] {
+        &self.words[..usize::from(self.n_words).min(MAX_AXIS_WORDS)]
+    }
+
+    /// Adds an axis word; refuses a repeated axis or too many words.
+    fn push(&mut self, word: AxisWord) -> Result<(), String> {
+        if self.words().iter().any(|w| w.axis == word.axis) {
+            return Err(format!("axis {} is written twice", word.axis));
+        }
+        let n = usize::from(self.n_words);
+        if n >= MAX_AXIS_WORDS {
+            return Err(format!("more than {MAX_AXIS_WORDS} axis words"));
+        }
+        self.words[n] = word;
+        self.n_words += 1;
+        Ok(())
+    }
+}
+
+/// One leading axis of an 840D `EGON` / `EGONSYNE`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lead {
+    /// The leading axis.
+    pub axis: AxisName,
+    /// `EGONSYNE` synchronised position of the leading axis (the hob's only).
+    pub position: Option<Num>,
+    /// Numerator of the coupling factor.
+    pub num: Num,
+    /// Denominator of the coupling factor.
+    pub den: Num,
+}
+
+/// What a block does.
+// A motion block is the common case; keeping it inline spares an allocation
+// per block.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone, PartialEq)]
+pub enum Op {
+    /// `R<n>=expr` (840D) or `#5nn=expr` (FANUC); `param` is `n` (0–99).
+    Assign {
+        /// Parameter index: `R` number, or FANUC variable − 500.
+        param: u8,
+        /// The value.
+        value: Value,
+    },
+    /// A motion block.
+    Motion(Motion),
+    /// `G4 F=s` (840D) or `G04 Xs` (FANUC).
+    Dwell {
+        /// Dwell time, seconds.
+        seconds: Num,
+    },
+    /// An M function, with the spindle speed `S` when given.
+    MCode {
+        /// The M number.
+        code: u16,
+        /// `S`, rpm.
+        speed: Option<Num>,
+    },
+    /// 840D `EGDEF(following, leading, type, ...)`.
+    GearDefine {
+        /// Following axis (the table).
+        following: AxisName,
+        /// Leading axes with their coupling type.
+        leading: Vec<(AxisName, i64)>,
+    },
+    /// 840D `EGON` or (`sync`) `EGONSYNE`.
+    GearOn {
+        /// True for `EGONSYNE` (re-synchronisation into existing gaps).
+        sync: bool,
+        /// Following axis.
+        following: AxisName,
+        /// Leading axes, the hob first.
+        leading: Vec<Lead>,
+    },
+    /// FANUC `G81 T L [Q P]`.
+    FanucGearOn {
+        /// `T`: teeth.
+        teeth: Num,
+        /// `L`: hob starts, signed.
+        starts: Num,
+        /// `Q`: normal module, mm.
+        module: Option<Num>,
+        /// `P`: helix angle, degrees, signed.
+        helix: Option<Num>,
+    },
+    /// 840D `EGOFS(following)` or FANUC `G80` (no axis).
+    GearOff {
+        /// The following axis named (840D).
+        following: Option<AxisName>,
+    },
+    /// 840D `EGDEL(following)`.
+    GearDelete {
+        /// The following axis named.
+        following: AxisName,
+    },
+    /// 840D `MSG(...)`: an operator message.
+    Message,
+}
+
+/// One NC block with its place in the text.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Block {
+    /// 1-based line in the program text.
+    pub line: u32,
+    /// Block number `N`, when written.
+    pub number: Option<u32>,
+    /// What it does.
+    pub op: Op,
+}
+
+/// What the simulation saw; used by callers to compare with the model
+/// (round-trip tests).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Trace {
+    /// Every motion block in order.
+    pub moves: Vec<TraceMove>,
+    /// Every gearbox-on block (`EGON`, `EGONSYNE`, `G81`).
+    pub couplings: Vec<TraceCoupling>,
+    /// Every spindle speed `S` programmed: (line, rpm).
+    pub spindle_rpm: Vec<(u32, f64)>,
+    /// Every swivel angle programmed: (line, degrees).
+    pub swivel_deg: Vec<(u32, f64)>,
+    /// Every M function: (line, number).
+    pub mcodes: Vec<(u32, u16)>,
+}
+
+/// One simulated move.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TraceMove {
+    /// Line of the block.
+    pub line: u32,
+    /// Rapid, feed, arc or dwell.
+    pub kind: MoveKind,
+    /// X after the move, absolute, mm.
+    pub x_mm: f64,
+    /// Z after the move, absolute, mm.
+    pub z_mm: f64,
+    /// Y (hob shift) after the move, absolute, mm.
+    pub y_mm: f64,
+    /// Feed in effect for feed and arc moves, mm/min.
+    pub feed_mm_min: Option<f64>,
+    /// Dwell time, s.
+    pub dwell_s: Option<f64>,
+    /// True when the gearbox was coupled during the move.
+    pub coupled: bool,
+    /// FANUC: the C correction superimposed on a shift move, degrees.
+    pub c_correction_deg: Option<f64>,
+}
+
+/// One gearbox-on block.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TraceCoupling {
+    /// Line of the block.
+    pub line: u32,
+    /// Hob ratio numerator (840D num, FANUC `L`).
+    pub num: i64,
+    /// Hob ratio denominator (840D den, FANUC `T`).
+    pub den: i64,
+    /// Degrees of C per mm of Z: the 840D Z factor, or the FANUC helical
+    /// compensation 360·sin P/(π·Q·T).
+    pub c_per_z_deg_per_mm: Option<f64>,
+    /// Degrees of C per mm of Y (840D Y factor).
+    pub c_per_y_deg_per_mm: Option<f64>,
+}
+
+/// Parses and simulates `text` (the dialect is the model's machine's) against
+/// the model it was made from. Findings are sorted by line; `ok` means none.
+/// A program that does not parse gets only its `PARSE` findings and an empty
+/// trace.
+pub fn check(text: &str, model: &MachiningModel) -> (PathCheck, Trace) {
+    let dialect = model.plan.machine.dialect;
+    let (mut findings, trace) = match parse(dialect, text) {
+        Err(findings) => (findings, Trace::default()),
+        Ok(blocks) => {
+            let last_line = u32::try_from(text.lines().count()).unwrap_or(u32::MAX);
+            sim::run(dialect, &blocks, model, last_line.max(1))
+        }
+    };
+    findings.sort_by_key(|f| f.line);
+    (
+        PathCheck {
+            ok: findings.is_empty(),
+            findings,
+        },
+        trace,
+    )
+}
+
+/// Most `PARSE` findings reported for one text; the rest are summed up in one.
+pub const MAX_PARSE_FINDINGS: usize = 100;
+
+/// Parsing alone: every NC block with its 1-based line (comment, header and
+/// blank lines give none), or the `PARSE` findings.
+pub fn parse(dialect: Dialect, text: &str) -> Result<Vec<Block>, Vec<PathFinding>> {
+    let mut out = Parsed {
+        blocks: Vec::with_capacity(text.len() / 20 + 1),
+        findings: Vec::new(),
+        refused: 0,
+    };
+    match dialect {
+        Dialect::Sinumerik840d => siemens::parse(text, &mut out),
+        Dialect::Fanuc => fanuc::parse(text, &mut out),
+        other => out.findings.push(finding(
+            1,
+            rules::PARSE,
+            format!(
+                "line 1: the path check reads SINUMERIK 840D and FANUC programs, not {}",
+                other.as_str()
+            ),
+        )),
+    }
+    if out.refused > MAX_PARSE_FINDINGS {
+        let more = out.refused - MAX_PARSE_FINDINGS;
+        let line = out.findings.last().map_or(1, |f| f.line);
+        out.findings.push(finding(
+            line,
+            rules::PARSE,
+            format!("line {line}: and {more} more lines outside the subset"),
+        ));
+    }
+    if out.findings.is_empty() {
+        Ok(out.blocks)
+    } else {
+        Err(out.findings)
+    }
+}
+
+/// The parsers' output.
+struct Parsed {
+    blocks: Vec<Block>,
+    findings: Vec<PathFinding>,
+    refused: usize,
+}
+
+impl Parsed {
+    /// Records the outcome of one line.
+    fn line(&mut self, line: u32, raw: &str, result: Result<Option<(Option<u32>, Op)>, String>) {
+        match result {
+            Ok(Some((number, op))) => self.blocks.push(Block { line, number, op }),
+            Ok(None) => {}
+            Err(reason) => self.refuse(line, raw, &reason),
+        }
+    }
+
+    /// A `PARSE` finding for `raw` at `line`.
+    fn refuse(&mut self, line: u32, raw: &str, reason: &str) {
+        self.refused += 1;
+        if self.refused <= MAX_PARSE_FINDINGS {
+            self.findings.push(finding(
+                line,
+                rules::PARSE,
+                format!("line {line}: {reason}: \"{}\"", snippet(raw)),
+            ));
+        }
+    }
+}
+
+/// At most 60 characters of a line, printable ASCII only, for messages.
+fn snippet(raw: &str) -> String {
+    let mut s: String = raw
+        .chars()
+        .take(60)
+        .map(|c| if (' '..='~').contains(&c) { c } else { '?' })
+        .collect();
+    if raw.chars().nth(60).is_some() {
+        s.push_str("...");
+    }
+    s
+}
+
+fn finding(line: u32, rule: &str, message: String) -> PathFinding {
+    PathFinding {
+        line,
+        rule: rule.to_string(),
+        message,
+    }
+}
+
+/// Every line of `text` with its 1-based number (a `\r` before `\n` dropped).
+fn numbered_lines(text: &str) -> impl Iterator<Item = (u32, &str)> {
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| (u32::try_from(i + 1).unwrap_or(u32::MAX), l))
+}
+
+/// An optional block number `N<n>` at the cursor.
+fn block_number(c: &mut expr::Cursor<'_>) -> Result<Option<u32>, String> {
+    if c.peek() == Some(b'N') && c.peek_at(1).is_some_and(|b| b.is_ascii_digit()) {
+        c.bump();
+        let n = expr::small_uint(c.digits()).ok_or("the block number has more than 9 digits")?;
+        return Ok(Some(n));
+    }
+    Ok(None)
+}
+
+/// Checks a literal's decimals and decimal point.
+fn literal(n: Num, what: &str, max_decimals: u8, point: bool) -> Result<Num, String> {
+    if point && !n.point {
+        return Err(format!("{what} {} needs a decimal point", n.value));
+    }
+    if !point && n.point {
+        return Err(format!("{what} must be a whole number"));
+    }
+    if n.decimals > max_decimals {
+        return Err(format!(
+            "{what} has {} decimals, at most {max_decimals} are written",
+            n.decimals
+        ));
+    }
+    Ok(n)
+}
