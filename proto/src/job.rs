@@ -313,10 +313,36 @@ impl HobSpec {
     }
 }
 
+/// Rough or finish hobbing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Operation {
+    /// Roughing: the cut leaves stock for a later operation (finish hobbing,
+    /// shaving, grinding), as in seed 000's bevel-gear example.
+    Rough,
+    /// Finishing: the cut gives the final flanks (the default).
+    #[default]
+    Finish,
+}
+
+impl Operation {
+    /// As written in job files and the knowledge base: `rough` or `finish`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Operation::Rough => "rough",
+            Operation::Finish => "finish",
+        }
+    }
+}
+
 /// `[process]`: optional overrides of the proposed process data.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ProcessOverrides {
+    /// Rough or finish hobbing (default finish). Case retrieval proposes the
+    /// cutting data from cases of the same operation first (SPEC §5).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub operation: Option<Operation>,
     /// Cutting mode (default conventional, as in the patent).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cut_mode: Option<CutMode>,

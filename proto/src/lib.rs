@@ -40,8 +40,8 @@ pub use error::{CodecError, IdError};
 pub use ids::{HobId, JobId, MachineId};
 pub use job::{
     ConeSpec, CrowningShape, CrowningSpec, CurvedToothSpec, CutMode, GearSpec, Hand, HobSpec,
-    Infeed, JobHeader, JobRequest, JobSpec, LargeEnd, MateSpec, Options, ProcessOverrides,
-    ShiftMode, ShiftSpec, UnitSpec, WormInfeed, WormWheelSpec,
+    Infeed, JobHeader, JobRequest, JobSpec, LargeEnd, MateSpec, Operation, Options,
+    ProcessOverrides, ShiftMode, ShiftSpec, UnitSpec, WormInfeed, WormWheelSpec,
 };
 pub use model::{
     ConeModel, CouplingFactors, CrowningModel, Cut, Explained, Geometry, Kinematics,

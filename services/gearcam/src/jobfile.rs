@@ -181,6 +181,27 @@ fixture_height_mm = 50.0
     }
 
     #[test]
+    fn the_operation_is_rough_or_finish() {
+        let spec = parse(
+            &format!("{MINIMAL}[process]\noperation = \"rough\"\n"),
+            "t.toml",
+        )
+        .unwrap();
+        assert_eq!(
+            spec.process.operation,
+            Some(gearcam_proto::Operation::Rough)
+        );
+        assert_eq!(parse(MINIMAL, "t.toml").unwrap().process.operation, None);
+        let err = parse(
+            &format!("{MINIMAL}[process]\noperation = \"semi\"\n"),
+            "t.toml",
+        )
+        .unwrap_err();
+        assert_eq!(err.field, "process.operation");
+        assert!(err.message.contains("rough"), "{}", err.message);
+    }
+
+    #[test]
     fn a_missing_key_and_a_bad_id_are_named() {
         let text = MINIMAL.replace("teeth = 25\n", "");
         let err = parse(&text, "t.toml").unwrap_err();

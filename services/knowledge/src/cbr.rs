@@ -130,6 +130,15 @@ pub enum Operation {
     Finish,
 }
 
+impl From<gearcam_proto::Operation> for Operation {
+    fn from(op: gearcam_proto::Operation) -> Operation {
+        match op {
+            gearcam_proto::Operation::Rough => Operation::Rough,
+            gearcam_proto::Operation::Finish => Operation::Finish,
+        }
+    }
+}
+
 impl Operation {
     /// As written in the database.
     pub fn as_str(self) -> &'static str {

@@ -169,7 +169,7 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
         "hob_coating": text(&lib_hob, "coating", "unknown"),
         "hob_starts": plan.hob.starts,
         "hob_od_mm": plan.hob.od_mm,
-        "operation": "finish",
+        "operation": plan.request.spec.process.operation.unwrap_or_default().as_str(),
         "cutting_speed_m_min": vc,
         "feed_mm_per_rev": fa,
         "hob_rpm": vc * 1000.0 / (std::f64::consts::PI * plan.hob.od_mm),
@@ -276,6 +276,10 @@ mod tests {
         let done = confirm(&conn, &confirmation("J1")).unwrap();
         assert_eq!(done.case["id"], "JOB-J1");
         assert_eq!(done.case["cutting_speed_m_min"], 95.0);
+        assert_eq!(
+            done.case["operation"], "finish",
+            "the job said nothing: finish"
+        );
         assert!(done.case["provenance"]
             .as_str()
             .unwrap()

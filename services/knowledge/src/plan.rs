@@ -16,7 +16,7 @@ use gearcam_proto::{
 };
 use rusqlite::Connection;
 
-use crate::cbr::{self, CaseBase, Limits, Operation, Problem};
+use crate::cbr::{self, CaseBase, Limits, Problem};
 use crate::history::{self, LibraryHob};
 use crate::hobmatch;
 use crate::{db, KnowledgeError};
@@ -156,9 +156,8 @@ fn plan_inner(
         hob_material: hob.as_ref().and_then(|h| h.material.clone()),
         hob_coating: hob.as_ref().and_then(|h| h.coating.clone()),
         hob_starts: hob.as_ref().map(|h| h.data.starts).unwrap_or(1),
-        // The job file has no rough/finish key yet: a job's cut gives the
-        // final flanks, so it is finish hobbing.
-        operation: Operation::Finish,
+        // `[process] operation`; a job that does not say finishes the flanks.
+        operation: spec.process.operation.unwrap_or_default().into(),
         machine: Some(machine.id.to_string()),
     };
     let weights = history::load_weights(conn)?;
@@ -244,6 +243,8 @@ fn plan_inner(
         mode_src,
     );
     prop("safety_mm", machine.settings.safety_mm, Source::Machine);
+    // Rough or finish is the job's to say; finish unless it does.
+    prop("operation_rough", 0.0, Source::Default);
     if let Some(a) = &adapted {
         if let Some(r) = a.radial_feed_mm_min {
             prop("radial_feed_mm_min", r, Source::Case);
@@ -255,7 +256,12 @@ fn plan_inner(
 
     // The job's overrides win.
     let p = &spec.process;
-    let overrides: [(&str, Option<f64>); 6] = [
+    let overrides: [(&str, Option<f64>); 7] = [
+        (
+            "operation_rough",
+            p.operation
+                .map(|o| f64::from(u8::from(o == gearcam_proto::Operation::Rough))),
+        ),
         ("cutting_speed_m_min", p.cutting_speed_m_min),
         ("feed_mm_per_rev", p.feed_mm_per_rev),
         ("cuts", p.cuts.map(f64::from)),
@@ -912,6 +918,96 @@ pub(crate) mod tests {
         let p = plan(&conn, &by_part("CO-1")).unwrap();
         assert_eq!(p.class, "conical");
         assert_eq!(p.values["gear.cone.angle_deg"].value, 6.5);
+    }
+
+    /// Seed 000's bevel gear (SPEC §5): conical, mn 2, z 19, OD 42.5, 40Cr,
+    /// grade 7, cone 6.5°, on the module-2 hob; `process` as given.
+    fn bevel(process: serde_json::Value) -> JobRequest {
+        let spec: JobSpec = serde_json::from_value(json!({
+            "job": {"machine": "H01", "quantity": 10, "part_number": "CB-1901"},
+            "gear": {"module_mm": 2.0, "teeth": 19, "face_width_mm": 20.0,
+                     "blank_od_mm": 42.5, "material": "40Cr", "quality_grade": 7,
+                     "fixture_height_mm": 60.0, "cone": {"angle_deg": 6.5}},
+            "hob": {"id": "HOB-M2-70"},
+            "process": process,
+        }))
+        .unwrap();
+        JobRequest {
+            job_id: gearcam_proto::JobId::new("J2").unwrap(),
+            submitted_at_ms: 0,
+            submitted_by: "test".into(),
+            spec,
+        }
+    }
+
+    #[test]
+    fn a_rough_job_retrieves_the_rough_cases_first_and_a_finish_job_the_finish_ones() {
+        let conn = db::open_in_memory().unwrap();
+        // A finish case of the same bevel gear beside seed 000's two rough ones.
+        let mut rec = library::Record::new();
+        for (k, v) in [
+            ("id", json!("SHOP-BEVEL-FINISH")),
+            ("class", json!("conical")),
+            ("material", json!("40Cr")),
+            ("material_group", json!("quenched_tempered_steel")),
+            ("module_mm", json!(2.0)),
+            ("teeth", json!(19)),
+            ("quality_grade", json!(7)),
+            ("hob_coating", json!("unknown")),
+            ("operation", json!("finish")),
+            ("cutting_speed_m_min", json!(60.0)),
+            ("feed_mm_per_rev", json!(1.0)),
+            ("confidence", json!(0.6)),
+            ("provenance", json!("test: a finishing cut")),
+        ] {
+            rec.insert(k.into(), v);
+        }
+        library::add(&conn, &library::CASES, &rec).unwrap();
+
+        let rough = plan(&conn, &bevel(json!({"operation": "rough"}))).unwrap();
+        let ids: Vec<&str> = rough.cases.iter().map(|c| c.id.as_str()).collect();
+        assert_eq!(
+            ids,
+            [
+                "SEED000-BEVEL-CBR",
+                "SEED000-BEVEL-HAND",
+                "SHOP-BEVEL-FINISH"
+            ]
+        );
+        assert_eq!(
+            rough.values["operation_rough"],
+            Sourced {
+                value: 1.0,
+                source: Source::Job
+            }
+        );
+        assert_eq!(rough.proposal.overridden, ["operation_rough"]);
+        // Seed 000's rough cut leaves 2.5 mm of stock.
+        assert_eq!(rough.values["allowance_mm"].value, 2.5);
+
+        // The same job, finish by default: the finish case first.
+        let finish = plan(&conn, &bevel(json!({}))).unwrap();
+        assert_eq!(finish.cases[0].id, "SHOP-BEVEL-FINISH");
+        assert_eq!(
+            finish.values["operation_rough"],
+            Sourced {
+                value: 0.0,
+                source: Source::Default
+            }
+        );
+        assert!(finish.proposal.overridden.is_empty());
+        let seed_sim = |p: &ProcessPlan| {
+            p.cases
+                .iter()
+                .find(|c| c.id == "SEED000-BEVEL-CBR")
+                .unwrap()
+                .similarity
+        };
+        assert!(seed_sim(&rough) > seed_sim(&finish));
+        // Said explicitly, finish is the job's.
+        let said = plan(&conn, &bevel(json!({"operation": "finish"}))).unwrap();
+        assert_eq!(said.cases, finish.cases);
+        assert_eq!(said.values["operation_rough"].source, Source::Job);
     }
 
     #[test]
