@@ -237,7 +237,7 @@ pub fn crowning_radius_mm(face_width_mm: f64, amount_mm: f64) -> f64 {
     (face_width_mm * face_width_mm / 4.0 + amount_mm * amount_mm) / (2.0 * amount_mm)
 }
 
-/// Chords of a parabolic crowning X = Xc + Cb·(2(Z − Zm)/b)² for a chord
+/// Chords of a parabolic crowning X = Xc − Cb·(2(Z − Zm)/b)² for a chord
 /// tolerance ε: the curvature is constant (X″ = 8·Cb/b²), so a chord of length
 /// b/n deviates at most X″·(b/n)²/8 = Cb/n², and n = ⌈√(Cb/ε)⌉ (at least 2).
 pub fn parabolic_chords(amount_mm: f64, tolerance_mm: f64) -> u32 {
@@ -249,13 +249,15 @@ pub fn parabolic_chords(amount_mm: f64, tolerance_mm: f64) -> u32 {
     }
 }
 
-/// Crowned gear: outside the face width X stays at Xc + Cb; across it X follows
-/// the crowning, a circular arc through (Xc + Cb, faces) and (Xc, middle)
+/// Crowned gear: the teeth are thickest in the middle of the face and thinner by
+/// the crowning towards both faces, so the hob cuts deeper towards the faces:
+/// outside the face width X stays at Xc − Cb; across it X follows the crowning,
+/// a circular arc through (Xc − Cb, faces) and (Xc, middle)
 /// programmed exactly as one arc through its middle point, or a parabola
 /// programmed as `chords` chords. Returns the path and the largest deviation of
 /// the programmed path from the curve.
 pub fn crowned(f: &CutFrame, shape: CrowningShape, amount_mm: f64, chords: u32) -> (CutPath, f64) {
-    let xe = f.xc_mm + amount_mm;
+    let xe = f.xc_mm - amount_mm;
     let (start, end) = f.stroke();
     let (face_in, face_out) = if f.down {
         (f.top_face_mm(), f.bottom_face_mm)
@@ -299,7 +301,7 @@ pub fn crowned(f: &CutFrame, shape: CrowningShape, amount_mm: f64, chords: u32) 
                 let x = if i == n {
                     xe
                 } else {
-                    f.xc_mm + amount_mm * u * u
+                    f.xc_mm - amount_mm * u * u
                 };
                 moves.push(mv(
                     MoveKind::Feed,
@@ -543,13 +545,13 @@ mod tests {
         let r = arc.radius_mm.unwrap();
         // Rc = (30²/4 + 0.02²)/(2·0.02) = 5625.01 mm.
         assert_relative_eq!(r, 5625.01, epsilon = 1e-9);
-        // The three points lie on the circle with centre (Xc + Rc, Zm).
-        let (cx, cz) = (73.75 + r, 65.0);
-        for (x, z) in [(73.77f64, 80.0f64), (73.75, 65.0), (73.77, 50.0)] {
+        // The three points lie on the circle with centre (Xc − Rc, Zm): deeper at the faces.
+        let (cx, cz) = (73.75 - r, 65.0);
+        for (x, z) in [(73.73f64, 80.0f64), (73.75, 65.0), (73.73, 50.0)] {
             assert_relative_eq!((x - cx).hypot(z - cz), r, epsilon = 1e-9);
         }
         assert_eq!(arc.via, Some(p(73.75, 65.0)));
-        assert_eq!((arc.x_mm, arc.z_mm), (Some(73.77), Some(50.0)));
+        assert_eq!((arc.x_mm, arc.z_mm), (Some(73.73), Some(50.0)));
     }
 
     #[test]
@@ -561,8 +563,8 @@ mod tests {
         let (path, dev) = crowned(&f, CrowningShape::Parabolic, amount, n);
         assert!(dev <= tol, "{dev}");
         // Check the real deviation by sampling every chord against the parabola.
-        let curve = |z: f64| 73.75 + amount * (2.0 * (z - 65.0) / 30.0).powi(2);
-        let mut prev = (73.75 + amount, 80.0);
+        let curve = |z: f64| 73.75 - amount * (2.0 * (z - 65.0) / 30.0).powi(2);
+        let mut prev = (73.75 - amount, 80.0);
         let mut worst: f64 = 0.0;
         for m in path.moves.iter().filter(|m| m.note.contains("CHORD")) {
             let next = (m.x_mm.unwrap(), m.z_mm.unwrap());

@@ -609,7 +609,7 @@ fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
                 "gear.crowning.amount_mm",
                 format!("> 0 and < {} mm (half the face width)", num(half)),
                 format!("{} mm", num(cr.amount_mm)),
-                "The crowning amount is the small radial lift at each face against the middle (typically 0.01–0.05 mm); correct gear.crowning.amount_mm.",
+                "The crowning amount is the small extra radial depth at each face against the middle (typically 0.01–0.05 mm); correct gear.crowning.amount_mm.",
             );
         } else if cr.shape == CrowningShape::Parabolic {
             let tol = cr
