@@ -72,10 +72,7 @@ pub fn run(args: TemplatesArgs) -> ExitCode {
         TemplatesCommand::Import { dir } => import(&args.data, dir.as_deref(), json),
         TemplatesCommand::List => open(&args.data).and_then(|lib| match lib.list() {
             Ok(list) if json => print_json(&list),
-            Ok(list) => {
-                print!("{}", list_table(&list));
-                Ok(())
-            }
+            Ok(list) => emit(&list_table(&list)),
             Err(e) => Err(refusal(e, None)),
         }),
         TemplatesCommand::Show { id, version } => {
@@ -131,16 +128,26 @@ fn print<T: Serialize + std::fmt::Display>(json: bool, value: &T) -> Result<(), 
     if json {
         print_json(value)
     } else {
-        print!("{value}");
-        Ok(())
+        emit(&value.to_string())
+    }
+}
+
+/// Writes to stdout. A reader that stops early (`| head`) is not an error.
+fn emit(text: &str) -> Result<(), Failure> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(unavailable(format!("cannot write to stdout: {e}")))
+        }
+        _ => Ok(()),
     }
 }
 
 fn print_json<T: Serialize + ?Sized>(value: &T) -> Result<(), Failure> {
     let text = serde_json::to_string_pretty(value)
         .map_err(|e| unavailable(format!("cannot write JSON: {e}")))?;
-    println!("{text}");
-    Ok(())
+    emit(&(text + "\n"))
 }
 
 fn open(data: &Path) -> Result<Library, Failure> {
@@ -244,7 +251,10 @@ fn import(data: &Path, dir: Option<&Path>, json: bool) -> Result<(), Failure> {
         .import(&files, &texts, now_ms)
         .map_err(|e| refusal(e, Some(&sources)))?;
     if !json {
-        println!("template library {}", data.join("templates.db").display());
+        emit(&format!(
+            "template library {}\n",
+            data.join("templates.db").display()
+        ))?;
     }
     print(json, &report)
 }

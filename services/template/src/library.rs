@@ -1237,6 +1237,40 @@ mod tests {
     }
 
     #[test]
+    fn a_line_a_new_version_shares_becomes_similar_for_the_other_class_too() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut lib = Library::open(&dir.path().join("t.db")).unwrap();
+        let (cyl, con) = (source("cylindrical", 1, CYL), source("conical", 1, CON));
+        import(&mut lib, &[&cyl, &con]).unwrap();
+        let cone = "main :: ; CONE ANGLE {deg(cone)}";
+        let sql = format!("SELECT count(*) FROM components WHERE text = '{cone}'");
+        assert_eq!(count(&lib, &sql), 1);
+        assert_eq!(
+            lib.show("conical_840d", None).unwrap().rows[2].t,
+            "main, non-similar"
+        );
+
+        // Cylindrical version 2 gets conical's own line: it is stored once, as
+        // a similar component, and conical's record points at it; conical's
+        // non-similar copy is gone and conical still assembles to its source.
+        let v2 = source("cylindrical", 2, &format!("{cone}\n{CYL}"));
+        let r = import(&mut lib, &[&v2]).unwrap();
+        assert_eq!(r.added.len(), 1);
+        assert_eq!(count(&lib, &sql), 1);
+        assert_eq!(count(&lib, &format!("{sql} AND kind = 'similar'")), 1);
+        assert_eq!(
+            lib.show("conical_840d", None).unwrap().rows[2].t,
+            "main, similar"
+        );
+        assert_eq!(lib.assemble("conical_840d", None).unwrap(), file(&con));
+        assert_eq!(lib.assemble("cylindrical_840d", None).unwrap(), file(&v2));
+        assert_eq!(
+            lib.assemble("cylindrical_840d", Some(1)).unwrap(),
+            file(&cyl)
+        );
+    }
+
+    #[test]
     fn a_failed_import_stores_nothing() {
         let dir = tempfile::tempdir().unwrap();
         let mut lib = Library::open(&dir.path().join("t.db")).unwrap();
