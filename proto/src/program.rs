@@ -66,6 +66,10 @@ pub struct NcProgram {
     pub model_version: String,
     /// Generator (template service) version.
     pub generator: String,
+    /// The path check of this text: a program leaves the template service only
+    /// when it is ok.
+    #[serde(default)]
+    pub path_check: PathCheck,
 }
 
 impl Message for NcProgram {

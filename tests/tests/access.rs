@@ -214,6 +214,7 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
             cases: vec![],
             model_version: "-".into(),
             generator: "-".into(),
+            path_check: Default::default(),
         };
         let replies = session
             .get("gearcam/v1/machines/H01/programs/EVIL-1")

@@ -443,6 +443,7 @@ fn program_named(job: &str, name: &str) -> gearcam_proto::NcProgram {
         cases: vec![],
         model_version: "-".into(),
         generator: "-".into(),
+        path_check: Default::default(),
     }
 }
 

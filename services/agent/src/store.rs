@@ -643,6 +643,7 @@ mod tests {
             cases: vec![],
             model_version: "m".into(),
             generator: "g".into(),
+            path_check: Default::default(),
         }
     }
 

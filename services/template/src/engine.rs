@@ -378,10 +378,9 @@ impl Run<'_> {
         for piece in &r.output {
             match piece {
                 Piece::Lit(s) => self.out.push_str(s),
-                Piece::Expr(e) => {
-                    let v = e.eval(&self.vars, &mut self.st).map_err(eval)?;
-                    expr::write_output(&mut self.out, &v).map_err(eval)?;
-                }
+                Piece::Expr(e) => e
+                    .write_to(&self.vars, &mut self.st, &mut self.out)
+                    .map_err(eval)?,
             }
         }
         self.out.push('\n');

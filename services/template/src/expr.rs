@@ -531,6 +531,30 @@ fn fixed(v: &Value, decimals: usize, name: &str) -> Result<Value, EvalError> {
         .ok_or_else(|| EvalError::Type(format!("{name}() cannot write {x}")))
 }
 
+/// Appends `v` as [`format_fixed`] writes it; false (and nothing appended) for
+/// NaN and infinities.
+pub fn push_fixed(out: &mut String, v: f64, decimals: usize) -> bool {
+    use std::fmt::Write;
+    if !v.is_finite() {
+        return false;
+    }
+    let start = out.len();
+    let _ = write!(out, "{v:.decimals$}");
+    if out[start..].contains('.') {
+        let trimmed = out.trim_end_matches('0').len();
+        out.truncate(trimmed);
+        if out.ends_with('.') {
+            out.push('0');
+        }
+    } else {
+        out.push_str(".0");
+    }
+    if out[start..].starts_with('-') && out[start + 1..].bytes().all(|c| c == b'0' || c == b'.') {
+        out.remove(start);
+    }
+    true
+}
+
 impl Expr {
     /// Evaluates against the slot values `vars`.
     pub fn eval(&self, vars: &[Value], st: &mut EvalState) -> Result<Value, EvalError> {
@@ -566,6 +590,94 @@ impl Expr {
                 let (f, args) = &*c.0;
                 call(*f, args, vars, st)
             }
+        }
+    }
+
+    /// Evaluates an output parameter straight into NC text: string joins,
+    /// number functions and `if` write into `out` without building the
+    /// intermediate strings; anything else is evaluated and written by
+    /// [`write_output`]. The text is the same as evaluating and writing.
+    pub fn write_to(
+        &self,
+        vars: &[Value],
+        st: &mut EvalState,
+        out: &mut String,
+    ) -> Result<(), EvalError> {
+        match self {
+            Expr::Const(Value::Str(s)) => {
+                st.step()?;
+                out.push_str(s);
+                Ok(())
+            }
+            Expr::Bin(b) if b.0 .0 == BinOp::Add && self.is_text() => {
+                st.step()?;
+                let (_, l, r) = &*b.0;
+                for side in [l, r] {
+                    if side.is_text() {
+                        side.write_to(vars, st, out)?;
+                    } else {
+                        match side.eval(vars, st)? {
+                            Value::Str(s) => out.push_str(&s),
+                            other => {
+                                return Err(EvalError::Type(format!(
+                                    "`+` joins two strings here, got {} {other} (write numbers with nc(), deg(), factor() or text())",
+                                    other.type_name()
+                                )))
+                            }
+                        }
+                    }
+                }
+                Ok(())
+            }
+            Expr::Call(c) => {
+                let (f, args) = &*c.0;
+                let decimals = match f {
+                    Func::Nc => 3,
+                    Func::Deg => 4,
+                    Func::Factor => 6,
+                    Func::If => {
+                        st.step()?;
+                        let go = args[0].eval_bool(vars, st)?;
+                        return args[if go { 1 } else { 2 }].write_to(vars, st, out);
+                    }
+                    _ => return write_output(out, &self.eval(vars, st)?),
+                };
+                st.step()?;
+                let x = num(&args[0].eval(vars, st)?, "an NC number")?;
+                if push_fixed(out, x, decimals) {
+                    Ok(())
+                } else {
+                    Err(EvalError::Type(format!("cannot write {x} as an NC number")))
+                }
+            }
+            _ => write_output(out, &self.eval(vars, st)?),
+        }
+    }
+
+    /// True when the expression certainly gives text (a string constant, a text
+    /// function, a join with text, an `if` between texts).
+    fn is_text(&self) -> bool {
+        match self {
+            Expr::Const(Value::Str(_)) => true,
+            Expr::Bin(b) => {
+                let (op, l, r) = &*b.0;
+                *op == BinOp::Add && (l.is_text() || r.is_text())
+            }
+            Expr::Call(c) => {
+                let (f, args) = &*c.0;
+                match f {
+                    Func::Nc
+                    | Func::Deg
+                    | Func::Factor
+                    | Func::Text
+                    | Func::Upper
+                    | Func::Comment
+                    | Func::Block => true,
+                    Func::If => args[1].is_text() && args[2].is_text(),
+                    _ => false,
+                }
+            }
+            _ => false,
         }
     }
 

@@ -122,13 +122,28 @@ impl Templates {
             .filter(|c| c.dialect == dialect)
     }
 
-    /// Renders the NC program of a machining model.
+    /// Renders the NC program of a machining model and checks its path: the
+    /// program is returned only when the path check finds nothing.
+    ///
+    /// Errors are typed [`JobError`]s of stage `template`: those of
+    /// [`Templates::instantiate`], and one `PATH_CHECK_FAILED` per finding, its
+    /// field `program.line.N`, its `expected` the rule, its message the finding's.
+    pub fn render(&self, model: &MachiningModel) -> Result<NcProgram, Vec<JobError>> {
+        let program = self.instantiate(model)?;
+        if program.path_check.ok {
+            return Ok(program);
+        }
+        Err(path_check_errors(&program))
+    }
+
+    /// Renders the NC program of a machining model and attaches its path check,
+    /// whatever the check found (for `gearcam check`, which shows both).
     ///
     /// The template is chosen by the plan's class and the machine's dialect. Every
     /// error is a typed [`JobError`] of stage `template`: `TEMPLATE_NOT_FOUND`,
     /// `INVALID_AXIS_NAME`, `INVALID_COUPLING`, `TEMPLATE_FUEL_EXHAUSTED`,
     /// `PROGRAM_TOO_LARGE`, `TEMPLATE_RENDER_FAILED`, `INVALID_PROGRAM_NAME`.
-    pub fn render(&self, model: &MachiningModel) -> Result<NcProgram, Vec<JobError>> {
+    pub fn instantiate(&self, model: &MachiningModel) -> Result<NcProgram, Vec<JobError>> {
         let plan = &model.plan;
         let machine = &plan.machine;
         let Some(template) = self.compiled_for(&plan.class, machine.dialect) else {
@@ -201,6 +216,7 @@ impl Templates {
                 ),
             }]
         })?;
+        let (path_check, _) = crate::nc::check(&text, model);
         let sha256 = hex::encode(Sha256::digest(text.as_bytes()));
         tracing::debug!(job = %model.job_id, template = %template.id, %name, bytes = text.len(), "rendered");
         Ok(NcProgram {
@@ -219,6 +235,7 @@ impl Templates {
             cases: case_ids,
             model_version: model.model_version.clone(),
             generator: GENERATOR.to_string(),
+            path_check,
         })
     }
 
@@ -256,6 +273,27 @@ impl Templates {
     }
 }
 
+/// One `PATH_CHECK_FAILED` error per finding of a program's path check.
+pub fn path_check_errors(program: &NcProgram) -> Vec<JobError> {
+    program
+        .path_check
+        .findings
+        .iter()
+        .map(|f| {
+            template_error(
+                "PATH_CHECK_FAILED",
+                &format!("program.line.{}", f.line),
+                &format!("a program that keeps rule {}", f.rule),
+                program.text.lines().nth(f.line as usize - 1).unwrap_or("").trim(),
+                format!(
+                    "program {} (template {} v{}) line {}: {} [{}]; the program was not sent",
+                    program.name, program.template.id, program.template.version, f.line, f.message, f.rule
+                ),
+            )
+        })
+        .collect()
+}
+
 /// The units to program: every unit of a multi-gear part, or the job's gear.
 pub fn unit_inputs(model: &MachiningModel) -> Vec<UnitInput<'_>> {
     let plan = &model.plan;
@@ -290,25 +328,8 @@ pub fn unit_inputs(model: &MachiningModel) -> Vec<UnitInput<'_>> {
 /// `format_fixed(123.4, 3) == "123.4"`, `format_fixed(12.0, 3) == "12.0"`,
 /// `format_fixed(-0.0001, 3) == "0.0"`.
 pub fn format_fixed(v: f64, decimals: usize) -> Option<String> {
-    if !v.is_finite() {
-        return None;
-    }
-    let mut s = format!("{v:.decimals$}");
-    if s.contains('.') {
-        let trimmed = s.trim_end_matches('0').len();
-        s.truncate(trimmed);
-        if s.ends_with('.') {
-            s.push('0');
-        }
-    } else {
-        s.push_str(".0");
-    }
-    if let Some(rest) = s.strip_prefix('-') {
-        if rest.chars().all(|c| c == '0' || c == '.') {
-            s = rest.to_string();
-        }
-    }
-    Some(s)
+    let mut s = String::with_capacity(16);
+    crate::expr::push_fixed(&mut s, v, decimals).then_some(s)
 }
 
 /// Free text made safe for an NC comment (840D `; ...`, FANUC `( ... )`): one
@@ -810,7 +831,8 @@ mod tests {
             "G1 G90 G94 Z=25.5 F=31.831",
             "G0 G90 X=78.75",
             "M5 ; HOB OFF",
-            "G0 X=300.0 Z=400.0",
+            "G0 G90 X=300.0 ; RADIAL RETRACT FIRST: THE HOB LEAVES THE BLANK ZONE",
+            "G0 G90 Z=400.0",
             "EGOFS(C) ; GEARBOX OFF",
             "EGDEL(C) ; GEARBOX DEFINITION DELETED",
             "M9 ; COOLANT OFF",
@@ -924,7 +946,7 @@ mod tests {
         );
         let at = |code: &str| text.find(code).unwrap();
         assert!(at("EGOFS(C)") < at("EGDEL(C)"));
-        assert!(at("G0 X=300.0 Z=400.0") < at("EGOFS(C)"));
+        assert!(at("G0 G90 Z=400.0") < at("EGOFS(C)"));
     }
 
     #[test]
@@ -1014,7 +1036,8 @@ mod tests {
         model.model.swivel_axis_deg = -0.000_01;
         model.model.positions.A.z_mm = -0.0001;
         let model = with_one_cut(model);
-        let text = render(&model).text;
+        // Formatting only: the fixture's A is not a place a real profile has.
+        let text = Templates::builtin().instantiate(&model).unwrap().text;
         assert!(
             !text.contains("-0.0 ") && !text.contains("-0.0\n"),
             "{text}"
@@ -1023,7 +1046,7 @@ mod tests {
             block(&text, "G0 G90 X=173.75"),
             "G0 G90 X=173.75 Z=104.5 A=0.0"
         );
-        assert_eq!(block(&text, "G0 X=300.0"), "G0 X=300.0 Z=0.0");
+        assert_eq!(block(&text, "G0 G90 Z=0.0"), "G0 G90 Z=0.0");
         assert!(!text.contains('e') || !text.contains("e-"), "{text}");
     }
 

@@ -21,8 +21,11 @@
 //! cut's band below the previous cut's centre distance. A worm wheel's band is
 //! the throat height ± r; for tangential infeed the hob is clear while its
 //! shift |Y| is at least the smaller of |start Y| and |end Y|. The zone is
-//! open and shrunk by [`MM`], so a move along its edge (the model's B→C
-//! infeed at the top of the band, D→E retract at the bottom) is outside.
+//! open and shrunk by [`MM`] (Y by twice that), so a move along its edge (the
+//! model's B→C infeed at the top of the band, D→E retract at the bottom) is
+//! outside. A move that only increases X (a radial withdrawal, such as a worm
+//! wheel's D→E retract from the throat) leaves the zone and never counts as
+//! entering it.
 
 use std::f64::consts::{PI, TAU};
 
@@ -46,6 +49,10 @@ pub const MM: f64 = 0.0005 + TOL;
 pub const DEG: f64 = 0.00005 + 1e-9;
 /// A gearbox factor printed with 6 decimals lies within this of the model's.
 pub const FACTOR: f64 = 0.000_000_5 + 1e-9;
+
+/// The shift Y may be reached by an absolute and an incremental word (FANUC),
+/// each rounded: the zone's Y limit allows for both.
+const Y_MARGIN: f64 = 2.0 * MM;
 
 /// Points an arc is checked at (plus its start).
 const ARC_STEPS: usize = 16;
@@ -132,9 +139,9 @@ impl Zone {
         let inside = clip(p0[0], d[0], self.x_hi - MM)
             && clip(-p0[1], -d[1], -(self.z_lo + MM))
             && clip(p0[1], d[1], self.z_hi - MM)
-            && self
-                .y_half
-                .is_none_or(|h| clip(p0[2], d[2], h - MM) && clip(-p0[2], -d[2], h - MM));
+            && self.y_half.is_none_or(|h| {
+                clip(p0[2], d[2], h - Y_MARGIN) && clip(-p0[2], -d[2], h - Y_MARGIN)
+            });
         inside && t0 < t1
     }
 
@@ -346,9 +353,21 @@ pub(super) fn run(
     let units = units(model);
     let zones = zones(&units);
     let profile = &model.plan.machine;
+    let ax = &profile.axes;
+    // An axis name the profile spells invalidly matches nothing (the default
+    // name is empty and no parsed name is).
+    let name = |s: &str| AxisName::new(s.as_bytes()).unwrap_or_default();
     let mut sim = Sim {
         dialect,
         profile,
+        roles: [
+            (name(&ax.radial), Role::X),
+            (name(&ax.axial), Role::Z),
+            (name(&ax.shift), Role::Y),
+            (name(&ax.swivel), Role::A),
+            (name(&ax.hob), Role::B),
+            (name(&ax.table), Role::C),
+        ],
         units,
         zones,
         vars: [0.0; PARAMS],
@@ -393,6 +412,8 @@ pub(super) fn run(
 struct Sim<'m> {
     dialect: Dialect,
     profile: &'m MachineProfile,
+    /// The machine's axis names with their meaning.
+    roles: [(AxisName, Role); 6],
     units: Vec<Unit<'m>>,
     zones: Vec<Zone>,
     vars: [f64; PARAMS],
@@ -429,23 +450,10 @@ impl<'m> Sim<'m> {
     }
 
     fn role(&self, a: &AxisName) -> Role {
-        let ax = &self.profile.axes;
-        let s = a.as_str();
-        if s == ax.radial {
-            Role::X
-        } else if s == ax.axial {
-            Role::Z
-        } else if s == ax.shift {
-            Role::Y
-        } else if s == ax.swivel {
-            Role::A
-        } else if s == ax.hob {
-            Role::B
-        } else if s == ax.table {
-            Role::C
-        } else {
-            Role::Other
-        }
+        self.roles
+            .iter()
+            .find(|(name, _)| name == a)
+            .map_or(Role::Other, |(_, role)| *role)
     }
 
     fn axes(&self) -> (&'m str, &'m str, &'m str) {
@@ -696,10 +704,27 @@ impl<'m> Sim<'m> {
         };
 
         let coupled = self.coupled.is_some();
-        if let Some(zone) = self.zone_crossed(&path) {
+        // A move that only increases X is a radial withdrawal: it can leave
+        // the zone (a worm wheel's D → E retract from the throat) but never
+        // enter it.
+        let withdrawal = to[0] > from[0]
+            && (to[1] - from[1]).abs() <= TOL
+            && (to[2] - from[2]).abs() <= TOL
+            && matches!(interp, Interp::Rapid | Interp::Linear);
+        let zone = if withdrawal {
+            None
+        } else {
+            self.zone_crossed(&path)
+        };
+        let why = match (coupled, self.turning()) {
+            (true, true) => None,
+            (false, true) => Some("the gearbox is not coupled"),
+            (true, false) => Some("the hob is not turning"),
+            (false, false) => Some("the gearbox is not coupled and the hob is not turning"),
+        };
+        if let Some(zone) = zone.filter(|_| kind == MoveKind::Rapid || why.is_some()) {
             let what = self.move_text(kind, from, to);
-            let (xn, zn, yn) = self.axes();
-            let zone_text = zone.describe((xn, zn, yn), self.units.len());
+            let zone_text = zone.describe(self.axes(), self.units.len());
             if kind == MoveKind::Rapid {
                 self.push(
                     line,
@@ -707,12 +732,6 @@ impl<'m> Sim<'m> {
                     format!("{what} passes through the blank zone ({zone_text})"),
                 );
             }
-            let why = match (coupled, self.turning()) {
-                (true, true) => None,
-                (false, true) => Some("the gearbox is not coupled"),
-                (true, false) => Some("the hob is not turning"),
-                (false, false) => Some("the gearbox is not coupled and the hob is not turning"),
-            };
             if let Some(why) = why {
                 self.push(
                     line,
@@ -1197,7 +1216,8 @@ impl<'m> Sim<'m> {
         }
         let u = self.unit();
         let k = u.kin;
-        let (z0, z) = (k.coupling.num, k.coupling.den);
+        // T and L are the teeth and hob starts themselves (the model keeps z0/z reduced).
+        let (z0, z) = (u.hob.starts, u.gear.teeth);
         let t = teeth.integer().unwrap_or(0);
         let l = starts.integer().unwrap_or(0);
         if !(1..=1000).contains(&t) {

@@ -1,0 +1,87 @@
+//! Template service speed (issue 5): assembly + instantiation + path check of one
+//! job, release build. `cargo bench -p gearcam-tests --bench template`.
+//!
+//! - `one_job/{840d,fanuc}_{spur,helical_multicut}`: find the compiled template of
+//!   the job's class and dialect (assembly from the library happens once at
+//!   start; the lookup is what a job pays), fill the parameter table, run the
+//!   expression-driven algorithm, hash, parse the program back and simulate it.
+//! - `expression/*`: one NC output expression, `"G1 X" + nc(X) + " F" + nc(F)`,
+//!   evaluated by our compiled expression and by minijinja's expression API
+//!   (the candidate crate; see services/template/EXPRESSIONS.md).
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use gearcam_proto::{JobId, JobRequest, JobSpec, MachiningModel};
+use gearcam_template::expr::{self, EvalState, Value};
+use gearcam_template::Templates;
+use std::hint::black_box;
+
+fn model(file: &str, machine: &str) -> MachiningModel {
+    let path = format!("{}/../examples/{file}", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("machine = \"H01\"", &format!("machine = \"{machine}\""));
+    let spec: JobSpec = toml::from_str(&text).unwrap();
+    let req = JobRequest {
+        job_id: JobId::new("BENCH-1").unwrap(),
+        submitted_at_ms: 0,
+        submitted_by: "bench".into(),
+        spec,
+    };
+    let conn = gearcam_knowledge::db::open_in_memory().unwrap();
+    let plan = gearcam_knowledge::plan::plan(&conn, &req).unwrap();
+    gearcam_model::compute(&plan).unwrap()
+}
+
+fn one_job(c: &mut Criterion) {
+    let templates = Templates::builtin();
+    let mut g = c.benchmark_group("one_job");
+    for (name, file, machine) in [
+        ("840d_spur", "spur_840d.toml", "H01"),
+        ("840d_multicut_shift", "multi_cut_shift_840d.toml", "H01"),
+        ("fanuc_spur", "spur_840d.toml", "H02"),
+        ("fanuc_multicut_shift", "multi_cut_shift_840d.toml", "H02"),
+    ] {
+        let m = model(file, machine);
+        let p = templates.render(&m).expect("renders and passes the path check");
+        println!("{name}: {} lines, {} bytes", p.text.lines().count(), p.text.len());
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                let p = templates.render(black_box(&m)).unwrap();
+                black_box(p.sha256.len())
+            })
+        });
+        g.bench_function(format!("{name}/path_check_only"), |b| {
+            b.iter(|| black_box(gearcam_template::nc::check(black_box(&p.text), &m).0.ok))
+        });
+    }
+    g.finish();
+}
+
+fn expression(c: &mut Criterion) {
+    let mut g = c.benchmark_group("expression");
+    let names = ["X", "F"];
+    let mut resolve = |n: &str| names.iter().position(|k| *k == n);
+    let ours = expr::compile("\"G1 X\" + nc(X) + \" F\" + nc(F)", &mut resolve).unwrap();
+    let vars = [Value::Num(74.05), Value::Num(28.634)];
+    g.bench_function("gearcam_expr", |b| {
+        b.iter(|| {
+            let mut st = EvalState::new(1000);
+            black_box(ours.eval(black_box(&vars), &mut st).unwrap())
+        })
+    });
+
+    let mut env = minijinja::Environment::new();
+    env.set_fuel(Some(1000));
+    env.add_filter("nc", |v: f64| format!("{v:.3}"));
+    let theirs = env
+        .compile_expression("'G1 X' ~ (X | nc) ~ ' F' ~ (F | nc)")
+        .unwrap();
+    let ctx = minijinja::context! { X => 74.05, F => 28.634 };
+    g.bench_function("minijinja_expression", |b| {
+        b.iter(|| black_box(theirs.eval(black_box(&ctx)).unwrap()))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, one_job, expression);
+criterion_main!(benches);
