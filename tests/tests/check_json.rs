@@ -116,6 +116,31 @@ fn check_json_carries_the_contract_and_the_spec_self_check_numbers() {
         .as_str()
         .unwrap()
         .contains("EGON(C,\"FINE\",B,1,25,Z,0.395446,1)"));
+    // The template that made it, and its path check (issue 5 contract).
+    assert_eq!(v["program"]["template"]["id"], "cylindrical_840d");
+    assert!(v["program"]["template"]["version"].as_u64().unwrap() >= 3);
+    assert_eq!(v["program"]["path_check"]["ok"], true);
+    assert_eq!(
+        v["program"]["path_check"]["findings"].as_array().unwrap().len(),
+        0
+    );
+}
+
+#[test]
+fn check_json_on_the_fanuc_machine_gives_a_checked_fanuc_program() {
+    let dir = tempfile::tempdir().unwrap();
+    let job = SELF_CHECK.replace("machine = \"H01\"", "machine = \"H02\"");
+    assert!(job.contains("H02"));
+    let (code, v) = check(dir.path(), &job);
+    assert_eq!(code, 0, "{v:#}");
+    assert_eq!(v["program"]["dialect"], "fanuc");
+    assert_eq!(v["program"]["template"]["id"], "cylindrical_fanuc");
+    assert_eq!(v["program"]["path_check"]["ok"], true);
+    let text = v["program"]["text"].as_str().unwrap();
+    assert!(text.starts_with("%\nO"), "{text}");
+    // FANUC EGB: T teeth, L starts, Q module and P helix angle together.
+    assert!(text.contains("G81 T25 L1 Q3.0 P15.0"), "{text}");
+    assert!(text.trim_end().ends_with('%'), "{text}");
 }
 
 #[test]

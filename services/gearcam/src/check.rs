@@ -92,6 +92,9 @@ pub struct ProgramSummary {
     pub template: TemplateRef,
     /// SHA-256 of the text.
     pub sha256: String,
+    /// The path check of the text: `ok` and every finding (line, rule, message).
+    /// A program whose check is not ok is shown here but never sent.
+    pub path_check: gearcam_proto::PathCheck,
     /// The program.
     pub text: String,
 }
@@ -195,16 +198,18 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
     report.geometry = Some(model.geometry.clone());
     report.model = Some(model.model.clone());
     report.warnings = model.warnings.clone();
-    match templates.render(&model) {
+    match templates.instantiate(&model) {
         Ok(p) => {
+            report.errors = gearcam_template::render::path_check_errors(&p);
+            report.ok = report.errors.is_empty();
             report.program = Some(ProgramSummary {
                 name: p.name,
                 dialect: p.dialect.as_str().into(),
                 template: p.template,
                 sha256: p.sha256,
+                path_check: p.path_check,
                 text: p.text,
             });
-            report.ok = true;
         }
         Err(errors) => report.errors = errors,
     }
@@ -369,9 +374,22 @@ pub fn format_human(r: &CheckReport) -> String {
     if let Some(p) = &r.program {
         let _ = writeln!(
             out,
-            "program {} ({}, template {} v{}, sha256 {})\n",
+            "program {} ({}, template {} v{}, sha256 {})",
             p.name, p.dialect, p.template.id, p.template.version, p.sha256
         );
+        if p.path_check.ok {
+            let _ = writeln!(out, "path check: ok\n");
+        } else {
+            let _ = writeln!(
+                out,
+                "path check: {} finding(s); the program would not be sent",
+                p.path_check.findings.len()
+            );
+            for f in &p.path_check.findings {
+                let _ = writeln!(out, "  line {} [{}] {}", f.line, f.rule, f.message);
+            }
+            out.push('\n');
+        }
         out.push_str(&p.text);
     }
     out
