@@ -197,7 +197,13 @@ impl Cluster {
             &client(&["--db", &db]),
         ));
         procs.push(Proc::start(d, "model", "gearcam-model", &client(&[])));
-        procs.push(Proc::start(d, "template", "gearcam-template", &client(&[])));
+        let library = d.join("templates.db").display().to_string();
+        procs.push(Proc::start(
+            d,
+            "template",
+            "gearcam-template",
+            &client(&["--library", &library]),
+        ));
         Cluster {
             dir,
             endpoint,

@@ -309,7 +309,7 @@ fn embedded_config(bus: &BusArgs, default_listen: &str) -> BusConfig {
 
 async fn up(data: &Path, bus: &BusArgs) -> anyhow::Result<ExitCode> {
     let config = embedded_config(bus, DEFAULT_ENDPOINT);
-    let mut services = Embedded::start(&config, data, Templates::builtin())
+    let mut services = Embedded::start(&config, data, template_library(data)?)
         .await
         .with_context(|| format!("starting the services (listening on {:?})", config.listen))?;
     println!(
@@ -346,7 +346,7 @@ fn progress(json: bool) -> ProgressBar {
 
 async fn demo(data: &Path) -> anyhow::Result<ExitCode> {
     let config = embedded_config(&BusArgs::default(), "tcp/127.0.0.1:0");
-    let services = Embedded::start(&config, data, Templates::builtin()).await?;
+    let services = Embedded::start(&config, data, template_library(data)?).await?;
     println!(
         "gearcam demo: services up on a loopback session; data in {}\n",
         data.display()
@@ -686,13 +686,36 @@ async fn program_cmd(action: ProgramAction) -> anyhow::Result<ExitCode> {
     }
 }
 
+/// The template library of the data directory (`templates.db`), with the
+/// shipped standard code imported where it is newer.
+fn template_library(data: &Path) -> anyhow::Result<Templates> {
+    let now_ms = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_millis() as u64);
+    Ok(Templates::from_library(
+        &data.join("templates.db"),
+        gearcam_template::DEFAULT_FUEL,
+        now_ms,
+    )?)
+}
+
 fn check_cmd(job: &Path, json: bool, data: &Path) -> ExitCode {
     let report = match jobfile::load(job) {
         Err(e) => CheckReport::failed(vec![e]),
         Ok(spec) => {
             let req = jobfile::request(spec);
             match gearcam_knowledge::db::open(&data.join("knowledge.db")) {
-                Ok(conn) => check::check(&conn, &Templates::builtin(), &req),
+                Ok(conn) => match template_library(data) {
+                    Ok(templates) => check::check(&conn, &templates, &req),
+                    Err(e) => check::CheckReport::failed(vec![gearcam_proto::JobError {
+                        stage: gearcam_proto::Stage::Template,
+                        code: "TEMPLATE_LIBRARY_UNREADABLE".into(),
+                        field: "data".into(),
+                        expected: "a readable template library (templates.db)".into(),
+                        got: data.join("templates.db").display().to_string(),
+                        message: format!("{e:#}"),
+                    }]),
+                },
                 Err(e) => {
                     eprintln!(
                         "gearcam: cannot open the knowledge base in {}: {e}",

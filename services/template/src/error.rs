@@ -16,6 +16,9 @@ pub enum TemplateError {
     /// A template's expressions do not compile (unknown parameter, syntax, scope).
     #[error("{0}")]
     Compile(#[from] crate::engine::CompileError),
+    /// The template library (SQLite) cannot be opened, imported into or read.
+    #[error("template library: {0}")]
+    Library(String),
     /// The template id does not name a class and a supported dialect.
     #[error("template id {id:?} is not usable: {reason}")]
     BadId {

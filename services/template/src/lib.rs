@@ -1,22 +1,36 @@
-//! The gearcam template service: NC programs from human-readable template source
-//! files by expression evaluation (SPEC §4.5, §6).
+//! The gearcam template service: NC programs from the standard-template method
+//! of seed 000 (SPEC §4.5, §6), checked before they leave.
 //!
-//! The library is pure: [`Templates`] compiles the templates once and
-//! [`Templates::render`] turns a [`MachiningModel`](gearcam_proto::MachiningModel)
-//! into an [`NcProgram`](gearcam_proto::NcProgram) named under the controller's
-//! rules, hashed, and carrying its provenance (template id and version,
-//! knowledge-base cases, model and generator versions). The Zenoh wrapper in
-//! [`service`] subscribes to models and publishes the programs.
+//! Standard NC code per gear class and controller dialect (`standard/*.tpl`, one
+//! six-tuple record ⟨ID, O, P, S, T, N⟩ per line) is split into the six control
+//! modules, compared line by line with the literal similarity, and stored in a
+//! SQLite library as similar components (shared by classes, stored once) and
+//! non-similar ones, versioned. A class's template is assembled from its
+//! components and compiled once; the expression-driven algorithm instantiates
+//! it for a [`MachiningModel`](gearcam_proto::MachiningModel); the program is
+//! parsed back and its axis motion simulated (the path check) before it becomes
+//! an [`NcProgram`](gearcam_proto::NcProgram) with its provenance and hash.
 //!
 //! # Layout
 //!
-//! - [`render`]: the compiled template library, the NC number filters, 840D
-//!   program names ([`program_name_840d`], [`check_name_840d`]).
-//! - [`source`]: reading a template directory at start (the only file I/O).
+//! - [`stdcode`]: the template source format (records, modules, scopes).
+//! - [`expr`]: the expression language (bounded, side-effect free, NC numbers).
+//! - [`params`]: the parameter table a template reads, by scope.
+//! - [`engine`]: compilation and the expression-driven algorithm.
+//! - [`similarity`]: Sim = K/(M+N−K) and the similar / non-similar split.
+//! - [`library`]: the SQLite template library (components, versions, decision
+//!   tables, assembly).
+//! - [`builtin`]: the shipped standard code, compiled into the binary.
+//! - [`nc`]: parser and path check of the programs (840D and FANUC subsets,
+//!   `DIALECTS.md`).
+//! - [`render`]: [`Templates`]: the compiled library, rendering a model into a
+//!   checked program, program names.
+//! - [`source`]: reading a directory of template files (the only file I/O
+//!   besides the library).
 //! - [`error`]: [`TemplateError`], a template that cannot be loaded or compiled.
 //! - [`service`]: the Zenoh wrapper.
-//! - `templates/`: the built-in template sources, e.g. `cylindrical_840d.mpf.j2`,
-//!   compiled into the binary.
+//!
+//! Why our own expression language rather than a crate: `EXPRESSIONS.md`.
 #![forbid(unsafe_code)]
 
 pub mod builtin;

@@ -12,7 +12,13 @@ use gearcam_template::{source, Templates, DEFAULT_FUEL};
 struct Args {
     #[command(flatten)]
     bus: BusArgs,
-    /// Extra template directory (`*.j2`); a template there replaces the built-in one of the same id.
+    /// The template library (SQLite; created and filled with the shipped
+    /// standard code if missing). `gearcam templates import` adds versions.
+    #[arg(long, default_value = "gearcam-data/templates.db")]
+    library: PathBuf,
+    /// A directory of template source files (`*.tpl`) used instead of the
+    /// library's templates of the same id, without storing them (for trying a
+    /// template before importing it).
     #[arg(long)]
     templates: Option<PathBuf>,
 }
@@ -21,10 +27,17 @@ struct Args {
 async fn main() -> anyhow::Result<()> {
     init_tracing("gearcam_template=info,gearcam_bus=info");
     let args = Args::parse();
+    let now_ms = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_millis() as u64);
+    let library = Templates::from_library(&args.library, DEFAULT_FUEL, now_ms)?;
     let templates = match &args.templates {
-        Some(dir) => Templates::new(source::read_dir(dir)?, DEFAULT_FUEL)?,
-        None => Templates::builtin(),
+        Some(dir) => library.with(source::read_dir(dir)?)?,
+        None => library,
     };
+    for t in templates.list() {
+        tracing::info!(template = %t.id, version = t.version, "compiled");
+    }
     let bus = Bus::open(&args.bus.to_config()).await?;
     gearcam_template::service::run(bus, templates, cancel_on_signal()).await?;
     Ok(())

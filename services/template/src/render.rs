@@ -69,6 +69,48 @@ impl Templates {
             let file = stdcode::parse(name, text).map_err(TemplateError::Format)?;
             files.insert(file.id.clone(), file);
         }
+        Self::from_files(files.into_values(), budget)?.with(extra)
+    }
+
+    /// The templates of the template library at `path` (SQLite, created if
+    /// missing): the shipped standard code is imported first wherever the
+    /// library has no version as new as it (a shop's own later versions stay),
+    /// then the latest version of every template is assembled from its
+    /// components and compiled. `now_ms` stamps what is imported.
+    pub fn from_library(
+        path: &std::path::Path,
+        budget: u64,
+        now_ms: u64,
+    ) -> Result<Self, TemplateError> {
+        let lib_err = |e: crate::library::LibraryError| TemplateError::Library(e.to_string());
+        let mut library = crate::library::Library::open(path).map_err(lib_err)?;
+        let stored: BTreeMap<String, u32> = library
+            .list()
+            .map_err(lib_err)?
+            .into_iter()
+            .map(|t| (t.id, t.version))
+            .collect();
+        let mut files = Vec::new();
+        let mut sources = Vec::new();
+        for (name, text) in crate::builtin::builtin_sources() {
+            let file = stdcode::parse(name, text).map_err(TemplateError::Format)?;
+            if stored.get(&file.id).is_none_or(|v| *v < file.version) {
+                files.push(file);
+                sources.push(text);
+            }
+        }
+        if !files.is_empty() {
+            library.import(&files, &sources, now_ms).map_err(lib_err)?;
+        }
+        Self::from_files(library.latest_versions().map_err(lib_err)?, budget)
+    }
+
+    /// This library with `extra` templates compiled in, replacing those of the
+    /// same id.
+    pub fn with(
+        mut self,
+        extra: impl IntoIterator<Item = TemplateSource>,
+    ) -> Result<Self, TemplateError> {
         for s in extra {
             let file = stdcode::parse(&s.id, &s.source).map_err(TemplateError::Format)?;
             if file.id != s.id {
@@ -77,9 +119,10 @@ impl Templates {
                     reason: format!("the file says @template {}", file.id),
                 });
             }
-            files.insert(file.id.clone(), file);
+            let c = Compiled::new(&file).map_err(TemplateError::Compile)?;
+            self.compiled.insert(file.id, c);
         }
-        Self::from_files(files.into_values(), budget)
+        Ok(self)
     }
 
     /// Compiles assembled templates (e.g. the latest versions from the template
@@ -284,10 +327,20 @@ pub fn path_check_errors(program: &NcProgram) -> Vec<JobError> {
                 "PATH_CHECK_FAILED",
                 &format!("program.line.{}", f.line),
                 &format!("a program that keeps rule {}", f.rule),
-                program.text.lines().nth(f.line as usize - 1).unwrap_or("").trim(),
+                program
+                    .text
+                    .lines()
+                    .nth(f.line as usize - 1)
+                    .unwrap_or("")
+                    .trim(),
                 format!(
                     "program {} (template {} v{}) line {}: {} [{}]; the program was not sent",
-                    program.name, program.template.id, program.template.version, f.line, f.message, f.rule
+                    program.name,
+                    program.template.id,
+                    program.template.version,
+                    f.line,
+                    f.message,
+                    f.rule
                 ),
             )
         })
@@ -1072,8 +1125,17 @@ mod tests {
         assert_eq!(e.stage, Stage::Template);
         assert_eq!(e.code, "TEMPLATE_NOT_FOUND");
         assert_eq!(e.field, "class");
-        assert!(e.expected.starts_with("one of conical/sinumerik840d, conical/fanuc, "), "{}", e.expected);
-        assert!(e.expected.contains("cylindrical/sinumerik840d"), "{}", e.expected);
+        assert!(
+            e.expected
+                .starts_with("one of conical/sinumerik840d, conical/fanuc, "),
+            "{}",
+            e.expected
+        );
+        assert!(
+            e.expected.contains("cylindrical/sinumerik840d"),
+            "{}",
+            e.expected
+        );
         assert_eq!(e.got, "curved_tooth/sinumerik840d");
     }
 
@@ -1326,6 +1388,43 @@ mod tests {
                 version: 4
             })
         );
+    }
+
+    #[test]
+    fn the_library_starts_with_the_shipped_code_and_keeps_a_shops_newer_version() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("templates.db");
+        let fresh = Templates::from_library(&path, DEFAULT_FUEL, 1).unwrap();
+        assert_eq!(fresh.list(), Templates::builtin().list());
+        // Assembled from the stored components, the program is the shipped one.
+        assert_eq!(
+            fresh.render(&spur_model()).unwrap().text,
+            render(&spur_model()).text
+        );
+        // The shop imports its own version 9 of the cylindrical 840D code.
+        let shipped = crate::builtin::builtin_sources()
+            .into_iter()
+            .find(|(n, _)| *n == "cylindrical_840d.tpl")
+            .unwrap()
+            .1;
+        let own = shipped
+            .replace("@version 3", "@version 9")
+            .replace("; GEARCAM HOBBING PROGRAM", "; SHOP HOBBING PROGRAM");
+        let file = crate::stdcode::parse("own.tpl", &own).unwrap();
+        crate::library::Library::open(&path)
+            .unwrap()
+            .import(&[file], &[own.as_str()], 2)
+            .unwrap();
+        // At the next start the service compiles the shop's version, and the
+        // shipped version 3 is not imported over it.
+        let next = Templates::from_library(&path, DEFAULT_FUEL, 3).unwrap();
+        let t = next.find("cylindrical", Dialect::Sinumerik840d).unwrap();
+        assert_eq!(t.version, 9);
+        let program = next.render(&spur_model()).unwrap();
+        assert!(program.text.contains("; SHOP HOBBING PROGRAM SP_1001"));
+        assert!(program
+            .text
+            .contains("; TEMPLATE cylindrical_840d VERSION 9"));
     }
 
     #[test]

@@ -58,13 +58,13 @@ pub mod rules {
 pub const MAX_AXIS_NAME: usize = 8;
 
 /// Most axis words one motion block may hold.
-pub const MAX_AXIS_WORDS: usize = 6;
+pub const MAX_AXIS_WORDS: usize = 5;
 
-/// An axis name as written in the program (`X`, `Z`, `X1`), stored inline.
+/// An axis name as written in the program (`X`, `Z`, `X1`), stored inline,
+/// zero-padded.
 #[derive(Clone, Copy, PartialEq, Eq, Default)]
 pub struct AxisName {
     bytes: [u8; MAX_AXIS_NAME],
-    len: u8,
 }
 
 impl AxisName {
@@ -79,15 +79,17 @@ impl AxisName {
         }
         let mut bytes = [0u8; MAX_AXIS_NAME];
         bytes[..name.len()].copy_from_slice(name);
-        Some(AxisName {
-            bytes,
-            len: name.len() as u8,
-        })
+        Some(AxisName { bytes })
     }
 
     /// The name as text.
     pub fn as_str(&self) -> &str {
-        std::str::from_utf8(&self.bytes[..usize::from(self.len).min(MAX_AXIS_NAME)]).unwrap_or("?")
+        let len = self
+            .bytes
+            .iter()
+            .position(|b| *b == 0)
+            .unwrap_or(MAX_AXIS_NAME);
+        std::str::from_utf8(&self.bytes[..len]).unwrap_or("?")
     }
 
     /// True when this is `name`.
@@ -334,12 +336,11 @@ pub struct TraceCoupling {
 /// trace.
 pub fn check(text: &str, model: &MachiningModel) -> (PathCheck, Trace) {
     let dialect = model.plan.machine.dialect;
-    let (mut findings, trace) = match parse(dialect, text) {
-        Err(findings) => (findings, Trace::default()),
-        Ok(blocks) => {
-            let last_line = u32::try_from(text.lines().count()).unwrap_or(u32::MAX);
-            sim::run(dialect, &blocks, model, last_line.max(1))
-        }
+    let parsed = parse_text(dialect, text);
+    let (mut findings, trace) = if parsed.findings.is_empty() {
+        sim::run(dialect, &parsed.blocks, model, parsed.lines.max(1))
+    } else {
+        (parsed.findings, Trace::default())
     };
     findings.sort_by_key(|f| f.line);
     (
@@ -357,10 +358,20 @@ pub const MAX_PARSE_FINDINGS: usize = 100;
 /// Parsing alone: every NC block with its 1-based line (comment, header and
 /// blank lines give none), or the `PARSE` findings.
 pub fn parse(dialect: Dialect, text: &str) -> Result<Vec<Block>, Vec<PathFinding>> {
+    let out = parse_text(dialect, text);
+    if out.findings.is_empty() {
+        Ok(out.blocks)
+    } else {
+        Err(out.findings)
+    }
+}
+
+fn parse_text(dialect: Dialect, text: &str) -> Parsed {
     let mut out = Parsed {
-        blocks: Vec::with_capacity(text.len() / 20 + 1),
+        blocks: Vec::with_capacity(text.len() / 24 + 1),
         findings: Vec::new(),
         refused: 0,
+        lines: 0,
     };
     match dialect {
         Dialect::Sinumerik840d => siemens::parse(text, &mut out),
@@ -383,11 +394,7 @@ pub fn parse(dialect: Dialect, text: &str) -> Result<Vec<Block>, Vec<PathFinding
             format!("line {line}: and {more} more lines outside the subset"),
         ));
     }
-    if out.findings.is_empty() {
-        Ok(out.blocks)
-    } else {
-        Err(out.findings)
-    }
+    out
 }
 
 /// The parsers' output.
@@ -395,11 +402,14 @@ struct Parsed {
     blocks: Vec<Block>,
     findings: Vec<PathFinding>,
     refused: usize,
+    /// Lines in the text.
+    lines: u32,
 }
 
 impl Parsed {
     /// Records the outcome of one line.
     fn line(&mut self, line: u32, raw: &str, result: Result<Option<(Option<u32>, Op)>, String>) {
+        self.lines = line;
         match result {
             Ok(Some((number, op))) => self.blocks.push(Block { line, number, op }),
             Ok(None) => {}
