@@ -4,8 +4,12 @@ use std::process::Command;
 
 #[test]
 fn a_missing_template_directory_is_named_in_the_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let library = dir.path().join("templates.db");
     let out = Command::new(env!("CARGO_BIN_EXE_gearcam-template"))
         .args([
+            "--library",
+            library.to_str().unwrap(),
             "--templates",
             "/nonexistent/gearcam-templates",
             "--no-multicast-scouting",
