@@ -205,7 +205,7 @@ pub enum CrowningShape {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CrowningSpec {
-    /// Crowning amount Cb: radial X lift at each face against the middle, mm.
+    /// Crowning amount Cb: how much deeper the hob cuts (radially, X) at each face than in the middle, so the teeth are thickest in the middle, mm.
     pub amount_mm: f64,
     /// Shape (default circular).
     #[serde(default)]

@@ -42,8 +42,14 @@ fn one_job(c: &mut Criterion) {
         ("fanuc_multicut_shift", "multi_cut_shift_840d.toml", "H02"),
     ] {
         let m = model(file, machine);
-        let p = templates.render(&m).expect("renders and passes the path check");
-        println!("{name}: {} lines, {} bytes", p.text.lines().count(), p.text.len());
+        let p = templates
+            .render(&m)
+            .expect("renders and passes the path check");
+        println!(
+            "{name}: {} lines, {} bytes",
+            p.text.lines().count(),
+            p.text.len()
+        );
         g.bench_function(name, |b| {
             b.iter(|| {
                 let p = templates.render(black_box(&m)).unwrap();

@@ -121,7 +121,10 @@ fn check_json_carries_the_contract_and_the_spec_self_check_numbers() {
     assert!(v["program"]["template"]["version"].as_u64().unwrap() >= 3);
     assert_eq!(v["program"]["path_check"]["ok"], true);
     assert_eq!(
-        v["program"]["path_check"]["findings"].as_array().unwrap().len(),
+        v["program"]["path_check"]["findings"]
+            .as_array()
+            .unwrap()
+            .len(),
         0
     );
 }

@@ -61,8 +61,7 @@ fn every_example_passes_the_path_check_on_both_dialects() {
             assert!(
                 program.path_check.ok,
                 "{name} on {machine}: {:#?}\n{}",
-                program.path_check.findings,
-                program.text
+                program.path_check.findings, program.text
             );
             assert!(program.text.starts_with(first_line), "{name} on {machine}");
             // `render` is the same program: it sends only what passes.
@@ -116,12 +115,20 @@ fn a_cutting_move_before_the_gearbox_is_coupled_is_caught_with_its_line() {
     assert_eq!(first.rule, "DEPTH_UNCOUPLED", "{:#?}", program.path_check);
     let line = program.text.lines().nth(first.line as usize - 1).unwrap();
     assert!(line.contains("G1 G90 G94"), "line {}: {line}", first.line);
-    assert!(first.message.contains(&format!("line {}", first.line)), "{}", first.message);
+    assert!(
+        first.message.contains(&format!("line {}", first.line)),
+        "{}",
+        first.message
+    );
     // And it is never sent: render refuses it, naming the line.
     let errors = templates.render(&model).unwrap_err();
     assert!(errors.iter().all(|e| e.code == "PATH_CHECK_FAILED"));
     assert_eq!(errors[0].field, format!("program.line.{}", first.line));
-    assert!(errors[0].message.contains("DEPTH_UNCOUPLED"), "{}", errors[0].message);
+    assert!(
+        errors[0].message.contains("DEPTH_UNCOUPLED"),
+        "{}",
+        errors[0].message
+    );
 }
 
 /// Checks that the program's simulated motion gives back the model's moves,
@@ -176,31 +183,51 @@ fn round_trip(model: &MachiningModel, program: &NcProgram) -> Result<(), String>
     // One coupling per unit (840D re-synchronisations add more), each z0/z exactly
     // and with the model's differential and shift factors.
     if trace.couplings.len() < units.len() {
-        return Err(format!("{} couplings for {} units", trace.couplings.len(), units.len()));
+        return Err(format!(
+            "{} couplings for {} units",
+            trace.couplings.len(),
+            units.len()
+        ));
     }
     for c in &trace.couplings {
         let k = units
             .iter()
-            .find(|k| i64::from(k.coupling.num) * c.den.abs() == c.num.abs() * i64::from(k.coupling.den))
+            .find(|k| {
+                i64::from(k.coupling.num) * c.den.abs() == c.num.abs() * i64::from(k.coupling.den)
+            })
             .ok_or_else(|| format!("coupling {}/{} is no unit's z0/z", c.num, c.den))?;
         let want_z = k.factors.c_per_z_deg_per_mm;
         let got_z = c.c_per_z_deg_per_mm.unwrap_or(0.0);
         // 840D prints the factor with 6 decimals; FANUC's comes from Q and P (4 decimals).
-        let tol = if fanuc { 1e-4 * want_z.abs().max(1e-3) } else { 6e-7 };
+        let tol = if fanuc {
+            1e-4 * want_z.abs().max(1e-3)
+        } else {
+            6e-7
+        };
         if (got_z - want_z).abs() > tol && k.factors.c_per_z_deg_per_mm.abs() > 1e-12 {
             return Err(format!("C per Z {got_z} against the model's {want_z}"));
         }
         if let Some(y) = c.c_per_y_deg_per_mm {
             if (y - k.factors.c_per_y_deg_per_mm).abs() > 6e-7 {
-                return Err(format!("C per Y {y} against the model's {}", k.factors.c_per_y_deg_per_mm));
+                return Err(format!(
+                    "C per Y {y} against the model's {}",
+                    k.factors.c_per_y_deg_per_mm
+                ));
             }
         }
     }
     // The hob speed: 840D to 3 decimals, FANUC whole rpm.
     let tol = if fanuc { 0.5 } else { 6e-4 };
     for k in &units {
-        if !trace.spindle_rpm.iter().any(|(_, s)| (s - k.hob_rpm).abs() <= tol) {
-            return Err(format!("no S of {} rpm in {:?}", k.hob_rpm, trace.spindle_rpm));
+        if !trace
+            .spindle_rpm
+            .iter()
+            .any(|(_, s)| (s - k.hob_rpm).abs() <= tol)
+        {
+            return Err(format!(
+                "no S of {} rpm in {:?}",
+                k.hob_rpm, trace.spindle_rpm
+            ));
         }
     }
     Ok(())
