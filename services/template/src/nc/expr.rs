@@ -120,9 +120,9 @@ impl<'a> Cursor<'a> {
     }
 }
 
-/// An unsigned integer of at most 9 digits.
+/// An unsigned integer of 1 to 9 ASCII digits; anything else is `None`.
 pub(crate) fn small_uint(digits: &[u8]) -> Option<u32> {
-    if digits.is_empty() || digits.len() > 9 {
+    if digits.is_empty() || digits.len() > 9 || !digits.iter().all(u8::is_ascii_digit) {
         return None;
     }
     Some(

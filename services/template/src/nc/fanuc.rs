@@ -373,6 +373,17 @@ mod tests {
         assert_eq!(block("(JOB SP-2002)").unwrap(), None);
     }
 
+    /// Regression: `O!` on the program-number line subtracted `b'0'` from `!`
+    /// (found by the property test `random_text_never_panics`).
+    #[test]
+    fn program_number_with_a_non_digit_is_refused() {
+        assert!(program_number("O!").is_err());
+        assert!(program_number("O12!4").is_err());
+        assert!(program_number("O0000").is_err());
+        assert!(program_number("O8000").is_err());
+        assert!(program_number("O2002 (SP-2002 HOBBING)").is_ok());
+    }
+
     #[test]
     fn lines_outside_the_subset_are_refused() {
         for bad in [
