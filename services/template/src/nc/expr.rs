@@ -339,6 +339,9 @@ impl Value {
 /// that cannot continue it (840D: spaces end it unless an operator follows).
 /// A lone literal comes back as [`Value::Num`].
 pub(crate) fn expression(c: &mut Cursor<'_>, syntax: Syntax) -> Result<Value, &'static str> {
+    if let Some(n) = lone_literal(c, syntax) {
+        return Ok(Value::Num(n));
+    }
     let mut p = Compiler {
         syntax,
         out: Vec::new(),
@@ -353,6 +356,9 @@ pub(crate) fn expression(c: &mut Cursor<'_>, syntax: Syntax) -> Result<Value, &'
 /// expression or a function (the form of a FANUC address value, `X#501`,
 /// `Y[#520+#522*#527]`).
 pub(crate) fn operand(c: &mut Cursor<'_>, syntax: Syntax) -> Result<Value, &'static str> {
+    if let Some(n) = number(c) {
+        return Ok(Value::Num(n));
+    }
     let mut p = Compiler {
         syntax,
         out: Vec::new(),
@@ -361,6 +367,22 @@ pub(crate) fn operand(c: &mut Cursor<'_>, syntax: Syntax) -> Result<Value, &'sta
     };
     p.factor(c)?;
     Ok(p.finish())
+}
+
+/// A literal at the cursor that no operator continues (the common case, read
+/// without compiling anything). The cursor stays put otherwise.
+fn lone_literal(c: &mut Cursor<'_>, syntax: Syntax) -> Option<Num> {
+    let start = c.i;
+    let n = number(c)?;
+    let end = c.i;
+    c.skip_spaces();
+    let continues = match c.peek() {
+        Some(b'+' | b'-' | b'*' | b'/') => true,
+        Some(b'M') => syntax == Syntax::Siemens && c.i > end && c.eat_keyword("MOD"),
+        _ => false,
+    };
+    c.i = if continues { start } else { end };
+    (!continues).then_some(n)
 }
 
 struct Compiler {
@@ -396,11 +418,10 @@ impl Compiler {
         let start = c.i;
         c.skip_spaces();
         for (k, op) in ops.iter().enumerate() {
-            let ok = if op.as_bytes()[0].is_ascii_alphabetic() {
+            let ok = match op.as_bytes() {
+                [one] => c.eat(*one),
                 // A keyword operator needs a space before it and ends at a non-letter.
-                c.i > start && c.eat_keyword(op)
-            } else {
-                c.eat_str(op)
+                _ => c.i > start && c.eat_keyword(op),
             };
             if ok {
                 c.skip_spaces();

@@ -11,9 +11,9 @@
 
 use super::expr::{self, Cursor, Num, Syntax};
 use super::siemens::check_chars;
-use super::{literal, numbered_lines, AxisName, AxisWord, Distance, Interp, Motion, Op, Parsed};
-
-type LineResult = Result<Option<(Option<u32>, Op)>, String>;
+use super::{
+    literal, numbered_lines, AxisName, AxisWord, Block, Distance, Interp, Motion, Op, Parsed,
+};
 
 /// Parses a FANUC program into `out`.
 pub(super) fn parse(text: &str, out: &mut Parsed) {
@@ -23,25 +23,26 @@ pub(super) fn parse(text: &str, out: &mut Parsed) {
         lines = line;
         let result = if let Some(end) = closed {
             if raw.trim().is_empty() {
-                Ok(None)
+                Ok(())
             } else {
                 Err(format!("text after the closing % of line {end}"))
             }
         } else if line == 1 {
             if raw.trim_end() == "%" {
-                Ok(None)
+                Ok(())
             } else {
                 Err("the first line is not %".into())
             }
         } else if line == 2 {
-            program_number(raw).map(|()| None)
+            program_number(raw)
         } else if raw.trim_end() == "%" {
             closed = Some(line);
-            Ok(None)
+            Ok(())
         } else {
-            block(raw)
+            out.block(line, raw, body(raw), block);
+            continue;
         };
-        out.line(line, raw, result);
+        out.other(line, raw, result);
     }
     if lines == 0 {
         out.refuse(1, "", "the program is empty; it starts with %");
@@ -155,18 +156,22 @@ fn number_word(
     Ok(())
 }
 
-fn block(raw: &str) -> LineResult {
+/// The block text of a line: without its comment and surrounding blanks
+/// (empty for a comment or blank line).
+fn body(raw: &str) -> Result<&str, String> {
     check_chars(raw)?;
-    let body = strip_comment(raw)?.trim_matches([' ', '\t']);
-    if body.is_empty() {
-        return Ok(None);
-    }
+    Ok(strip_comment(raw)?.trim_matches([' ', '\t']))
+}
+
+/// Parses a line's non-empty block text into `b`.
+fn block(body: &str, b: &mut Block) -> Result<(), String> {
     let mut c = Cursor::new(body);
     let number = super::block_number(&mut c)?;
     c.skip_spaces();
     if c.at_end() {
         return Err("a block number without a block".into());
     }
+    b.number = number;
     if c.eat(b'#') {
         let param = expr::macro_index(c.digits()).ok_or("macro variables are #500 to #599")?;
         c.skip_spaces();
@@ -182,12 +187,16 @@ fn block(raw: &str) -> LineResult {
         if !c.at_end() {
             return Err("unexpected text after the assignment".into());
         }
-        return Ok(Some((number, Op::Assign { param, value })));
+        b.op = Op::Assign { param, value };
+        return Ok(());
     }
     let mut g = Codes::default();
     let mut m: Option<u16> = None;
-    let mut motion = Motion::default();
     let mut w = Words::default();
+    b.op = Op::Motion(Motion::default());
+    let Op::Motion(motion) = &mut b.op else {
+        return Err("a motion block could not be built".into());
+    };
     loop {
         c.skip_spaces();
         let Some(letter) = c.peek() else { break };
@@ -225,11 +234,15 @@ fn block(raw: &str) -> LineResult {
             }
         }
     }
-    classify(g, m, motion, w).map(|op| Some((number, op)))
+    classify(g, m, w, &mut b.op)
 }
 
-/// Which of the block shapes the words make.
-fn classify(g: Codes, m: Option<u16>, motion: Motion, w: Words) -> Result<Op, String> {
+/// Which of the block shapes the words make: the motion block read into
+/// `slot` stays, or becomes the shape's operation.
+fn classify(g: Codes, m: Option<u16>, w: Words, slot: &mut Op) -> Result<(), String> {
+    let Op::Motion(motion) = slot else {
+        return Err("a motion block could not be built".into());
+    };
     let no_motion = motion.words().is_empty() && motion.feed.is_none() && motion.radius.is_none();
     let no_words =
         w.s.is_none() && w.t.is_none() && w.l.is_none() && w.q.is_none() && w.p.is_none();
@@ -246,18 +259,22 @@ fn classify(g: Codes, m: Option<u16>, motion: Motion, w: Words) -> Result<Op, St
                     q,
                     p,
                 },
-            ) => Ok(Op::FanucGearOn {
-                teeth,
-                starts,
-                module: q,
-                helix: p,
-            }),
+            ) => {
+                *slot = Op::FanucGearOn {
+                    teeth,
+                    starts,
+                    module: q,
+                    helix: p,
+                };
+                Ok(())
+            }
             _ => Err("the EGB is switched on by G81 T_ L_ [Q_ P_] alone".into()),
         };
     }
     if g.gear_off {
         return if g.count == 1 && m.is_none() && no_motion && no_words {
-            Ok(Op::GearOff { following: None })
+            *slot = Op::GearOff { following: None };
+            Ok(())
         } else {
             Err("G80 stands alone".into())
         };
@@ -276,9 +293,10 @@ fn classify(g: Codes, m: Option<u16>, motion: Motion, w: Words) -> Result<Op, St
                 if n.value < 0.0 {
                     return Err("the dwell time is negative".into());
                 }
-                Ok(Op::Dwell {
+                *slot = Op::Dwell {
                     seconds: literal(n, "the dwell time X", 3, true)?,
-                })
+                };
+                Ok(())
             }
             _ => Err("a dwell is G04 Xseconds alone".into()),
         };
@@ -291,13 +309,13 @@ fn classify(g: Codes, m: Option<u16>, motion: Motion, w: Words) -> Result<Op, St
         if w.s.is_some_and(|s| s.value < 0.0) {
             return Err("the speed S is negative".into());
         }
-        return Ok(Op::MCode { code, speed: w.s });
+        *slot = Op::MCode { code, speed: w.s };
+        return Ok(());
     }
     if !no_words {
         return Err("S, T, L, Q and P belong to M or G81 blocks".into());
     }
     let arc = matches!(g.interp, Some(Interp::ArcCw | Interp::ArcCcw));
-    let mut motion = motion;
     motion.interp = g.interp;
     motion.distance = g.distance;
     motion.per_minute = g.per_minute;
@@ -308,7 +326,7 @@ fn classify(g: Codes, m: Option<u16>, motion: Motion, w: Words) -> Result<Op, St
         (true, false) => Err("an arc is programmed with its radius R".into()),
         (false, true) => Err("R is the radius of a G02/G03 arc".into()),
         (true, true) if motion.words().is_empty() => Err("an arc needs its end point".into()),
-        _ => Ok(Op::Motion(motion)),
+        _ => Ok(()),
     }
 }
 
@@ -317,7 +335,15 @@ mod tests {
     use super::*;
 
     fn one(line: &str) -> Result<Op, String> {
-        block(line).map(|b| b.expect("a block").1)
+        let mut b = Block {
+            line: 1,
+            number: None,
+            op: Op::Message,
+        };
+        let text = body(line)?;
+        assert!(!text.is_empty(), "{line} holds no block");
+        block(text, &mut b)?;
+        Ok(b.op)
     }
 
     #[test]
@@ -370,7 +396,7 @@ mod tests {
             panic!()
         };
         assert_eq!(m.radius.map(|r| r.value), Some(140.0));
-        assert_eq!(block("(JOB SP-2002)").unwrap(), None);
+        assert_eq!(body("(JOB SP-2002)"), Ok(""));
     }
 
     /// Regression: `O!` on the program-number line subtracted `b'0'` from `!`

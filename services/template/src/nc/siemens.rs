@@ -10,22 +10,19 @@
 
 use super::expr::{self, Cursor, Num, Syntax};
 use super::{
-    literal, numbered_lines, AxisName, AxisWord, Distance, Interp, Lead, Motion, Op, Parsed,
+    literal, numbered_lines, AxisName, AxisWord, Block, Distance, Interp, Lead, Motion, Op, Parsed,
 };
-
-type LineResult = Result<Option<(Option<u32>, Op)>, String>;
 
 /// Parses an 840D program into `out`.
 pub(super) fn parse(text: &str, out: &mut Parsed) {
     let mut lines = 0;
     for (line, raw) in numbered_lines(text) {
         lines = line;
-        let result = match line {
-            1 => header(raw).map(|()| None),
-            2 => path(raw).map(|()| None),
-            _ => block(raw),
-        };
-        out.line(line, raw, result);
+        match line {
+            1 => out.other(line, raw, header(raw)),
+            2 => out.other(line, raw, path(raw)),
+            _ => out.block(line, raw, body(raw), block),
+        }
     }
     if lines == 0 {
         out.refuse(
@@ -71,9 +68,10 @@ pub(super) fn check_chars(text: &str) -> Result<(), String> {
 
 /// The block before its `;` comment (a `;` inside a `"..."` string is text).
 fn strip_comment(text: &str) -> &str {
-    match text.find(';') {
+    let b = text.as_bytes();
+    match b.iter().position(|&c| c == b';') {
         None => return text,
-        Some(i) if !text[..i].contains('"') => return &text[..i],
+        Some(i) if !b[..i].contains(&b'"') => return &text[..i],
         Some(_) => {}
     }
     let mut quoted = false;
@@ -87,12 +85,15 @@ fn strip_comment(text: &str) -> &str {
     text
 }
 
-fn block(raw: &str) -> LineResult {
+/// The block text of a line: without its comment and surrounding blanks
+/// (empty for a comment or blank line).
+fn body(raw: &str) -> Result<&str, String> {
     check_chars(raw)?;
-    let body = strip_comment(raw).trim_matches([' ', '\t']);
-    if body.is_empty() {
-        return Ok(None);
-    }
+    Ok(strip_comment(raw).trim_matches([' ', '\t']))
+}
+
+/// Parses a line's non-empty block text into `b`.
+fn block(body: &str, b: &mut Block) -> Result<(), String> {
     let mut c = Cursor::new(body);
     let number = super::block_number(&mut c)?;
     if number.is_some() && !c.skip_spaces() {
@@ -101,29 +102,46 @@ fn block(raw: &str) -> LineResult {
     if c.at_end() {
         return Err("a block number without a block".into());
     }
-    let op = op(&mut c)?;
+    b.number = number;
+    op(&mut c, &mut b.op)?;
     c.skip_spaces();
     if !c.at_end() {
         return Err("unexpected text after the block".into());
     }
-    Ok(Some((number, op)))
+    Ok(())
 }
 
-fn op(c: &mut Cursor<'_>) -> Result<Op, String> {
-    if c.peek() == Some(b'R') && c.peek_at(1).is_some_and(|b| b.is_ascii_digit()) {
-        let start = c.i;
-        c.bump();
-        let digits = c.digits();
-        if c.eat(b'=') {
-            let param = expr::param_index(digits).ok_or("R parameters are R0 to R99")?;
-            let value = expr::expression(c, Syntax::Siemens)?;
-            if let Some(n) = value.literal() {
-                literal(n, "the value", 6, n.point)?;
-            }
-            return Ok(Op::Assign { param, value });
-        }
-        c.i = start;
+/// Parses the block's operation into `slot`.
+fn op(c: &mut Cursor<'_>, slot: &mut Op) -> Result<(), String> {
+    match (c.peek(), c.peek_at(1)) {
+        (Some(b'E'), Some(b'G')) | (Some(b'M'), Some(b'S')) => *slot = call(c)?,
+        (Some(b'M'), Some(b'0'..=b'9')) => *slot = mcode(c)?,
+        (Some(b'R'), Some(b'0'..=b'9')) if assignment(c, slot)? => {}
+        _ => motion(c, slot)?,
     }
+    Ok(())
+}
+
+/// `R<n>=expr`, if the block is one.
+fn assignment(c: &mut Cursor<'_>, slot: &mut Op) -> Result<bool, String> {
+    let start = c.i;
+    c.bump();
+    let digits = c.digits();
+    if !c.eat(b'=') {
+        c.i = start;
+        return Ok(false);
+    }
+    let param = expr::param_index(digits).ok_or("R parameters are R0 to R99")?;
+    let value = expr::expression(c, Syntax::Siemens)?;
+    if let Some(n) = value.literal() {
+        literal(n, "the value", 6, n.point)?;
+    }
+    *slot = Op::Assign { param, value };
+    Ok(true)
+}
+
+/// A gearbox call or `MSG`.
+fn call(c: &mut Cursor<'_>) -> Result<Op, String> {
     if c.eat_str("EGDEF(") {
         return egdef(&args(c)?);
     }
@@ -149,10 +167,7 @@ fn op(c: &mut Cursor<'_>) -> Result<Op, String> {
             _ => Err("MSG takes one quoted text or nothing".into()),
         };
     }
-    if c.peek() == Some(b'M') && c.peek_at(1).is_some_and(|b| b.is_ascii_digit()) {
-        return mcode(c);
-    }
-    motion(c)
+    Err("a gearbox call or MSG is malformed".into())
 }
 
 /// True at the end or after at least one space.
@@ -208,8 +223,12 @@ fn reserved(id: &[u8]) -> bool {
             && id[1..].iter().all(u8::is_ascii_digit))
 }
 
-fn motion(c: &mut Cursor<'_>) -> Result<Op, String> {
-    let mut m = Motion::default();
+/// A motion block or a dwell, built in `slot`.
+fn motion(c: &mut Cursor<'_>, slot: &mut Op) -> Result<(), String> {
+    *slot = Op::Motion(Motion::default());
+    let Op::Motion(m) = slot else {
+        return Err("a motion block could not be built".into());
+    };
     let mut dwell = false;
     let (mut via_x, mut via_z) = (None, None);
     loop {
@@ -251,7 +270,7 @@ fn motion(c: &mut Cursor<'_>) -> Result<Op, String> {
         }
     }
     if dwell {
-        return match (&m, m.feed) {
+        return match (&*m, m.feed) {
             (
                 Motion {
                     interp: None,
@@ -261,7 +280,8 @@ fn motion(c: &mut Cursor<'_>) -> Result<Op, String> {
                 },
                 Some(seconds),
             ) if m.words().is_empty() && via_x.is_none() && via_z.is_none() => {
-                Ok(Op::Dwell { seconds })
+                *slot = Op::Dwell { seconds };
+                Ok(())
             }
             _ => Err("a dwell is G4 F=seconds alone".into()),
         };
@@ -277,7 +297,7 @@ fn motion(c: &mut Cursor<'_>) -> Result<Op, String> {
     if m.interp == Some(Interp::CircleVia) && m.words().is_empty() {
         return Err("CIP needs its end point".into());
     }
-    Ok(Op::Motion(m))
+    Ok(())
 }
 
 /// One argument of a gearbox call.
@@ -471,7 +491,15 @@ mod tests {
     use super::*;
 
     fn one(line: &str) -> Result<Op, String> {
-        block(line).map(|b| b.expect("a block").1)
+        let mut b = Block {
+            line: 1,
+            number: None,
+            op: Op::Message,
+        };
+        let text = body(line)?;
+        assert!(!text.is_empty(), "{line} holds no block");
+        block(text, &mut b)?;
+        Ok(b.op)
     }
 
     #[test]
@@ -519,7 +547,7 @@ mod tests {
             panic!()
         };
         assert_eq!(m.via.map(|v| v.0.value), Some(81.25));
-        assert_eq!(block("; A COMMENT").unwrap(), None);
+        assert_eq!(body("; A COMMENT"), Ok(""));
     }
 
     #[test]
