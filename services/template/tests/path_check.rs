@@ -767,6 +767,17 @@ fn garbage_is_a_parse_finding_naming_its_line() {
     );
     assert_eq!(trace, Trace::default());
     assert!(nc::parse(Dialect::Sinumerik840d, &bad).is_err());
+    // A block continuing a modal CIP without its intermediate point.
+    let infeed = block_with(&text, "G0 G90 X=73.75");
+    let bad = replace_line(
+        &text,
+        infeed,
+        &format!(
+            "{infeed}\nN131 CIP X=73.75 Z=100.0 I1=73.0 K1=102.0 F=28.634\nN132 X=73.75 Z=98.0"
+        ),
+    );
+    let (check, _) = nc::check(&bad, &m);
+    assert_eq!(found(&check), vec![(rules::PARSE, line_of(&bad, "N132"))]);
     // The 840D program is not a FANUC program.
     let errors = nc::parse(Dialect::Fanuc, &text).unwrap_err();
     assert_eq!(errors[0].line, 1);

@@ -635,6 +635,11 @@ impl<'m> Sim<'m> {
             Interp::Rapid | Interp::Linear => Path::line(from, to),
             Interp::CircleVia => {
                 let Some((vx, vz)) = m.via else {
+                    self.push(
+                        line,
+                        rules::PARSE,
+                        "CIP is in effect, but the block has no intermediate point I1= K1=".into(),
+                    );
                     return;
                 };
                 self.travel(line, Role::X, vx.value);
@@ -653,7 +658,14 @@ impl<'m> Sim<'m> {
                 }
             }
             Interp::ArcCw | Interp::ArcCcw => {
-                let r = m.radius.map_or(0.0, |r| r.value);
+                let Some(r) = m.radius.map(|r| r.value) else {
+                    self.push(
+                        line,
+                        rules::PARSE,
+                        "G02/G03 is in effect, but the block has no radius R".into(),
+                    );
+                    return;
+                };
                 let ccw = interp == Interp::ArcCcw;
                 match arc_radius((from[1], from[0]), (to[1], to[0]), r, ccw) {
                     Some((centre, t0, sweep)) => Path::arc(from, to, centre, t0, sweep),
