@@ -27,7 +27,7 @@ use gearcam_proto::Dialect;
 
 use crate::expr::{self, EvalError, EvalState, Expr, Value};
 use crate::params::{self, PartInput};
-use crate::stdcode::{self, Module, Scope, TemplateFile};
+use crate::stdcode::{self, Scope, TemplateFile};
 
 /// Expression steps one instantiation may take. A hobbing program needs a few
 /// thousand; a runaway template stops here.
@@ -111,8 +111,6 @@ pub struct Compiled {
     pub dialect: Dialect,
     /// Version.
     pub version: u32,
-    /// Module of each record (T), in ID order; for the similarity report.
-    pub modules: Vec<Module>,
     records: Vec<CRecord>,
     tree: Vec<Node>,
     slots: usize,
@@ -120,18 +118,10 @@ pub struct Compiled {
 
 /// First slot of each scope's parameters; variables follow the parameters.
 const PART_BASE: usize = 0;
-fn unit_base() -> usize {
-    params::PART.len()
-}
-fn cut_base() -> usize {
-    unit_base() + params::UNIT.len()
-}
-fn move_base() -> usize {
-    cut_base() + params::CUT.len()
-}
-fn var_base() -> usize {
-    move_base() + params::MOVE.len()
-}
+const UNIT_BASE: usize = params::PART.len();
+const CUT_BASE: usize = UNIT_BASE + params::UNIT.len();
+const MOVE_BASE: usize = CUT_BASE + params::CUT.len();
+const VAR_BASE: usize = MOVE_BASE + params::MOVE.len();
 
 impl Compiled {
     /// Compiles an assembled template.
@@ -146,7 +136,7 @@ impl Compiled {
         {
             names.insert((*n).to_string(), i);
         }
-        let mut next_var = var_base();
+        let mut next_var = VAR_BASE;
         let mut records = Vec::with_capacity(t.records.len());
         for r in &t.records {
             let err = |message: String| CompileError {
@@ -157,13 +147,13 @@ impl Compiled {
             };
             // A name of an inner scope is only visible inside that scope.
             let visible = |slot: usize| -> bool {
-                let needed = if slot >= var_base() {
+                let needed = if slot >= VAR_BASE {
                     Scope::Part
-                } else if slot >= move_base() {
+                } else if slot >= MOVE_BASE {
                     Scope::Move
-                } else if slot >= cut_base() {
+                } else if slot >= CUT_BASE {
                     Scope::Cut
-                } else if slot >= unit_base() {
+                } else if slot >= UNIT_BASE {
                     Scope::Unit
                 } else {
                     Scope::Part
@@ -183,7 +173,7 @@ impl Compiled {
             for (var, text) in &r.calc {
                 let e = compile(text, &names)?;
                 let slot = match names.get(var.as_str()) {
-                    Some(&s) if s >= var_base() => s,
+                    Some(&s) if s >= VAR_BASE => s,
                     Some(_) => {
                         return Err(err(format!(
                             "calc: assigns to {var:?}, which is a parameter; choose another variable name"
@@ -248,7 +238,6 @@ impl Compiled {
             class: t.class.clone(),
             dialect: t.dialect,
             version: t.version,
-            modules: t.records.iter().map(|r| r.module).collect(),
             records,
             tree,
             slots: next_var,
@@ -266,7 +255,7 @@ impl Compiled {
             unit: None,
             cut: None,
         };
-        params::fill_part(input, &mut run.vars[PART_BASE..unit_base()]);
+        params::fill_part(input, &mut run.vars[PART_BASE..UNIT_BASE]);
         run.nodes(&self.tree)?;
         Ok(run.out)
     }
@@ -310,12 +299,7 @@ impl Run<'_> {
                 Node::Loop(Scope::Unit, body) => {
                     let units = self.input.units;
                     for (i, u) in units.iter().enumerate() {
-                        params::fill_unit(
-                            i,
-                            units.len(),
-                            u,
-                            &mut self.vars[unit_base()..cut_base()],
-                        );
+                        params::fill_unit(i, units.len(), u, &mut self.vars[UNIT_BASE..CUT_BASE]);
                         self.unit = Some(i);
                         self.nodes(body)?;
                     }
@@ -326,7 +310,7 @@ impl Run<'_> {
                     };
                     let cuts = &u.kin.cuts;
                     for (i, c) in cuts.iter().enumerate() {
-                        params::fill_cut(cuts.len(), c, &mut self.vars[cut_base()..move_base()]);
+                        params::fill_cut(cuts.len(), c, &mut self.vars[CUT_BASE..MOVE_BASE]);
                         self.cut = Some(i);
                         self.nodes(body)?;
                     }
@@ -337,7 +321,7 @@ impl Run<'_> {
                     };
                     let moves = &self.input.units[u].kin.cuts[c].moves;
                     for (i, m) in moves.iter().enumerate() {
-                        params::fill_move(i, m, &mut self.vars[move_base()..var_base()]);
+                        params::fill_move(i, m, &mut self.vars[MOVE_BASE..VAR_BASE]);
                         self.nodes(body)?;
                     }
                 }

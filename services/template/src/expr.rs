@@ -33,7 +33,7 @@
 use std::fmt;
 use std::sync::Arc;
 
-use crate::render::{comment_text, format_fixed};
+use crate::render::comment_text;
 
 /// A value: number, string, boolean or null (a parameter the model does not set,
 /// e.g. the Z of a move that only moves X).
@@ -526,12 +526,17 @@ fn truth(v: &Value, what: &str) -> Result<bool, EvalError> {
 
 fn fixed(v: &Value, decimals: usize, name: &str) -> Result<Value, EvalError> {
     let x = num(v, name)?;
-    format_fixed(x, decimals)
-        .map(Value::from)
-        .ok_or_else(|| EvalError::Type(format!("{name}() cannot write {x}")))
+    let mut s = String::with_capacity(16);
+    if push_fixed(&mut s, x, decimals) {
+        Ok(Value::from(s))
+    } else {
+        Err(EvalError::Type(format!("{name}() cannot write {x}")))
+    }
 }
 
-/// Appends `v` as [`format_fixed`] writes it; false (and nothing appended) for
+/// Appends `v` as an NC number: `decimals` places, trailing zeros trimmed but
+/// at least one digit after the point, never `-0` (what
+/// [`format_fixed`](crate::render::format_fixed) returns); false (and nothing appended) for
 /// NaN and infinities.
 pub fn push_fixed(out: &mut String, v: f64, decimals: usize) -> bool {
     use std::fmt::Write;
