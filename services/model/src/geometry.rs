@@ -128,10 +128,42 @@ pub fn span_teeth(gear: &GearSpec) -> u32 {
 }
 
 /// Ball diameter of the measurement over balls: the job's, or
-/// [`DEFAULT_BALL_PER_MODULE`]·mn.
+/// [`DEFAULT_BALL_PER_MODULE`]·mn when that ball rests on the flanks above the
+/// base circle, else [`reference_ball_mm`] (a strongly negative profile shift
+/// on few teeth widens the space so much that 1.7·mn falls through it).
 pub fn ball_diameter_mm(gear: &GearSpec) -> f64 {
-    gear.ball_diameter_mm
-        .unwrap_or(DEFAULT_BALL_PER_MODULE * gear.module_mm)
+    if let Some(dm) = gear.ball_diameter_mm {
+        return dm;
+    }
+    let default = DEFAULT_BALL_PER_MODULE * gear.module_mm;
+    if default > min_ball_mm(gear) {
+        default
+    } else {
+        reference_ball_mm(gear)
+    }
+}
+
+/// The ball that touches the flanks at the reference circle (αKt = αt):
+/// DM = mn·cos αn·(π/2 − 2·x·tan αn), the normal space width at the
+/// reference circle times cos αn, mm.
+pub fn reference_ball_mm(gear: &GearSpec) -> f64 {
+    let an = gear.pressure_angle_deg.to_radians();
+    gear.module_mm * an.cos() * (PI / 2.0 - 2.0 * gear.profile_shift * an.tan())
+}
+
+/// The smallest ball that still rests on the involute flanks (inv αKt > 0,
+/// contact above the base circle): DM > mn·z·cos αn·(π/(2z) − 2·x·tan αn/z −
+/// inv αt), mm. A smaller ball drops into the space below the base circle,
+/// where the measurement over balls is undefined.
+pub fn min_ball_mm(gear: &GearSpec) -> f64 {
+    let an = gear.pressure_angle_deg.to_radians();
+    let z = f64::from(gear.teeth);
+    gear.module_mm
+        * z
+        * an.cos()
+        * (PI / (2.0 * z)
+            - 2.0 * gear.profile_shift * an.tan() / z
+            - inv(transverse_pressure_angle(gear)))
 }
 
 /// Dimension over two balls of diameter DM (ISO 21771 §6.3, DIN 3960):
@@ -480,6 +512,27 @@ mod published {
         let mut g = gear(1.0, 21, 0.0);
         g.ball_diameter_mm = Some(1.7);
         assert_abs_diff_eq!(over_balls_mm(&g, 1.7), 23.235_939_338_551, epsilon = 1e-8);
+    }
+
+    #[test]
+    fn a_ball_that_falls_through_the_space_gives_way_to_the_reference_ball() {
+        // mn 1, z 6, x −0.5: 1.7 mm sinks below the base circle (the smallest
+        // ball that rests on the flanks is 6·cos20°·(π/12 + tan20°/6 − inv20°)
+        // = 1.7340 mm), so the default is the ball touching at the reference
+        // circle, DM = cos20°·(π/2 + tan20°) = 1.8181 mm; it touches where
+        // αKt = αt, so its centre lies on d and MdK = d + DM (even z).
+        let g = gear(1.0, 6, 0.0);
+        let mut g = GearSpec {
+            profile_shift: -0.5,
+            ..g
+        };
+        assert_abs_diff_eq!(min_ball_mm(&g), 1.734_0, epsilon = 1e-4);
+        let dm = ball_diameter_mm(&g);
+        assert_abs_diff_eq!(dm, 1.818_1, epsilon = 1e-4);
+        assert_abs_diff_eq!(over_balls_mm(&g, dm), 6.0 + dm, epsilon = 1e-9);
+        // A gear where 1.7·mn rests on the flanks keeps it.
+        g.profile_shift = 0.0;
+        assert_eq!(ball_diameter_mm(&g), 1.7);
     }
 
     #[test]

@@ -311,6 +311,7 @@ pub fn validate_with(plan: &ProcessPlan, cfg: &Config) -> Report {
     if gear_ok {
         let g = geometry(gear);
         check_machine_limits(&mut report, plan, &g, cfg);
+        check_ball(&mut report, gear);
         geo = Some(g);
     } else {
         check_hob_od_limit(&mut report, plan, cfg);
@@ -430,6 +431,26 @@ fn check_gear(r: &mut Report, g: &GearSpec) -> bool {
         && g.clearance_coef >= 0.0
         && g.clearance_coef.is_finite()
         && g.profile_shift.is_finite()
+}
+
+/// A job's ball must rest on the involute flanks (the default always does).
+fn check_ball(r: &mut Report, g: &GearSpec) {
+    let Some(dm) = g.ball_diameter_mm.filter(|d| *d > 0.0 && d.is_finite()) else {
+        return;
+    };
+    let min = crate::geometry::min_ball_mm(g);
+    if dm <= min {
+        r.error(
+            codes::BALL_DIAMETER_RANGE,
+            "gear.ball_diameter_mm",
+            format!("> {} mm (smaller balls drop below the base circle)", num(min)),
+            format!("{} mm", num(dm)),
+            format!(
+                "The ball must rest on the involute flanks; the ball touching at the reference circle is {} mm. Correct gear.ball_diameter_mm.",
+                num(crate::geometry::reference_ball_mm(g))
+            ),
+        );
+    }
 }
 
 fn check_hob(r: &mut Report, h: &HobData) -> bool {
@@ -1415,6 +1436,33 @@ mod tests {
         // d0 = 2.5/sin 2.3716° = 60.4151 mm, so the default depth
         // (80 + 81)/2 − (d0/2 + 37.5) = 12.7925 mm is too deep as well.
         assert_eq!(report.codes(), vec!["BASE_PITCH_MISMATCH", "CUT_DEPTH"]);
+    }
+
+    #[test]
+    fn a_ball_below_the_base_circle_is_refused_with_the_smallest_that_rests() {
+        let mut plan = fixtures::plan();
+        let g = &mut plan.request.spec.gear;
+        g.ball_diameter_mm = Some(0.5);
+        let min = crate::geometry::min_ball_mm(g);
+        let e = validate(&plan)
+            .errors
+            .into_iter()
+            .find(|e| e.code == "BALL_DIAMETER_RANGE")
+            .expect("a ball of 0.5 mm on module 3 falls through the space");
+        assert_eq!(e.field, "gear.ball_diameter_mm");
+        assert_eq!(
+            e.expected,
+            format!(
+                "> {} mm (smaller balls drop below the base circle)",
+                num(min)
+            )
+        );
+        assert_eq!(e.got, "0.5 mm");
+        plan.request.spec.gear.ball_diameter_mm = Some(min * 1.01);
+        assert!(validate(&plan)
+            .errors
+            .iter()
+            .all(|e| e.code != "BALL_DIAMETER_RANGE"));
     }
 
     #[test]
