@@ -258,6 +258,43 @@ impl Clearance {
         if best.1 == f64::NEG_INFINITY {
             best = self.maximise(lo, hi, &free);
             ignored = true;
+        } else {
+            // Where the length bound is active the maximum sits on an edge of
+            // the window of contact, which may lie between two samples away
+            // from the best one: find every edge by bisection and take ΔH
+            // there too.
+            let inside = |x: f64| {
+                let (z, yg) = roots(x);
+                ((yg - sin_g * z) / cos_g).abs() <= half
+            };
+            let n = CLEARANCE_SAMPLES;
+            let step = (hi - lo) / (n - 1) as f64;
+            let at = |i: usize| if i == n - 1 { hi } else { lo + step * i as f64 };
+            let mut was = inside(lo);
+            for i in 1..n {
+                let now = inside(at(i));
+                if now != was {
+                    let (mut a, mut b) = if was {
+                        (at(i - 1), at(i))
+                    } else {
+                        (at(i), at(i - 1))
+                    };
+                    // a is inside, b outside.
+                    for _ in 0..60 {
+                        let m = (a + b) / 2.0;
+                        if inside(m) {
+                            a = m;
+                        } else {
+                            b = m;
+                        }
+                    }
+                    let v = free(a);
+                    if v > best.1 {
+                        best = (a, v);
+                    }
+                }
+                was = now;
+            }
         }
         ClearanceSolution {
             clearance_mm: best.1,
