@@ -114,8 +114,13 @@ fn spawn(log: &Path, name: &str, args: &[String]) -> Child {
         .append(true)
         .open(log)
         .expect("log file");
-    Command::new(bin(name))
-        .args(args)
+    let mut cmd = Command::new(bin(name));
+    // Run in the test's directory, so a default relative path (the services'
+    // `gearcam-data/`) lands there and never in the checkout.
+    if let Some(dir) = log.parent() {
+        cmd.current_dir(dir);
+    }
+    cmd.args(args)
         .env("RUST_LOG", "info")
         .stdin(Stdio::null())
         .stdout(file.try_clone().expect("log file"))

@@ -135,7 +135,12 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
         dir,
         "template",
         "gearcam-template",
-        &s(&["--config", &cfg("template")]),
+        &s(&[
+            "--config",
+            &cfg("template"),
+            "--library",
+            &dir.join("templates.db").display().to_string(),
+        ]),
     ));
     procs.push(Proc::start(
         dir,
