@@ -803,7 +803,7 @@ mod tests {
         assert_eq!(lines[4], "; PART SP-1001");
         assert_eq!(lines[5], "; CLASS cylindrical");
         assert_eq!(lines[6], "; MACHINE H01 YK3126 CNC hobbing machine");
-        assert_eq!(lines[7], "; TEMPLATE cylindrical_840d VERSION 3");
+        assert_eq!(lines[7], "; TEMPLATE cylindrical_840d VERSION 4");
         assert_eq!(lines[8], "; CASES CD-STEEL-HSS-1 CASE-0042");
         assert_eq!(lines[9], "; MODEL gearcam-model 0.1.0");
         assert_eq!(lines[10], format!("; GENERATOR {GENERATOR}"));
@@ -832,7 +832,7 @@ mod tests {
             program.template,
             TemplateRef {
                 id: "cylindrical_840d".into(),
-                version: 3
+                version: 4
             }
         );
         assert_eq!(program.cases, vec!["CD-STEEL-HSS-1", "CASE-0042"]);
@@ -1344,7 +1344,7 @@ mod tests {
         }));
         assert!(list.contains(&TemplateRef {
             id: "conical_840d".into(),
-            version: 3
+            version: 4
         }));
     }
 
@@ -1408,7 +1408,7 @@ mod tests {
             .unwrap()
             .1;
         let own = shipped
-            .replace("@version 3", "@version 9")
+            .replace("@version 4", "@version 9")
             .replace("; GEARCAM HOBBING PROGRAM", "; SHOP HOBBING PROGRAM");
         let file = crate::stdcode::parse("own.tpl", &own).unwrap();
         crate::library::Library::open(&path)
@@ -1416,7 +1416,7 @@ mod tests {
             .import(&[file], &[own.as_str()], 2)
             .unwrap();
         // At the next start the service compiles the shop's version, and the
-        // shipped version 3 is not imported over it.
+        // shipped version 4 is not imported over it.
         let next = Templates::from_library(&path, DEFAULT_FUEL, 3).unwrap();
         let t = next.find("cylindrical", Dialect::Sinumerik840d).unwrap();
         assert_eq!(t.version, 9);

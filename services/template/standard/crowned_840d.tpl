@@ -9,7 +9,7 @@
 @template crowned_840d
 @class crowned
 @dialect sinumerik840d
-@version 3
+@version 4
 
 main :: %{program.file}
 main :: ;$PATH=/_N_MPF_DIR
@@ -47,6 +47,9 @@ shift/unit if: k.has_shift :: {N()} R22={nc(k.shift.step)} ; SHIFT PER STEP, MM
 shift/unit if: k.has_shift :: {N()} R23={k.shift.parts_per_step} ; PARTS PER SHIFT STEP
 shift/unit if: k.has_shift :: {N()} R24={k.shift.positions} ; SHIFT POSITIONS
 shift/unit if: k.has_shift :: ; R25 COUNTS THE PARTS CUT WITH THIS HOB SETTING; SET R25=0 AFTER A HOB CHANGE
+shift/unit if: k.has_shift :: {N()} IF R25>=R23*R24 ; EVERY SHIFT POSITION HAS CUT R23 PARTS
+shift/unit if: k.has_shift :: {N()} R25=0 ; START AGAIN AT THE SHIFT START
+shift/unit if: k.has_shift :: {N()} ENDIF
 shift/unit if: k.has_shift :: {N()} R26=TRUNC(R25/R23) ; SHIFT STEPS SO FAR
 synchronous/unit calc: lead = if(k.use_z, "," + ax.axial + ",1", "") + if(k.use_y, "," + ax.shift + ",1", ""); factors = if(k.use_z, "," + ax.axial + "," + factor(k.c_per_z) + ",1", "") + if(k.use_y, "," + ax.shift + "," + factor(k.c_per_y) + ",1", "") :: ; GEARBOX: {ax.table} FOLLOWS {ax.hob} BY Z0/Z{if(k.use_z, ", " + ax.axial + " BY THE DIFFERENTIAL", "")}{if(k.use_y, ", " + ax.shift + " BY THE SHIFT COMPENSATION", "")}, DEG/MM
 synchronous/unit :: {N()} EGDEF({ax.table},{ax.hob},1{lead})

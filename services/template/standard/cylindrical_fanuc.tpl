@@ -23,7 +23,7 @@
 @template cylindrical_fanuc
 @class cylindrical
 @dialect fanuc
-@version 1
+@version 2
 
 main :: %
 main :: {program.name} ({upper(comment(part_number))} HOBBING)
@@ -59,6 +59,7 @@ shift/unit if: k.has_shift :: #522={nc(k.shift.step)} (SHIFT PER STEP, MM)
 shift/unit if: k.has_shift :: #523={k.shift.parts_per_step} (PARTS PER SHIFT STEP)
 shift/unit if: k.has_shift :: #524={k.shift.positions} (SHIFT POSITIONS)
 shift/unit if: k.has_shift :: (#525 COUNTS THE PARTS CUT WITH THIS HOB SETTING, SET #525=0 AFTER A HOB CHANGE)
+shift/unit if: k.has_shift :: IF [#525 GE #523*#524] THEN #525=0 (EVERY SHIFT POSITION HAS CUT #523 PARTS: START AGAIN)
 shift/unit if: k.has_shift :: #526=FIX[#525/#523] (SHIFT STEPS SO FAR)
 shift/unit when: k.has_shift calc: first_index = if(k.shift.by_cut, "[#526*" + text(k.cuts) + "]", "#526") if: k.has_shift :: #527={first_index}-FIX[{first_index}/#524]*#524 (SHIFT POSITION OF THE FIRST CUT)
 shift/unit if: k.has_shift :: #528=#520+#522*#527 (SHIFT AXIS POSITION, MM)

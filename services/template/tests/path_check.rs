@@ -789,6 +789,129 @@ fn garbage_is_a_parse_finding_naming_its_line() {
     assert_eq!(found(&check), vec![(rules::PARSE, line_of(&bad, "#502="))]);
 }
 
+// ----- IF: the shift counter's wrap -----
+
+/// `text` with `line` inserted before the first line containing `needle`.
+fn insert_before(text: &str, needle: &str, line: &str) -> String {
+    let n = line_of(text, needle) as usize;
+    let mut out: Vec<&str> = text.lines().collect();
+    out.insert(n - 1, line);
+    out.join("\n")
+}
+
+#[test]
+fn the_shift_counter_starts_again_in_its_if_after_every_position_has_cut() {
+    let job = example("multi_cut_shift_840d.toml");
+    for (machine, if_line, preset, steps) in [
+        ("H01", "IF R25>=", "N1 R25=", "R26=TRUNC"),
+        ("H02", "IF [#525 GE", "#525=", "#526=FIX"),
+    ] {
+        let m = model("multi_cut_shift_840d.toml", &job, machine);
+        let text = program("multi_cut_shift_840d.toml", &m);
+        let shift = m.model.shift.clone().expect("the example shifts per part");
+        assert!(shift.positions >= 2, "{shift:?}");
+        // The part counter is kept by the machine between runs; the check
+        // starts it at 0. Preset it to see where the hob shifts at part n.
+        let y_at_part = |n: u32| {
+            let t = insert_before(&text, if_line, &format!("{preset}{n}"));
+            let (check, trace) = nc::check(&t, &m);
+            assert_clean(machine, &t, &check);
+            trace.moves.last().unwrap().y_mm
+        };
+        let (p, n) = (shift.parts_per_step, shift.positions);
+        let start = shift.start_mm;
+        assert!((y_at_part(0) - start).abs() < MM, "{machine}");
+        assert!((y_at_part(p - 1) - start).abs() < MM, "{machine}");
+        assert!(
+            (y_at_part(p) - (start + shift.step_mm)).abs() < MM,
+            "{machine}"
+        );
+        // The last position lies within the range (the end is reached when
+        // the range is a whole number of steps).
+        let last = start + shift.step_mm * f64::from(n - 1);
+        assert!(last <= shift.end_mm + MM, "{machine}");
+        // (R20 + R22·k from printed values: k print roundings of the step)
+        let tol = MM * f64::from(n);
+        assert!((y_at_part(p * (n - 1)) - last).abs() < tol, "{machine}");
+        // After every position has cut p parts the IF sets the counter back
+        // to 0: one more step past the full pass is the start again, where
+        // the counter alone (MOD) would be one step on.
+        assert!((y_at_part(p * n + p) - start).abs() < MM, "{machine}");
+        let without_if = text
+            .lines()
+            .filter(|l| !l.contains(if_line) && !l.contains("R25=0") && !l.contains("ENDIF"))
+            .collect::<Vec<_>>()
+            .join("\n");
+        let t = insert_before(&without_if, steps, &format!("{preset}{}", p * n + p));
+        let (check, trace) = nc::check(&t, &m);
+        assert_clean(machine, &t, &check);
+        assert!(
+            (trace.moves.last().unwrap().y_mm - (start + shift.step_mm)).abs() < MM,
+            "{machine}"
+        );
+    }
+}
+
+#[test]
+fn an_if_holds_assignments_only_and_is_closed() {
+    let m = model(
+        "multi_cut_shift_840d.toml",
+        &example("multi_cut_shift_840d.toml"),
+        "H01",
+    );
+    let text = program("multi_cut_shift_840d.toml", &m);
+    let endif = line_of(&text, "ENDIF");
+    // A move inside the IF: the checked path would depend on the counter.
+    let bad = insert_before(&text, "ENDIF", "N2 G0 G90 X=300.0");
+    let (check, _) = nc::check(&bad, &m);
+    assert_eq!(
+        found(&check),
+        vec![(rules::PARSE, endif)],
+        "{:#?}",
+        check.findings
+    );
+    assert!(check.findings[0]
+        .message
+        .contains("only R-parameter assignments"));
+    // The ENDIF forgotten.
+    let bad = remove_line(&text, "ENDIF");
+    let (check, _) = nc::check(&bad, &m);
+    assert_eq!(
+        found(&check),
+        vec![(rules::PARSE, line_of(&bad, "IF R25>="))]
+    );
+    assert!(check.findings[0].message.contains("not closed by an ENDIF"));
+    // An ENDIF too many, and a second ELSE.
+    let bad = insert_before(&text, "ENDIF", "ENDIF");
+    let (check, _) = nc::check(&bad, &m);
+    assert_eq!(found(&check), vec![(rules::PARSE, endif + 1)]);
+    let bad = insert_before(&text, "ENDIF", "ELSE\nR25=1\nELSE");
+    let (check, _) = nc::check(&bad, &m);
+    assert_eq!(found(&check), vec![(rules::PARSE, endif + 2)]);
+    // ELSE runs when the condition fails: R25 = 1 here, so part 0 cuts one step on.
+    let bad = insert_before(&text, "ENDIF", "ELSE\nR25=R23");
+    let (check, trace) = nc::check(&bad, &m);
+    assert_clean("else", &bad, &check);
+    let shift = m.model.shift.clone().unwrap();
+    assert!((trace.moves.last().unwrap().y_mm - (shift.start_mm + shift.step_mm)).abs() < MM);
+    // FANUC: IF [..] THEN one assignment; GOTO is outside the subset.
+    let f = model(
+        "multi_cut_shift_840d.toml",
+        &example("multi_cut_shift_840d.toml"),
+        "H02",
+    );
+    let ftext = program("multi_cut_shift_840d.toml", &f);
+    let bad = replace_line(&ftext, "IF [#525 GE", "IF [#525 GE #523*#524] GOTO 10");
+    let (check, _) = nc::check(&bad, &f);
+    assert_eq!(found(&check), vec![(rules::PARSE, line_of(&bad, "GOTO"))]);
+    let bad = replace_line(&ftext, "IF [#525 GE", "IF [#525 >= #523] THEN #525=0");
+    let (check, _) = nc::check(&bad, &f);
+    assert_eq!(
+        found(&check),
+        vec![(rules::PARSE, line_of(&bad, "IF [#525"))]
+    );
+}
+
 // ----- no input makes it panic -----
 
 fn spur_models() -> &'static (MachiningModel, String, MachiningModel, String) {

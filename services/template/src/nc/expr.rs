@@ -335,6 +335,92 @@ impl Value {
     }
 }
 
+/// A comparison of an `IF` (840D `==` `<>` `<` `<=` `>` `>=`, FANUC `EQ` `NE`
+/// `LT` `LE` `GT` `GE`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rel {
+    /// Equal.
+    Eq,
+    /// Not equal.
+    Ne,
+    /// Less than.
+    Lt,
+    /// Less than or equal.
+    Le,
+    /// Greater than.
+    Gt,
+    /// Greater than or equal.
+    Ge,
+}
+
+/// The condition of an `IF`: two expressions compared.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cond {
+    /// Left-hand side.
+    pub left: Value,
+    /// The comparison.
+    pub rel: Rel,
+    /// Right-hand side.
+    pub right: Value,
+}
+
+impl Cond {
+    /// True when the comparison holds with the parameters `vars`.
+    pub fn eval(&self, vars: &[f64; PARAMS]) -> Result<bool, EvalError> {
+        let (a, b) = (self.left.eval(vars)?, self.right.eval(vars)?);
+        Ok(match self.rel {
+            Rel::Eq => a == b,
+            Rel::Ne => a != b,
+            Rel::Lt => a < b,
+            Rel::Le => a <= b,
+            Rel::Gt => a > b,
+            Rel::Ge => a >= b,
+        })
+    }
+}
+
+/// Compiles a condition at the cursor: 840D `R25>=R23*R24`, FANUC
+/// `#525 GE #523*#524` (the contents of its `[ ]`).
+pub(crate) fn condition(c: &mut Cursor<'_>, syntax: Syntax) -> Result<Cond, &'static str> {
+    let left = expression(c, syntax)?;
+    let spaced = c.skip_spaces();
+    let rel = match syntax {
+        Syntax::Siemens => {
+            let two = [c.peek(), c.peek_at(1)];
+            let (rel, len) = match two {
+                [Some(b'='), Some(b'=')] => (Rel::Eq, 2),
+                [Some(b'<'), Some(b'>')] => (Rel::Ne, 2),
+                [Some(b'<'), Some(b'=')] => (Rel::Le, 2),
+                [Some(b'>'), Some(b'=')] => (Rel::Ge, 2),
+                [Some(b'<'), _] => (Rel::Lt, 1),
+                [Some(b'>'), _] => (Rel::Gt, 1),
+                _ => return Err("a comparison (== <> < <= > >=) is expected"),
+            };
+            c.i += len;
+            rel
+        }
+        Syntax::Fanuc => {
+            let words = [
+                ("EQ", Rel::Eq),
+                ("NE", Rel::Ne),
+                ("LT", Rel::Lt),
+                ("LE", Rel::Le),
+                ("GT", Rel::Gt),
+                ("GE", Rel::Ge),
+            ];
+            match words.iter().find(|(w, _)| spaced && c.eat_keyword(w)) {
+                Some((_, rel)) => *rel,
+                None => return Err("a comparison (EQ NE LT LE GT GE, between spaces) is expected"),
+            }
+        }
+    };
+    if !c.skip_spaces() && syntax == Syntax::Fanuc {
+        return Err("a space is expected after the comparison");
+    }
+    let right = expression(c, syntax)?;
+    Ok(Cond { left, rel, right })
+}
+
 /// Compiles an expression at the cursor. It ends before the first character
 /// that cannot continue it (840D: spaces end it unless an operator follows).
 /// A lone literal comes back as [`Value::Num`].

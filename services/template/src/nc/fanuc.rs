@@ -4,7 +4,8 @@
 //! Line 1 is `%`, line 2 the program number `O0001`–`O7999` with an optional
 //! `(TITLE)`, and a line `%` closes the program (only blank lines may follow).
 //! Every other line is empty, a `(comment)`, or one block: an optional
-//! `N<n>`, then exactly one of a `#5nn=` assignment, `G81 T L [Q P]`, `G80`,
+//! `N<n>`, then exactly one of a `#5nn=` assignment, `IF [a GE b] THEN #5nn=`
+//! (a conditional assignment; `EQ NE LT LE GT GE`), `G81 T L [Q P]`, `G80`,
 //! a dwell `G04 X`, an M function with an optional integer `S`, or a motion
 //! block (`G00`–`G03`, `G90`, `G91`, `G98`, axis words, `R`, `F`), then an
 //! optional `(comment)` that closes the line.
@@ -163,6 +164,25 @@ fn body(raw: &str) -> Result<&str, String> {
     Ok(strip_comment(raw)?.trim_matches([' ', '\t']))
 }
 
+/// `5nn=value` after the `#`, to the end of the block.
+fn assignment(c: &mut Cursor<'_>) -> Result<(u8, expr::Value), String> {
+    let param = expr::macro_index(c.digits()).ok_or("macro variables are #500 to #599")?;
+    c.skip_spaces();
+    if !c.eat(b'=') {
+        return Err("an assignment is #5nn=value".into());
+    }
+    c.skip_spaces();
+    let value = expr::expression(c, Syntax::Fanuc)?;
+    if let Some(n) = value.literal() {
+        literal(n, "the value", 6, n.point)?;
+    }
+    c.skip_spaces();
+    if !c.at_end() {
+        return Err("unexpected text after the assignment".into());
+    }
+    Ok((param, value))
+}
+
 /// Parses a line's non-empty block text into `b`.
 fn block(body: &str, b: &mut Block) -> Result<(), String> {
     let mut c = Cursor::new(body);
@@ -172,21 +192,34 @@ fn block(body: &str, b: &mut Block) -> Result<(), String> {
         return Err("a block number without a block".into());
     }
     b.number = number;
+    if c.eat_keyword("IF") {
+        c.skip_spaces();
+        if !c.eat(b'[') {
+            return Err("IF is followed by its condition in [ ]".into());
+        }
+        c.skip_spaces();
+        let cond = expr::condition(&mut c, Syntax::Fanuc)?;
+        c.skip_spaces();
+        if !c.eat(b']') {
+            return Err("the condition of IF is not closed by ]".into());
+        }
+        c.skip_spaces();
+        if !c.eat_keyword("THEN") {
+            return Err(
+                "IF [..] is followed by THEN and one assignment (GOTO is outside the subset)"
+                    .into(),
+            );
+        }
+        c.skip_spaces();
+        if !c.eat(b'#') {
+            return Err("THEN is followed by one #5nn= assignment".into());
+        }
+        let (param, value) = assignment(&mut c)?;
+        b.op = Op::AssignIf { cond, param, value };
+        return Ok(());
+    }
     if c.eat(b'#') {
-        let param = expr::macro_index(c.digits()).ok_or("macro variables are #500 to #599")?;
-        c.skip_spaces();
-        if !c.eat(b'=') {
-            return Err("an assignment is #5nn=value".into());
-        }
-        c.skip_spaces();
-        let value = expr::expression(&mut c, Syntax::Fanuc)?;
-        if let Some(n) = value.literal() {
-            literal(n, "the value", 6, n.point)?;
-        }
-        c.skip_spaces();
-        if !c.at_end() {
-            return Err("unexpected text after the assignment".into());
-        }
+        let (param, value) = assignment(&mut c)?;
         b.op = Op::Assign { param, value };
         return Ok(());
     }
@@ -344,6 +377,30 @@ mod tests {
         assert!(!text.is_empty(), "{line} holds no block");
         block(text, &mut b)?;
         Ok(b.op)
+    }
+
+    #[test]
+    fn conditional_assignment() {
+        let Op::AssignIf { cond, param, value } =
+            one("IF [#525 GE #523*#524] THEN #525=0 (START AGAIN)").unwrap()
+        else {
+            panic!()
+        };
+        assert_eq!((cond.rel, param), (expr::Rel::Ge, 25));
+        assert_eq!(value.literal().unwrap().value, 0.0);
+        let mut r = [0.0; expr::PARAMS];
+        (r[23], r[24], r[25]) = (4.0, 6.0, 24.0);
+        assert!(cond.eval(&r).unwrap());
+        for bad in [
+            "IF [#525 GE 4] GOTO 10",
+            "IF [#525 >= 4] THEN #525=0",
+            "IF [#525GE 4] THEN #525=0",
+            "IF #525 GE 4 THEN #525=0",
+            "IF [#525 GE 4] THEN G00 X1.0",
+            "IF [#525 GE 4 THEN #525=0",
+        ] {
+            assert!(one(bad).is_err(), "{bad}");
+        }
     }
 
     #[test]

@@ -33,7 +33,7 @@ mod sim;
 
 use gearcam_proto::{Dialect, MachiningModel, MoveKind, PathCheck, PathFinding};
 
-pub use expr::{EvalError, Expr, Num, Value};
+pub use expr::{Cond, EvalError, Expr, Num, Rel, Value};
 
 /// The rule ids of the findings (`services/template/DIALECTS.md`).
 pub mod rules {
@@ -265,6 +265,23 @@ pub enum Op {
     },
     /// 840D `MSG(...)`: an operator message.
     Message,
+    /// 840D `IF cond`: the blocks up to its `ELSE` or `ENDIF` run when the
+    /// condition holds. Only parameter assignments may stand inside.
+    If(Cond),
+    /// 840D `ELSE`.
+    Else,
+    /// 840D `ENDIF`.
+    EndIf,
+    /// FANUC `IF [cond] THEN #5nn=expr`: an assignment made when the
+    /// condition holds.
+    AssignIf {
+        /// The condition.
+        cond: Cond,
+        /// Parameter index: FANUC variable − 500.
+        param: u8,
+        /// The value.
+        value: Value,
+    },
 }
 
 /// One NC block with its place in the text.
@@ -339,7 +356,10 @@ pub struct TraceCoupling {
 /// trace.
 pub fn check(text: &str, model: &MachiningModel) -> (PathCheck, Trace) {
     let dialect = model.plan.machine.dialect;
-    let parsed = parse_text(dialect, text);
+    let mut parsed = parse_text(dialect, text);
+    if parsed.findings.is_empty() {
+        parsed.findings = structure(&parsed.blocks);
+    }
     let (mut findings, trace) = if parsed.findings.is_empty() {
         sim::run(dialect, &parsed.blocks, model, parsed.lines.max(1))
     } else {
@@ -353,6 +373,64 @@ pub fn check(text: &str, model: &MachiningModel) -> (PathCheck, Trace) {
         },
         trace,
     )
+}
+
+/// The 840D `IF` / `ELSE` / `ENDIF` pair up, and only parameter assignments
+/// stand between them, so that every run of the program takes the path the
+/// simulation follows whatever the parameters the machine keeps between runs
+/// (the part counter). One `PARSE` finding per broken `IF`.
+fn structure(blocks: &[Block]) -> Vec<PathFinding> {
+    struct Open {
+        line: u32,
+        otherwise: bool,
+        /// First block inside that is not an assignment.
+        bad: Option<u32>,
+    }
+    let mut open: Vec<Open> = Vec::new();
+    let mut findings = Vec::new();
+    let mut refuse = |line: u32, message: String| {
+        findings.push(finding(
+            line,
+            rules::PARSE,
+            format!("line {line}: {message}"),
+        ));
+    };
+    for b in blocks {
+        match b.op {
+            Op::If(_) => open.push(Open {
+                line: b.line,
+                otherwise: false,
+                bad: None,
+            }),
+            Op::Else => match open.last_mut() {
+                Some(o) if !o.otherwise => o.otherwise = true,
+                Some(o) => refuse(b.line, format!("a second ELSE for the IF of line {}", o.line)),
+                None => refuse(b.line, "ELSE without an IF".into()),
+            },
+            Op::EndIf => match open.pop() {
+                Some(Open {
+                    line: start,
+                    bad: Some(bad),
+                    ..
+                }) => refuse(
+                    bad,
+                    format!("only R-parameter assignments may stand inside the IF of line {start}, so that every run takes the path this check simulates"),
+                ),
+                Some(_) => {}
+                None => refuse(b.line, "ENDIF without an IF".into()),
+            },
+            Op::Assign { .. } | Op::AssignIf { .. } => {}
+            _ => {
+                if let Some(o) = open.last_mut() {
+                    o.bad.get_or_insert(b.line);
+                }
+            }
+        }
+    }
+    for o in open {
+        refuse(o.line, "this IF is not closed by an ENDIF".into());
+    }
+    findings
 }
 
 /// Most `PARSE` findings reported for one text; the rest are summed up in one.

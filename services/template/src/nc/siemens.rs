@@ -2,7 +2,8 @@
 //!
 //! Line 1 is the file header `%_N_NAME_MPF`, line 2 `;$PATH=/_N_MPF_DIR`;
 //! every other line is empty, a `;` comment, or one block: an optional
-//! `N<n>`, then exactly one of an `R<n>=` assignment, a gearbox call
+//! `N<n>`, then exactly one of an `R<n>=` assignment, `IF cond` / `ELSE` /
+//! `ENDIF` (around assignments only; see the simulation), a gearbox call
 //! (`EGDEF`, `EGON`, `EGONSYNE`, `EGOFS`, `EGDEL`), `MSG(...)`, an M function
 //! with an optional `S=`, a dwell `G4 F=`, or a motion block (`G0`, `G1`,
 //! `CIP`, `G90`, `G94`, `axis=value`, `I1=`, `K1=`, `F=`), then an optional
@@ -113,6 +114,21 @@ fn block(body: &str, b: &mut Block) -> Result<(), String> {
 
 /// Parses the block's operation into `slot`.
 fn op(c: &mut Cursor<'_>, slot: &mut Op) -> Result<(), String> {
+    if c.eat_keyword("IF") {
+        if !c.skip_spaces() {
+            return Err("IF is followed by a space and its condition".into());
+        }
+        *slot = Op::If(expr::condition(c, Syntax::Siemens)?);
+        return Ok(());
+    }
+    if c.eat_keyword("ELSE") {
+        *slot = Op::Else;
+        return Ok(());
+    }
+    if c.eat_keyword("ENDIF") {
+        *slot = Op::EndIf;
+        return Ok(());
+    }
     match (c.peek(), c.peek_at(1)) {
         (Some(b'E'), Some(b'G')) | (Some(b'M'), Some(b'S')) => *slot = call(c)?,
         (Some(b'M'), Some(b'0'..=b'9')) => *slot = mcode(c)?,
@@ -217,10 +233,12 @@ fn number_word(c: &mut Cursor<'_>, what: &str, slot: &mut Option<Num>) -> Result
 
 /// Words that are not axis names.
 fn reserved(id: &[u8]) -> bool {
-    matches!(id, b"F" | b"S" | b"I1" | b"K1" | b"CIP" | b"MSG")
-        || (matches!(id[0], b'N' | b'G' | b'M' | b'R')
-            && id.len() > 1
-            && id[1..].iter().all(u8::is_ascii_digit))
+    matches!(
+        id,
+        b"F" | b"S" | b"I1" | b"K1" | b"CIP" | b"MSG" | b"IF" | b"ELSE" | b"ENDIF"
+    ) || (matches!(id[0], b'N' | b'G' | b'M' | b'R')
+        && id.len() > 1
+        && id[1..].iter().all(u8::is_ascii_digit))
 }
 
 /// A motion block or a dwell, built in `slot`.
@@ -500,6 +518,43 @@ mod tests {
         assert!(!text.is_empty(), "{line} holds no block");
         block(text, &mut b)?;
         Ok(b.op)
+    }
+
+    #[test]
+    fn if_else_endif() {
+        let Op::If(cond) = one("N150 IF R25>=R23*R24 ; EVERY POSITION HAS CUT").unwrap() else {
+            panic!()
+        };
+        assert_eq!(cond.rel, expr::Rel::Ge);
+        let mut r = [0.0; expr::PARAMS];
+        (r[23], r[24], r[25]) = (4.0, 6.0, 23.0);
+        assert!(!cond.eval(&r).unwrap());
+        r[25] = 24.0;
+        assert!(cond.eval(&r).unwrap());
+        for (text, rel) in [
+            ("IF R1==2", expr::Rel::Eq),
+            ("IF R1<>2", expr::Rel::Ne),
+            ("IF R1<2", expr::Rel::Lt),
+            ("IF R1 <= 2", expr::Rel::Le),
+            ("IF R1>2", expr::Rel::Gt),
+        ] {
+            let Op::If(c) = one(text).unwrap() else {
+                panic!("{text}")
+            };
+            assert_eq!(c.rel, rel, "{text}");
+        }
+        assert_eq!(one("N160 ELSE").unwrap(), Op::Else);
+        assert_eq!(one("N170 ENDIF").unwrap(), Op::EndIf);
+        for bad in [
+            "IF R1",
+            "IF R1=2",
+            "IF",
+            "IFR1>2",
+            "ENDIF R1=0",
+            "IF R1>2 GOTOF L1",
+        ] {
+            assert!(one(bad).is_err(), "{bad}");
+        }
     }
 
     #[test]

@@ -34,7 +34,7 @@ use gearcam_proto::{
     WormInfeed,
 };
 
-use super::expr::{Num, PARAMS};
+use super::expr::{Cond, Num, Value, PARAMS};
 use super::{
     finding, rules, AxisName, Block, Distance, Interp, Lead, Motion, Op, Trace, TraceCoupling,
     TraceMove,
@@ -393,6 +393,7 @@ pub(super) fn run(
             ..Trace::default()
         },
     };
+    let mut branches = Branches::default();
     for b in blocks {
         if let Some(end) = sim.end {
             let code = sim.profile.mcodes.program_end;
@@ -403,10 +404,72 @@ pub(super) fn run(
             );
             break;
         }
-        sim.block(b);
+        if branches.control(&mut sim, b) {
+            continue;
+        }
+        if branches.active() {
+            sim.block(b);
+        }
     }
     sim.finish(last_line);
     (sim.findings, sim.trace)
+}
+
+/// The open `IF`s of an 840D program, innermost last ([`super::structure`]
+/// has checked that they pair up before the simulation starts).
+#[derive(Default)]
+struct Branches {
+    open: Vec<Branch>,
+}
+
+struct Branch {
+    /// The enclosing blocks run.
+    outer: bool,
+    /// The condition held.
+    holds: bool,
+    /// Past the `ELSE`.
+    otherwise: bool,
+}
+
+impl Branches {
+    /// True when the current block runs.
+    fn active(&self) -> bool {
+        self.open
+            .last()
+            .is_none_or(|b| b.outer && (b.holds != b.otherwise))
+    }
+
+    /// Handles `IF`, `ELSE`, `ENDIF` and the FANUC conditional assignment;
+    /// false for any other block.
+    fn control(&mut self, sim: &mut Sim<'_>, b: &Block) -> bool {
+        let line = b.line;
+        match &b.op {
+            Op::If(cond) => {
+                let outer = self.active();
+                let holds = outer && sim.condition(line, cond);
+                self.open.push(Branch {
+                    outer,
+                    holds,
+                    otherwise: false,
+                });
+            }
+            Op::Else => {
+                if let Some(open) = self.open.last_mut() {
+                    open.otherwise = true;
+                }
+            }
+            Op::EndIf => {
+                self.open.pop();
+            }
+            Op::AssignIf { cond, param, value } => {
+                if self.active() && sim.condition(line, cond) {
+                    sim.assign(line, *param, value);
+                }
+            }
+            _ => return false,
+        }
+        true
+    }
 }
 
 struct Sim<'m> {
@@ -475,21 +538,7 @@ impl<'m> Sim<'m> {
     fn block(&mut self, b: &Block) {
         let line = b.line;
         match &b.op {
-            Op::Assign { param, value } => match value.eval(&self.vars) {
-                Ok(v) => {
-                    if let Some(slot) = self.vars.get_mut(usize::from(*param)) {
-                        *slot = v;
-                    }
-                }
-                Err(e) => {
-                    let name = self.param_name(*param);
-                    self.push(
-                        line,
-                        rules::PARSE,
-                        format!("the value of {name} cannot be computed: {e}"),
-                    );
-                }
-            },
+            Op::Assign { param, value } => self.assign(line, *param, value),
             Op::Motion(m) => self.motion(line, m),
             Op::Dwell { seconds } => self.trace.moves.push(TraceMove {
                 line,
@@ -517,7 +566,41 @@ impl<'m> Sim<'m> {
             } => self.g81(line, *teeth, *starts, *module, *helix),
             Op::GearOff { following } => self.gear_off(line, *following),
             Op::GearDelete { following } => self.egdel(line, *following),
-            Op::Message => {}
+            Op::Message | Op::If(_) | Op::Else | Op::EndIf | Op::AssignIf { .. } => {}
+        }
+    }
+
+    fn assign(&mut self, line: u32, param: u8, value: &Value) {
+        match value.eval(&self.vars) {
+            Ok(v) => {
+                if let Some(slot) = self.vars.get_mut(usize::from(param)) {
+                    *slot = v;
+                }
+            }
+            Err(e) => {
+                let name = self.param_name(param);
+                self.push(
+                    line,
+                    rules::PARSE,
+                    format!("the value of {name} cannot be computed: {e}"),
+                );
+            }
+        }
+    }
+
+    /// The condition's truth with the parameters as simulated; a condition
+    /// that cannot be computed is a `PARSE` finding and counts as false.
+    fn condition(&mut self, line: u32, cond: &Cond) -> bool {
+        match cond.eval(&self.vars) {
+            Ok(holds) => holds,
+            Err(e) => {
+                self.push(
+                    line,
+                    rules::PARSE,
+                    format!("the condition cannot be computed: {e}"),
+                );
+                false
+            }
         }
     }
 
