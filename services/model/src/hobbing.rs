@@ -586,10 +586,16 @@ pub fn unit_kinematics(u: &Unit, geometry: &Geometry) -> Kinematics {
         let table_rpm = table_rpm_for(fa);
         let axial_feed = if axial { fa * table_rpm } else { 0.0 };
         let radial_feed = u.radial_feed_mm_per_rev() * table_rpm;
+        // A crowned cut goes deeper towards the faces by the crowning, and
+        // the approach must clear the blank at that deepest depth.
+        let crown = match (u.class, gear.crowning.as_ref()) {
+            (GearClass::Crowned, Some(cr)) => cr.amount_mm.max(0.0),
+            _ => 0.0,
+        };
         let clearance = Clearance {
             blank_od_mm: set.blank_od_mm,
             hob_od_mm: hob.od_mm,
-            depth_mm: depth,
+            depth_mm: depth + crown,
             swivel_deg: gamma,
             hob_length_mm: hob.length_mm,
         }

@@ -202,17 +202,31 @@ fn zones(units: &[Unit<'_>]) -> Vec<Zone> {
         }
         let mut cuts: Vec<_> = k.cuts.iter().collect();
         cuts.sort_by(|a, b| a.depth_mm.total_cmp(&b.depth_mm));
-        let mut reached = 0.0f64;
+        // Below the X a previous cut reached, the hob runs in the gaps it cut:
+        // its nominal centre distance, and for a crowned cut, deeper towards
+        // the faces by the crowning, the deepest X of its cutting moves. (A
+        // cone's X follows the cone; its nominal X at the large end stays the
+        // bound, which errs on the safe side.)
+        let mut reached_x = contact;
         for c in cuts {
             let (z_lo, z_hi) = band(&c.positions, c.clearance_mm + k.safety_mm);
             out.push(Zone {
                 unit: i,
-                x_hi: contact - reached,
+                x_hi: reached_x,
                 z_lo,
                 z_hi,
                 y_half: None,
             });
-            reached = reached.max(c.depth_mm);
+            let mut deepest = contact - c.depth_mm;
+            if k.crowning.is_some() {
+                deepest = c
+                    .moves
+                    .iter()
+                    .filter(|m| matches!(m.kind, MoveKind::Feed | MoveKind::Arc))
+                    .filter_map(|m| m.x_mm)
+                    .fold(deepest, f64::min);
+            }
+            reached_x = reached_x.min(deepest);
         }
     }
     out
