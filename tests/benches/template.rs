@@ -5,6 +5,9 @@
 //!   the job's class and dialect (assembly from the library happens once at
 //!   start; the lookup is what a job pays), fill the parameter table, run the
 //!   expression-driven algorithm, hash, parse the program back and simulate it.
+//! - `assembly_instantiation_check/{840d,fanuc}_spur`: the same with nothing
+//!   cached: assemble the template from the SQLite library, compile it, then
+//!   instantiate and check (`*/assembly_only`: the assembly alone).
 //! - `expression/*`: one NC output expression, `"G1 X" + nc(X) + " F" + nc(F)`,
 //!   evaluated by our compiled expression and by minijinja's expression API
 //!   (the candidate crate; see services/template/EXPRESSIONS.md).
@@ -89,5 +92,34 @@ fn expression(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, one_job, expression);
+/// The whole per-job path when nothing is cached: assemble the class's
+/// template from the SQLite template library (components fetched, ordered by
+/// N and concatenated by module), compile it, instantiate, path check.
+fn cold_job(c: &mut Criterion) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("templates.db");
+    Templates::from_library(&path, gearcam_template::DEFAULT_FUEL, 0).unwrap();
+    let library = gearcam_template::library::Library::open(&path).unwrap();
+    let mut g = c.benchmark_group("assembly_instantiation_check");
+    for (name, file, machine, id) in [
+        ("840d_spur", "spur_840d.toml", "H01", "cylindrical_840d"),
+        ("fanuc_spur", "spur_840d.toml", "H02", "cylindrical_fanuc"),
+    ] {
+        let m = model(file, machine);
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                let t = library.assemble(black_box(id), None).unwrap();
+                let templates = Templates::from_files([t], gearcam_template::DEFAULT_FUEL).unwrap();
+                let p = templates.render(black_box(&m)).unwrap();
+                black_box(p.sha256.len())
+            })
+        });
+        g.bench_function(format!("{name}/assembly_only"), |b| {
+            b.iter(|| black_box(library.assemble(black_box(id), None).unwrap().records.len()))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, one_job, cold_job, expression);
 criterion_main!(benches);
