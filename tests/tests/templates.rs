@@ -30,7 +30,9 @@ fn examples() -> Vec<(String, String)> {
 
 /// The example on machine `machine` (H01: 840D, H02: FANUC).
 fn on_machine(text: &str, machine: &str) -> String {
-    text.replace("machine = \"H01\"", &format!("machine = \"{machine}\""))
+    let line = format!("machine = \"{machine}\"");
+    text.replace("machine = \"H01\"", &line)
+        .replace("machine = \"H02\"", &line)
 }
 
 fn model_of(text: &str) -> Result<MachiningModel, Vec<gearcam_proto::JobError>> {

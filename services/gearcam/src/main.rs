@@ -205,6 +205,10 @@ const DEMO_JOBS: &[(&str, &str)] = &[
         include_str!("../../../examples/worm_wheel_tangential_840d.toml"),
     ),
     (
+        "examples/helical_shift_fanuc.toml",
+        include_str!("../../../examples/helical_shift_fanuc.toml"),
+    ),
+    (
         "examples/multi_gear_840d.toml",
         include_str!("../../../examples/multi_gear_840d.toml"),
     ),
