@@ -272,10 +272,7 @@ fn a_crowned_rough_cut_clears_the_blank_at_its_deepest_point() {
         .solve()
         .clearance_mm;
         assert!((rough.clearance_mm - deeper).abs() < 1e-12, "{machine}");
-        let program = Templates::builtin()
-            .render(&model)
-            .unwrap_or_else(|e| panic!("{machine}: {e:#?}"));
-        round_trip(&model, &program).unwrap_or_else(|e| panic!("{machine}: {e}"));
+        render_and_round_trip(&model).unwrap_or_else(|e| panic!("{machine}: {e}"));
     }
 }
 
@@ -404,6 +401,15 @@ fn random_other_class_job() -> impl Strategy<Value = String> {
     prop_oneof![conical, crowned, worm_wheel, multi_gear]
 }
 
+/// Renders the model with the shipped templates (path check included) and
+/// checks the round trip; the error names what failed, with the program.
+fn render_and_round_trip(model: &MachiningModel) -> Result<(), String> {
+    let program = Templates::builtin()
+        .render(model)
+        .map_err(|e| format!("render: {e:#?}"))?;
+    round_trip(model, &program).map_err(|e| format!("{e}\n{}", program.text))
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 48, .. ProptestConfig::default() })]
 
@@ -416,12 +422,8 @@ proptest! {
         // for the hand, a shift range the hob cannot give): not this property's
         // concern.
         prop_assume!(model.is_ok());
-        let model = model.unwrap();
-        let program = Templates::builtin().render(&model);
-        prop_assert!(program.is_ok(), "{:#?}\n{job}", program.err());
-        let program = program.unwrap();
-        let r = round_trip(&model, &program);
-        prop_assert!(r.is_ok(), "{}\n{job}\n{}", r.unwrap_err(), program.text);
+        let r = render_and_round_trip(&model.unwrap());
+        prop_assert!(r.is_ok(), "{}\n{job}", r.unwrap_err());
     }
 
     /// The same for random jobs of every other class. These are all valid
@@ -431,11 +433,7 @@ proptest! {
     fn every_class_instantiates_then_parses_back_to_its_model(job in random_other_class_job()) {
         let model = model_of(&job);
         prop_assert!(model.is_ok(), "{:#?}\n{job}", model.err());
-        let model = model.unwrap();
-        let program = Templates::builtin().render(&model);
-        prop_assert!(program.is_ok(), "{:#?}\n{job}", program.err());
-        let program = program.unwrap();
-        let r = round_trip(&model, &program);
-        prop_assert!(r.is_ok(), "{}\n{job}\n{}", r.unwrap_err(), program.text);
+        let r = render_and_round_trip(&model.unwrap());
+        prop_assert!(r.is_ok(), "{}\n{job}", r.unwrap_err());
     }
 }
