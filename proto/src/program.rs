@@ -147,6 +147,40 @@ pub struct JobError {
     pub message: String,
 }
 
+impl JobError {
+    /// A typed error of `stage`.
+    pub fn new(
+        stage: Stage,
+        code: &str,
+        field: &str,
+        expected: impl Into<String>,
+        got: impl Into<String>,
+        message: impl Into<String>,
+    ) -> JobError {
+        JobError {
+            stage,
+            code: code.into(),
+            field: field.into(),
+            expected: expected.into(),
+            got: got.into(),
+            message: message.into(),
+        }
+    }
+
+    /// `JOB_ID_MISMATCH`: the `what` (request, plan, model, program) received
+    /// on `key` carries the job id `got`, not the key's.
+    pub fn job_id_mismatch(stage: Stage, key: &str, got: &JobId, what: &str) -> JobError {
+        JobError::new(
+            stage,
+            "JOB_ID_MISMATCH",
+            "job_id",
+            key,
+            got.to_string(),
+            format!("the {what}'s job id differs from the job id in its key"),
+        )
+    }
+}
+
 impl std::fmt::Display for JobError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(

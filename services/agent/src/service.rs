@@ -140,14 +140,7 @@ fn decode_delivery(job: &str, payload: &[u8]) -> Result<NcProgram, Answer> {
     if job_id.as_ref() != Some(&program.job_id) {
         return Err(refused(
             job_id,
-            JobError {
-                stage: Stage::Agent,
-                code: "JOB_ID_MISMATCH".into(),
-                field: "job_id".into(),
-                expected: job.to_string(),
-                got: program.job_id.to_string(),
-                message: "the program's job id differs from the job id in its key".into(),
-            },
+            JobError::job_id_mismatch(Stage::Agent, job, &program.job_id, "program"),
         ));
     }
     Ok(program)

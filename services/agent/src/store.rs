@@ -56,14 +56,7 @@ fn refuse(
     got: impl Into<String>,
     message: impl Into<String>,
 ) -> JobError {
-    JobError {
-        stage: Stage::Agent,
-        code: code.into(),
-        field: field.into(),
-        expected: expected.into(),
-        got: got.into(),
-        message: message.into(),
-    }
+    JobError::new(Stage::Agent, code, field, expected, got, message)
 }
 
 impl Store {

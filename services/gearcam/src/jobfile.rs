@@ -7,14 +7,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use gearcam_proto::{now_ms, JobError, JobId, JobRequest, JobSpec, Stage};
 
 fn station_error(code: &str, field: &str, expected: &str, got: &str, message: String) -> JobError {
-    JobError {
-        stage: Stage::Station,
-        code: code.into(),
-        field: field.into(),
-        expected: expected.into(),
-        got: got.into(),
-        message,
-    }
+    JobError::new(Stage::Station, code, field, expected, got, message)
 }
 
 /// Parses a job file's text. `origin` names it in messages.

@@ -390,19 +390,13 @@ fn corrupt(what: &'static str, e: impl std::fmt::Display) -> JournalError {
 }
 
 fn station_error(code: &str, field: &str, expected: &str, got: &str) -> JobError {
-    JobError {
-        stage: Stage::Station,
-        code: code.into(),
-        field: field.into(),
-        expected: expected.into(),
-        got: got.into(),
-        message: match code {
-            "JOB_ID_EXISTS" => {
-                "this job id is already journaled with a different request; use a new job id".into()
-            }
-            _ => "the station could not journal the job; see its log".into(),
-        },
-    }
+    let message = match code {
+        "JOB_ID_EXISTS" => {
+            "this job id is already journaled with a different request; use a new job id"
+        }
+        _ => "the station could not journal the job; see its log",
+    };
+    JobError::new(Stage::Station, code, field, expected, got, message)
 }
 
 fn db_error(e: rusqlite::Error) -> JobError {

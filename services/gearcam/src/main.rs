@@ -535,6 +535,13 @@ async fn submit(
     Ok(code)
 }
 
+/// Joins the bus as a client ([`client_config`]).
+async fn join_bus(bus_args: &BusArgs) -> anyhow::Result<Bus> {
+    Bus::open(&client_config(bus_args))
+        .await
+        .context("joining the bus")
+}
+
 /// A client configuration: the given endpoints, or the local `gearcam up`.
 fn client_config(bus_args: &BusArgs) -> BusConfig {
     let mut config = bus_args.to_config();
@@ -567,9 +574,7 @@ async fn station_cmd(
 }
 
 async fn jobs_cmd(bus_args: &BusArgs, json: bool) -> anyhow::Result<ExitCode> {
-    let bus = Bus::open(&client_config(bus_args))
-        .await
-        .context("joining the bus")?;
+    let bus = join_bus(bus_args).await?;
     let list = station::jobs(&bus).await;
     bus.close().await;
     let list = list.context("asking the station")?;
@@ -585,9 +590,7 @@ async fn jobs_cmd(bus_args: &BusArgs, json: bool) -> anyhow::Result<ExitCode> {
 }
 
 async fn status_cmd(job: &JobId, bus_args: &BusArgs, json: bool) -> anyhow::Result<ExitCode> {
-    let bus = Bus::open(&client_config(bus_args))
-        .await
-        .context("joining the bus")?;
+    let bus = join_bus(bus_args).await?;
     let status = station::status(&bus, job).await;
     bus.close().await;
     let status = status.context("asking the station")?;
@@ -609,9 +612,7 @@ async fn program_cmd(action: ProgramAction) -> anyhow::Result<ExitCode> {
             bus,
             json,
         } => {
-            let bus = Bus::open(&client_config(&bus))
-                .await
-                .context("joining the bus")?;
+            let bus = join_bus(&bus).await?;
             let mut key = keys::store_programs(&machine);
             if let Some(n) = &name {
                 key = format!("{key}/{n}");
@@ -646,9 +647,7 @@ async fn program_cmd(action: ProgramAction) -> anyhow::Result<ExitCode> {
             seq,
             bus,
         } => {
-            let bus = Bus::open(&client_config(&bus))
-                .await
-                .context("joining the bus")?;
+            let bus = join_bus(&bus).await?;
             let key = format!("{}/{name}/versions/{seq}", keys::store_programs(&machine));
             let t = bus.call::<JobRequest, ProgramText>(&key, None, retry).await;
             bus.close().await;
@@ -664,9 +663,7 @@ async fn program_cmd(action: ProgramAction) -> anyhow::Result<ExitCode> {
             seq,
             bus,
         } => {
-            let bus = Bus::open(&client_config(&bus))
-                .await
-                .context("joining the bus")?;
+            let bus = join_bus(&bus).await?;
             let key = format!("{}/{name}/rollback/{seq}", keys::store_programs(&machine));
             let r = bus
                 .call::<JobRequest, DeliveryReply>(&key, None, retry)
@@ -693,13 +690,10 @@ async fn program_cmd(action: ProgramAction) -> anyhow::Result<ExitCode> {
 /// The template library of the data directory (`templates.db`), with the
 /// shipped standard code imported where it is newer.
 fn template_library(data: &Path) -> anyhow::Result<Templates> {
-    let now_ms = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_millis() as u64);
     Ok(Templates::from_library(
         &data.join("templates.db"),
         gearcam_template::DEFAULT_FUEL,
-        now_ms,
+        gearcam_proto::now_ms(),
     )?)
 }
 

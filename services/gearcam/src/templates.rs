@@ -12,7 +12,6 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::{SystemTime, UNIX_EPOCH};
 
 use clap::{Args, Subcommand};
 use gearcam_template::builtin::builtin_sources;
@@ -244,11 +243,8 @@ fn import(data: &Path, dir: Option<&Path>, json: bool) -> Result<(), Failure> {
     let mut lib = open(data)?;
     let files: Vec<TemplateFile> = sources.iter().map(|s| s.file.clone()).collect();
     let texts: Vec<&str> = sources.iter().map(|s| s.text.as_str()).collect();
-    let now_ms = SystemTime::now()
-        .duration_since(UNIX_EPOCH)
-        .map_or(0, |d| d.as_millis() as u64);
     let report = lib
-        .import(&files, &texts, now_ms)
+        .import(&files, &texts, gearcam_proto::now_ms())
         .map_err(|e| refusal(e, Some(&sources)))?;
     if !json {
         emit(&format!(

@@ -821,14 +821,7 @@ pub fn kb_err(
     got: impl Into<String>,
     message: impl Into<String>,
 ) -> JobError {
-    JobError {
-        stage: Stage::Knowledge,
-        code: code.into(),
-        field: field.into(),
-        expected: expected.into(),
-        got: got.into(),
-        message: message.into(),
-    }
+    JobError::new(Stage::Knowledge, code, field, expected, got, message)
 }
 
 /// The outcome of a library operation: the records, or every error.

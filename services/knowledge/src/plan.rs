@@ -12,7 +12,7 @@
 use gearcam_proto::plan::Proposal;
 use gearcam_proto::{
     CaseRef, CutMode, GearSpec, HobData, HobSpec, JobError, JobRequest, MachineProfile,
-    ProcessData, ProcessPlan, Source, Sourced, Stage, WorkpieceRef,
+    ProcessData, ProcessPlan, Source, Sourced, WorkpieceRef,
 };
 use rusqlite::Connection;
 
@@ -29,22 +29,7 @@ pub const DEFAULT_FEED_MM_PER_REV: f64 = 1.8;
 /// Confidence of a proposal made of defaults only.
 pub const DEFAULT_CONFIDENCE: f64 = 0.2;
 
-fn err(
-    code: &str,
-    field: &str,
-    expected: impl Into<String>,
-    got: impl Into<String>,
-    message: impl Into<String>,
-) -> JobError {
-    JobError {
-        stage: Stage::Knowledge,
-        code: code.into(),
-        field: field.into(),
-        expected: expected.into(),
-        got: got.into(),
-        message: message.into(),
-    }
-}
+use crate::library::kb_err as err;
 
 /// The group-technology class of a job (SPEC §3), by the rule in
 /// [`gearcam_proto::classify`]: `[[units]]` make a multi-gear part, otherwise
@@ -760,26 +745,23 @@ pub(crate) mod tests {
     #[test]
     fn a_case_cut_on_h02_ranks_first_for_h02_jobs_only() {
         let conn = db::open_in_memory().unwrap();
-        let mut rec = library::Record::new();
-        for (k, v) in [
-            ("id", json!("SHOP-H02-1")),
-            ("machine", json!("H02")),
-            ("material", json!("20CrMnTi")),
-            ("material_group", json!("case_hardening_steel")),
-            ("hardness_hb", json!(180.0)),
-            ("module_mm", json!(3.0)),
-            ("teeth", json!(30)),
-            ("face_width_mm", json!(30.0)),
-            ("quality_grade", json!(8)),
-            ("hob_material", json!("HSS")),
-            ("hob_coating", json!("TiN")),
-            ("cutting_speed_m_min", json!(70.0)),
-            ("feed_mm_per_rev", json!(1.6)),
-            ("confidence", json!(0.9)),
-            ("provenance", json!("shop history, H02")),
-        ] {
-            rec.insert(k.into(), v);
-        }
+        let rec = record(json!({
+            "id": "SHOP-H02-1",
+            "machine": "H02",
+            "material": "20CrMnTi",
+            "material_group": "case_hardening_steel",
+            "hardness_hb": 180.0,
+            "module_mm": 3.0,
+            "teeth": 30,
+            "face_width_mm": 30.0,
+            "quality_grade": 8,
+            "hob_material": "HSS",
+            "hob_coating": "TiN",
+            "cutting_speed_m_min": 70.0,
+            "feed_mm_per_rev": 1.6,
+            "confidence": 0.9,
+            "provenance": "shop history, H02",
+        }));
         library::add(&conn, &library::CASES, &rec).unwrap();
         // The same problem as SEED-CASE-M3 but for the machine.
         let h01 = plan(&conn, &request(json!({}), json!({}))).unwrap();
@@ -795,6 +777,11 @@ pub(crate) mod tests {
         let h02 = plan(&conn, &req).unwrap();
         assert_eq!(h02.cases[0].id, "SHOP-H02-1");
         assert!(h02.cases[0].similarity > h02.cases[1].similarity);
+    }
+
+    /// A library record from a JSON object.
+    fn record(v: serde_json::Value) -> library::Record {
+        v.as_object().cloned().expect("a JSON object")
     }
 
     /// A request from a job that names part `part` and gives no `[gear]`.
@@ -895,17 +882,14 @@ pub(crate) mod tests {
     #[test]
     fn a_library_part_without_its_class_data_needs_the_gear_section() {
         let conn = db::open_in_memory().unwrap();
-        let mut rec = library::Record::new();
-        for (k, v) in [
-            ("part_number", json!("CR-1")),
-            ("class", json!("crowned")),
-            ("module_mm", json!(3.0)),
-            ("teeth", json!(25)),
-            ("face_width_mm", json!(30.0)),
-            ("fixture_height_mm", json!(50.0)),
-        ] {
-            rec.insert(k.into(), v);
-        }
+        let mut rec = record(json!({
+            "part_number": "CR-1",
+            "class": "crowned",
+            "module_mm": 3.0,
+            "teeth": 25,
+            "face_width_mm": 30.0,
+            "fixture_height_mm": 50.0,
+        }));
         library::add(&conn, &library::WORKPIECES, &rec).unwrap();
         let errors = plan(&conn, &by_part("CR-1")).unwrap_err();
         assert_eq!(errors[0].code, "WORKPIECE_INCOMPLETE");
@@ -944,24 +928,21 @@ pub(crate) mod tests {
     fn a_rough_job_retrieves_the_rough_cases_first_and_a_finish_job_the_finish_ones() {
         let conn = db::open_in_memory().unwrap();
         // A finish case of the same bevel gear beside seed 000's two rough ones.
-        let mut rec = library::Record::new();
-        for (k, v) in [
-            ("id", json!("SHOP-BEVEL-FINISH")),
-            ("class", json!("conical")),
-            ("material", json!("40Cr")),
-            ("material_group", json!("quenched_tempered_steel")),
-            ("module_mm", json!(2.0)),
-            ("teeth", json!(19)),
-            ("quality_grade", json!(7)),
-            ("hob_coating", json!("unknown")),
-            ("operation", json!("finish")),
-            ("cutting_speed_m_min", json!(60.0)),
-            ("feed_mm_per_rev", json!(1.0)),
-            ("confidence", json!(0.6)),
-            ("provenance", json!("test: a finishing cut")),
-        ] {
-            rec.insert(k.into(), v);
-        }
+        let rec = record(json!({
+            "id": "SHOP-BEVEL-FINISH",
+            "class": "conical",
+            "material": "40Cr",
+            "material_group": "quenched_tempered_steel",
+            "module_mm": 2.0,
+            "teeth": 19,
+            "quality_grade": 7,
+            "hob_coating": "unknown",
+            "operation": "finish",
+            "cutting_speed_m_min": 60.0,
+            "feed_mm_per_rev": 1.0,
+            "confidence": 0.6,
+            "provenance": "test: a finishing cut",
+        }));
         library::add(&conn, &library::CASES, &rec).unwrap();
 
         let rough = plan(&conn, &bevel(json!({"operation": "rough"}))).unwrap();

@@ -162,14 +162,12 @@ pub async fn run(
         shutdown.clone(),
         move |key, req| {
             if keys::job_of(key).as_ref() != Some(&req.job_id) {
-                return Err(vec![JobError {
-                    stage: Stage::Knowledge,
-                    code: "JOB_ID_MISMATCH".into(),
-                    field: "job_id".into(),
-                    expected: key.to_string(),
-                    got: req.job_id.to_string(),
-                    message: "the request's job id differs from the job id in its key".into(),
-                }]);
+                return Err(vec![JobError::job_id_mismatch(
+                    Stage::Knowledge,
+                    key,
+                    &req.job_id,
+                    "request",
+                )]);
             }
             if let Err(e) = cases.refresh(&conn) {
                 tracing::warn!(error = %e, "cannot reload the case base; planning with the one in memory");

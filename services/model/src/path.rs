@@ -108,6 +108,28 @@ fn infeed(f: &CutFrame, x: f64, note: &str) -> Move {
     m
 }
 
+/// C → D: the axial feed through the face width to D.
+fn axial_feed(f: &CutFrame, d: Position) -> Move {
+    mv(
+        MoveKind::Feed,
+        None,
+        Some(d.z_mm),
+        f.axial_feed_mm_min,
+        "C -> D: AXIAL FEED",
+    )
+}
+
+/// D → E: the rapid radial retract by the exit distance.
+fn retract(f: &CutFrame, d: Position) -> Move {
+    mv(
+        MoveKind::Rapid,
+        Some(d.x_mm + f.exit_mm),
+        None,
+        0.0,
+        "D -> E: RETRACT",
+    )
+}
+
 /// Cylindrical gear, axial infeed (patent): B → C rapid in X, C → D axial feed,
 /// D → E rapid in X.
 pub fn axial(f: &CutFrame) -> CutPath {
@@ -116,20 +138,8 @@ pub fn axial(f: &CutFrame) -> CutPath {
     let d = p(f.xc_mm, end);
     let moves = vec![
         infeed(f, c.x_mm, "B -> C: INFEED TO DEPTH"),
-        mv(
-            MoveKind::Feed,
-            None,
-            Some(d.z_mm),
-            f.axial_feed_mm_min,
-            "C -> D: AXIAL FEED",
-        ),
-        mv(
-            MoveKind::Rapid,
-            Some(d.x_mm + f.exit_mm),
-            None,
-            0.0,
-            "D -> E: RETRACT",
-        ),
+        axial_feed(f, d),
+        retract(f, d),
     ];
     CutPath {
         positions: positions(f, c, d),
@@ -163,20 +173,8 @@ pub fn radial_axial(f: &CutFrame) -> CutPath {
             f.radial_feed_mm_min,
             "PLUNGE -> C: RADIAL FEED TO DEPTH",
         ),
-        mv(
-            MoveKind::Feed,
-            None,
-            Some(d.z_mm),
-            f.axial_feed_mm_min,
-            "C -> D: AXIAL FEED",
-        ),
-        mv(
-            MoveKind::Rapid,
-            Some(d.x_mm + f.exit_mm),
-            None,
-            0.0,
-            "D -> E: RETRACT",
-        ),
+        axial_feed(f, d),
+        retract(f, d),
     ];
     CutPath {
         positions: positions(f, c, d),
@@ -217,13 +215,7 @@ pub fn conical(f: &CutFrame, angle_deg: f64, large_end: LargeEnd) -> CutPath {
             path_feed,
             "C -> D: FEED ALONG THE CONE, X FOLLOWS Z",
         ),
-        mv(
-            MoveKind::Rapid,
-            Some(d.x_mm + f.exit_mm),
-            None,
-            0.0,
-            "D -> E: RETRACT",
-        ),
+        retract(f, d),
     ];
     CutPath {
         positions: positions(f, c, d),
@@ -321,13 +313,7 @@ pub fn crowned(f: &CutFrame, shape: CrowningShape, amount_mm: f64, chords: u32) 
         vf,
         "FACE -> D: AXIAL FEED",
     ));
-    moves.push(mv(
-        MoveKind::Rapid,
-        Some(d.x_mm + f.exit_mm),
-        None,
-        0.0,
-        "D -> E: RETRACT",
-    ));
+    moves.push(retract(f, d));
     (
         CutPath {
             positions: positions(f, c, d),

@@ -21,14 +21,12 @@ pub async fn run(bus: Bus, shutdown: CancellationToken) -> Result<(), BusError> 
         shutdown,
         |key, plan| {
             if keys::job_of(key).as_ref() != Some(&plan.job_id) {
-                return Err(vec![JobError {
-                    stage: Stage::Model,
-                    code: "JOB_ID_MISMATCH".into(),
-                    field: "job_id".into(),
-                    expected: key.to_string(),
-                    got: plan.job_id.to_string(),
-                    message: "the plan's job id differs from the job id in its key".into(),
-                }]);
+                return Err(vec![JobError::job_id_mismatch(
+                    Stage::Model,
+                    key,
+                    &plan.job_id,
+                    "plan",
+                )]);
             }
             let model = compute(&plan)?;
             let payload =

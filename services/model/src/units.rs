@@ -33,13 +33,8 @@ pub fn unit_hob(
 ) -> Result<HobData, Vec<JobError>> {
     let h = &unit.hob;
     let field = |f: &str| format!("units[{index}].hob.{f}");
-    let err = |code: &str, f: &str, expected: &str, got: String, message: String| JobError {
-        stage: Stage::Model,
-        code: code.into(),
-        field: field(f),
-        expected: expected.into(),
-        got,
-        message,
+    let err = |code: &str, f: &str, expected: &str, got: String, message: String| {
+        JobError::new(Stage::Model, code, &field(f), expected, got, message)
     };
     if let Some(id) = &h.id {
         if id.as_str() == plan.hob.id && !h.has_inline_data() {

@@ -243,14 +243,7 @@ fn job_error(
     got: impl Into<String>,
     message: impl Into<String>,
 ) -> JobError {
-    JobError {
-        stage: Stage::Model,
-        code: code.into(),
-        field: field.into(),
-        expected: expected.into(),
-        got: got.into(),
-        message: message.into(),
-    }
+    JobError::new(Stage::Model, code, field, expected, got, message)
 }
 
 /// A number as text: up to six decimals, trailing zeros removed.

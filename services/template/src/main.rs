@@ -27,10 +27,7 @@ struct Args {
 async fn main() -> anyhow::Result<()> {
     init_tracing("gearcam_template=info,gearcam_bus=info");
     let args = Args::parse();
-    let now_ms = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_millis() as u64);
-    let library = Templates::from_library(&args.library, DEFAULT_FUEL, now_ms)?;
+    let library = Templates::from_library(&args.library, DEFAULT_FUEL, gearcam_proto::now_ms())?;
     let templates = match &args.templates {
         Some(dir) => library.with(source::read_dir(dir)?)?,
         None => library,

@@ -461,14 +461,7 @@ fn is_axis_name(name: &str) -> bool {
 }
 
 fn template_error(code: &str, field: &str, expected: &str, got: &str, message: String) -> JobError {
-    JobError {
-        stage: Stage::Template,
-        code: code.to_string(),
-        field: field.to_string(),
-        expected: expected.to_string(),
-        got: got.to_string(),
-        message,
-    }
+    JobError::new(Stage::Template, code, field, expected, got, message)
 }
 
 #[cfg(test)]

@@ -50,14 +50,12 @@ pub async fn run(
         shutdown,
         |key, model| {
             if keys::job_of(key).as_ref() != Some(&model.job_id) {
-                return Err(vec![JobError {
-                    stage: Stage::Template,
-                    code: "JOB_ID_MISMATCH".into(),
-                    field: "job_id".into(),
-                    expected: key.to_string(),
-                    got: model.job_id.to_string(),
-                    message: "the model's job id differs from the job id in its key".into(),
-                }]);
+                return Err(vec![JobError::job_id_mismatch(
+                    Stage::Template,
+                    key,
+                    &model.job_id,
+                    "model",
+                )]);
             }
             let program = templates.render(&model)?;
             let event = EventKind::Programmed {

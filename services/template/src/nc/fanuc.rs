@@ -368,15 +368,7 @@ mod tests {
     use super::*;
 
     fn one(line: &str) -> Result<Op, String> {
-        let mut b = Block {
-            line: 1,
-            number: None,
-            op: Op::Message,
-        };
-        let text = body(line)?;
-        assert!(!text.is_empty(), "{line} holds no block");
-        block(text, &mut b)?;
-        Ok(b.op)
+        crate::nc::one_block(line, body, block)
     }
 
     #[test]

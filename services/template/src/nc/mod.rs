@@ -593,3 +593,22 @@ fn literal(n: Num, what: &str, max_decimals: u8, point: bool) -> Result<Num, Str
     }
     Ok(n)
 }
+
+/// Parses one line of a dialect with its `body` and `block` functions: the
+/// unit tests' way to read a single block.
+#[cfg(test)]
+fn one_block(
+    line: &str,
+    body: fn(&str) -> Result<&str, String>,
+    block: fn(&str, &mut Block) -> Result<(), String>,
+) -> Result<Op, String> {
+    let mut b = Block {
+        line: 1,
+        number: None,
+        op: Op::Message,
+    };
+    let text = body(line)?;
+    assert!(!text.is_empty(), "{line} holds no block");
+    block(text, &mut b)?;
+    Ok(b.op)
+}
