@@ -499,39 +499,25 @@ fn resolve_gear(
 }
 
 fn inline_hob(h: &HobSpec, errors: &mut Vec<JobError>) -> Option<HobData> {
-    let mut missing = |field: &str| {
-        errors.push(err(
-            "HOB_FIELD_MISSING",
-            &format!("hob.{field}"),
-            "a value (inline hob data needs starts, od_mm, module_mm, lead_angle_deg, hand, length_mm)",
-            "nothing",
-            format!("inline hob data is incomplete: add hob.{field}, or give hob.id from the library instead"),
-        ));
-    };
-    let starts = h.starts.or_else(|| {
-        missing("starts");
-        None
-    });
-    let od = h.od_mm.or_else(|| {
-        missing("od_mm");
-        None
-    });
-    let module = h.module_mm.or_else(|| {
-        missing("module_mm");
-        None
-    });
-    let lead = h.lead_angle_deg.or_else(|| {
-        missing("lead_angle_deg");
-        None
-    });
-    let hand = h.hand.or_else(|| {
-        missing("hand");
-        None
-    });
-    let length = h.length_mm.or_else(|| {
-        missing("length_mm");
-        None
-    });
+    // Every missing field is reported, not only the first.
+    fn need<T>(v: Option<T>, field: &str, errors: &mut Vec<JobError>) -> Option<T> {
+        if v.is_none() {
+            errors.push(err(
+                "HOB_FIELD_MISSING",
+                &format!("hob.{field}"),
+                "a value (inline hob data needs starts, od_mm, module_mm, lead_angle_deg, hand, length_mm)",
+                "nothing",
+                format!("inline hob data is incomplete: add hob.{field}, or give hob.id from the library instead"),
+            ));
+        }
+        v
+    }
+    let starts = need(h.starts, "starts", errors);
+    let od = need(h.od_mm, "od_mm", errors);
+    let module = need(h.module_mm, "module_mm", errors);
+    let lead = need(h.lead_angle_deg, "lead_angle_deg", errors);
+    let hand = need(h.hand, "hand", errors);
+    let length = need(h.length_mm, "length_mm", errors);
     Some(HobData {
         id: "inline".into(),
         starts: starts?,
