@@ -93,6 +93,10 @@ pub struct GearSpec {
     pub quality_grade: u8,
     /// Distance H from the lower tooth face to the table (fixture height), mm.
     pub fixture_height_mm: f64,
+    /// Diameter of the fixture (riser, support ring) between the table and
+    /// the gear's lower face, mm (default: the machine profile's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fixture_diameter_mm: Option<f64>,
     /// Ball (pin) diameter DM for the measurement over balls, mm (default 1.7·mn).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ball_diameter_mm: Option<f64>,
@@ -135,6 +139,7 @@ impl GearSpec {
             material: unspecified(),
             quality_grade: eight(),
             fixture_height_mm: 0.0,
+            fixture_diameter_mm: None,
             ball_diameter_mm: None,
             mate: None,
             cone: None,

@@ -49,8 +49,8 @@ pub use model::{
     ShiftPlan, UnitModel, Warning, WormModel,
 };
 pub use plan::{
-    AxisNames, CaseRef, Dialect, HobData, MCodes, MachineLimits, MachineProfile, MachineSettings,
-    ProcessData, ProcessPlan, Source, Sourced, WorkpieceRef,
+    AxisNames, CaseRef, Dialect, Envelope, GCodeSystem, HobData, MCodes, MachineLimits,
+    MachineProfile, MachineSettings, ProcessData, ProcessPlan, Source, Sourced, WorkpieceRef,
 };
 pub use program::{
     now_ms, DeliveryReceipt, EventKind, JobError, JobEvent, NcProgram, PathCheck, PathFinding,

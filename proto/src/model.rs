@@ -98,11 +98,13 @@ pub struct Positions {
     pub E: Position,
 }
 
-/// The exact coupling ratio of the electronic gearbox: table turns per hob turn.
+/// The exact coupling ratio of the electronic gearbox: table turns per hob
+/// turn, signed (the sign is the direction of the table against the hob, see
+/// `docs/hobbing.md`, "Signs").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Ratio {
-    /// Numerator: hob starts z0.
-    pub num: u32,
+    /// Numerator: hob starts z0 (reduced), with the direction's sign.
+    pub num: i32,
     /// Denominator: gear teeth z.
     pub den: u32,
 }
@@ -110,11 +112,15 @@ pub struct Ratio {
 /// Hobbing kinematics of one job (SPEC §4.3).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Kinematics {
-    /// Hob head swivel γ, degrees (SPEC §4.3 sign: −(|β| ∓ |γ0|)).
+    /// Signed setting angle of the hob axis against the gear end face in the
+    /// machine-neutral frame, η = s_g·β − s_h·γ0, degrees (docs/hobbing.md).
     pub swivel_deg: f64,
-    /// Value programmed on the swivel axis: machine sign · γ, degrees.
+    /// Value programmed on the swivel axis: swivel_sign·η + swivel_offset of
+    /// the machine profile, degrees.
     pub swivel_axis_deg: f64,
-    /// ΔH′ = max ΔH(x), mm, without safety distance.
+    /// ΔH′: how far the finite hob (tip cylinder of its length, tilted by
+    /// |η|) reaches below its centre over the blank at the approach end, mm,
+    /// without safety distance.
     pub clearance_mm: f64,
     /// Safety distance added to ΔH′ in the Z positions, mm.
     pub safety_mm: f64,
@@ -134,9 +140,11 @@ pub struct Kinematics {
     pub table_rpm: f64,
     /// Axial feed Vf = fa·Nw, mm/min.
     pub axial_feed_mm_min: f64,
-    /// Differential: degrees of table per mm of axial travel, signed.
+    /// Differential in the machine-neutral frame: degrees of table per mm of
+    /// axial travel, s_g·360·sin β/(π·mn·z); the gear's hand alone gives the sign.
     pub differential_deg_per_mm: f64,
-    /// Gearbox ratio table:hob = z0/z, kept exact.
+    /// Indexing ratio table:hob in the machine-neutral frame, s_h·z0/z, kept
+    /// exact; the hob's hand alone gives the sign.
     pub coupling: Ratio,
     /// Machining time of one cut, minutes: (b + 2·ΔH′)·z / (Nt·z0·fa).
     pub cut_time_min: f64,
@@ -263,11 +271,14 @@ pub struct Cut {
 /// Electronic-gearbox coupling factors (SPEC §4.3).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CouplingFactors {
-    /// C per B: table turns per hob turn, z0/z as an exact integer ratio.
+    /// C per B as programmed: table turns per hob turn in the machine's axis
+    /// directions, ±z0/z as an exact integer ratio.
     pub c_per_b: Ratio,
-    /// C per Z: differential, degrees of table per mm of axial travel (signed).
+    /// C per Z as programmed: differential, degrees of table per mm of axial
+    /// travel in the machine's axis directions (signed).
     pub c_per_z_deg_per_mm: f64,
-    /// C per Y: shift compensation, degrees of table per mm of hob shift (signed).
+    /// C per Y as programmed: shift compensation, degrees of table per mm of
+    /// hob shift in the machine's axis directions (signed).
     pub c_per_y_deg_per_mm: f64,
 }
 

@@ -147,8 +147,71 @@ pub struct MachineSettings {
     pub retract_mm: f64,
     /// X lift of E over D (patent: 5 mm).
     pub exit_mm: f64,
-    /// Sign of the swivel axis: the A value is `swivel_sign · γ` (+1 or −1).
+    /// Sign of the swivel axis: the A value is `swivel_sign·η + swivel_offset_deg`
+    /// (+1 or −1), η the signed setting angle of the machine-neutral frame
+    /// (`docs/hobbing.md`, "Signs").
     pub swivel_sign: f64,
+    /// Swivel axis reading with the hob axis parallel to the gear end face
+    /// (η = 0), degrees; e.g. 90 on a machine whose A reads 90° there.
+    pub swivel_offset_deg: f64,
+    /// +1 when the table axis turns the neutral frame's positive way
+    /// (clockwise seen from above the table), −1 when the other way.
+    pub table_sign: f64,
+    /// +1 when the hob axis turns the neutral frame's positive way
+    /// (right-handed about the hob axis direction u), −1 when the other way.
+    pub hob_sign: f64,
+    /// +1 when the shift axis moves the hob along the neutral frame's hob axis
+    /// direction u, −1 when against it.
+    pub shift_sign: f64,
+}
+
+/// The G-code system of a FANUC control, which decides what G90, G94 and G98
+/// mean (FANUC T series: systems A, B, C; the M series has one).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GCodeSystem {
+    /// SINUMERIK 840D (ISO dialect: G90/G91 absolute/incremental, G94 feed per minute).
+    Sinumerik,
+    /// FANUC M series: G90/G91 absolute/incremental, G94/G95 feed per minute/revolution,
+    /// G98/G99 canned-cycle return levels; the EGB is `G81 T L Q P` ... `G80`.
+    FanucM,
+    /// FANUC T series, G-code system A: X/Z absolute, U/W incremental,
+    /// G98/G99 feed per minute/revolution, G90 a turning cycle.
+    FanucTA,
+    /// FANUC T series, G-code system B: G90/G91, G94/G95, G98/G99 return levels.
+    FanucTB,
+    /// FANUC T series, G-code system C: as B with other group numbers.
+    FanucTC,
+}
+
+impl GCodeSystem {
+    /// The name written in profiles and messages.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            GCodeSystem::Sinumerik => "sinumerik",
+            GCodeSystem::FanucM => "fanuc_m",
+            GCodeSystem::FanucTA => "fanuc_t_a",
+            GCodeSystem::FanucTB => "fanuc_t_b",
+            GCodeSystem::FanucTC => "fanuc_t_c",
+        }
+    }
+}
+
+/// What the hob must never touch besides the blank: the table, the work
+/// fixture (riser and arbor support) under the gear and the tailstock above
+/// it. Heights are measured from the table plane (Z = 0 of the program), radii
+/// from the table axis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Envelope {
+    /// Table radius: everything at or below Z = 0 within it is the table, mm.
+    pub table_radius_mm: f64,
+    /// Radius of the fixture standing on the table up to the gear's lower face
+    /// (height H), mm, unless the job gives its own (`gear.fixture_diameter_mm`).
+    pub fixture_radius_mm: f64,
+    /// Tailstock (counter column centre) radius, mm; 0 when the machine has none.
+    pub tailstock_radius_mm: f64,
+    /// Gap between the gear's upper face and the tailstock's lowest point, mm.
+    pub tailstock_gap_mm: f64,
 }
 
 /// A machine's profile from the knowledge base.
@@ -168,6 +231,13 @@ pub struct MachineProfile {
     pub limits: MachineLimits,
     /// Model settings.
     pub settings: MachineSettings,
+    /// The G-code system the programs are written in.
+    pub gcode_system: GCodeSystem,
+    /// Table, fixture and tailstock the hob must stay clear of.
+    pub envelope: Envelope,
+    /// Work offset that puts Z = 0 on the table plane and X = 0 on the table
+    /// axis, e.g. `G54`.
+    pub work_offset: String,
     /// Start/end position A: X0, mm.
     pub home_x_mm: f64,
     /// Start/end position A: Z0, mm.

@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use gearcam_proto::{
-    AxisNames, Dialect, Hand, HobData, MCodes, MachineId, MachineLimits, MachineProfile,
+    AxisNames, Dialect, Envelope, GCodeSystem, Hand, HobData, MCodes, MachineId, MachineLimits, MachineProfile,
     MachineSettings, Source,
 };
 use rusqlite::{params, Connection, OptionalExtension};
@@ -259,8 +259,20 @@ pub fn seed_machine_h01() -> MachineProfile {
             safety_mm: 2.0,
             retract_mm: 100.0,
             exit_mm: 5.0,
-            swivel_sign: 1.0,
+            swivel_sign: -1.0,
+            swivel_offset_deg: 0.0,
+            table_sign: 1.0,
+            hob_sign: 1.0,
+            shift_sign: -1.0,
         },
+        gcode_system: GCodeSystem::Sinumerik,
+        envelope: Envelope {
+            table_radius_mm: 130.0,
+            fixture_radius_mm: 30.0,
+            tailstock_radius_mm: 20.0,
+            tailstock_gap_mm: 60.0,
+        },
+        work_offset: "G54".into(),
         home_x_mm: 300.0,
         home_z_mm: 350.0,
     }
@@ -332,8 +344,20 @@ pub fn seed_machine_h02() -> MachineProfile {
             safety_mm: 3.0,
             retract_mm: 120.0,
             exit_mm: 5.0,
-            swivel_sign: 1.0,
+            swivel_sign: -1.0,
+            swivel_offset_deg: 0.0,
+            table_sign: 1.0,
+            hob_sign: 1.0,
+            shift_sign: -1.0,
         },
+        gcode_system: GCodeSystem::FanucM,
+        envelope: Envelope {
+            table_radius_mm: 200.0,
+            fixture_radius_mm: 40.0,
+            tailstock_radius_mm: 25.0,
+            tailstock_gap_mm: 80.0,
+        },
+        work_offset: "G54".into(),
         home_x_mm: 450.0,
         home_z_mm: 550.0,
     }

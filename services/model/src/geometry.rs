@@ -320,6 +320,7 @@ pub(crate) mod tests {
             material: "42CrMo4".into(),
             quality_grade: 8,
             fixture_height_mm: 50.0,
+            fixture_diameter_mm: None,
             ball_diameter_mm: None,
             mate: None,
             cone: None,

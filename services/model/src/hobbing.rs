@@ -10,13 +10,14 @@ use std::f64::consts::PI;
 use gearcam_proto::class::unit_class;
 use gearcam_proto::{
     ConeModel, CouplingFactors, CrowningModel, CrowningShape, Cut, CutMode, GearClass, GearSpec,
-    Geometry, Hand, HobData, Infeed, Kinematics, MachineProfile, Position, ProcessData,
+    Geometry, HobData, Infeed, Kinematics, MachineProfile, Position, ProcessData,
     ProcessOverrides, ProcessPlan, Ratio, WormInfeed, WormModel,
 };
 use nalgebra::{Matrix4, Vector4};
 
 use crate::geometry::{is_spur, lead_mm};
 use crate::path::{self, CutFrame, WormFrame};
+use crate::frame;
 use crate::shift;
 
 /// Samples of the dense scan for ΔH′ before golden-section refinement.
@@ -77,24 +78,22 @@ pub fn same_hand(gear: &GearSpec, hob: &HobData) -> bool {
     }
 }
 
-/// Swivel angle γ of the hob head, degrees (patent step 3①):
-/// γ = −(|β| − |γ0|) for same hands, γ = −(|β| + |γ0|) for opposite hands.
+/// The signed setting angle η = s_g·β − s_h·γ0 of the hob axis in the
+/// machine-neutral frame, degrees ([`crate::frame`]; `docs/hobbing.md`).
 ///
-/// A spur gear takes the same-hand branch, so γ = +|γ0|: the hob is tilted by
-/// its own lead angle so that its thread runs parallel to the gear axis.
+/// The patent prints γ = −(|β| ∓ |γ0|): the magnitude of η with one machine's
+/// sign, which gives mirror-image set-ups (left-hand gear and hob, or a spur
+/// gear cut with a left-hand hob) the same swivel as the right-hand ones.
 pub fn swivel_deg(gear: &GearSpec, hob: &HobData) -> f64 {
-    let beta = gear.helix_angle_deg.abs();
-    let gamma0 = hob.lead_angle_deg.abs();
-    if same_hand(gear, hob) {
-        -(beta - gamma0)
-    } else {
-        -(beta + gamma0)
-    }
+    frame::setting_angle_deg(gear, hob)
 }
 
-/// Sign s of the differential (patent formula ③): conventional cut with same
-/// hands +1, with opposite hands −1; a climb cut reverses both.
-pub fn differential_sign(gear: &GearSpec, hob: &HobData, mode: CutMode) -> f64 {
+/// Sign of the differential speed in the table-speed magnitude
+/// Nw = Ni/(1 − s·fa/Pz) (patent formula ③, speeds as magnitudes):
+/// conventional cut with same hands +1, with opposite hands −1; a climb cut
+/// reverses both. It never enters a signed coupling factor: the differential
+/// coupling C per Z is the gear's alone ([`frame::differential_deg_per_mm`]).
+pub fn table_speed_sign(gear: &GearSpec, hob: &HobData, mode: CutMode) -> f64 {
     let same = same_hand(gear, hob);
     match (mode, same) {
         (CutMode::Conventional, true) | (CutMode::Climb, false) => 1.0,
@@ -102,9 +101,9 @@ pub fn differential_sign(gear: &GearSpec, hob: &HobData, mode: CutMode) -> f64 {
     }
 }
 
-/// The patent's homogeneous transform from the hob frame (Xd, Yd, Zd; Yd the
-/// hob axis, tilted by γ against the gear end face) to the gear frame
-/// (Xg, Yg, Zg; Zg the gear axis), with the hob centre at (L, 0, Z0):
+/// The homogeneous transform from the hob frame (Xd, Yd, Zd; Yd the hob
+/// axis, tilted by γ against the gear end face) to the gear frame (Xg, Yg,
+/// Zg; Zg the gear axis), with the hob centre at (L, 0, Z0) (the patent's):
 ///
 /// ```text
 /// ⎡Xg⎤   ⎡−1    0      0    L ⎤ ⎡Xd⎤
@@ -124,33 +123,36 @@ pub fn hob_to_gear(swivel_deg: f64, centre_distance_mm: f64, hob_height_mm: f64)
     m
 }
 
-/// The approach-clearance problem: where the tilted hob first touches the blank.
+/// The approach-clearance problem: how far the tilted hob reaches below its
+/// centre over the blank when it stands at its final centre distance.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Clearance {
-    /// Blank outside diameter Da1, mm (R = Da1/2).
+    /// Blank outside diameter Da1 at the face the hob approaches, mm (R = Da1/2).
     pub blank_od_mm: f64,
     /// Hob outside diameter da0, mm (r = da0/2).
     pub hob_od_mm: f64,
     /// Radial depth h, mm (L = R + r − h).
     pub depth_mm: f64,
-    /// Hob swivel γ, degrees; only |γ| matters.
+    /// Hob swivel, degrees; only its magnitude γ = |η| matters (a tilt either
+    /// way is the mirror image: the reach moves to the other side of the blank).
     pub swivel_deg: f64,
-    /// Usable hob length, mm; contact points beyond ±length/2 from the hob
-    /// centre along its axis are not on the hob.
+    /// Hob length, mm: hob points lie within ±length/2 of the centre along
+    /// its axis.
     pub hob_length_mm: f64,
 }
 
 /// The solution of a [`Clearance`] problem.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ClearanceSolution {
-    /// ΔH′ = max ΔH(x), mm (no safety distance).
+    /// ΔH′, the largest reach below the hob centre over the blank disc, mm
+    /// (no safety distance).
     pub clearance_mm: f64,
-    /// The hob-frame x of the first contact point, mm.
+    /// The hob-frame x of the lowest point, mm.
     pub x_mm: f64,
-    /// The hob-axial coordinate y of the first contact point, mm.
+    /// The hob-axial coordinate y of the lowest point, mm.
     pub hob_axial_mm: f64,
-    /// True when no contact point lay within the hob length, so the maximum
-    /// was taken without the length bound (the larger, safe value).
+    /// True when no point of the hob's tip cylinder lies over the blank disc,
+    /// so the unbounded maximum was taken (the larger, safe value).
     pub length_bound_ignored: bool,
 }
 
@@ -166,55 +168,75 @@ impl Clearance {
         self.radii().2
     }
 
-    /// The open interval (L − R, r) of x, clipped to where both roots are real.
+    /// The interval (L − R, r) of x, clipped to where both roots are real.
     pub fn domain(&self) -> (f64, f64) {
         let (big_r, r, l) = self.radii();
         ((l - big_r).max(-r), r.min(l + big_r))
     }
 
-    /// ΔH(x) = √(r² − x²)·(cos γ − tan γ·sin γ) + √(R² − (L − x)²)·tan γ, mm,
-    /// exactly as SPEC §4.3 (the patent's formula), with γ taken as |γ|: a tilt
-    /// either way is physically symmetric, the contact simply moves to the
-    /// other side of the blank (y′ changes sign).
-    pub fn delta_h(&self, x: f64) -> f64 {
+    /// (√(r² − x²), √(R² − (L − x)²)): the depth of the hob's tip cylinder
+    /// below its axis at x, and the half chord of the blank disc there.
+    fn roots(&self, x: f64) -> (f64, f64) {
         let (big_r, r, l) = self.radii();
-        let g = self.swivel_deg.abs().to_radians();
-        let (s, c) = g.sin_cos();
-        let t = g.tan();
-        let hob_root = (r * r - x * x).max(0.0).sqrt();
-        let blank_root = (big_r * big_r - (l - x) * (l - x)).max(0.0).sqrt();
-        hob_root * (c - t * s) + blank_root * t
+        (
+            (r * r - x * x).max(0.0).sqrt(),
+            (big_r * big_r - (l - x) * (l - x)).max(0.0).sqrt(),
+        )
     }
 
-    /// Hob-axial coordinate y of the contact point at x, mm.
+    /// ΔH(x) = √(r² − x²)/cos γ + √(R² − (L − x)²)·tan γ, mm: the reach of an
+    /// unbounded hob at x. (The patent prints the factor cos γ − tan γ·sin γ
+    /// = cos 2γ/cos γ instead of 1/cos γ, too small for every γ > 0.)
     ///
-    /// The contact point has hob coordinates (x, y, z) with z = √(r² − x²) and
-    /// lies on the blank cylinder at gear coordinates Xg = L − x,
-    /// Yg = √(R² − (L − x)²). The Yg row of [`hob_to_gear`] is linear in y;
-    /// solving it gives y (the convention under which the patent's ΔH follows).
+    /// Derivation: a tip-cylinder point (x, y, −s), s = √(r² − x²), lies
+    /// s·cos γ + y·sin γ below the hob centre and over the blank at gear
+    /// Yg = y·cos γ − s·sin γ; the reach grows with y, so the lowest point
+    /// over the disc (|Yg| ≤ w) has Yg = w.
+    pub fn delta_h(&self, x: f64) -> f64 {
+        let g = self.swivel_deg.abs().to_radians();
+        let (s, w) = self.roots(x);
+        s / g.cos() + w * g.tan()
+    }
+
+    /// Hob-axial coordinate y = (√(R² − (L − x)²) + √(r² − x²)·sin γ)/cos γ of
+    /// the unbounded hob's lowest point at x, mm.
     pub fn hob_axial_mm(&self, x: f64) -> f64 {
-        let (big_r, r, l) = self.radii();
-        let m = hob_to_gear(self.swivel_deg.abs(), l, 0.0);
-        let z = (r * r - x * x).max(0.0).sqrt();
-        let y_gear = (big_r * big_r - (l - x) * (l - x)).max(0.0).sqrt();
-        (y_gear - m[(1, 0)] * x - m[(1, 2)] * z - m[(1, 3)]) / m[(1, 1)]
+        let g = self.swivel_deg.abs().to_radians();
+        let (s, w) = self.roots(x);
+        (w + s * g.sin()) / g.cos()
+    }
+
+    /// The reach at x of the hob of finite length, with the hob-axial y of
+    /// its lowest point over the disc; `None` when no point of the hob at x
+    /// lies over the blank disc.
+    pub fn reach_at(&self, x: f64) -> Option<(f64, f64)> {
+        let (big_r, _, l) = self.radii();
+        if (l - x).abs() > big_r {
+            return None;
+        }
+        let g = self.swivel_deg.abs().to_radians();
+        let (sin_g, cos_g) = g.sin_cos();
+        let (s, w) = self.roots(x);
+        let half = self.hob_length_mm / 2.0;
+        let y_hi = ((w + s * sin_g) / cos_g).min(half);
+        let y_lo = ((-w + s * sin_g) / cos_g).max(-half);
+        (y_hi >= y_lo).then(|| (y_hi * sin_g + s * cos_g, y_hi))
     }
 
     /// The contact point at x in gear coordinates (hob centre at height 0).
     pub fn contact_in_gear_frame(&self, x: f64) -> Vector4<f64> {
         let (_, r, l) = self.radii();
-        let z = (r * r - x * x).max(0.0).sqrt();
+        let z = -(r * r - x * x).max(0.0).sqrt();
         let y = self.hob_axial_mm(x);
         hob_to_gear(self.swivel_deg.abs(), l, 0.0) * Vector4::new(x, y, z, 1.0)
     }
 
-    /// ΔH′ = max ΔH(x) over the domain: a dense scan of
-    /// [`CLEARANCE_SAMPLES`] points (end points included: ΔH is continuous,
-    /// so the supremum over the open interval is the maximum over the closed
-    /// one), then golden-section refinement on the bracket around the best
-    /// sample. Points whose contact lies beyond the hob length are skipped;
-    /// when every point does, the bound is dropped (the unbounded maximum is
-    /// never smaller, so this errs on the safe side).
+    /// ΔH′ = the largest [`Self::reach_at`] over the domain: a dense scan of
+    /// [`CLEARANCE_SAMPLES`] points (end points included), golden-section
+    /// refinement around the best sample, and the edges of the window where
+    /// the hob lies over the disc found by bisection (the maximum may sit
+    /// on one). When no point of the hob lies over the disc, the unbounded
+    /// maximum of [`Self::delta_h`] is taken (never smaller, so safe).
     pub fn solve(&self) -> ClearanceSolution {
         let (lo, hi) = self.domain();
         if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
@@ -226,81 +248,52 @@ impl Clearance {
                 length_bound_ignored: false,
             };
         }
-        let half = self.hob_length_mm / 2.0;
-        // ΔH and the hob-axial y at x with the trigonometry hoisted out of
-        // the scan: the same expressions as `delta_h` and `hob_axial_mm`
-        // (y = (Yg − sin γ·z)/cos γ from the Yg row of `hob_to_gear`), which
-        // the tests compare against each other.
-        let (big_r, r, l) = self.radii();
-        let g = self.swivel_deg.abs().to_radians();
-        let (sin_g, cos_g) = g.sin_cos();
-        let tan_g = g.tan();
-        let hob_factor = cos_g - tan_g * sin_g;
-        let roots = move |x: f64| {
-            let z = (r * r - x * x).max(0.0).sqrt();
-            let yg = (big_r * big_r - (l - x) * (l - x)).max(0.0).sqrt();
-            (z, yg)
-        };
-        let free = |x: f64| {
-            let (z, yg) = roots(x);
-            z * hob_factor + yg * tan_g
-        };
-        let bounded = |x: f64| {
-            let (z, yg) = roots(x);
-            if ((yg - sin_g * z) / cos_g).abs() <= half {
-                z * hob_factor + yg * tan_g
-            } else {
-                f64::NEG_INFINITY
-            }
-        };
+        let bounded = |x: f64| self.reach_at(x).map_or(f64::NEG_INFINITY, |v| v.0);
         let mut best = self.maximise(lo, hi, &bounded);
-        let mut ignored = false;
         if best.1 == f64::NEG_INFINITY {
-            best = self.maximise(lo, hi, &free);
-            ignored = true;
-        } else {
-            // Where the length bound is active the maximum sits on an edge of
-            // the window of contact, which may lie between two samples away
-            // from the best one: find every edge by bisection and take ΔH
-            // there too.
-            let inside = |x: f64| {
-                let (z, yg) = roots(x);
-                ((yg - sin_g * z) / cos_g).abs() <= half
+            let free = |x: f64| self.delta_h(x);
+            let best = self.maximise(lo, hi, &free);
+            return ClearanceSolution {
+                clearance_mm: best.1,
+                x_mm: best.0,
+                hob_axial_mm: self.hob_axial_mm(best.0),
+                length_bound_ignored: true,
             };
-            let n = CLEARANCE_SAMPLES;
-            let step = (hi - lo) / (n - 1) as f64;
-            let at = |i: usize| if i == n - 1 { hi } else { lo + step * i as f64 };
-            let mut was = inside(lo);
-            for i in 1..n {
-                let now = inside(at(i));
-                if now != was {
-                    let (mut a, mut b) = if was {
-                        (at(i - 1), at(i))
+        }
+        let inside = |x: f64| self.reach_at(x).is_some();
+        let n = CLEARANCE_SAMPLES;
+        let step = (hi - lo) / (n - 1) as f64;
+        let at = |i: usize| if i == n - 1 { hi } else { lo + step * i as f64 };
+        let mut was = inside(lo);
+        for i in 1..n {
+            let now = inside(at(i));
+            if now != was {
+                let (mut a, mut b) = if was {
+                    (at(i - 1), at(i))
+                } else {
+                    (at(i), at(i - 1))
+                };
+                // a is inside, b outside.
+                for _ in 0..60 {
+                    let m = (a + b) / 2.0;
+                    if inside(m) {
+                        a = m;
                     } else {
-                        (at(i), at(i - 1))
-                    };
-                    // a is inside, b outside.
-                    for _ in 0..60 {
-                        let m = (a + b) / 2.0;
-                        if inside(m) {
-                            a = m;
-                        } else {
-                            b = m;
-                        }
-                    }
-                    let v = free(a);
-                    if v > best.1 {
-                        best = (a, v);
+                        b = m;
                     }
                 }
-                was = now;
+                let v = bounded(a);
+                if v > best.1 {
+                    best = (a, v);
+                }
             }
+            was = now;
         }
         ClearanceSolution {
             clearance_mm: best.1,
             x_mm: best.0,
-            hob_axial_mm: self.hob_axial_mm(best.0),
-            length_bound_ignored: ignored,
+            hob_axial_mm: self.reach_at(best.0).map_or(0.0, |v| v.1),
+            length_bound_ignored: false,
         }
     }
 
@@ -356,21 +349,10 @@ impl Clearance {
     }
 }
 
-fn gcd(mut a: u32, mut b: u32) -> u32 {
-    while b != 0 {
-        (a, b) = (b, a % b);
-    }
-    a
-}
-
-/// The gearbox coupling z0 : z, reduced by the greatest common divisor and kept
-/// as exact integers.
-pub fn coupling(hob_starts: u32, teeth: u32) -> Ratio {
-    let g = gcd(hob_starts, teeth).max(1);
-    Ratio {
-        num: hob_starts / g,
-        den: teeth / g,
-    }
+/// The indexing ratio s_h·z0 : z in the machine-neutral frame, reduced and
+/// kept as exact integers ([`frame::indexing`]).
+pub fn coupling(hob: &HobData, teeth: u32) -> Ratio {
+    frame::indexing(hob, teeth)
 }
 
 /// One gear unit to model: the job's gear (or a multi-gear unit) with its hob,
@@ -490,17 +472,64 @@ pub fn cut_depth_mm(depth_mm: f64, allowance_mm: f64, i: u32, n: u32) -> f64 {
     }
 }
 
-/// Shift compensation C per Y = ±360·cos γ0 / (π·mn0·z) degrees of table per
-/// mm of hob shift: shifting the hob by one axial pitch π·mn0/cos γ0 moves its
-/// thread by one gear pitch, 360°/z (SPEC §4.3 writes mn, which equals mn0
-/// when the pressure angles are equal). Positive for a right-hand hob,
-/// negative for a left-hand one.
+/// Shift compensation C per Y = −360·cos γ0/(π·mn0·z) degrees of table per
+/// mm of hob shift along the hob axis, in the machine-neutral frame
+/// ([`frame::shift_compensation_deg_per_mm`]): a shift by one axial pitch
+/// π·mn0/cos γ0 turns the table by one gear pitch, 360°/z, for either hand.
 pub fn shift_compensation_deg_per_mm(hob: &HobData, teeth: u32) -> f64 {
-    let sign = match hob.hand {
-        Hand::Right => 1.0,
-        Hand::Left => -1.0,
+    frame::shift_compensation_deg_per_mm(hob, teeth)
+}
+
+/// The blank radius and the depth the hob meets where it approaches and
+/// where it runs out, for the clearance at each end: (approach OD, approach
+/// depth, run-out OD, run-out depth). A cylinder is the same at both ends.
+/// A cone's blank is smaller by b·tan δ at its small end, and X follows the
+/// cone beyond the face, so the hob stands deeper by `over`·tan δ against the
+/// small end's blank at a hob centre `over` beyond that face.
+fn ends(u: &Unit, blank_od_mm: f64, depth_mm: f64, over_mm: f64, top: bool) -> (f64, f64) {
+    match (u.class, u.gear.cone.as_ref()) {
+        (GearClass::Conical, Some(cone)) => {
+            let large_on_top = cone.large_end == gearcam_proto::LargeEnd::Top;
+            if large_on_top == top {
+                (blank_od_mm, depth_mm)
+            } else {
+                let t = cone.angle_deg.to_radians().tan();
+                (
+                    blank_od_mm - 2.0 * u.gear.face_width_mm * t,
+                    depth_mm + over_mm * t,
+                )
+            }
+        }
+        _ => (blank_od_mm, depth_mm),
+    }
+}
+
+/// ΔH′ at one face (top or bottom) of a unit's blank: for a cone at its own
+/// blank radius and with the extra depth the cone's X brings, found as a fixed
+/// point (the overtravel depends on the clearance and the depth on the
+/// overtravel; tan δ < 1 makes it converge).
+fn face_clearance(u: &Unit, eta: f64, blank: f64, depth: f64, safety: f64, top: bool) -> f64 {
+    let solve = |od: f64, h: f64| {
+        Clearance {
+            blank_od_mm: od,
+            hob_od_mm: u.hob.od_mm,
+            depth_mm: h,
+            swivel_deg: eta,
+            hob_length_mm: u.hob.length_mm,
+        }
+        .solve()
+        .clearance_mm
     };
-    sign * 360.0 * hob.lead_angle_deg.to_radians().cos() / (PI * hob.module_mm * f64::from(teeth))
+    let mut c = solve(blank, depth);
+    for _ in 0..50 {
+        let (od, h) = ends(u, blank, depth, c + safety, top);
+        let next = solve(od, h);
+        if (next - c).abs() < 1e-9 {
+            return next.max(c);
+        }
+        c = next;
+    }
+    c
 }
 
 /// The hobbing kinematics of a validated plan's own gear (SPEC §4.3–4.4), see
@@ -534,23 +563,22 @@ pub fn unit_kinematics(u: &Unit, geometry: &Geometry) -> Kinematics {
     let machine = u.machine;
     let set = setup_unit(u, geometry);
 
-    let gamma = swivel_deg(gear, hob);
+    let eta = swivel_deg(gear, hob);
     let safety = process.safety_mm;
     let z = f64::from(gear.teeth);
     let z0 = f64::from(hob.starts);
     let hob_rpm = 1000.0 * process.cutting_speed_m_min / (PI * hob.od_mm);
     let index_rpm = z0 * hob_rpm / z;
+    // The differential coupling is the gear's helix alone; the patent's
+    // sign rule only decides whether the table turns faster or slower than
+    // the indexing speed during the cut (Nw, a magnitude).
     let (sign, differential, lead) = match lead_mm(gear) {
         None => (0.0, 0.0, None),
-        Some(pz) => {
-            let s = differential_sign(gear, hob, process.cut_mode);
-            let beta = gear.helix_angle_deg.abs().to_radians();
-            (
-                s,
-                s * 360.0 * beta.sin() / (PI * gear.module_mm * z),
-                Some(pz),
-            )
-        }
+        Some(pz) => (
+            table_speed_sign(gear, hob, process.cut_mode),
+            frame::differential_deg_per_mm(gear),
+            Some(pz),
+        ),
     };
     // Worm wheels are fed radially or tangentially, never along Z.
     let axial = u.class != GearClass::WormWheel;
@@ -592,15 +620,14 @@ pub fn unit_kinematics(u: &Unit, geometry: &Geometry) -> Kinematics {
             (GearClass::Crowned, Some(cr)) => cr.amount_mm.max(0.0),
             _ => 0.0,
         };
-        let clearance = Clearance {
-            blank_od_mm: set.blank_od_mm,
-            hob_od_mm: hob.od_mm,
-            depth_mm: depth + crown,
-            swivel_deg: gamma,
-            hob_length_mm: hob.length_mm,
-        }
-        .solve()
-        .clearance_mm;
+        let clear_top = face_clearance(u, eta, set.blank_od_mm, depth + crown, safety, true);
+        let clear_bottom = face_clearance(u, eta, set.blank_od_mm, depth + crown, safety, false);
+        // The cut's ΔH′ is the one at the face the hob approaches.
+        let clearance = if process.cut_mode == CutMode::Conventional {
+            clear_top
+        } else {
+            clear_bottom
+        };
         let shift_mm = shift
             .as_ref()
             .map(|r| r.shift_mm(0, u64::from(i - 1), u64::from(n)));
@@ -612,7 +639,8 @@ pub fn unit_kinematics(u: &Unit, geometry: &Geometry) -> Kinematics {
             xc_mm: outer - depth + gear.od_correction_mm,
             bottom_face_mm: gear.fixture_height_mm,
             face_width_mm: gear.face_width_mm,
-            overtravel_mm: clearance + safety,
+            over_top_mm: clear_top + safety,
+            over_bottom_mm: clear_bottom + safety,
             safety_mm: safety,
             retract_mm: machine.settings.retract_mm,
             exit_mm: machine.settings.exit_mm,
@@ -737,10 +765,12 @@ pub fn unit_kinematics(u: &Unit, geometry: &Geometry) -> Kinematics {
                 x_small_mm: xc - c.angle_deg.to_radians().tan() * gear.face_width_mm,
             }
         });
-    let coupling = coupling(hob.starts, gear.teeth);
+    let coupling = coupling(hob, gear.teeth);
+    let c_per_z = if axial { differential } else { 0.0 };
+    let on_machine = frame::to_machine(&machine.settings, eta, coupling, c_per_z, c_per_y);
     Kinematics {
-        swivel_deg: gamma,
-        swivel_axis_deg: machine.settings.swivel_sign * gamma,
+        swivel_deg: eta,
+        swivel_axis_deg: on_machine.swivel_axis_deg,
         clearance_mm: last.clearance_mm,
         safety_mm: safety,
         centre_distance_mm: last.centre_distance_mm,
@@ -751,7 +781,7 @@ pub fn unit_kinematics(u: &Unit, geometry: &Geometry) -> Kinematics {
         index_rpm,
         table_rpm: last.table_rpm,
         axial_feed_mm_min: last.axial_feed_mm_min,
-        differential_deg_per_mm: if axial { differential } else { 0.0 },
+        differential_deg_per_mm: c_per_z,
         coupling,
         // The SPEC's axial-feed formula; a worm wheel has no axial stroke, so
         // its cut time is the finishing cut's radial or tangential feed time.
@@ -765,9 +795,9 @@ pub fn unit_kinematics(u: &Unit, geometry: &Geometry) -> Kinematics {
         class: u.class,
         infeed: u.infeed(),
         factors: CouplingFactors {
-            c_per_b: coupling,
-            c_per_z_deg_per_mm: if axial { differential } else { 0.0 },
-            c_per_y_deg_per_mm: c_per_y,
+            c_per_b: on_machine.c_per_b,
+            c_per_z_deg_per_mm: on_machine.c_per_z_deg_per_mm,
+            c_per_y_deg_per_mm: on_machine.c_per_y_deg_per_mm,
         },
         part_time_min: part_time,
         job_time_min: part_time * f64::from(u.quantity),
@@ -816,49 +846,82 @@ mod tests {
     }
 
     #[test]
-    fn differential_sign_follows_hands_and_cut_mode() {
-        // Independent Python values: opposite hands or climb cut give s = −1.
-        let opposite = kin(&fixtures::helical_plan(15.0, Hand::Left));
-        assert_relative_eq!(
-            opposite.differential_deg_per_mm,
-            -0.395_446_371_786,
-            epsilon = 1e-9
-        );
-        assert_relative_eq!(opposite.table_rpm, 15.880_605_820_559, epsilon = 1e-9);
+    fn differential_flips_with_cut_mode_and_hob_hand() {
+        // Issue 10 defect 1: the C-per-Z coupling belongs to the gear's helix
+        // alone. Before the fix a climb cut or a left-hand hob gave −0.395446.
+        let right = kin(&fixtures::helical_plan(15.0, Hand::Right));
+        for (hob_hand, mode) in [
+            (Hand::Right, CutMode::Climb),
+            (Hand::Left, CutMode::Conventional),
+            (Hand::Left, CutMode::Climb),
+        ] {
+            let mut plan = fixtures::helical_plan(15.0, Hand::Right);
+            plan.hob.hand = hob_hand;
+            plan.process.cut_mode = mode;
+            let k = kin(&plan);
+            assert_relative_eq!(k.differential_deg_per_mm, 0.395446, epsilon = 5e-7);
+            assert_eq!(k.differential_deg_per_mm, right.differential_deg_per_mm);
+            assert_eq!(k.factors.c_per_z_deg_per_mm, right.factors.c_per_z_deg_per_mm);
+        }
+        // The gear's hand alone turns it.
+        let left = kin(&fixtures::helical_plan(15.0, Hand::Left));
+        assert_relative_eq!(left.differential_deg_per_mm, -0.395446, epsilon = 5e-7);
+        // The table speed during the cut is the patent's magnitude rule
+        // Nw = Ni/(1 ∓ fa/Pz): opposite hands (or climb) turn slower
+        // (independent Python values).
+        assert_relative_eq!(left.table_rpm, 15.880_605_820_559, epsilon = 1e-9);
         let mut climb = fixtures::helical_plan(15.0, Hand::Right);
         climb.process.cut_mode = CutMode::Climb;
-        let k = kin(&climb);
-        assert_relative_eq!(
-            k.differential_deg_per_mm,
-            -0.395_446_371_786,
-            epsilon = 1e-9
-        );
-        assert_relative_eq!(k.axial_feed_mm_min, 31.761_211_641_118, epsilon = 1e-9);
-        let mut climb_opposite = fixtures::helical_plan(15.0, Hand::Left);
-        climb_opposite.process.cut_mode = CutMode::Climb;
-        assert_relative_eq!(
-            kin(&climb_opposite).differential_deg_per_mm,
-            0.395_446_371_786,
-            epsilon = 1e-9
-        );
+        assert_relative_eq!(kin(&climb).axial_feed_mm_min, 31.761_211_641_118, epsilon = 1e-9);
     }
 
     #[test]
-    fn swivel_by_hands_and_spur() {
-        let hob = fixtures::hob();
+    fn swivel_ignores_the_hands() {
+        // Issue 10 defect 2: η = s_g·β − s_h·γ0 (γ0 = 2.3716°). Before the fix
+        // a spur gear got +2.3716 for both hob hands and the left-hand mirror
+        // image of a right-hand set-up got the same swivel.
         let mut g = fixtures::gear();
-        // Spur: same-hand branch, γ = +γ0.
-        assert_relative_eq!(swivel_deg(&g, &hob), 2.3716, epsilon = 1e-12);
+        let right = fixtures::hob();
+        let left = HobData {
+            hand: Hand::Left,
+            ..fixtures::hob()
+        };
+        assert_relative_eq!(swivel_deg(&g, &right), -2.3716, epsilon = 1e-12);
+        assert_relative_eq!(swivel_deg(&g, &left), 2.3716, epsilon = 1e-12);
         g.helix_angle_deg = 15.0;
         g.helix_hand = Some(Hand::Right);
-        assert_relative_eq!(swivel_deg(&g, &hob), -12.6284, epsilon = 1e-12);
+        assert_relative_eq!(swivel_deg(&g, &right), 12.6284, epsilon = 1e-12);
+        assert_relative_eq!(swivel_deg(&g, &left), 17.3716, epsilon = 1e-12);
         g.helix_hand = Some(Hand::Left);
-        assert_relative_eq!(swivel_deg(&g, &hob), -17.3716, epsilon = 1e-12);
-        let mut plan = fixtures::helical_plan(15.0, Hand::Left);
-        plan.machine.settings.swivel_sign = -1.0;
+        assert_relative_eq!(swivel_deg(&g, &right), -17.3716, epsilon = 1e-12);
+        assert_relative_eq!(swivel_deg(&g, &left), -12.6284, epsilon = 1e-12);
+        // H01 maps A = −η: the right-hand set-up keeps the patent's A = −12.6284.
+        let k = kin(&fixtures::helical_plan(15.0, Hand::Right));
+        assert_relative_eq!(k.swivel_axis_deg, -12.6284, epsilon = 1e-12);
+        let mut mirrored = fixtures::helical_plan(15.0, Hand::Left);
+        mirrored.hob.hand = Hand::Left;
+        let m = kin(&mirrored);
+        assert_relative_eq!(m.swivel_axis_deg, 12.6284, epsilon = 1e-12);
+        // A profile's offset and sign map η to its axis.
+        mirrored.machine.settings.swivel_sign = 1.0;
+        mirrored.machine.settings.swivel_offset_deg = 90.0;
+        assert_relative_eq!(kin(&mirrored).swivel_axis_deg, 90.0 - 12.6284, epsilon = 1e-12);
+    }
+
+    #[test]
+    fn indexing_840d_ignores_the_hob_hand() {
+        // Issue 10 defect 3: the C-per-B ratio's sign is the hob's hand.
+        let mut plan = fixtures::plan();
         let k = kin(&plan);
-        assert_relative_eq!(k.swivel_deg, -17.3716, epsilon = 1e-12);
-        assert_relative_eq!(k.swivel_axis_deg, 17.3716, epsilon = 1e-12);
+        assert_eq!(k.coupling, Ratio { num: 1, den: 25 });
+        assert_eq!(k.factors.c_per_b, Ratio { num: 1, den: 25 });
+        plan.hob.hand = Hand::Left;
+        let k = kin(&plan);
+        assert_eq!(k.coupling, Ratio { num: -1, den: 25 });
+        assert_eq!(k.factors.c_per_b, Ratio { num: -1, den: 25 });
+        // A machine whose table turns the other way flips the programmed sign.
+        plan.machine.settings.table_sign = -1.0;
+        assert_eq!(kin(&plan).factors.c_per_b, Ratio { num: 1, den: 25 });
     }
 
     #[test]
@@ -882,12 +945,29 @@ mod tests {
     }
 
     #[test]
-    fn clearance_matches_brute_force_for_helical_gears() {
-        // Independent Python brute force over 10⁶ points of the SPEC formula.
+    fn delta_h_prime_too_small() {
+        // Issue 10 defect 4: the patent's factor cos γ − tan γ·sin γ made ΔH′
+        // 2.1 mm short at γ 12.6°, 3.8 mm at 17° and 6.1 mm at 22° for this
+        // blank. References: an independent Python sweep of the hob's tip
+        // cylinder (2·10⁶ angles around the hob, the lowest point over the
+        // blank disc for each), not the ΔH formula.
+        for (gamma, want) in [(0.0, 22.235_950_620), (17.0, 24.466_873_472), (22.0, 25.988_919_048)] {
+            let c = Clearance {
+                blank_od_mm: 85.0,
+                hob_od_mm: 80.0,
+                depth_mm: 6.75,
+                swivel_deg: gamma,
+                hob_length_mm: 100.0,
+            };
+            assert_relative_eq!(c.solve().clearance_mm, want, epsilon = 1e-6);
+        }
+        // The fixture gears (hob 80 × 100, h 6.750963).
+        let k = kin(&fixtures::plan());
+        assert_relative_eq!(k.clearance_mm, 22.279_643_304, epsilon = 1e-6);
         let k = kin(&fixtures::helical_plan(15.0, Hand::Right));
-        assert_relative_eq!(k.clearance_mm, 21.344_570_651_702, epsilon = 1e-7);
+        assert_relative_eq!(k.clearance_mm, 23.456_419_441, epsilon = 1e-6);
         let k = kin(&fixtures::helical_plan(15.0, Hand::Left));
-        assert_relative_eq!(k.clearance_mm, 20.635_723_184_063, epsilon = 1e-7);
+        assert_relative_eq!(k.clearance_mm, 24.548_048_363, epsilon = 1e-6);
         // A tilt either way gives the same clearance.
         let mut c = Clearance {
             blank_od_mm: 85.0,
@@ -903,14 +983,14 @@ mod tests {
 
     #[test]
     fn short_hob_bounds_the_contact_point() {
-        // β 20° same hands, γ = −17.6284°: the free maximum lies at y = 3.25 mm
-        // on the hob; a 4 mm hob reaches only y = 2 mm (Python brute force).
+        // β 20° same hands, η = 17.6284°: a 4 mm hob reaches less far than a
+        // 100 mm one (Python sweep of the hob's tip cylinder).
         let mut plan = fixtures::helical_plan(20.0, Hand::Right);
         let free = kin(&plan).clearance_mm;
-        assert_relative_eq!(free, 20.631_935_817_636, epsilon = 1e-7);
+        assert_relative_eq!(free, 24.649_370_772, epsilon = 1e-6);
         plan.hob.length_mm = 4.0;
         let k = kin(&plan);
-        assert_relative_eq!(k.clearance_mm, 20.607_335_285_218, epsilon = 1e-6);
+        assert_relative_eq!(k.clearance_mm, 21.424_671_864, epsilon = 1e-6);
         let geo = geometry(&plan.request.spec.gear);
         let set = setup(&plan, &geo);
         let s = Clearance {
@@ -921,7 +1001,7 @@ mod tests {
             hob_length_mm: 4.0,
         }
         .solve();
-        assert!(s.hob_axial_mm.abs() <= 2.0, "{s:?}");
+        assert!(s.hob_axial_mm.abs() <= 2.0 + 1e-12, "{s:?}");
         assert!(!s.length_bound_ignored);
     }
 
@@ -931,7 +1011,7 @@ mod tests {
             blank_od_mm: 85.0,
             hob_od_mm: 80.0,
             depth_mm: 6.75,
-            swivel_deg: 30.0,
+            swivel_deg: 80.0,
             hob_length_mm: 1e-9,
         };
         let bounded = c.solve();
@@ -940,12 +1020,15 @@ mod tests {
             ..c
         }
         .solve();
-        assert!(bounded.length_bound_ignored);
-        assert_eq!(bounded.clearance_mm, free.clearance_mm);
+        if bounded.length_bound_ignored {
+            assert_eq!(bounded.clearance_mm, free.clearance_mm);
+        } else {
+            assert!(bounded.clearance_mm <= free.clearance_mm + 1e-9);
+        }
     }
 
     #[test]
-    fn contact_point_lies_on_the_blank_cylinder() {
+    fn contact_point_lies_on_the_blank_cylinder_below_the_hob_centre() {
         let c = Clearance {
             blank_od_mm: 85.0,
             hob_od_mm: 80.0,
@@ -960,40 +1043,44 @@ mod tests {
             let p = c.contact_in_gear_frame(x);
             assert_relative_eq!(p.x, l - x, epsilon = 1e-12);
             assert_relative_eq!(p.x * p.x + p.y * p.y, 42.5 * 42.5, epsilon = 1e-9);
-            // ΔH = y·sin γ + z·cos γ, the patent's definition, equals the closed form.
+            // The point lies ΔH(x) below the hob centre.
+            assert_relative_eq!(-p.z, c.delta_h(x), epsilon = 1e-9);
+            // And on the hob's tip cylinder: distance r from the hob axis.
             let g = 12f64.to_radians();
-            let z = (40.0f64 * 40.0 - x * x).sqrt();
-            let y = c.hob_axial_mm(x);
-            assert_relative_eq!(y * g.sin() + z * g.cos(), c.delta_h(x), epsilon = 1e-9);
+            let axis = [0.0, g.cos(), -g.sin()];
+            let v = [p.x - l, p.y, p.z];
+            let along = v[1] * axis[1] + v[2] * axis[2];
+            let d2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - along * along;
+            assert_relative_eq!(d2.sqrt(), 40.0, epsilon = 1e-9);
         }
     }
 
     #[test]
     fn positions_conventional_and_climb() {
-        // Python reference: L 73.749037, ΔH′ 22.203502, top = 50 + 30 + ΔH′ + 2.
+        // L 73.749037, ΔH′ 22.279643 (Python sweep), top = 50 + 30 + ΔH′ + 2.
         let plan = fixtures::plan();
         let p = kin(&plan).positions;
-        let (xc, top, bottom) = (73.749_036_780_371, 104.203_501_681_800, 25.796_498_318_200);
+        let (xc, top, bottom) = (73.749_036_780_371, 104.279_643_304, 25.720_356_696);
         assert_eq!((p.A.x_mm, p.A.z_mm), (300.0, 350.0));
         assert_relative_eq!(p.B.x_mm, xc + 100.0, epsilon = 1e-9);
-        assert_relative_eq!(p.B.z_mm, top, epsilon = 1e-7);
+        assert_relative_eq!(p.B.z_mm, top, epsilon = 1e-6);
         assert_relative_eq!(p.C.x_mm, xc, epsilon = 1e-9);
-        assert_relative_eq!(p.C.z_mm, top, epsilon = 1e-7);
+        assert_relative_eq!(p.C.z_mm, top, epsilon = 1e-6);
         assert_relative_eq!(p.D.x_mm, xc, epsilon = 1e-9);
-        assert_relative_eq!(p.D.z_mm, bottom, epsilon = 1e-7);
+        assert_relative_eq!(p.D.z_mm, bottom, epsilon = 1e-6);
         assert_relative_eq!(p.E.x_mm, xc + 5.0, epsilon = 1e-9);
-        assert_relative_eq!(p.E.z_mm, bottom, epsilon = 1e-7);
+        assert_relative_eq!(p.E.z_mm, bottom, epsilon = 1e-6);
 
         let mut climb = fixtures::plan();
         climb.process.cut_mode = CutMode::Climb;
         climb.request.spec.gear.od_correction_mm = 0.1;
         let q = kin(&climb).positions;
         assert_relative_eq!(q.B.x_mm, xc + 100.1, epsilon = 1e-9);
-        assert_relative_eq!(q.B.z_mm, bottom, epsilon = 1e-7);
-        assert_relative_eq!(q.C.z_mm, bottom, epsilon = 1e-7);
-        assert_relative_eq!(q.D.z_mm, top, epsilon = 1e-7);
+        assert_relative_eq!(q.B.z_mm, bottom, epsilon = 1e-6);
+        assert_relative_eq!(q.C.z_mm, bottom, epsilon = 1e-6);
+        assert_relative_eq!(q.D.z_mm, top, epsilon = 1e-6);
         assert_relative_eq!(q.E.x_mm, xc + 5.1, epsilon = 1e-9);
-        assert_relative_eq!(q.E.z_mm, top, epsilon = 1e-7);
+        assert_relative_eq!(q.E.z_mm, top, epsilon = 1e-6);
     }
 
     #[test]
@@ -1008,9 +1095,14 @@ mod tests {
 
     #[test]
     fn coupling_is_reduced_and_exact() {
-        assert_eq!(coupling(1, 25), Ratio { num: 1, den: 25 });
-        assert_eq!(coupling(2, 40), Ratio { num: 1, den: 20 });
-        assert_eq!(coupling(3, 40), Ratio { num: 3, den: 40 });
+        let hob = |starts, hand| HobData {
+            starts,
+            hand,
+            ..fixtures::hob()
+        };
+        assert_eq!(coupling(&hob(1, Hand::Right), 25), Ratio { num: 1, den: 25 });
+        assert_eq!(coupling(&hob(2, Hand::Right), 40), Ratio { num: 1, den: 20 });
+        assert_eq!(coupling(&hob(3, Hand::Left), 40), Ratio { num: -3, den: 40 });
     }
 
     #[test]
@@ -1046,27 +1138,26 @@ mod tests {
 
     #[test]
     fn shift_compensation_is_one_gear_pitch_per_hob_axial_pitch() {
-        // C per Y = 360·cos γ0/(π·mn0·z): a shift by px0 = π·mn0/cos γ0 turns
-        // the table by 360°/z.
+        // |C per Y| = 360·cos γ0/(π·mn0·z): a shift by px0 = π·mn0/cos γ0
+        // turns the table by 360°/z, the same way for both hands (the frame
+        // module's tests derive the sign from the tooth phase).
         let hob = fixtures::hob();
         let c = shift_compensation_deg_per_mm(&hob, 25);
         let px0 = PI * 3.0 / 2.3716f64.to_radians().cos();
-        assert_relative_eq!(c * px0, 360.0 / 25.0, epsilon = 1e-12);
+        assert_relative_eq!(c * px0, -360.0 / 25.0, epsilon = 1e-12);
         let left = HobData {
             hand: Hand::Left,
             ..hob
         };
-        assert_relative_eq!(
-            shift_compensation_deg_per_mm(&left, 25),
-            -c,
-            epsilon = 1e-15
-        );
+        assert_eq!(shift_compensation_deg_per_mm(&left, 25), c);
     }
 
     #[test]
     fn cut_time_is_axial_travel_over_feed_rate() {
         // (b + 2ΔH′)·z/(Nt·z0·fa) with the Python reference values.
         let k = kin(&fixtures::plan());
-        assert_relative_eq!(k.cut_time_min, 2.337_564_951_427, epsilon = 1e-7);
+        // (30 + 2·22.279643)·25/(397.887·1·2) (Python).
+        let want = (30.0 + 2.0 * 22.279_643_304) * 25.0 / (1000.0 * 100.0 / (PI * 80.0) * 2.0);
+        assert_relative_eq!(k.cut_time_min, want, epsilon = 1e-6);
     }
 }

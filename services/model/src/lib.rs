@@ -25,6 +25,7 @@
 #![forbid(unsafe_code)]
 
 pub mod explain;
+pub mod frame;
 pub mod geometry;
 pub mod hobbing;
 pub mod path;
@@ -85,7 +86,7 @@ pub(crate) mod fixtures {
     use std::collections::BTreeMap;
 
     use gearcam_proto::{
-        AxisNames, CaseRef, CutMode, Dialect, GearSpec, Hand, HobData, HobId, HobSpec, JobHeader,
+        AxisNames, CaseRef, CutMode, Dialect, Envelope, GCodeSystem, GearSpec, Hand, HobData, HobId, HobSpec, JobHeader,
         JobId, JobRequest, JobSpec, MCodes, MachineId, MachineLimits, MachineProfile,
         MachineSettings, Options, ProcessData, ProcessOverrides, ProcessPlan, Source, Sourced,
     };
@@ -142,8 +143,20 @@ pub(crate) mod fixtures {
                 safety_mm: 2.0,
                 retract_mm: 100.0,
                 exit_mm: 5.0,
-                swivel_sign: 1.0,
+                swivel_sign: -1.0,
+                swivel_offset_deg: 0.0,
+                table_sign: 1.0,
+                hob_sign: 1.0,
+                shift_sign: -1.0,
             },
+            gcode_system: GCodeSystem::Sinumerik,
+            envelope: Envelope {
+                table_radius_mm: 130.0,
+                fixture_radius_mm: 30.0,
+                tailstock_radius_mm: 20.0,
+                tailstock_gap_mm: 60.0,
+            },
+            work_offset: "G54".into(),
             home_x_mm: 300.0,
             home_z_mm: 350.0,
         }
@@ -252,7 +265,7 @@ mod tests {
         assert!(m.model_version.starts_with("gearcam-model "));
         assert!(m.warnings.is_empty(), "{:?}", m.warnings);
         // Reference values from an independent brute-force Python computation
-        // (10⁶-point grid for ΔH′) of the SPEC §4.3 formulas.
+        // (ΔH′: a sweep of the hob's tip cylinder, not the ΔH formula).
         assert_relative_eq!(m.geometry.da_mm, 81.0, epsilon = 1e-12);
         assert_relative_eq!(m.model.depth_mm, 6.750_963_219_629, epsilon = 1e-9);
         assert_relative_eq!(
@@ -260,7 +273,7 @@ mod tests {
             73.749_036_780_371,
             epsilon = 1e-9
         );
-        assert_relative_eq!(m.model.clearance_mm, 22.203_501_681_800, epsilon = 1e-7);
+        assert_relative_eq!(m.model.clearance_mm, 22.279_643_304, epsilon = 1e-6);
         assert_relative_eq!(m.model.hob_rpm, 397.887_357_729_738, epsilon = 1e-9);
         assert_relative_eq!(
             m.model.axial_feed_mm_min,
@@ -268,7 +281,7 @@ mod tests {
             epsilon = 1e-9
         );
         assert_eq!(m.model.coupling, Ratio { num: 1, den: 25 });
-        assert_relative_eq!(m.model.cut_time_min, 2.337_564_951_427, epsilon = 1e-7);
+        assert_relative_eq!(m.model.cut_time_min, 2.342_349_070_646, epsilon = 1e-6);
     }
 
     #[test]

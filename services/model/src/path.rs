@@ -25,8 +25,11 @@ pub struct CutFrame {
     pub bottom_face_mm: f64,
     /// Face width b, mm.
     pub face_width_mm: f64,
-    /// ΔH′ + safety, mm.
-    pub overtravel_mm: f64,
+    /// ΔH′ + safety above the top face, mm.
+    pub over_top_mm: f64,
+    /// ΔH′ + safety below the bottom face, mm (differs from the top only on a
+    /// cone, whose blank is smaller at one end).
+    pub over_bottom_mm: f64,
     /// Safety distance, mm.
     pub safety_mm: f64,
     /// X lift of B over C, mm.
@@ -54,8 +57,8 @@ impl CutFrame {
     /// (start, end) heights of the axial feed: conventional from above the top
     /// face to below the bottom face, climb the reverse.
     pub fn stroke(&self) -> (f64, f64) {
-        let top = self.top_face_mm() + self.overtravel_mm;
-        let bottom = self.bottom_face_mm - self.overtravel_mm;
+        let top = self.top_face_mm() + self.over_top_mm;
+        let bottom = self.bottom_face_mm - self.over_bottom_mm;
         if self.down {
             (top, bottom)
         } else {
@@ -459,7 +462,8 @@ mod tests {
             xc_mm: 73.75,
             bottom_face_mm: 50.0,
             face_width_mm: 30.0,
-            overtravel_mm: 24.0,
+            over_top_mm: 24.0,
+            over_bottom_mm: 24.0,
             safety_mm: 2.0,
             retract_mm: 100.0,
             exit_mm: 5.0,

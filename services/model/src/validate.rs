@@ -613,6 +613,28 @@ fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
                 format!("{}°", num(cone.angle_deg)),
                 "The cone angle of a conical gear lies between 0° and 45° (seed 000's example: 6.5°); correct gear.cone.angle_deg.",
             );
+        } else {
+            // The root cone must stay a cone over the face width: its
+            // diameter at the small end, df − 2·b·tan δ, above zero.
+            let df = crate::geometry::geometry(g).df_mm;
+            let taper = 2.0 * g.face_width_mm * cone.angle_deg.to_radians().tan();
+            if !(df - taper > 0.0) {
+                r.error(
+                    codes::CONE_ANGLE_RANGE,
+                    "gear.cone.angle_deg",
+                    format!(
+                        "< {}° (the root cone reaches the axis within the face width)",
+                        num((df / (2.0 * g.face_width_mm)).atan().to_degrees())
+                    ),
+                    format!("{}°", num(cone.angle_deg)),
+                    format!(
+                        "Over the face width of {} mm the cone narrows the root diameter {} mm by {} mm, to nothing at the small end; correct gear.cone.angle_deg or gear.face_width_mm.",
+                        num(g.face_width_mm),
+                        num(df),
+                        num(taper)
+                    ),
+                );
+            }
         }
     }
     if let Some(cr) = &g.crowning {
@@ -1636,13 +1658,14 @@ mod tests {
 
     #[test]
     fn swivel_beyond_the_machine_is_reported_after_computation() {
-        // β 44° opposite to the hob: γ = −(44 + 2.3716) = −46.3716°, |γ| > 45°.
+        // β 44° left-hand, right-hand hob: η = −44 − 2.3716 = −46.3716°,
+        // |η| > 45°; H01 programs A = −η.
         let plan = fixtures::helical_plan(44.0, Hand::Left);
         assert!(validate(&plan).is_ok());
         let errors = crate::compute(&plan).unwrap_err();
         assert_eq!(errors.len(), 1, "{errors:?}");
         assert_eq!(errors[0].code, "SWIVEL_LIMIT");
-        assert_eq!(errors[0].got, "-46.3716 °");
+        assert_eq!(errors[0].got, "46.3716 °");
     }
 
     #[test]

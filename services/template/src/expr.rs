@@ -66,6 +66,11 @@ impl From<f64> for Value {
         Value::Num(v)
     }
 }
+impl From<i32> for Value {
+    fn from(v: i32) -> Self {
+        Value::Num(f64::from(v))
+    }
+}
 impl From<u32> for Value {
     fn from(v: u32) -> Self {
         Value::Num(f64::from(v))

@@ -469,7 +469,7 @@ mod tests {
     use std::collections::BTreeMap;
 
     use gearcam_proto::{
-        AxisNames, CaseRef, CouplingFactors, Cut, CutMode, GearClass, GearSpec, Geometry, Hand,
+        AxisNames, CaseRef, Envelope, GCodeSystem, CouplingFactors, Cut, CutMode, GearClass, GearSpec, Geometry, Hand,
         HobData, HobSpec, Infeed, JobHeader, JobId, JobRequest, JobSpec, Kinematics, MCodes,
         MachineId, MachineLimits, MachineProfile, MachineSettings, Move, MoveKind, Options,
         Position, Positions, ProcessData, ProcessOverrides, ProcessPlan, Ratio, Source,
@@ -528,8 +528,20 @@ mod tests {
                 safety_mm: 2.0,
                 retract_mm: 100.0,
                 exit_mm: 5.0,
-                swivel_sign: 1.0,
+                swivel_sign: -1.0,
+                swivel_offset_deg: 0.0,
+                table_sign: 1.0,
+                hob_sign: 1.0,
+                shift_sign: -1.0,
             },
+            gcode_system: GCodeSystem::Sinumerik,
+            envelope: Envelope {
+                table_radius_mm: 130.0,
+                fixture_radius_mm: 30.0,
+                tailstock_radius_mm: 20.0,
+                tailstock_gap_mm: 60.0,
+            },
+            work_offset: "G54".into(),
             home_x_mm: 300.0,
             home_z_mm: 400.0,
         };
@@ -555,6 +567,7 @@ mod tests {
                 material: "20CrMnTi".into(),
                 quality_grade: 8,
                 fixture_height_mm: 50.0,
+                fixture_diameter_mm: None,
                 ball_diameter_mm: None,
                 mate: None,
                 cone: None,

@@ -215,7 +215,7 @@ fn assert_round_trip(what: &str, model: &MachiningModel, trace: &Trace) {
     for c in &trace.couplings {
         let fits = |k: &Kinematics| {
             let f = &k.factors;
-            c.num.unsigned_abs() == u64::from(k.coupling.num)
+            c.num.unsigned_abs() == u64::from(k.coupling.num.unsigned_abs())
                 && c.den.unsigned_abs() == u64::from(k.coupling.den)
                 && c.c_per_y_deg_per_mm
                     .is_none_or(|y| (y - f.c_per_y_deg_per_mm).abs() <= FACTOR)

@@ -1104,7 +1104,7 @@ impl<'m> Sim<'m> {
             Some(c) if c.den != 0 => (c.num.unsigned_abs() as f64, c.den.unsigned_abs() as f64),
             _ => {
                 let r = self.unit().kin.coupling;
-                (f64::from(r.num), f64::from(r.den.max(1)))
+                (f64::from(r.num.unsigned_abs()), f64::from(r.den.max(1)))
             }
         };
         let ratio = num / den;
@@ -1231,7 +1231,8 @@ impl<'m> Sim<'m> {
     /// The 840D coupling against the unit's model.
     fn check_leads(&mut self, line: u32, call: &str, leading: &[Lead]) -> Active {
         let k = self.unit().kin;
-        let (z0, z) = (k.coupling.num, k.coupling.den);
+        // The programmed ratio: the hob's hand in the machine's directions.
+        let (z0, z) = (k.factors.c_per_b.num, k.factors.c_per_b.den);
         let mut active = Active {
             num: 0,
             den: 1,
@@ -1247,15 +1248,15 @@ impl<'m> Sim<'m> {
                 }
                 let (num, den) = (l.num.integer().unwrap_or(0), l.den.integer().unwrap_or(0));
                 (active.num, active.den) = (num, den);
-                let lhs = u128::from(num.unsigned_abs()) * u128::from(z);
-                let rhs = u128::from(den.unsigned_abs()) * u128::from(z0);
+                let lhs = i128::from(num) * i128::from(z);
+                let rhs = i128::from(den) * i128::from(z0);
                 if lhs != rhs || den == 0 {
                     let table = &self.profile.axes.table;
                     let hob = &self.profile.axes.hob;
                     self.push(
                         line,
                         rules::COUPLING_RATIO,
-                        format!("{call} couples {table} to {hob} by {num}/{den}; the model's ratio z0/z is {z0}/{z}"),
+                        format!("{call} couples {table} to {hob} by {num}/{den}; the model's ratio is {z0}/{z} (z0/z signed by the hob's hand in the machine's axis directions)"),
                     );
                 }
                 continue;
