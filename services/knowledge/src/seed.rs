@@ -236,15 +236,15 @@ pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     for w in [
         json!({"part_number": "SP-1001", "description": "spur gear of the patent embodiment",
                "module_mm": 3.0, "teeth": 25, "face_width_mm": 30.0, "blank_od_mm": 81.0,
-               "material": "20CrMnTi", "quality_grade": 7, "fixture_height_mm": 50.0, "source": EX}),
+               "material": "20CrMnTi", "quality_grade": 7, "fixture_height_mm": 100.0, "source": EX}),
         json!({"part_number": "HG-2002", "description": "right-hand helical gear",
                "module_mm": 3.0, "teeth": 25, "helix_angle_deg": 15.0, "helix_hand": "right",
                "face_width_mm": 40.0, "material": "42CrMo4", "quality_grade": 7,
-               "fixture_height_mm": 60.0, "source": EX}),
+               "fixture_height_mm": 100.0, "source": EX}),
         json!({"part_number": "HG-3003-L", "description": "left-hand helical gear, climb cut",
                "module_mm": 3.0, "teeth": 31, "helix_angle_deg": 20.0, "helix_hand": "left",
                "profile_shift": 0.2,
-               "face_width_mm": 25.0, "material": "16MnCr5", "fixture_height_mm": 45.0, "source": EX}),
+               "face_width_mm": 25.0, "material": "16MnCr5", "fixture_height_mm": 100.0, "source": EX}),
     ] {
         insert(tx, &library::WORKPIECES, w)?;
     }

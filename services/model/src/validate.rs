@@ -201,6 +201,8 @@ pub mod codes {
     pub const SWIVEL_LIMIT: &str = "SWIVEL_LIMIT";
     /// A computed position outside the machine's travel.
     pub const POSITION_TRAVEL_LIMIT: &str = "POSITION_TRAVEL_LIMIT";
+    /// The hob's run-out below the gear reaches the table or the fixture.
+    pub const ENVELOPE_COLLISION: &str = "ENVELOPE_COLLISION";
 }
 
 /// The outcome of [`validate`]: every error and warning found.
@@ -1149,6 +1151,86 @@ pub fn check_limits_with(plan: &ProcessPlan, k: &Kinematics, cfg: &Config) -> Ve
     errors
 }
 
+/// The hob's run-out below the gear must stay clear of the table and the
+/// fixture: at the lowest hob centre Zl of the stroke, the tilted tip
+/// cylinder reaches r·cos η + (length/2)·|sin η| below it, which must stay
+/// above the table plane where the hob stands over the table; and the hob
+/// comes as near as X − r to the table axis (the swivel turns it about X),
+/// so a fixture at least that wide under the gear is hit. (The template
+/// service's path check sweeps the sampled hob solid independently.)
+fn run_out(errors: &mut Vec<JobError>, plan: &ProcessPlan, k: &Kinematics, cfg: &Config, prefix: &str) {
+    let gear = &plan.request.spec.gear;
+    let env = &plan.machine.envelope;
+    let r = plan.hob.od_mm / 2.0;
+    let half = plan.hob.length_mm / 2.0;
+    let eta = k.swivel_deg.to_radians();
+    let below = r * eta.cos() + half * eta.sin().abs();
+    let (mut low, mut x_low) = (f64::INFINITY, f64::INFINITY);
+    for c in &k.cuts {
+        for p in [c.positions.C, c.positions.D] {
+            if p.z_mm < low {
+                (low, x_low) = (p.z_mm, p.x_mm);
+            }
+        }
+        for m in &c.moves {
+            if let (Some(z), Some(x)) = (m.z_mm, m.x_mm) {
+                if z < low {
+                    (low, x_low) = (z, x);
+                }
+            }
+        }
+    }
+    if !low.is_finite() {
+        return;
+    }
+    let id = &plan.machine.id;
+    let lowest = low - below;
+    if lowest < -cfg.length_tolerance_mm && x_low - r < env.table_radius_mm {
+        let need = gear.fixture_height_mm - lowest;
+        errors.push(job_error(
+            codes::ENVELOPE_COLLISION,
+            &format!("{prefix}gear.fixture_height_mm"),
+            format!("≥ {} mm", num(need)),
+            format!("{} mm", num(gear.fixture_height_mm)),
+            format!(
+                "Below the gear the hob runs out {} mm below its centre (tip radius {} mm, half its length {} mm, tilted {}°) and would reach {} mm into machine {id}'s table; raise the gear on a taller fixture or use a shorter hob.",
+                num(below),
+                num(r),
+                num(half),
+                num(k.swivel_deg.abs()),
+                num(-lowest)
+            ),
+        ));
+    }
+    let fixture_r = gear.fixture_diameter_mm.map_or(env.fixture_radius_mm, |d| d / 2.0);
+    let nearest = x_low - r;
+    // The fixture stands under the lowest unit only (a unit above runs out
+    // over the unit below it, which `check_unit_collisions` covers).
+    if prefix.is_empty()
+        && low < gear.fixture_height_mm
+        && fixture_r >= nearest - cfg.length_tolerance_mm
+    {
+        errors.push(job_error(
+            codes::ENVELOPE_COLLISION,
+            &format!("{prefix}gear.fixture_diameter_mm"),
+            format!("< {} mm", num(2.0 * nearest)),
+            format!(
+                "{} mm{}",
+                num(2.0 * fixture_r),
+                if gear.fixture_diameter_mm.is_none() {
+                    format!(" (machine {id}'s default)")
+                } else {
+                    String::new()
+                }
+            ),
+            format!(
+                "Below the gear the hob comes within {} mm of the table axis; a fixture that wide under the gear is cut. Give gear.fixture_diameter_mm of the support actually used, narrower than the gear's root.",
+                num(nearest)
+            ),
+        ));
+    }
+}
+
 /// Multi-gear parts: while cutting one unit, the hob must stay clear of the
 /// other units. For a neighbour of radius Rn, the hob (radius r, swivel γ) at
 /// the unit's centre distance L overlaps it radially by hn = Rn + r − L; when
@@ -1268,8 +1350,8 @@ fn unit_limits(
     );
     over(
         codes::SWIVEL_LIMIT,
-        "model.swivel_axis_deg",
-        k.swivel_axis_deg,
+        "model.swivel_deg",
+        k.swivel_deg,
         lim.max_swivel_deg,
         "°",
         "use a hob of the same hand as the gear helix or another machine",
@@ -1349,6 +1431,7 @@ fn unit_limits(
             );
         }
     }
+    run_out(errors, plan, k, cfg, prefix);
 }
 
 fn move_end(from: Position, m: &Move) -> Position {
@@ -1665,7 +1748,7 @@ mod tests {
         let errors = crate::compute(&plan).unwrap_err();
         assert_eq!(errors.len(), 1, "{errors:?}");
         assert_eq!(errors[0].code, "SWIVEL_LIMIT");
-        assert_eq!(errors[0].got, "46.3716 °");
+        assert_eq!(errors[0].got, "-46.3716 °");
     }
 
     #[test]

@@ -113,6 +113,8 @@ scope_table!(
     "machine.id" => p.model.plan.machine.id.as_str(),
     "machine.name" => p.model.plan.machine.name.as_str(),
     "machine.max_feed" => p.model.plan.machine.limits.max_axial_feed_mm_min,
+    "machine.work_offset" => p.model.plan.machine.work_offset.as_str(),
+    "machine.gcode_system" => p.model.plan.machine.gcode_system.as_str(),
     "ax.radial" => p.model.plan.machine.axes.radial.as_str(),
     "ax.axial" => p.model.plan.machine.axes.axial.as_str(),
     "ax.swivel" => p.model.plan.machine.axes.swivel.as_str(),
@@ -231,6 +233,10 @@ scope_table!(
     "k.shift.positions" => u.kin.shift.as_ref().map_or(Value::Null, |s| Value::from(s.positions)),
     "k.shift.start" => u.kin.shift.as_ref().map(|s| s.start_mm),
     "k.shift.end" => u.kin.shift.as_ref().map(|s| s.end_mm),
+    "k.shift.last" => u.kin.shift.as_ref().map(|s| {
+        let dir = if s.end_mm >= s.start_mm { 1.0 } else { -1.0 };
+        s.start_mm + dir * s.step_mm * f64::from(s.positions.saturating_sub(1))
+    }),
     "k.shift.step" => u.kin.shift.as_ref().map(|s| if s.end_mm >= s.start_mm { s.step_mm } else { -s.step_mm }),
     "k.shift.parts_per_step" => u.kin.shift.as_ref().map_or(Value::Null, |s| Value::from(s.parts_per_step)),
 });

@@ -9,7 +9,7 @@
 @template conical_fanuc
 @class conical
 @dialect fanuc
-@version 2
+@version 3
 
 main :: %
 main :: {program.name} ({upper(comment(part_number))} HOBBING)
@@ -26,8 +26,14 @@ main :: (GEAR MN={nc(gear.module)} Z={gear.teeth} BETA={deg(gear.helix)}{if(heli
 main :: (HOB {upper(comment(hob.id))} Z0={hob.starts} DA0={nc(hob.od)} MN0={nc(hob.module)} GAMMA0={deg(hob.lead_angle)} {upper(hob.hand)})
 main :: (CUT {upper(kin.cut_mode)} VC={nc(process.cutting_speed)} FA={nc(process.feed)} H={nc(kin.depth)} L={nc(kin.centre_distance)})
 main :: (TIME {nc(kin.part_time)} MIN PER PART, {kin.cuts} CUT[S])
-motion :: (A TO B: RAPID TO THE APPROACH POINT, HOB HEAD SWIVELLED)
-motion :: {N()} G00 G90 {ax.radial}{nc(first.B.x)} {ax.axial}{nc(first.B.z)} {ax.swivel}{deg(first.swivel)}
+main :: {N()} G21 (METRIC INPUT)
+main :: {N()} G90 G94 {machine.work_offset} (ABSOLUTE, FEED PER MINUTE IN G-CODE SYSTEM {upper(machine.gcode_system)}, WORK OFFSET: Z0 ON THE TABLE PLANE, X0 ON THE TABLE AXIS)
+motion :: (A TO B: RETRACT RADIALLY, UP TO THE START HEIGHT, SWIVEL THE HOB HEAD, THEN APPROACH)
+motion :: {N()} G00 G90 {ax.radial}{nc(A.x)} (RADIAL RETRACT FIRST, FROM WHEREVER THE HOB STANDS)
+motion :: {N()} G00 G90 {ax.axial}{nc(A.z)}
+motion :: {N()} G00 G90 {ax.swivel}{deg(first.swivel)} (HOB HEAD SWIVELLED AT THE START POINT)
+motion :: {N()} G00 G90 {ax.axial}{nc(first.B.z)}
+motion :: {N()} G00 G90 {ax.radial}{nc(first.B.x)}
 preparation if: options.outer_support :: {N()} M{mc.outer_support_on} (OUTER HOB SUPPORT ENGAGE)
 preparation if: options.fixture_clamp :: {N()} M{mc.fixture_clamp} (FIXTURE CLAMP)
 conditions if: options.coolant :: {N()} M{mc.coolant_on} (COOLANT ON)
@@ -39,7 +45,7 @@ synchronous/unit :: #502={u.teeth} (NUMBER OF TEETH Z)
 synchronous/unit :: #503={deg(u.helix)} (HELIX ANGLE BETA, DEG)
 synchronous/unit :: #504={u.hob.starts} (HOB STARTS Z0)
 synchronous/unit :: #505={deg(u.hob.lead_angle)} (HOB LEAD ANGLE GAMMA0, DEG)
-shift/unit if: k.has_shift :: (HOB SHIFT PER {upper(k.shift.mode)}: {k.shift.positions} POSITIONS FROM {nc(k.shift.start)} TO {nc(k.shift.end)} MM)
+shift/unit if: k.has_shift :: (HOB SHIFT PER {upper(k.shift.mode)}: {k.shift.positions} POSITIONS FROM {nc(k.shift.start)} TO {nc(k.shift.last)} MM)
 shift/unit if: k.has_shift :: #520={nc(k.shift.start)} (SHIFT START, MM)
 shift/unit if: k.has_shift :: #521={nc(k.shift.end)} (SHIFT END, MM)
 shift/unit if: k.has_shift :: #522={nc(k.shift.step)} (SHIFT PER STEP, MM)
@@ -52,7 +58,7 @@ shift/unit when: k.has_shift calc: first_index = if(k.shift.by_cut, "[#526*" + t
 shift/unit if: k.has_shift :: #528=#520+#522*#527 (SHIFT AXIS POSITION, MM)
 shift/unit if: k.has_shift :: {N()} G00 G90 {ax.shift}[#528] (HOB SHIFTED BEFORE COUPLING)
 shift/unit calc: ylast = k.y0 if: k.tangential :: {N()} G00 G90 {ax.shift}{nc(k.y0)} (HOB SHIFTED TO THE TANGENTIAL START BEFORE COUPLING)
-synchronous/unit calc: direction = if(u.hob.hand == "left", -1, 1); helix_p = if(k.c_per_z < 0, -abs(u.helix), abs(u.helix)) :: ({ax.table} FOLLOWS THE HOB BY Z0/Z{if(k.use_z, ", HELICAL COMPENSATION FROM Q AND P", "")}{if(k.use_y, ", " + ax.shift + " MOVES WITH THEIR " + ax.table + " CORRECTION " + factor(k.c_per_y) + " DEG/MM", "")})
+synchronous/unit calc: direction = if(k.coupling.num < 0, -1, 1); helix_p = if(k.c_per_z < 0, -abs(u.helix), abs(u.helix)) :: ({ax.table} FOLLOWS THE HOB BY Z0/Z{if(k.use_z, ", HELICAL COMPENSATION FROM Q AND P", "")}{if(k.use_y, ", " + ax.shift + " MOVES WITH THEIR " + ax.table + " CORRECTION " + factor(k.c_per_y) + " DEG/MM", "")})
 synchronous/unit :: {N()} G81 T{u.teeth} L{direction * u.hob.starts}{if(k.use_z, " Q" + nc(u.module) + " P" + deg(helix_p), "")} (EGB ON)
 conditions/unit :: {N()} M{mc.spindle_on} S{int(k.hob_rpm)} (HOB ON, RPM)
 motion/cut :: (CUT {cut.number} OF {cut.count} [{upper(k.cut_mode)} CUT]: {if(cut.finish, "FINISH", "ROUGH")} TO H={nc(cut.depth)} L={nc(cut.centre_distance)}, {nc(cut.time)} MIN)
@@ -65,7 +71,7 @@ shift/move if: has(m.y) and k.shift.by_cut :: {N()} G01 G91 {ax.shift}[#529] {ax
 shift/move if: has(m.y) and k.shift.by_cut :: #528=#528+#529
 shift/move when: has(m.y) and not k.has_shift calc: dy = m.y - ylast; ylast = m.y if: has(m.y) and not k.has_shift and dy != 0 :: {N()} G01 G91 {ax.shift}{nc(dy)} {ax.table}{deg(dy * k.c_per_y)} F{nc(if(m.kind == "feed", m.feed, machine.max_feed))}
 motion/move if: m.kind == "rapid" and words != "" :: {N()} G00 G90{words}
-motion/move if: m.kind == "feed" and words != "" :: {N()} G01 G90 G98{words} F{nc(m.feed)}
+motion/move if: m.kind == "feed" and words != "" :: {N()} G01 G90 G94{words} F{nc(m.feed)}
 motion/move if: m.kind == "dwell" :: {N()} G04 X{nc(m.dwell)} (DWELL, S)
 conditions/unit :: {N()} M{mc.spindle_off} (HOB OFF)
 motion :: (E TO A: BACK TO THE START POINT)

@@ -6,7 +6,8 @@
 # A -> B with the swivel, machine functions on, R parameters, electronic gearbox
 # on, hob on, the cuts, hob off, E -> A, gearbox off, functions off, end.
 # The model computes every move of every cut; this file writes them. Several
-# cuts re-synchronise into the existing gaps (EGONSYNE). Shifting per part
+# cuts stay coupled, so they land in the gaps of the first; the first
+# coupling is made at fixed synchronised positions (EGONSYNE). Shifting per part
 # computes the shift from the part counter R25, so one program serves the batch.
 #
 # One record per line: module[/scope] [when: ..] [calc: ..] [if: ..] :: output
@@ -17,7 +18,7 @@
 @template cylindrical_840d
 @class cylindrical
 @dialect sinumerik840d
-@version 4
+@version 5
 
 main :: %{program.file}
 main :: ;$PATH=/_N_MPF_DIR
@@ -35,8 +36,14 @@ main :: ; HOB {comment(hob.id)} Z0={hob.starts} DA0={nc(hob.od)} MN0={nc(hob.mod
 main :: ; CUT {upper(kin.cut_mode)} VC={nc(process.cutting_speed)} FA={nc(process.feed)} H={nc(kin.depth)} L={nc(kin.centre_distance)}
 main :: ; TIME {nc(kin.part_time)} MIN PER PART, {kin.cuts} CUT(S)
 main :: ;
-motion :: ; A -> B: RAPID TO THE APPROACH POINT, HOB HEAD SWIVELLED
-motion :: {N()} G0 G90 {ax.radial}={nc(first.B.x)} {ax.axial}={nc(first.B.z)} {ax.swivel}={deg(first.swivel)}
+main :: {N()} G71 G90 G94 DIAMOF ; METRIC, ABSOLUTE, FEED PER MINUTE, X IS THE CENTRE DISTANCE (A RADIUS)
+main :: {N()} {machine.work_offset} ; WORK OFFSET: Z0 ON THE TABLE PLANE, X0 ON THE TABLE AXIS
+motion :: ; A -> B: RETRACT RADIALLY, UP TO THE START HEIGHT, SWIVEL THE HOB HEAD, THEN APPROACH
+motion :: {N()} G0 G90 {ax.radial}={nc(A.x)} ; RADIAL RETRACT FIRST, FROM WHEREVER THE HOB STANDS
+motion :: {N()} G0 G90 {ax.axial}={nc(A.z)}
+motion :: {N()} G0 G90 {ax.swivel}={deg(first.swivel)} ; HOB HEAD SWIVELLED AT THE START POINT
+motion :: {N()} G0 G90 {ax.axial}={nc(first.B.z)}
+motion :: {N()} G0 G90 {ax.radial}={nc(first.B.x)}
 preparation if: options.outer_support :: {N()} M{mc.outer_support_on} ; OUTER HOB SUPPORT ENGAGE
 preparation if: options.fixture_clamp :: {N()} M{mc.fixture_clamp} ; FIXTURE CLAMP
 conditions if: options.coolant :: {N()} M{mc.coolant_on} ; COOLANT ON
@@ -47,7 +54,7 @@ synchronous/unit :: {N()} R2={u.teeth} ; NUMBER OF TEETH Z
 synchronous/unit :: {N()} R3={deg(u.helix)} ; HELIX ANGLE BETA, DEG
 synchronous/unit :: {N()} R4={u.hob.starts} ; HOB STARTS Z0
 synchronous/unit :: {N()} R5={deg(u.hob.lead_angle)} ; HOB LEAD ANGLE GAMMA0, DEG
-shift/unit if: k.has_shift :: ; HOB SHIFT PER {upper(k.shift.mode)}: {k.shift.positions} POSITIONS FROM {nc(k.shift.start)} TO {nc(k.shift.end)} MM
+shift/unit if: k.has_shift :: ; HOB SHIFT PER {upper(k.shift.mode)}: {k.shift.positions} POSITIONS FROM {nc(k.shift.start)} TO {nc(k.shift.last)} MM
 shift/unit if: k.has_shift :: {N()} R20={nc(k.shift.start)} ; SHIFT START, MM
 shift/unit if: k.has_shift :: {N()} R21={nc(k.shift.end)} ; SHIFT END, MM
 shift/unit if: k.has_shift :: {N()} R22={nc(k.shift.step)} ; SHIFT PER STEP, MM
@@ -58,15 +65,13 @@ shift/unit if: k.has_shift :: {N()} IF R25>=R23*R24 ; EVERY SHIFT POSITION HAS C
 shift/unit if: k.has_shift :: {N()} R25=0 ; START AGAIN AT THE SHIFT START
 shift/unit if: k.has_shift :: {N()} ENDIF
 shift/unit if: k.has_shift :: {N()} R26=TRUNC(R25/R23) ; SHIFT STEPS SO FAR
-synchronous/unit calc: lead = if(k.use_z, "," + ax.axial + ",1", "") + if(k.use_y, "," + ax.shift + ",1", ""); factors = if(k.use_z, "," + ax.axial + "," + factor(k.c_per_z) + ",1", "") + if(k.use_y, "," + ax.shift + "," + factor(k.c_per_y) + ",1", "") :: ; GEARBOX: {ax.table} FOLLOWS {ax.hob} BY Z0/Z{if(k.use_z, ", " + ax.axial + " BY THE DIFFERENTIAL", "")}{if(k.use_y, ", " + ax.shift + " BY THE SHIFT COMPENSATION", "")}, DEG/MM
+synchronous/unit calc: lead = if(k.use_z, "," + ax.axial + ",1", "") + if(k.use_y, "," + ax.shift + ",1", ""); factors = if(k.use_z, "," + ax.axial + ",0," + factor(k.c_per_z) + ",1", "") + if(k.use_y, "," + ax.shift + ",0," + factor(k.c_per_y) + ",1", "") :: ; GEARBOX: {ax.table} FOLLOWS {ax.hob} BY Z0/Z{if(k.use_z, ", " + ax.axial + " BY THE DIFFERENTIAL", "")}{if(k.use_y, ", " + ax.shift + " BY THE SHIFT COMPENSATION", "")}, DEG/MM
 synchronous/unit :: {N()} EGDEF({ax.table},{ax.hob},1{lead})
-synchronous/unit :: {N()} EGON({ax.table},"FINE",{ax.hob},{k.coupling.num},{k.coupling.den}{factors})
+synchronous/unit :: {N()} EGONSYNE({ax.table},"FINE",0,"DCT",{ax.hob},0,{k.coupling.num},{k.coupling.den}{factors}) ; COUPLED AT FIXED SYNCHRONISED POSITIONS: EVERY CUT SHARES THIS REFERENCE
 conditions/unit :: {N()} M{mc.spindle_on} S={nc(k.hob_rpm)} ; HOB ON, RPM
 motion/cut :: ; CUT {cut.number} OF {cut.count} ({upper(k.cut_mode)} CUT): {if(cut.finish, "FINISH", "ROUGH")} TO H={nc(cut.depth)} L={nc(cut.centre_distance)}, {nc(cut.time)} MIN
-motion/cut if: cut.resync :: {N()} G0 G90 {ax.radial}={nc(cut.B.x)}
+motion/cut if: cut.resync :: {N()} G0 G90 {ax.radial}={nc(cut.B.x)} ; OUT OF THE GAPS, THE GEARBOX STAYS COUPLED
 motion/cut if: cut.resync :: {N()} G0 G90 {ax.axial}={nc(cut.B.z)}
-synchronous/cut if: cut.resync :: {N()} EGOFS({ax.table}) ; GEARBOX OFF FOR THE NEXT CUT
-synchronous/cut if: cut.resync :: {N()} EGONSYNE({ax.table},"FINE",0,"DCT",{ax.hob},0,{k.coupling.num},{k.coupling.den}{factors}) ; RE-SYNCHRONISE INTO THE CUT GAPS
 motion/move calc: shift_index = if(k.shift.by_cut, "(R26*" + text(cut.count) + "+" + text(cut.number - 1) + ")", "R26"); words = if(has(m.x), " " + ax.radial + "=" + nc(m.x), "") + if(has(m.z), " " + ax.axial + "=" + nc(m.z), "") + if(has(m.y), " " + ax.shift + "=" + if(k.has_shift, "R20+R22*(" + shift_index + " MOD R24)", nc(m.y)), "") :: ; {comment(m.note)}
 motion/move if: m.kind == "rapid" :: {N()} G0 G90{words}
 motion/move if: m.kind == "feed" :: {N()} G1 G90 G94{words} F={nc(m.feed)}

@@ -89,6 +89,8 @@ struct Codes {
     interp: Option<Interp>,
     distance: Option<Distance>,
     per_minute: bool,
+    feed_code: Option<u8>,
+    setup: super::Setup,
     dwell: bool,
     gear_on: bool,
     gear_off: bool,
@@ -124,7 +126,12 @@ impl Codes {
                 }
                 self.distance = Some(d);
             }
-            b"98" => self.per_minute = true,
+            b"94" | b"98" => {
+                self.per_minute = true;
+                self.feed_code = Some(if digits == b"94" { 94 } else { 98 });
+            }
+            b"21" => self.setup.metric = true,
+            [b'5', d @ b'4'..=b'9'] => self.setup.work_offset = Some(50 + (d - b'0')),
             _ => return Err(format!("{} is not in the FANUC subset", g(digits))),
         }
         self.count += 1;
@@ -352,6 +359,8 @@ fn classify(g: Codes, m: Option<u16>, w: Words, slot: &mut Op) -> Result<(), Str
     motion.interp = g.interp;
     motion.distance = g.distance;
     motion.per_minute = g.per_minute;
+    motion.feed_code = g.feed_code;
+    motion.setup = g.setup;
     if g.count == 0 && motion.words().is_empty() {
         return Err("a block with nothing to do".into());
     }

@@ -26,6 +26,7 @@
 //! - `fanuc`: the FANUC line parser.
 //! - `sim`: the contact zones and the simulation that applies the rules.
 
+mod collide;
 pub mod expr;
 mod fanuc;
 mod siemens;
@@ -53,8 +54,17 @@ pub mod rules {
     pub const MCODE_PAIR: &str = "MCODE_PAIR";
     /// The program does not end at A, or not with the end code.
     pub const END_AT_A: &str = "END_AT_A";
-    /// A gearbox coupling that differs from the model's.
+    /// A gearbox coupling that differs from the model's, or couplings of one
+    /// unit that do not share one reference.
     pub const COUPLING_RATIO: &str = "COUPLING_RATIO";
+    /// The sampled hob solid enters the blank on a rapid move (independent
+    /// of the model's ΔH′).
+    pub const HOB_CLEARANCE: &str = "HOB_CLEARANCE";
+    /// The sampled hob solid enters the table, the fixture or the tailstock.
+    pub const ENVELOPE: &str = "ENVELOPE";
+    /// The program does not state its unit, work offset, X mode or G-code
+    /// system as the machine profile needs, or mixes G-code systems.
+    pub const SETUP: &str = "SETUP";
 }
 
 /// Longest axis name (840D identifiers have at most 8 characters).
@@ -146,6 +156,28 @@ pub enum Distance {
     Incremental,
 }
 
+/// Set-up codes a block states (modal; the simulation collects them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Setup {
+    /// `G71` (840D) or `G21` (FANUC): metric input.
+    pub metric: bool,
+    /// `G54`–`G59`: the work offset's number.
+    pub work_offset: Option<u8>,
+    /// 840D `DIAMOF`: X is a radius (the centre distance).
+    pub radius_x: bool,
+}
+
+impl Setup {
+    /// Adds the codes of `other`.
+    pub fn merge(&mut self, other: Setup) {
+        self.metric |= other.metric;
+        self.radius_x |= other.radius_x;
+        if other.work_offset.is_some() {
+            self.work_offset = other.work_offset;
+        }
+    }
+}
+
 /// A motion block (or a block that only sets modal motion codes).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Motion {
@@ -155,6 +187,10 @@ pub struct Motion {
     pub distance: Option<Distance>,
     /// `G94` / `G98`: feed per minute given in this block.
     pub per_minute: bool,
+    /// The G code that set feed per minute (94 or 98), for the G-code system check.
+    pub feed_code: Option<u8>,
+    /// Set-up codes stated in this block.
+    pub setup: Setup,
     words: [AxisWord; MAX_AXIS_WORDS],
     n_words: u8,
     /// 840D `CIP` intermediate point (`I1`, `K1`): X and Z, absolute.
@@ -191,7 +227,7 @@ impl Motion {
 pub struct Lead {
     /// The leading axis.
     pub axis: AxisName,
-    /// `EGONSYNE` synchronised position of the leading axis (the hob's only).
+    /// `EGONSYNE` synchronised position of the leading axis.
     pub position: Option<Num>,
     /// Numerator of the coupling factor.
     pub num: Num,
@@ -235,8 +271,10 @@ pub enum Op {
     },
     /// 840D `EGON` or (`sync`) `EGONSYNE`.
     GearOn {
-        /// True for `EGONSYNE` (re-synchronisation into existing gaps).
+        /// True for `EGONSYNE` (coupled at synchronised positions).
         sync: bool,
+        /// `EGONSYNE`: the following axis's synchronised position.
+        position: Option<Num>,
         /// Following axis.
         following: AxisName,
         /// Leading axes, the hob first.
@@ -348,6 +386,9 @@ pub struct TraceCoupling {
     pub c_per_z_deg_per_mm: Option<f64>,
     /// Degrees of C per mm of Y (840D Y factor).
     pub c_per_y_deg_per_mm: Option<f64>,
+    /// True when this coupling starts a gear unit (the first of the program,
+    /// one after a new `EGDEF`, or a `G81` after a `G80`).
+    pub unit_start: bool,
 }
 
 /// Parses and simulates `text` (the dialect is the model's machine's) against
@@ -361,7 +402,10 @@ pub fn check(text: &str, model: &MachiningModel) -> (PathCheck, Trace) {
         parsed.findings = structure(&parsed.blocks);
     }
     let (mut findings, trace) = if parsed.findings.is_empty() {
-        sim::run(dialect, &parsed.blocks, model, parsed.lines.max(1))
+        let (mut findings, trace) =
+            sim::run(dialect, &parsed.blocks, model, parsed.lines.max(1));
+        findings.extend(collide::check(model, &trace));
+        (findings, trace)
     } else {
         (parsed.findings, Trace::default())
     };

@@ -12,6 +12,7 @@
 use super::expr::{self, Cursor, Num, Syntax};
 use super::{
     literal, numbered_lines, AxisName, AxisWord, Block, Distance, Interp, Lead, Motion, Op, Parsed,
+    Setup,
 };
 
 /// Parses an 840D program into `out`.
@@ -261,7 +262,13 @@ fn motion(c: &mut Cursor<'_>, slot: &mut Op) -> Result<(), String> {
             b"G1" => set(&mut m.interp, Interp::Linear, "G1")?,
             b"CIP" => set(&mut m.interp, Interp::CircleVia, "CIP")?,
             b"G90" => set(&mut m.distance, Distance::Absolute, "G90")?,
-            b"G94" => m.per_minute = true,
+            b"G94" => {
+                m.per_minute = true;
+                m.feed_code = Some(94);
+            }
+            b"G71" => m.setup.metric = true,
+            b"DIAMOF" => m.setup.radius_x = true,
+            [b'G', b'5', d @ b'4'..=b'9'] => m.setup.work_offset = Some(50 + (d - b'0')),
             b"G4" => dwell = true,
             _ if !c.eat(b'=') => {
                 return Err(format!(
@@ -294,6 +301,11 @@ fn motion(c: &mut Cursor<'_>, slot: &mut Op) -> Result<(), String> {
                     interp: None,
                     distance: None,
                     per_minute: false,
+                    setup: Setup {
+                        metric: false,
+                        work_offset: None,
+                        radius_x: false,
+                    },
                     ..
                 },
                 Some(seconds),
@@ -475,32 +487,51 @@ fn egon(args: &[Arg<'_>]) -> Result<Op, String> {
     text(mode, "FINE")?;
     Ok(Op::GearOn {
         sync: false,
+        position: None,
         following: axis(f, "the following axis")?,
         leading: leads(rest, None)?,
     })
 }
 
-/// `EGONSYNE(following, "FINE", position, "DCT", hob, position, num, den, ...)`.
+/// `EGONSYNE(following, "FINE", position, "DCT", leading, position, num, den, ...)`:
+/// every leading axis takes four arguments (axis, its synchronised position,
+/// numerator, denominator), the hob first.
 fn egonsyne(args: &[Arg<'_>]) -> Result<Op, String> {
-    let [f, mode, pos, approach, hob, hob_pos, num, den, rest @ ..] = args else {
+    let [f, mode, pos, approach, rest @ ..] = args else {
         return Err(
-            "EGONSYNE takes the following axis, \"FINE\", its position, \"DCT\", then the hob with its position, numerator and denominator"
+            "EGONSYNE takes the following axis, \"FINE\", its position, \"DCT\", then each leading axis with its synchronised position, numerator and denominator"
                 .into(),
         );
     };
     text(mode, "FINE")?;
     text(approach, "DCT")?;
-    let Arg::Num(_) = pos else {
+    let Arg::Num(pos) = pos else {
         return Err("the following axis's synchronised position must be a number".into());
     };
-    let Arg::Num(hob_pos) = hob_pos else {
-        return Err("the hob's synchronised position must be a number".into());
-    };
-    let first = triple(&[*hob, *num, *den], true, Some(*hob_pos))?;
+    if rest.is_empty() || rest.len() % 4 != 0 {
+        return Err(
+            "each leading axis of EGONSYNE takes four arguments: axis, synchronised position, numerator, denominator"
+                .into(),
+        );
+    }
+    let mut leading = Vec::with_capacity(rest.len() / 4);
+    for (i, q) in rest.chunks_exact(4).enumerate() {
+        let Arg::Num(lead_pos) = q[1] else {
+            return Err(format!(
+                "the synchronised position of leading axis {} must be a number",
+                i + 1
+            ));
+        };
+        leading.push(triple(&[q[0], q[2], q[3]], i == 0, Some(lead_pos))?);
+    }
+    if leading.len() > 5 {
+        return Err("a gearbox has one to five leading axes".into());
+    }
     Ok(Op::GearOn {
         sync: true,
+        position: Some(*pos),
         following: axis(f, "the following axis")?,
-        leading: leads(rest, Some(first))?,
+        leading,
     })
 }
 

@@ -58,6 +58,15 @@ const Y_MARGIN: f64 = 2.0 * MM;
 const ARC_STEPS: usize = 16;
 
 /// The switched functions in the order of [`Sim::function`].
+/// The switched functions that must be off when the program stops for the
+/// operator (`M0`, a hob change): the fixture stays clamped.
+const STOP_OFF: [&str; 4] = [
+    "the outer hob support",
+    "the coolant",
+    "the chip conveyor",
+    "the oil mist separator",
+];
+
 const FUNCTIONS: [&str; 5] = [
     "the outer hob support",
     "the fixture clamp",
@@ -398,6 +407,10 @@ pub(super) fn run(
         coupled: None,
         unit: 0,
         started: false,
+        defined: false,
+        reference: None,
+        setup: super::Setup::default(),
+        setup_checked: false,
         functions: [None; 5],
         end: None,
         last_move: None,
@@ -508,6 +521,15 @@ struct Sim<'m> {
     coupled: Option<Active>,
     unit: usize,
     started: bool,
+    /// An `EGDEF` since the last coupling: the next coupling starts a unit.
+    defined: bool,
+    /// The first coupling of the current unit: its line, and the synchronised
+    /// positions (following axis first) when it was an `EGONSYNE`.
+    reference: Option<(u32, Option<Vec<f64>>)>,
+    /// Set-up codes stated so far.
+    setup: super::Setup,
+    /// True once the set-up has been checked (at the first move).
+    setup_checked: bool,
     /// Line where each switched function was switched on, while it is on.
     functions: [Option<u32>; 5],
     end: Option<u32>,
@@ -569,9 +591,10 @@ impl<'m> Sim<'m> {
             Op::GearDefine { following, leading } => self.egdef(line, *following, leading),
             Op::GearOn {
                 sync,
+                position,
                 following,
                 leading,
-            } => self.egon(line, *sync, *following, leading),
+            } => self.egon(line, *sync, *position, *following, leading),
             Op::FanucGearOn {
                 teeth,
                 starts,
@@ -621,6 +644,12 @@ impl<'m> Sim<'m> {
     // ----- motion -----
 
     fn motion(&mut self, line: u32, m: &Motion) {
+        self.setup.merge(m.setup);
+        self.check_system(line, m);
+        if !self.setup_checked && !m.words().is_empty() {
+            self.setup_checked = true;
+            self.check_setup(line);
+        }
         if let Some(i) = m.interp {
             self.interp = Some(i);
         }
@@ -789,15 +818,16 @@ impl<'m> Sim<'m> {
         }
         if let Some(a) = a {
             let max = self.profile.limits.max_swivel_deg;
-            if a.abs() > max + DEG {
+            if (a - self.profile.settings.swivel_offset_deg).abs() > max + DEG {
                 let name = &self.profile.axes.swivel;
                 self.push(
                     line,
                     rules::TRAVEL_LIMIT,
                     format!(
-                        "swivel {name}={} is beyond the machine's limit of ±{} degrees",
+                        "swivel {name}={} is beyond the machine's limit of ±{} degrees about {}",
                         f4(a),
-                        f4(max)
+                        f4(max),
+                        f4(self.profile.settings.swivel_offset_deg)
                     ),
                 );
             }
@@ -870,6 +900,72 @@ impl<'m> Sim<'m> {
         });
         (self.x, self.z, self.y) = (x, z, y);
         self.last_move = Some(line);
+    }
+
+    /// The program's G codes mean what the machine's G-code system says:
+    /// FANUC M series and T systems B and C take G94 for feed per minute
+    /// (G98 is a canned-cycle return level there); T system A takes G98 and
+    /// has no G90/G91 (G90 is a turning cycle).
+    fn check_system(&mut self, line: u32, m: &Motion) {
+        use gearcam_proto::GCodeSystem as S;
+        let system = self.profile.gcode_system;
+        match (self.dialect, system) {
+            (Dialect::Fanuc, S::FanucM | S::FanucTB | S::FanucTC) if m.feed_code == Some(98) => {
+                self.push(
+                    line,
+                    rules::SETUP,
+                    format!("G98 is the canned-cycle return level in G-code system {}, not feed per minute: write G94", system.as_str()),
+                );
+            }
+            (Dialect::Fanuc, S::FanucTA) if m.distance.is_some() || m.feed_code == Some(94) => {
+                self.push(
+                    line,
+                    rules::SETUP,
+                    "G-code system A (fanuc_t_a) has no G90/G91 or G94: absolute is X/Z, incremental U/W, feed per minute G98".into(),
+                );
+            }
+            (Dialect::Fanuc, S::Sinumerik) | (Dialect::Sinumerik840d, S::FanucM | S::FanucTA | S::FanucTB | S::FanucTC) => {
+                self.push(
+                    line,
+                    rules::SETUP,
+                    format!("the machine profile names G-code system {} for a {} control", system.as_str(), self.dialect.as_str()),
+                );
+            }
+            _ => {}
+        }
+    }
+
+    /// Before the first move the program states the metric unit, the
+    /// machine's work offset (Z0 on the table, X0 on its axis) and, on an
+    /// 840D, that X is a radius.
+    fn check_setup(&mut self, line: u32) {
+        let s = self.setup;
+        let (metric, offset) = match self.dialect {
+            Dialect::Fanuc => ("G21", "work offset"),
+            _ => ("G71", "work offset"),
+        };
+        let want = self.profile.work_offset.trim().to_ascii_uppercase();
+        let want_n = want
+            .strip_prefix('G')
+            .and_then(|n| n.parse::<u8>().ok())
+            .filter(|n| (54..=59).contains(n));
+        let mut missing = Vec::new();
+        if !s.metric {
+            missing.push(format!("{metric} (metric input)"));
+        }
+        if want_n.is_some() && s.work_offset != want_n {
+            missing.push(format!("{want} ({offset}: Z0 on the table plane, X0 on the table axis)"));
+        }
+        if self.dialect == Dialect::Sinumerik840d && !s.radius_x {
+            missing.push("DIAMOF (X is the centre distance, a radius)".into());
+        }
+        if !missing.is_empty() {
+            self.push(
+                line,
+                rules::SETUP,
+                format!("the first move comes before {}", missing.join(", ")),
+            );
+        }
     }
 
     fn move_text(&self, kind: MoveKind, from: [f64; 3], to: [f64; 3]) -> String {
@@ -1068,6 +1164,28 @@ impl<'m> Sim<'m> {
                 rules::PARSE,
                 format!("M{code} is not one of the machine's M functions"),
             );
+        } else {
+            // M0: the operator reaches into the machine (a hob change).
+            let on: Vec<String> = FUNCTIONS
+                .iter()
+                .zip(self.functions)
+                .filter(|(name, since)| since.is_some() && STOP_OFF.contains(name))
+                .map(|(name, since)| format!("{name} (on since line {})", since.unwrap_or(0)))
+                .collect();
+            if !on.is_empty() || self.spindle {
+                let mut what = on;
+                if self.spindle {
+                    what.push("the hob spindle".into());
+                }
+                self.push(
+                    line,
+                    rules::MCODE_PAIR,
+                    format!(
+                        "M0 stops for the operator with {} still on; switch it off before the stop",
+                        what.join(", ")
+                    ),
+                );
+            }
         }
     }
 
@@ -1181,9 +1299,17 @@ impl<'m> Sim<'m> {
             }
         }
         self.definition = Some(Definition { leads });
+        self.defined = true;
     }
 
-    fn egon(&mut self, line: u32, sync: bool, following: AxisName, leading: &[Lead]) {
+    fn egon(
+        &mut self,
+        line: u32,
+        sync: bool,
+        position: Option<Num>,
+        following: AxisName,
+        leading: &[Lead],
+    ) {
         let call = if sync { "EGONSYNE" } else { "EGON" };
         self.is_table(line, call, following);
         if self.coupled.is_some() {
@@ -1193,8 +1319,40 @@ impl<'m> Sim<'m> {
                 format!("{call} while the gearbox is already coupled; EGOFS first"),
             );
         }
-        if !sync && self.started {
+        let unit_start = !self.started || self.defined;
+        if unit_start && self.started {
             self.unit = (self.unit + 1).min(self.units.len() - 1);
+        }
+        self.defined = false;
+        // Every coupling of one unit must share one reference: couple at the
+        // same synchronised positions, or stay coupled. A plain EGON takes
+        // wherever the axes stand as its reference.
+        let positions: Option<Vec<f64>> = sync.then(|| {
+            std::iter::once(position.map_or(0.0, |p| p.value))
+                .chain(leading.iter().map(|l| l.position.map_or(0.0, |p| p.value)))
+                .collect()
+        });
+        if unit_start {
+            self.reference = Some((line, positions));
+        } else if let Some((first, reference)) = self.reference.clone() {
+            let same = match (&reference, &positions) {
+                (Some(a), Some(b)) => {
+                    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() <= TOL)
+                }
+                _ => false,
+            };
+            if !same {
+                let why = match (&reference, &positions) {
+                    (None, _) => format!("the coupling of line {first} was a plain EGON, whose reference is wherever the axes stood"),
+                    (_, None) => "a plain EGON takes wherever the axes stand as its reference".to_string(),
+                    _ => format!("its synchronised positions differ from those of line {first}"),
+                };
+                self.push(
+                    line,
+                    rules::COUPLING_RATIO,
+                    format!("{call} couples this unit again, but {why}: the cut lands in new gaps (couple every cut at the same EGONSYNE positions, or stay coupled)"),
+                );
+            }
         }
         self.started = true;
         let mut leads = [false; 3];
@@ -1223,6 +1381,7 @@ impl<'m> Sim<'m> {
             den: active.den,
             c_per_z_deg_per_mm: active.z,
             c_per_y_deg_per_mm: active.y,
+            unit_start,
         });
         self.coupled = Some(active);
         self.check_table_speed(line);
@@ -1318,7 +1477,8 @@ impl<'m> Sim<'m> {
     }
 
     fn g81(&mut self, line: u32, teeth: Num, starts: Num, module: Option<Num>, helix: Option<Num>) {
-        if self.coupled.is_none() {
+        let unit_start = self.coupled.is_none();
+        if unit_start {
             if self.started {
                 self.unit = (self.unit + 1).min(self.units.len() - 1);
             }
@@ -1354,6 +1514,19 @@ impl<'m> Sim<'m> {
                 line,
                 rules::COUPLING_RATIO,
                 format!("G81 L{l}: |L| must be the hob's {z0} starts"),
+            );
+        } else if (l < 0) != (k.factors.c_per_b.num < 0) {
+            self.push(
+                line,
+                rules::COUPLING_RATIO,
+                format!(
+                    "G81 L{l}: the sign of L is the table's direction against the hob, which the hob's hand ({}) fixes on this machine: L{}",
+                    match u.hob.hand {
+                        gearcam_proto::Hand::Right => "right",
+                        gearcam_proto::Hand::Left => "left",
+                    },
+                    if k.factors.c_per_b.num < 0 { -l.abs() } else { l.abs() }
+                ),
             );
         }
         let diff = k.factors.c_per_z_deg_per_mm;
@@ -1432,6 +1605,7 @@ impl<'m> Sim<'m> {
             den: t,
             c_per_z_deg_per_mm: implied,
             c_per_y_deg_per_mm: None,
+            unit_start,
         });
         self.coupled = Some(active);
         self.check_table_speed(line);

@@ -1,0 +1,560 @@
+//! The independent clearance check: the hob as a finite solid swept along
+//! every move of the parsed program, against the blank of every gear unit
+//! (rapid moves) and against the table, the fixture and the tailstock (every
+//! move).
+//!
+//! It shares nothing with the model's clearance ΔH′ but the machine-neutral
+//! frame (`docs/hobbing.md`): the programmed swivel value gives the hob's
+//! tilt η = (A − offset)/swivel_sign, the programmed X, Z and shift Y its
+//! centre, and the hob is its tip cylinder (radius da0/2, the hob's length)
+//! around the axis u = (0, cos η, −sin η). The solid is sampled (its tip
+//! cylinder, both end faces, and the edge circles of each obstacle tested
+//! against the hob), the poses along each move are sampled, and the deepest
+//! sample is refined by a pattern search. A finding names the line, the
+//! obstacle and how deep the hob enters it.
+//!
+//! # Tolerance
+//!
+//! A penetration up to [`PEN_TOL`] is ignored: the printed coordinates are
+//! rounded to 0.0005 mm and the sampled surface lies within that of the true
+//! one after refinement.
+
+use gearcam_proto::{GearSpec, HobData, MachiningModel, MoveKind, PathFinding};
+
+use super::{finding, rules, Trace};
+
+/// Penetration ignored, mm.
+pub const PEN_TOL: f64 = 0.002;
+
+/// Samples around the hob's circumference.
+const N_THETA: usize = 72;
+/// Samples along the hob's length (both ends included).
+const N_AXIAL: usize = 11;
+/// Rings sampled on each end face (plus its centre).
+const N_RINGS: usize = 3;
+/// Samples on an obstacle's edge circle.
+const N_RIM: usize = 72;
+/// Largest step between sampled poses along a move, mm.
+const POSE_STEP_MM: f64 = 1.0;
+/// Pattern-search iterations of the refinement.
+const REFINE_ITERS: usize = 60;
+
+type P3 = [f64; 3];
+
+fn add(a: P3, b: P3, k: f64) -> P3 {
+    [a[0] + b[0] * k, a[1] + b[1] * k, a[2] + b[2] * k]
+}
+
+fn dot(a: P3, b: P3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: P3, b: P3) -> P3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// The hob at one pose: centre, axis and the two directions across it.
+#[derive(Debug, Clone, Copy)]
+struct Pose {
+    centre: P3,
+    axis: P3,
+    e1: P3,
+    e2: P3,
+}
+
+impl Pose {
+    fn new(x: f64, z: f64, shift_along_axis: f64, eta_deg: f64) -> Pose {
+        let e = eta_deg.to_radians();
+        let axis = [0.0, e.cos(), -e.sin()];
+        let e1 = [1.0, 0.0, 0.0];
+        let e2 = cross(axis, e1);
+        Pose {
+            centre: add([x, 0.0, z], axis, shift_along_axis),
+            axis,
+            e1,
+            e2,
+        }
+    }
+
+    /// A point of the hob's surface: on the tip cylinder (`face` 0) at
+    /// angle θ and axial position s, or on an end face (`face` ±1) at angle θ
+    /// and radius s.
+    fn point(&self, hob: &HobSolid, face: i8, theta: f64, s: f64) -> P3 {
+        let (sin, cos) = theta.sin_cos();
+        let (along, radius) = match face {
+            0 => (s.clamp(-hob.half, hob.half), hob.r),
+            f => (f64::from(f) * hob.half, s.clamp(0.0, hob.r)),
+        };
+        let radial = add(add([0.0; 3], self.e1, cos * radius), self.e2, sin * radius);
+        add(add(self.centre, self.axis, along), radial, 1.0)
+    }
+
+    /// How deep a point lies inside the hob solid (positive inside).
+    fn depth_of(&self, hob: &HobSolid, p: P3) -> f64 {
+        let v = [
+            p[0] - self.centre[0],
+            p[1] - self.centre[1],
+            p[2] - self.centre[2],
+        ];
+        let a = dot(v, self.axis);
+        let radial = (dot(v, v) - a * a).max(0.0).sqrt();
+        (hob.r - radial).min(hob.half - a.abs())
+    }
+}
+
+/// The hob's tip cylinder.
+#[derive(Debug, Clone, Copy)]
+struct HobSolid {
+    r: f64,
+    half: f64,
+}
+
+impl HobSolid {
+    /// Radius of the sphere around the centre that holds the hob.
+    fn reach(&self) -> f64 {
+        self.r.hypot(self.half)
+    }
+}
+
+/// What the hob must not enter: a solid of revolution about the table axis,
+/// radius varying linearly from `r_lo` at `z_lo` to `r_hi` at `z_hi`.
+#[derive(Debug, Clone)]
+struct Obstacle {
+    what: String,
+    z_lo: f64,
+    z_hi: f64,
+    r_lo: f64,
+    r_hi: f64,
+    /// Checked on rapid moves only (the blank, which feed moves cut).
+    rapid_only: bool,
+}
+
+impl Obstacle {
+    fn radius_at(&self, z: f64) -> f64 {
+        if self.z_hi - self.z_lo <= 0.0 || !self.z_hi.is_finite() || !self.z_lo.is_finite() {
+            return self.r_lo;
+        }
+        let t = ((z - self.z_lo) / (self.z_hi - self.z_lo)).clamp(0.0, 1.0);
+        self.r_lo + (self.r_hi - self.r_lo) * t
+    }
+
+    /// How deep a point lies inside (positive inside).
+    fn depth_of(&self, p: P3) -> f64 {
+        let rho = p[0].hypot(p[1]);
+        (self.radius_at(p[2]) - rho)
+            .min(p[2] - self.z_lo)
+            .min(self.z_hi - p[2])
+    }
+
+    /// The edge circles (finite faces only).
+    fn rims(&self) -> Vec<P3> {
+        let mut out = Vec::new();
+        for (z, r) in [(self.z_lo, self.r_lo), (self.z_hi, self.r_hi)] {
+            if !z.is_finite() {
+                continue;
+            }
+            for i in 0..N_RIM {
+                let t = std::f64::consts::TAU * i as f64 / N_RIM as f64;
+                out.push([r * t.cos(), r * t.sin(), z]);
+            }
+        }
+        out
+    }
+
+    /// Distance from a point to the obstacle's bounding cylinder (0 inside).
+    fn bound_distance(&self, p: P3) -> f64 {
+        let rmax = self.r_lo.max(self.r_hi);
+        let dr = (p[0].hypot(p[1]) - rmax).max(0.0);
+        let dz = (self.z_lo - p[2]).max(p[2] - self.z_hi).max(0.0);
+        dr.hypot(dz)
+    }
+}
+
+/// The blanks of every unit, and the table, fixture and tailstock.
+fn obstacles(model: &MachiningModel) -> Vec<Obstacle> {
+    let m = &model.model;
+    let units: Vec<(&GearSpec, f64, f64)> = if m.units.is_empty() {
+        vec![(&model.plan.request.spec.gear, 0.0, m.blank_od_mm)]
+    } else {
+        m.units
+            .iter()
+            .map(|u| (&u.gear, u.z_offset_mm, u.model.blank_od_mm))
+            .collect()
+    };
+    let mut out = Vec::new();
+    let base = model.plan.request.spec.gear.fixture_height_mm;
+    let mut top = f64::NEG_INFINITY;
+    let mut bottom = f64::INFINITY;
+    for (i, (gear, offset, od)) in units.iter().enumerate() {
+        let z_lo = gear.fixture_height_mm + offset;
+        let z_hi = z_lo + gear.face_width_mm;
+        let r = od / 2.0;
+        let (r_lo, r_hi) = match &gear.cone {
+            Some(cone) => {
+                let taper = gear.face_width_mm * cone.angle_deg.to_radians().tan();
+                match cone.large_end {
+                    gearcam_proto::LargeEnd::Bottom => (r, r - taper),
+                    gearcam_proto::LargeEnd::Top => (r - taper, r),
+                }
+            }
+            None => (r, r),
+        };
+        let what = if units.len() > 1 {
+            format!("the blank of unit {}", i + 1)
+        } else {
+            "the blank".to_string()
+        };
+        out.push(Obstacle {
+            what,
+            z_lo,
+            z_hi,
+            r_lo,
+            r_hi,
+            rapid_only: true,
+        });
+        top = top.max(z_hi);
+        bottom = bottom.min(z_lo);
+    }
+    let env = &model.plan.machine.envelope;
+    out.push(Obstacle {
+        what: "the table".into(),
+        z_lo: f64::NEG_INFINITY,
+        z_hi: 0.0,
+        r_lo: env.table_radius_mm,
+        r_hi: env.table_radius_mm,
+        rapid_only: false,
+    });
+    let fixture_r = model
+        .plan
+        .request
+        .spec
+        .gear
+        .fixture_diameter_mm
+        .map_or(env.fixture_radius_mm, |d| d / 2.0);
+    let fixture_top = bottom.min(base);
+    if fixture_r > 0.0 && fixture_top > 0.0 {
+        out.push(Obstacle {
+            what: "the fixture".into(),
+            z_lo: 0.0,
+            z_hi: fixture_top,
+            r_lo: fixture_r,
+            r_hi: fixture_r,
+            rapid_only: false,
+        });
+    }
+    if env.tailstock_radius_mm > 0.0 && top.is_finite() {
+        out.push(Obstacle {
+            what: "the tailstock".into(),
+            z_lo: top + env.tailstock_gap_mm,
+            z_hi: f64::INFINITY,
+            r_lo: env.tailstock_radius_mm,
+            r_hi: env.tailstock_radius_mm,
+            rapid_only: false,
+        });
+    }
+    out
+}
+
+/// The hob of the unit a trace line belongs to: the units' hobs in program
+/// order, switched at every unit's first gearbox coupling.
+fn hob_for_line(model: &MachiningModel, trace: &Trace, line: u32) -> HobData {
+    let hobs: Vec<&HobData> = if model.model.units.is_empty() {
+        vec![&model.plan.hob]
+    } else {
+        model.model.units.iter().map(|u| &u.hob).collect()
+    };
+    // The couplings that start a unit: the first, then every one after a
+    // gap in which the hob changed (a new unit couples after an uncoupling).
+    let starts = trace
+        .couplings
+        .iter()
+        .filter(|c| c.unit_start)
+        .map(|c| c.line)
+        .collect::<Vec<_>>();
+    let idx = starts.iter().filter(|&&l| l <= line).count().saturating_sub(1);
+    // Before the first coupling the first unit's hob is mounted.
+    hobs[idx.min(hobs.len() - 1)].clone()
+}
+
+/// One worst point found on a move.
+#[derive(Debug, Clone, Copy)]
+struct Worst {
+    depth: f64,
+    at: P3,
+}
+
+/// The independent clearance and envelope check of a simulated program.
+pub(crate) fn check(model: &MachiningModel, trace: &Trace) -> Vec<PathFinding> {
+    let settings = &model.plan.machine.settings;
+    let axes = &model.plan.machine.axes;
+    let obstacles = obstacles(model);
+    let rims: Vec<Vec<P3>> = obstacles.iter().map(Obstacle::rims).collect();
+    let mut findings = Vec::new();
+    let mut from = [
+        model.plan.machine.home_x_mm,
+        model.plan.machine.home_z_mm,
+        0.0,
+    ];
+    // Before the first programmed swivel the head stands where the program
+    // will put it first (the program sets it before any move near the work).
+    let first_a = trace.swivel_deg.first().map_or(0.0, |s| s.1);
+    let mut a_from = first_a;
+    let eta = |a: f64| (a - settings.swivel_offset_deg) * settings.swivel_sign;
+    for mv in &trace.moves {
+        if mv.kind == MoveKind::Dwell {
+            continue;
+        }
+        let to = [mv.x_mm, mv.z_mm, mv.y_mm];
+        let a_to = trace
+            .swivel_deg
+            .iter()
+            .rev()
+            .find(|s| s.0 <= mv.line)
+            .map_or(first_a, |s| s.1);
+        let hob = hob_for_line(model, trace, mv.line);
+        let solid = HobSolid {
+            r: hob.od_mm / 2.0,
+            half: hob.length_mm / 2.0,
+        };
+        let pose_at = |t: f64| {
+            let x = from[0] + (to[0] - from[0]) * t;
+            let z = from[1] + (to[1] - from[1]) * t;
+            let y = from[2] + (to[2] - from[2]) * t;
+            let a = a_from + (a_to - a_from) * t;
+            Pose::new(x, z, y * settings.shift_sign, eta(a))
+        };
+        let length = (to[0] - from[0])
+            .hypot(to[1] - from[1])
+            .hypot(to[2] - from[2])
+            .max((a_to - a_from).abs().to_radians() * solid.reach());
+        // A rapid that only moves X outwards withdraws the hob from the gaps
+        // it stands in (a worm wheel's retract from the throat): while the
+        // whole hob stays on its side of the table axis (X > r), every hob
+        // point moves away from the axis and cannot enter a blank.
+        let withdrawal = to[0] > from[0]
+            && (to[1] - from[1]).abs() <= 1e-9
+            && (to[2] - from[2]).abs() <= 1e-9
+            && (a_to - a_from).abs() <= 1e-9
+            && from[0] > solid.r;
+        for (k, ob) in obstacles.iter().enumerate() {
+            if ob.rapid_only && (mv.kind != MoveKind::Rapid || withdrawal) {
+                continue;
+            }
+            if let Some(w) = sweep(&solid, ob, &rims[k], &pose_at, length) {
+                if w.depth > PEN_TOL {
+                    let what = match mv.kind {
+                        MoveKind::Rapid => "rapid move",
+                        MoveKind::Feed => "feed move",
+                        _ => "arc",
+                    };
+                    let rule = if ob.rapid_only {
+                        rules::HOB_CLEARANCE
+                    } else {
+                        rules::ENVELOPE
+                    };
+                    findings.push(finding(
+                        mv.line,
+                        rule,
+                        format!(
+                            "the {what} to {}={:.3} {}={:.3} takes the hob (tip cylinder {:.3} x {:.3} mm, {}={:.4}) {:.3} mm into {} near radius {:.3} mm, height {:.3} mm",
+                            axes.radial,
+                            to[0],
+                            axes.axial,
+                            to[1],
+                            hob.od_mm,
+                            hob.length_mm,
+                            axes.swivel,
+                            a_to,
+                            w.depth,
+                            ob.what,
+                            w.at[0].hypot(w.at[1]),
+                            w.at[2]
+                        ),
+                    ));
+                }
+            }
+        }
+        from = to;
+        a_from = a_to;
+    }
+    findings
+}
+
+/// The deepest penetration of the swept hob into one obstacle along a move,
+/// or `None` when the hob never comes near it.
+fn sweep(
+    hob: &HobSolid,
+    ob: &Obstacle,
+    rims: &[P3],
+    pose_at: &dyn Fn(f64) -> Pose,
+    length: f64,
+) -> Option<Worst> {
+    let n = ((length / POSE_STEP_MM).ceil() as usize).clamp(1, 2000);
+    let mut best: Option<(Worst, f64, i8, f64, f64)> = None;
+    let mut consider = |w: Worst, t: f64, face: i8, theta: f64, s: f64| {
+        if best.is_none_or(|b| w.depth > b.0.depth) {
+            best = Some((w, t, face, theta, s));
+        }
+    };
+    let dtheta = std::f64::consts::TAU / N_THETA as f64;
+    for i in 0..=n {
+        let t = i as f64 / n as f64;
+        let pose = pose_at(t);
+        if ob.bound_distance(pose.centre) > hob.reach() + 1.0 {
+            continue;
+        }
+        for a in 0..N_THETA {
+            let theta = dtheta * a as f64;
+            for j in 0..N_AXIAL {
+                let s = -hob.half + 2.0 * hob.half * j as f64 / (N_AXIAL - 1) as f64;
+                let p = pose.point(hob, 0, theta, s);
+                consider(
+                    Worst {
+                        depth: ob.depth_of(p),
+                        at: p,
+                    },
+                    t,
+                    0,
+                    theta,
+                    s,
+                );
+            }
+            for face in [-1i8, 1] {
+                for ring in 0..=N_RINGS {
+                    let s = hob.r * ring as f64 / N_RINGS as f64;
+                    let p = pose.point(hob, face, theta, s);
+                    consider(
+                        Worst {
+                            depth: ob.depth_of(p),
+                            at: p,
+                        },
+                        t,
+                        face,
+                        theta,
+                        s,
+                    );
+                }
+            }
+        }
+        for &q in rims {
+            // An edge of the obstacle inside the hob: no surface parameters
+            // to refine (face 2), the depth is exact at this pose.
+            consider(Worst { depth: pose.depth_of(hob, q), at: q }, t, 2, 0.0, 0.0);
+        }
+    }
+    let (mut w, mut t, face, mut theta, mut s) = best?;
+    if face == 2 || w.depth < -1.0 {
+        return Some(w);
+    }
+    // Pattern search on (t, θ, s) from the deepest sample.
+    let mut steps = [
+        1.0 / n as f64,
+        dtheta,
+        if face == 0 {
+            2.0 * hob.half / (N_AXIAL - 1) as f64
+        } else {
+            hob.r / N_RINGS as f64
+        },
+    ];
+    let eval = |t: f64, theta: f64, s: f64| {
+        let p = pose_at(t.clamp(0.0, 1.0)).point(hob, face, theta, s);
+        Worst {
+            depth: ob.depth_of(p),
+            at: p,
+        }
+    };
+    for _ in 0..REFINE_ITERS {
+        let mut moved = false;
+        for k in 0..3 {
+            for sign in [-1.0, 1.0] {
+                let mut c = [t, theta, s];
+                c[k] += sign * steps[k];
+                c[0] = c[0].clamp(0.0, 1.0);
+                let cand = eval(c[0], c[1], c[2]);
+                if cand.depth > w.depth {
+                    (w, t, theta, s) = (cand, c[0], c[1], c[2]);
+                    moved = true;
+                }
+            }
+        }
+        if !moved {
+            for st in &mut steps {
+                *st /= 2.0;
+            }
+        }
+    }
+    Some(w)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_hob_just_above_a_disc_is_outside_and_just_below_is_inside() {
+        // Hob r 40 × 100 without tilt, centre 40.5 mm above the top face of a
+        // blank R 40.5 at X = 73.75 (h 6.75): the lowest point over the disc
+        // is the hob's lowest line, 0.5 mm above the face.
+        let hob = HobSolid { r: 40.0, half: 50.0 };
+        let ob = Obstacle {
+            what: "the blank".into(),
+            z_lo: 0.0,
+            z_hi: 30.0,
+            r_lo: 40.5,
+            r_hi: 40.5,
+            rapid_only: true,
+        };
+        let rims = ob.rims();
+        let at = |z: f64| move |_t: f64| Pose::new(73.75, z, 0.0, 0.0);
+        let above = sweep(&hob, &ob, &rims, &at(70.5), 0.0).unwrap();
+        assert!((above.depth + 0.5).abs() < 1e-3, "{above:?}");
+        let below = sweep(&hob, &ob, &rims, &at(69.5), 0.0).unwrap();
+        assert!((below.depth - 0.5).abs() < 1e-3, "{below:?}");
+    }
+
+    #[test]
+    fn a_tilted_hob_reaches_further_down_by_its_length() {
+        // Tilted by 30° with half length 50, the low end of the axis is 25 mm
+        // below the centre, and the tip cylinder r·cos 30° below that.
+        let hob = HobSolid { r: 10.0, half: 50.0 };
+        let table = Obstacle {
+            what: "the table".into(),
+            z_lo: f64::NEG_INFINITY,
+            z_hi: 0.0,
+            r_lo: 500.0,
+            r_hi: 500.0,
+            rapid_only: false,
+        };
+        let rims = table.rims();
+        let low = 25.0 + 10.0 * 30f64.to_radians().cos();
+        let pose = move |_t: f64| Pose::new(100.0, low - 1.0, 0.0, 30.0);
+        let w = sweep(&hob, &table, &rims, &pose, 0.0).unwrap();
+        assert!((w.depth - 1.0).abs() < 1e-3, "{w:?}");
+        let pose = move |_t: f64| Pose::new(100.0, low + 1.0, 0.0, 30.0);
+        let w = sweep(&hob, &table, &rims, &pose, 0.0).unwrap();
+        assert!((w.depth + 1.0).abs() < 1e-3, "{w:?}");
+    }
+
+    #[test]
+    fn a_move_through_the_blank_is_caught_between_its_end_points() {
+        // A rapid straight across a small blank: both end poses are clear,
+        // the middle of the move is not.
+        let hob = HobSolid { r: 5.0, half: 10.0 };
+        let ob = Obstacle {
+            what: "the blank".into(),
+            z_lo: 0.0,
+            z_hi: 10.0,
+            r_lo: 20.0,
+            r_hi: 20.0,
+            rapid_only: true,
+        };
+        let rims = ob.rims();
+        let pose = |t: f64| Pose::new(-100.0 + 200.0 * t, 5.0, 0.0, 0.0);
+        let w = sweep(&hob, &ob, &rims, &pose, 200.0).unwrap();
+        assert!(w.depth > 4.0, "{w:?}");
+    }
+}
