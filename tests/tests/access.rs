@@ -35,7 +35,7 @@ part_number = "SEC-0001"
 module_mm = 3.0
 teeth = 25
 face_width_mm = 30.0
-fixture_height_mm = 50.0
+fixture_height_mm = 100.0
 [hob]
 id = "HOB-M3-80"
 "#;

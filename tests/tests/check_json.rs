@@ -36,7 +36,7 @@ teeth = 25
 helix_angle_deg = 15.0
 helix_hand = "right"
 face_width_mm = 30.0
-fixture_height_mm = 50.0
+fixture_height_mm = 100.0
 [hob]
 starts = 1
 od_mm = 80.0

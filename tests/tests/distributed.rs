@@ -28,7 +28,7 @@ clearance_coef = 0.25
 blank_od_mm = 81.0
 material = "20CrMnTi"
 quality_grade = 7
-fixture_height_mm = 50.0
+fixture_height_mm = 100.0
 
 [hob]
 starts = 1
@@ -342,7 +342,7 @@ fn a_repeated_request_is_stored_once_and_answered_with_the_original_receipt() {
         let session = session_with_services(&cluster.endpoint).await;
         let spec: gearcam_proto::JobSpec = serde_json::from_value(serde_json::json!({
             "job": {"machine": "H01", "part_number": "REP-1"},
-            "gear": {"module_mm": 3.0, "teeth": 25, "face_width_mm": 30.0, "fixture_height_mm": 50.0},
+            "gear": {"module_mm": 3.0, "teeth": 25, "face_width_mm": 30.0, "fixture_height_mm": 100.0},
             "hob": {"id": "HOB-M3-80"}
         }))
         .unwrap();

@@ -27,7 +27,7 @@ module_mm = 3.0
 teeth = {teeth}
 face_width_mm = 30.0
 material = "20CrMnTi"
-fixture_height_mm = 50.0
+fixture_height_mm = 100.0
 
 [hob]
 id = "HOB-M3-80"

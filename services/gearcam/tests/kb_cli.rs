@@ -150,7 +150,7 @@ face_width_mm = 30.0
 blank_od_mm = 81.0
 material = "20CrMnTi"
 quality_grade = 7
-fixture_height_mm = 50.0
+fixture_height_mm = 100.0
 "#;
 
 #[test]

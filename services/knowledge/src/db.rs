@@ -353,7 +353,7 @@ pub fn seed_machine_h02() -> MachineProfile {
         gcode_system: GCodeSystem::FanucM,
         envelope: Envelope {
             table_radius_mm: 200.0,
-            fixture_radius_mm: 40.0,
+            fixture_radius_mm: 30.0,
             tailstock_radius_mm: 25.0,
             tailstock_gap_mm: 80.0,
         },

@@ -643,7 +643,7 @@ pub(crate) mod tests {
             "job": {"machine": "H01", "quantity": 20, "part_number": "P-1"},
             "gear": {"module_mm": 3.0, "teeth": 25, "helix_angle_deg": 15.0,
                      "helix_hand": "left", "face_width_mm": 30.0, "material": "16MnCr5",
-                     "quality_grade": 7, "fixture_height_mm": 50.0},
+                     "quality_grade": 7, "fixture_height_mm": 100.0},
             "hob": hob,
             "process": process,
         }))
@@ -787,7 +787,7 @@ pub(crate) mod tests {
         assert_eq!((g.module_mm, g.teeth), (3.0, 25));
         assert_eq!((g.face_width_mm, g.blank_od_mm), (30.0, Some(81.0)));
         assert_eq!((g.material.as_str(), g.quality_grade), ("20CrMnTi", 7));
-        assert_eq!(g.fixture_height_mm, 50.0);
+        assert_eq!(g.fixture_height_mm, 100.0);
         assert_eq!(plan.class, "cylindrical");
         for name in ["gear.module_mm", "gear.teeth", "gear.blank_od_mm"] {
             assert_eq!(plan.values[name].source, Source::Library, "{name}");
@@ -874,7 +874,7 @@ pub(crate) mod tests {
             "module_mm": 3.0,
             "teeth": 25,
             "face_width_mm": 30.0,
-            "fixture_height_mm": 50.0,
+            "fixture_height_mm": 100.0,
         }));
         library::add(&conn, &library::WORKPIECES, &rec).unwrap();
         let errors = plan(&conn, &by_part("CR-1")).unwrap_err();
@@ -897,7 +897,7 @@ pub(crate) mod tests {
             "job": {"machine": "H01", "quantity": 10, "part_number": "CB-1901"},
             "gear": {"module_mm": 2.0, "teeth": 19, "face_width_mm": 20.0,
                      "blank_od_mm": 42.5, "material": "40Cr", "quality_grade": 7,
-                     "fixture_height_mm": 60.0, "cone": {"angle_deg": 6.5}},
+                     "fixture_height_mm": 100.0, "cone": {"angle_deg": 6.5}},
             "hob": {"id": "HOB-M2-70"},
             "process": process,
         }))

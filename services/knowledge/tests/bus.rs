@@ -141,7 +141,7 @@ async fn libraries_are_browsed_and_edited_over_zenoh_and_a_job_gets_a_proposal()
     let spec: JobSpec = serde_json::from_value(serde_json::json!({
         "job": {"machine": "H01", "part_number": "SP-1001", "quantity": 20},
         "gear": {"module_mm": 3.0, "teeth": 25, "face_width_mm": 30.0, "blank_od_mm": 81.0,
-                 "material": "20CrMnTi", "quality_grade": 7, "fixture_height_mm": 50.0},
+                 "material": "20CrMnTi", "quality_grade": 7, "fixture_height_mm": 100.0},
     }))
     .unwrap();
     let req = JobRequest {

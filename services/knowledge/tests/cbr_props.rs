@@ -134,7 +134,7 @@ fn request(process: serde_json::Value) -> JobRequest {
     let spec: JobSpec = serde_json::from_value(serde_json::json!({
         "job": {"machine": "H01", "part_number": "PROP", "quantity": 10},
         "gear": {"module_mm": 3.0, "teeth": 25, "face_width_mm": 30.0,
-                 "material": "20CrMnTi", "quality_grade": 7, "fixture_height_mm": 50.0},
+                 "material": "20CrMnTi", "quality_grade": 7, "fixture_height_mm": 100.0},
         "process": process,
     }))
     .unwrap();

@@ -33,7 +33,7 @@ teeth = 25
 face_width_mm = 30.0
 blank_od_mm = 81.0
 material = "20CrMnTi"
-fixture_height_mm = 50.0
+fixture_height_mm = 100.0
 [hob]
 id = "HOB-M3-80"
 "#;

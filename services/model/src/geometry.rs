@@ -319,7 +319,7 @@ pub(crate) mod tests {
             od_correction_mm: 0.0,
             material: "42CrMo4".into(),
             quality_grade: 8,
-            fixture_height_mm: 50.0,
+            fixture_height_mm: 100.0,
             fixture_diameter_mm: None,
             ball_diameter_mm: None,
             mate: None,

@@ -1057,10 +1057,10 @@ mod tests {
 
     #[test]
     fn positions_conventional_and_climb() {
-        // L 73.749037, ΔH′ 22.279643 (Python sweep), top = 50 + 30 + ΔH′ + 2.
+        // L 73.749037, ΔH′ 22.279643 (Python sweep), top = 100 + 30 + ΔH′ + 2.
         let plan = fixtures::plan();
         let p = kin(&plan).positions;
-        let (xc, top, bottom) = (73.749_036_780_371, 104.279_643_304, 25.720_356_696);
+        let (xc, top, bottom) = (73.749_036_780_371, 154.279_643_304, 75.720_356_696);
         assert_eq!((p.A.x_mm, p.A.z_mm), (300.0, 350.0));
         assert_relative_eq!(p.B.x_mm, xc + 100.0, epsilon = 1e-9);
         assert_relative_eq!(p.B.z_mm, top, epsilon = 1e-6);

@@ -151,7 +151,7 @@ fn finite(k: &Kinematics) -> bool {
     v.iter().all(|x| x.is_finite())
 }
 
-const LIMIT_CODES: [&str; 7] = [
+const LIMIT_CODES: [&str; 8] = [
     codes::HOB_RPM_LIMIT,
     codes::TABLE_RPM_LIMIT,
     codes::AXIAL_FEED_LIMIT,
@@ -159,6 +159,7 @@ const LIMIT_CODES: [&str; 7] = [
     codes::POSITION_TRAVEL_LIMIT,
     codes::FEED_RATE_LIMIT,
     codes::WORKPIECE_OD_LIMIT,
+    codes::ENVELOPE_COLLISION,
 ];
 
 proptest! {

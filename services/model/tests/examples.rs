@@ -70,7 +70,7 @@ fn every_example_runs_or_fails_with_its_named_error() {
                     gearcam_proto::Dialect::Fanuc => {
                         assert!(program.text.contains(" G81 T"), "{name}")
                     }
-                    _ => assert!(program.text.contains("EGON("), "{name}"),
+                    _ => assert!(program.text.contains("EGONSYNE("), "{name}"),
                 }
                 assert!(!model.model.cuts.is_empty(), "{name}");
                 assert!(model.model.part_time_min > 0.0, "{name}");
@@ -162,7 +162,7 @@ fn worm_wheel_and_multi_gear_examples() {
     assert_eq!(m.model.class, GearClass::MultiGear);
     assert_eq!(m.model.units.len(), 2);
     assert!(m.model.units[1].hob_change);
-    assert!((m.model.units[1].gear.fixture_height_mm - 140.0).abs() < 1e-12);
+    assert!((m.model.units[1].gear.fixture_height_mm - 190.0).abs() < 1e-12);
     assert!(text.contains("M0 ; STOP FOR THE HOB CHANGE"), "{text}");
     let sum: f64 = m.model.units.iter().map(|u| u.model.part_time_min).sum();
     assert!((m.model.part_time_min - sum).abs() < 1e-12);
@@ -179,7 +179,8 @@ module_mm = 1.0
 teeth = 20
 face_width_mm = 10.0
 ball_diameter_mm = 1.7
-fixture_height_mm = 50.0
+fixture_height_mm = 100.0
+fixture_diameter_mm = 12.0
 [hob]
 starts = 1
 od_mm = 40.0
