@@ -649,7 +649,7 @@ mod tests {
             },
             model: Kinematics {
                 swivel_deg: -2.2,
-                swivel_axis_deg: -2.2,
+                swivel_axis_deg: 2.2,
                 clearance_mm: 22.5,
                 safety_mm: 2.0,
                 centre_distance_mm: 73.75,
@@ -657,10 +657,10 @@ mod tests {
                 blank_od_mm: 81.0,
                 positions: Positions {
                     A: p(300.0, 400.0),
-                    B: p(173.75, 104.5),
-                    C: p(73.75, 104.5),
-                    D: p(73.75, 25.5),
-                    E: p(78.75, 25.5),
+                    B: p(173.75, 154.5),
+                    C: p(73.75, 154.5),
+                    D: p(73.75, 75.5),
+                    E: p(78.75, 75.5),
                 },
                 hob_rpm: 397.887_357_729_738,
                 index_rpm: 15.915_494_309_189_5,
@@ -762,8 +762,8 @@ mod tests {
         m.plan.request.spec.gear.helix_angle_deg = 15.0;
         m.plan.request.spec.gear.helix_hand = Some(Hand::Right);
         m.geometry.lead_mm = Some(std::f64::consts::PI * 3.0 * 25.0 / beta.sin());
-        m.model.swivel_deg = -12.8;
-        m.model.swivel_axis_deg = -12.8;
+        m.model.swivel_deg = 12.8;
+        m.model.swivel_axis_deg = 12.8;
         m.model.differential_deg_per_mm = 360.0 * beta.sin() / (std::f64::consts::PI * 3.0 * 25.0);
         with_one_cut(m)
     }
@@ -809,7 +809,7 @@ mod tests {
         assert_eq!(lines[4], "; PART SP-1001");
         assert_eq!(lines[5], "; CLASS cylindrical");
         assert_eq!(lines[6], "; MACHINE H01 YK3126 CNC hobbing machine");
-        assert_eq!(lines[7], "; TEMPLATE cylindrical_840d VERSION 4");
+        assert_eq!(lines[7], "; TEMPLATE cylindrical_840d VERSION 5");
         assert_eq!(lines[8], "; CASES CD-STEEL-HSS-1 CASE-0042");
         assert_eq!(lines[9], "; MODEL gearcam-model 0.1.0");
         assert_eq!(lines[10], format!("; GENERATOR {GENERATOR}"));
@@ -838,7 +838,7 @@ mod tests {
             program.template,
             TemplateRef {
                 id: "cylindrical_840d".into(),
-                version: 4
+                version: 5
             }
         );
         assert_eq!(program.cases, vec!["CD-STEEL-HSS-1", "CASE-0042"]);
@@ -874,7 +874,13 @@ mod tests {
             .map(|b| b.split_once(' ').unwrap().1)
             .collect();
         let expected = [
-            "G0 G90 X=173.75 Z=104.5 A=-2.2",
+            "G71 G90 G94 DIAMOF ; METRIC, ABSOLUTE, FEED PER MINUTE, X IS THE CENTRE DISTANCE (A RADIUS)",
+            "G54 ; WORK OFFSET: Z0 ON THE TABLE PLANE, X0 ON THE TABLE AXIS",
+            "G0 G90 X=300.0 ; RADIAL RETRACT FIRST, FROM WHEREVER THE HOB STANDS",
+            "G0 G90 Z=400.0",
+            "G0 G90 A=2.2 ; HOB HEAD SWIVELLED AT THE START POINT",
+            "G0 G90 Z=154.5",
+            "G0 G90 X=173.75",
             "M10 ; FIXTURE CLAMP",
             "M8 ; COOLANT ON",
             "M24 ; CHIP CONVEYOR ON",
@@ -884,10 +890,10 @@ mod tests {
             "R4=1 ; HOB STARTS Z0",
             "R5=2.2 ; HOB LEAD ANGLE GAMMA0, DEG",
             "EGDEF(C,B,1)",
-            "EGON(C,\"FINE\",B,1,25)",
+            "EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25) ; COUPLED AT FIXED SYNCHRONISED POSITIONS: EVERY CUT SHARES THIS REFERENCE",
             "M3 S=397.887 ; HOB ON, RPM",
             "G0 G90 X=73.75",
-            "G1 G90 G94 Z=25.5 F=31.831",
+            "G1 G90 G94 Z=75.5 F=31.831",
             "G0 G90 X=78.75",
             "M5 ; HOB OFF",
             "G0 G90 X=300.0 ; RADIAL RETRACT FIRST: THE HOB LEAVES THE BLANK ZONE",
@@ -908,9 +914,17 @@ mod tests {
         let mut model = spur_model();
         model.plan.hob.starts = 2;
         model.model.coupling = Ratio { num: 2, den: 37 };
-        let text = render(&model).text;
+        model.model.factors.c_per_b = Ratio { num: 2, den: 37 };
+        let text = Templates::builtin().instantiate(&model).unwrap().text;
         assert_eq!(block(&text, "EGDEF"), "EGDEF(C,B,1)");
-        assert_eq!(block(&text, "EGON"), "EGON(C,\"FINE\",B,2,37)");
+        assert_eq!(
+            block(&text, "EGONSYNE"),
+            "EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,2,37) ; COUPLED AT FIXED SYNCHRONISED POSITIONS: EVERY CUT SHARES THIS REFERENCE"
+        );
+        // A left-hand hob turns the table the other way (issue 10, defect 3).
+        model.model.factors.c_per_b = Ratio { num: -2, den: 37 };
+        let text = Templates::builtin().instantiate(&model).unwrap().text;
+        assert!(text.contains("EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,-2,37)"), "{text}");
     }
 
     #[test]
@@ -918,12 +932,12 @@ mod tests {
         let text = render(&helical_model()).text;
         assert_eq!(block(&text, "EGDEF"), "EGDEF(C,B,1,Z,1)");
         // 360·sin 15° / (π·3·25) = 0.395446 °/mm (SPEC §4.3).
-        assert_eq!(block(&text, "EGON"), "EGON(C,\"FINE\",B,1,25,Z,0.395446,1)");
-        assert_eq!(block(&text, "R3="), "R3=15.0 ; HELIX ANGLE BETA, DEG");
-        assert_eq!(
-            block(&text, "G0 G90 X=173.75"),
-            "G0 G90 X=173.75 Z=104.5 A=-12.8"
+        assert!(
+            text.contains("EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25,Z,0,0.395446,1)"),
+            "{text}"
         );
+        assert_eq!(block(&text, "R3="), "R3=15.0 ; HELIX ANGLE BETA, DEG");
+        assert_eq!(block(&text, "G0 G90 A="), "G0 G90 A=12.8 ; HOB HEAD SWIVELLED AT THE START POINT");
         assert!(
             text.contains("; GEAR MN=3.0 Z=25 BETA=15.0 RIGHT B=30.0"),
             "{text}"
@@ -936,16 +950,16 @@ mod tests {
         model.model.differential_deg_per_mm = -0.395_446_2;
         let model = with_one_cut(model);
         let text = render(&model).text;
-        assert_eq!(
-            block(&text, "EGON"),
-            "EGON(C,\"FINE\",B,1,25,Z,-0.395446,1)"
+        assert!(
+            text.contains("EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25,Z,0,-0.395446,1)"),
+            "{text}"
         );
     }
 
     #[test]
     fn feed_block_goes_to_d_at_the_axial_feed() {
         let text = render(&spur_model()).text;
-        assert_eq!(block(&text, "G1 "), "G1 G90 G94 Z=25.5 F=31.831");
+        assert_eq!(block(&text, "G1 "), "G1 G90 G94 Z=75.5 F=31.831");
     }
 
     #[test]
@@ -954,17 +968,14 @@ mod tests {
         model.plan.process.cut_mode = CutMode::Climb;
         model.model.cut_mode = CutMode::Climb;
         let pos = &mut model.model.positions;
-        pos.B.z_mm = 25.5;
-        pos.C.z_mm = 25.5;
-        pos.D.z_mm = 104.5;
-        pos.E.z_mm = 104.5;
+        pos.B.z_mm = 75.5;
+        pos.C.z_mm = 75.5;
+        pos.D.z_mm = 154.5;
+        pos.E.z_mm = 154.5;
         let model = with_one_cut(model);
         let text = render(&model).text;
-        assert_eq!(
-            block(&text, "G0 G90 X=173.75"),
-            "G0 G90 X=173.75 Z=25.5 A=-2.2"
-        );
-        assert_eq!(block(&text, "G1 "), "G1 G90 G94 Z=104.5 F=31.831");
+        assert_eq!(block(&text, "G0 G90 Z=75.5"), "G0 G90 Z=75.5");
+        assert_eq!(block(&text, "G1 "), "G1 G90 G94 Z=154.5 F=31.831");
         assert!(text.contains("; CUT CLIMB "), "{text}");
         assert!(text.contains("(CLIMB CUT)"), "{text}");
     }
@@ -1027,20 +1038,18 @@ mod tests {
         let mut helical = helical_model();
         helical.plan.machine = machine.clone();
         let text = render(&model).text;
-        assert_eq!(
-            block(&text, "G0 G90 X1=173.75"),
-            "G0 G90 X1=173.75 Z1=104.5 A1=-2.2"
-        );
+        assert_eq!(block(&text, "G0 G90 X1=173.75"), "G0 G90 X1=173.75");
+        assert_eq!(block(&text, "G0 G90 A1="), "G0 G90 A1=2.2 ; HOB HEAD SWIVELLED AT THE START POINT");
         assert_eq!(block(&text, "EGDEF"), "EGDEF(C1,SP1,1)");
-        assert_eq!(block(&text, "EGON"), "EGON(C1,\"FINE\",SP1,1,25)");
-        assert_eq!(block(&text, "G1 "), "G1 G90 G94 Z1=25.5 F=31.831");
+        assert!(text.contains("EGONSYNE(C1,\"FINE\",0,\"DCT\",SP1,0,1,25)"), "{text}");
+        assert_eq!(block(&text, "G1 "), "G1 G90 G94 Z1=75.5 F=31.831");
         assert_eq!(block(&text, "EGOFS"), "EGOFS(C1) ; GEARBOX OFF");
         assert_eq!(m_codes(&text), vec![10, 7, 24, 13, 15, 9, 25, 11, 2]);
         let text = render(&helical).text;
         assert_eq!(block(&text, "EGDEF"), "EGDEF(C1,SP1,1,Z1,1)");
-        assert_eq!(
-            block(&text, "EGON"),
-            "EGON(C1,\"FINE\",SP1,1,25,Z1,0.395446,1)"
+        assert!(
+            text.contains("EGONSYNE(C1,\"FINE\",0,\"DCT\",SP1,0,1,25,Z1,0,0.395446,1)"),
+            "{text}"
         );
         assert!(!text.contains("EGDEF(C,"), "{text}");
     }
@@ -1101,11 +1110,8 @@ mod tests {
             !text.contains("-0.0 ") && !text.contains("-0.0\n"),
             "{text}"
         );
-        assert_eq!(
-            block(&text, "G0 G90 X=173.75"),
-            "G0 G90 X=173.75 Z=104.5 A=0.0"
-        );
-        assert_eq!(block(&text, "G0 G90 Z=0.0"), "G0 G90 Z=0.0");
+        assert_eq!(block(&text, "G0 G90 A="), "G0 G90 A=0.0 ; HOB HEAD SWIVELLED AT THE START POINT");
+        assert!(text.contains(" G0 G90 Z=0.0\n"), "{text}");
         assert!(!text.contains('e') || !text.contains("e-"), "{text}");
     }
 
@@ -1350,7 +1356,7 @@ mod tests {
         }));
         assert!(list.contains(&TemplateRef {
             id: "conical_840d".into(),
-            version: 4
+            version: 5
         }));
     }
 
@@ -1414,7 +1420,7 @@ mod tests {
             .unwrap()
             .1;
         let own = shipped
-            .replace("@version 4", "@version 9")
+            .replace("@version 5", "@version 9")
             .replace("; GEARCAM HOBBING PROGRAM", "; SHOP HOBBING PROGRAM");
         let file = crate::stdcode::parse("own.tpl", &own).unwrap();
         crate::library::Library::open(&path)
@@ -1422,7 +1428,7 @@ mod tests {
             .import(&[file], &[own.as_str()], 2)
             .unwrap();
         // At the next start the service compiles the shop's version, and the
-        // shipped version 4 is not imported over it.
+        // shipped version 5 is not imported over it.
         let next = Templates::from_library(&path, DEFAULT_FUEL, 3).unwrap();
         let t = next.find("cylindrical", Dialect::Sinumerik840d).unwrap();
         assert_eq!(t.version, 9);

@@ -29,7 +29,7 @@ pub const PEN_TOL: f64 = 0.002;
 /// Samples around the hob's circumference.
 const N_THETA: usize = 72;
 /// Samples along the hob's length (both ends included).
-const N_AXIAL: usize = 11;
+const N_AXIAL: usize = 21;
 /// Rings sampled on each end face (plus its centre).
 const N_RINGS: usize = 3;
 /// Samples on an obstacle's edge circle.
@@ -38,6 +38,8 @@ const N_RIM: usize = 72;
 const POSE_STEP_MM: f64 = 1.0;
 /// Pattern-search iterations of the refinement.
 const REFINE_ITERS: usize = 60;
+/// Deepest samples the refinement starts from.
+const REFINE_STARTS: usize = 4;
 
 type P3 = [f64; 3];
 
@@ -394,10 +396,14 @@ fn sweep(
     length: f64,
 ) -> Option<Worst> {
     let n = ((length / POSE_STEP_MM).ceil() as usize).clamp(1, 2000);
-    let mut best: Option<(Worst, f64, i8, f64, f64)> = None;
+    // The deepest samples, deepest first, each with its parameters
+    // (t, face, θ, s); face 2 marks an obstacle edge point inside the hob.
+    let mut top: Vec<(Worst, f64, i8, f64, f64)> = Vec::with_capacity(REFINE_STARTS + 1);
     let mut consider = |w: Worst, t: f64, face: i8, theta: f64, s: f64| {
-        if best.is_none_or(|b| w.depth > b.0.depth) {
-            best = Some((w, t, face, theta, s));
+        if top.len() < REFINE_STARTS || w.depth > top[top.len() - 1].0.depth {
+            let at = top.partition_point(|b| b.0.depth >= w.depth);
+            top.insert(at, (w, t, face, theta, s));
+            top.truncate(REFINE_STARTS);
         }
     };
     let dtheta = std::f64::consts::TAU / N_THETA as f64;
@@ -412,45 +418,58 @@ fn sweep(
             for j in 0..N_AXIAL {
                 let s = -hob.half + 2.0 * hob.half * j as f64 / (N_AXIAL - 1) as f64;
                 let p = pose.point(hob, 0, theta, s);
-                consider(
-                    Worst {
-                        depth: ob.depth_of(p),
-                        at: p,
-                    },
-                    t,
-                    0,
-                    theta,
-                    s,
-                );
+                let w = Worst {
+                    depth: ob.depth_of(p),
+                    at: p,
+                };
+                consider(w, t, 0, theta, s);
             }
             for face in [-1i8, 1] {
                 for ring in 0..=N_RINGS {
                     let s = hob.r * ring as f64 / N_RINGS as f64;
                     let p = pose.point(hob, face, theta, s);
-                    consider(
-                        Worst {
-                            depth: ob.depth_of(p),
-                            at: p,
-                        },
-                        t,
-                        face,
-                        theta,
-                        s,
-                    );
+                    let w = Worst {
+                        depth: ob.depth_of(p),
+                        at: p,
+                    };
+                    consider(w, t, face, theta, s);
                 }
             }
         }
         for &q in rims {
-            // An edge of the obstacle inside the hob: no surface parameters
-            // to refine (face 2), the depth is exact at this pose.
-            consider(Worst { depth: pose.depth_of(hob, q), at: q }, t, 2, 0.0, 0.0);
+            // An edge point of the obstacle inside the hob: exact at this pose.
+            let w = Worst {
+                depth: pose.depth_of(hob, q),
+                at: q,
+            };
+            consider(w, t, 2, 0.0, 0.0);
         }
     }
-    let (mut w, mut t, face, mut theta, mut s) = best?;
-    if face == 2 || w.depth < -1.0 {
-        return Some(w);
+    let mut best: Option<Worst> = None;
+    for (w, t, face, theta, s) in top {
+        let w = if face == 2 {
+            w
+        } else {
+            refine(hob, ob, pose_at, n, dtheta, (w, t, face, theta, s))
+        };
+        if best.is_none_or(|b| w.depth > b.depth) {
+            best = Some(w);
+        }
     }
-    // Pattern search on (t, θ, s) from the deepest sample.
+    best
+}
+
+/// Pattern search on (t, θ, s) from one sample: try a step either way along
+/// each parameter, keep what goes deeper, halve the steps when nothing does.
+fn refine(
+    hob: &HobSolid,
+    ob: &Obstacle,
+    pose_at: &dyn Fn(f64) -> Pose,
+    n: usize,
+    dtheta: f64,
+    start: (Worst, f64, i8, f64, f64),
+) -> Worst {
+    let (mut w, mut t, face, mut theta, mut s) = start;
     let mut steps = [
         1.0 / n as f64,
         dtheta,
@@ -461,7 +480,7 @@ fn sweep(
         },
     ];
     let eval = |t: f64, theta: f64, s: f64| {
-        let p = pose_at(t.clamp(0.0, 1.0)).point(hob, face, theta, s);
+        let p = pose_at(t).point(hob, face, theta, s);
         Worst {
             depth: ob.depth_of(p),
             at: p,
@@ -487,7 +506,7 @@ fn sweep(
             }
         }
     }
-    Some(w)
+    w
 }
 
 #[cfg(test)]
@@ -496,9 +515,10 @@ mod tests {
 
     #[test]
     fn a_hob_just_above_a_disc_is_outside_and_just_below_is_inside() {
-        // Hob r 40 × 100 without tilt, centre 40.5 mm above the top face of a
-        // blank R 40.5 at X = 73.75 (h 6.75): the lowest point over the disc
-        // is the hob's lowest line, 0.5 mm above the face.
+        // Hob r 40 × 100 without tilt at X = 73.75 over a blank R 40.5
+        // (h 6.75): the lowest point over the disc lies √(h·(2r − h)) =
+        // 22.235951 mm below the hob centre, at the blank's rim.
+        let reach = (6.75f64 * (80.0 - 6.75)).sqrt();
         let hob = HobSolid { r: 40.0, half: 50.0 };
         let ob = Obstacle {
             what: "the blank".into(),
@@ -510,10 +530,14 @@ mod tests {
         };
         let rims = ob.rims();
         let at = |z: f64| move |_t: f64| Pose::new(73.75, z, 0.0, 0.0);
-        let above = sweep(&hob, &ob, &rims, &at(70.5), 0.0).unwrap();
-        assert!((above.depth + 0.5).abs() < 1e-3, "{above:?}");
-        let below = sweep(&hob, &ob, &rims, &at(69.5), 0.0).unwrap();
-        assert!((below.depth - 0.5).abs() < 1e-3, "{below:?}");
+        // Outside, the depth is negative: a lower bound of the gap measured
+        // along the hob's or the blank's own normal.
+        let above = sweep(&hob, &ob, &rims, &at(30.0 + reach + 0.5), 0.0).unwrap();
+        assert!(above.depth < -0.2 && above.depth > -0.5 - 1e-3, "{above:?}");
+        let touching = sweep(&hob, &ob, &rims, &at(30.0 + reach + 0.01), 0.0).unwrap();
+        assert!(touching.depth < 0.0, "{touching:?}");
+        let below = sweep(&hob, &ob, &rims, &at(30.0 + reach - 0.5), 0.0).unwrap();
+        assert!(below.depth > 0.1, "{below:?}");
     }
 
     #[test]

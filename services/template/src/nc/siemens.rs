@@ -581,6 +581,15 @@ mod tests {
     }
 
     #[test]
+    fn egonsyne_y_group_with_three_arguments() {
+        // Issue 10 defect 6: the Y group of this block has no synchronised
+        // position (axis, numerator, denominator); each leading axis of
+        // EGONSYNE takes four arguments.
+        let err = one("N260 EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25,Y,1.526579,1)").unwrap_err();
+        assert!(err.contains("four arguments"), "{err}");
+    }
+
+    #[test]
     fn blocks_of_the_subset() {
         let Op::Motion(m) = one("N10 G0 G90 X=174.05 Z=82.0 A=2.3715").unwrap() else {
             panic!()
@@ -604,14 +613,16 @@ mod tests {
             one("N150 R26=TRUNC(R25/R23) ; SHIFT STEPS SO FAR").unwrap(),
             Op::Assign { param: 26, .. }
         ));
-        let Op::GearOn { sync, leading, .. } =
-            one("N260 EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25,Y,1.526579,1) ; RE-SYNC").unwrap()
+        let Op::GearOn { sync, leading, position, .. } =
+            one("N260 EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25,Y,0,1.526579,1) ; SYNC").unwrap()
         else {
             panic!()
         };
         assert!(sync);
+        assert_eq!(position.map(|p| p.value), Some(0.0));
         assert_eq!(leading.len(), 2);
         assert_eq!(leading[1].num.value, 1.526579);
+        assert_eq!(leading[1].position.map(|p| p.value), Some(0.0));
         assert!(matches!(
             one("N215 G4 F=2.0 ; DWELL, S").unwrap(),
             Op::Dwell { .. }
