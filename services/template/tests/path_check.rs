@@ -183,13 +183,15 @@ fn assert_round_trip(what: &str, model: &MachiningModel, trace: &Trace) {
             }
         }
     }
-    let first = trace.moves.first().expect("moves");
+    // The approach: from wherever the hob stands it retracts radially, rises,
+    // swivels, then reaches the first B before the gearbox couples.
     let b = kins[0].cuts[0].positions.B;
+    let approach: Vec<_> = trace.moves.iter().take_while(|t| !t.coupled).collect();
     assert!(
-        (first.x_mm - b.x_mm).abs() <= MM && (first.z_mm - b.z_mm).abs() <= MM,
-        "{what}: the first move ends at X={} Z={}, not at B {b:?}",
-        first.x_mm,
-        first.z_mm
+        approach
+            .iter()
+            .any(|t| (t.x_mm - b.x_mm).abs() <= MM && (t.z_mm - b.z_mm).abs() <= MM),
+        "{what}: no move before the coupling ends at B {b:?}: {approach:#?}"
     );
     let last = trace
         .moves
@@ -215,8 +217,10 @@ fn assert_round_trip(what: &str, model: &MachiningModel, trace: &Trace) {
     for c in &trace.couplings {
         let fits = |k: &Kinematics| {
             let f = &k.factors;
-            c.num.unsigned_abs() == u64::from(k.coupling.num.unsigned_abs())
-                && c.den.unsigned_abs() == u64::from(k.coupling.den)
+            // The ratio with its sign: the hob's hand in the machine's
+            // directions (FANUC L and T are the unreduced starts and teeth).
+            i128::from(c.num) * i128::from(f.c_per_b.den)
+                == i128::from(c.den) * i128::from(f.c_per_b.num)
                 && c.c_per_y_deg_per_mm
                     .is_none_or(|y| (y - f.c_per_y_deg_per_mm).abs() <= FACTOR)
                 && match c.c_per_z_deg_per_mm {
@@ -285,7 +289,7 @@ fn fanuc_program(m: &MachiningModel) -> String {
     let cut = &k.cuts[0];
     let (b, e) = (cut.positions.B, cut.positions.E);
     let a = k.positions.A;
-    let mut g81 = format!("G81 T{} L{}", k.coupling.den, k.coupling.num);
+    let mut g81 = format!("G81 T{} L{}", k.factors.c_per_b.den, k.factors.c_per_b.num);
     if k.factors.c_per_z_deg_per_mm != 0.0 {
         let p = gear
             .helix_angle_deg
@@ -296,6 +300,7 @@ fn fanuc_program(m: &MachiningModel) -> String {
     let mut s = String::new();
     s.push_str("%\nO1001 (SP-1001 HOBBING)\n(GEARCAM HOBBING PROGRAM O1001)\n");
     s.push_str(&format!("(JOB {})\n", m.job_id));
+    s.push_str("N5 G21 (METRIC)\nN6 G90 G94 G54 (ABSOLUTE, FEED PER MINUTE, WORK OFFSET)\n");
     s.push_str(&format!(
         "N10 G00 G90 X{} Z{} A{}\n",
         f3(b.x_mm),
@@ -321,7 +326,7 @@ fn fanuc_program(m: &MachiningModel) -> String {
         }
         let block = match mv.kind {
             MoveKind::Rapid => format!("G00 G90{words}"),
-            MoveKind::Feed => format!("G01 G90 G98{words} F{}", f3(mv.feed_mm_min)),
+            MoveKind::Feed => format!("G01 G90 G94{words} F{}", f3(mv.feed_mm_min)),
             other => panic!("the fixture writes rapid and feed moves, not {other:?}"),
         };
         s.push_str(&format!(
@@ -393,6 +398,8 @@ fn fanuc_tangential(m: &MachiningModel) -> String {
     let correction = k.factors.c_per_y_deg_per_mm * dy;
     format!(
         "%\nO4002 (WW-4002 HOBBING)\n\
+         N5 G21\n\
+         N6 G90 G94 G54\n\
          N10 G00 G90 X{} Z{} A{}\n\
          N20 G00 G90 Y{} (HOB SHIFTED TO THE TANGENTIAL START)\n\
          N30 G81 T{} L{} (EGB ON)\n\
@@ -409,8 +416,8 @@ fn fanuc_tangential(m: &MachiningModel) -> String {
         f3(b.z_mm),
         f4(k.swivel_axis_deg),
         f3(w.start_y_mm),
-        k.coupling.den,
-        k.coupling.num,
+        k.factors.c_per_b.den,
+        k.factors.c_per_b.num,
         k.hob_rpm.round(),
         f3(c.x_mm),
         f3(dy),
@@ -491,18 +498,18 @@ fn block_with<'a>(text: &'a str, needle: &str) -> &'a str {
 #[test]
 fn a_cut_before_the_gearbox_is_coupled_is_depth_uncoupled() {
     let (m, text) = spur_840d();
-    // Move EGDEF and EGON after the axial feed C → D.
+    // Move EGDEF and EGONSYNE after the axial feed C → D.
     let egdef = block_with(&text, "EGDEF(").to_string();
-    let egon = block_with(&text, "EGON(").to_string();
+    let egon = block_with(&text, "EGONSYNE(").to_string();
     let feed = block_with(&text, "G1 G90 G94").to_string();
-    let bad = remove_line(&remove_line(&text, "EGDEF("), "EGON(");
+    let bad = remove_line(&remove_line(&text, "EGDEF("), "EGONSYNE(");
     let bad = replace_line(&bad, &feed, &format!("{feed}\n{egdef}\n{egon}"));
     let (check, _) = nc::check(&bad, &m);
     let line = line_of(&bad, &feed);
     assert_eq!(found(&check), vec![(rules::DEPTH_UNCOUPLED, line)], "{bad}");
     let msg = &check.findings[0].message;
     assert!(
-        msg.starts_with(&format!("line {line}: feed move from X=73.75 Z=104.202 to X=73.75 Z=25.798 enters the contact zone (X < 80.5, 25.798 < Z < 104.202) while the gearbox is not coupled")),
+        msg.starts_with(&format!("line {line}: feed move from X=73.75 Z=154.278 to X=73.75 Z=75.722 enters the contact zone (X < 80.5, 75.722 < Z < 154.278) while the gearbox is not coupled")),
         "{msg}"
     );
 
@@ -523,22 +530,32 @@ fn a_rapid_into_the_blank_breaks_the_clearance() {
     let (m, text) = spur_840d();
     let infeed = block_with(&text, "G0 G90 X=73.75");
     let number = infeed.split(' ').next().unwrap();
-    let bad = replace_line(&text, infeed, &format!("{number} G0 G90 X=75.0 Z=40.0"));
+    let bad = replace_line(&text, infeed, &format!("{number} G0 G90 X=75.0 Z=120.0"));
     let (check, _) = nc::check(&bad, &m);
-    let line = line_of(&bad, "X=75.0 Z=40.0");
-    assert_eq!(found(&check), vec![(rules::RAPID_CLEARANCE, line)], "{bad}");
+    let line = line_of(&bad, "X=75.0 Z=120.0");
+    // The zone of the model's clearance and the swept hob solid both see it.
+    assert_eq!(
+        found(&check),
+        vec![(rules::RAPID_CLEARANCE, line), (rules::HOB_CLEARANCE, line)],
+        "{bad}"
+    );
     assert_eq!(
         check.findings[0].message,
-        format!("line {line}: rapid move from X=173.75 Z=104.202 to X=75.0 Z=40.0 passes through the blank zone (X < 80.5, 25.798 < Z < 104.202)")
+        format!("line {line}: rapid move from X=173.75 Z=154.278 to X=75.0 Z=120.0 passes through the blank zone (X < 80.5, 75.722 < Z < 154.278)")
     );
 
     // The diagonal return from E to A the first 840D template wrote: X is
     // below R + r while Z climbs into the band, with the hob stopped.
-    let back = block_with(&text, "RADIAL RETRACT FIRST");
+    let back = block_with(&text, "RADIAL RETRACT FIRST: THE HOB LEAVES");
     let number = back.split(' ').next().unwrap();
+    let back_z = text
+        .lines()
+        .rev()
+        .find(|l| l.contains("G0 G90 Z=350.0"))
+        .unwrap();
     let bad = remove_line(
         &replace_line(&text, back, &format!("{number} G0 X=300.0 Z=350.0")),
-        "G0 G90 Z=350.0",
+        back_z,
     );
     let (check, _) = nc::check(&bad, &m);
     let line = line_of(&bad, "G0 X=300.0 Z=350.0");
@@ -556,7 +573,7 @@ fn a_rapid_into_the_blank_breaks_the_clearance() {
 #[test]
 fn travel_and_swivel_beyond_the_machine_are_travel_limits() {
     let (m, text) = spur_840d();
-    let first = block_with(&text, "G0 G90 X=173.75 Z=104.202 A=");
+    let first = block_with(&text, "G0 G90 X=173.75");
     let bad = replace_line(&text, first, &first.replace("X=173.75", "X=450.0"));
     let (check, _) = nc::check(&bad, &m);
     assert_eq!(
@@ -567,12 +584,20 @@ fn travel_and_swivel_beyond_the_machine_are_travel_limits() {
         .message
         .contains("X=450.0 is outside the machine's travel 0.0 to 400.0 mm"));
 
-    let bad = replace_line(&text, first, &first.replace("A=2.3715", "A=-50.0"));
+    // A swivel beyond the head's range; tilted that far the hob also
+    // reaches the blank on the approach, which the swept solid reports.
+    let swivel = block_with(&text, "G0 G90 A=2.3715");
+    let bad = replace_line(&text, swivel, &swivel.replace("A=2.3715", "A=-50.0"));
     let (check, _) = nc::check(&bad, &m);
-    assert_eq!(
-        found(&check),
-        vec![(rules::TRAVEL_LIMIT, line_of(&bad, "A=-50.0"))]
+    let line = line_of(&bad, "A=-50.0");
+    assert!(
+        found(&check).contains(&(rules::TRAVEL_LIMIT, line)),
+        "{:#?}",
+        check.findings
     );
+    assert!(found(&check)
+        .iter()
+        .all(|(rule, l)| *rule != rules::TRAVEL_LIMIT || *l == line));
 }
 
 #[test]
@@ -675,10 +700,14 @@ fn switched_functions_are_paired() {
 fn the_program_ends_at_a_with_the_end_code() {
     let (m, text) = spur_840d();
     // The axial return to A dropped: the last move ends above E.
-    let ret = block_with(&text, "G0 G90 Z=350.0");
+    let ret = text
+        .lines()
+        .rev()
+        .find(|l| l.contains("G0 G90 Z=350.0"))
+        .unwrap();
     let bad = remove_line(&text, ret);
     let (check, _) = nc::check(&bad, &m);
-    let last = line_of(&bad, "RADIAL RETRACT FIRST");
+    let last = line_of(&bad, "RADIAL RETRACT FIRST: THE HOB LEAVES");
     assert_eq!(found(&check), vec![(rules::END_AT_A, last)]);
     assert!(check.findings[0]
         .message
@@ -702,29 +731,39 @@ fn the_program_ends_at_a_with_the_end_code() {
 #[test]
 fn couplings_other_than_the_models_are_coupling_ratios() {
     let (m, text) = spur_840d();
-    let egon = block_with(&text, "EGON(");
-    let bad = replace_line(&text, egon, &egon.replace("B,1,25", "B,1,24"));
+    let egon = block_with(&text, "EGONSYNE(");
+    let bad = replace_line(&text, egon, &egon.replace("B,0,1,25", "B,0,1,24"));
     let (check, _) = nc::check(&bad, &m);
     assert_eq!(
         found(&check),
-        vec![(rules::COUPLING_RATIO, line_of(&bad, "B,1,24"))]
+        vec![(rules::COUPLING_RATIO, line_of(&bad, "B,0,1,24"))]
     );
-    assert!(check.findings[0]
-        .message
-        .contains("by 1/24; the model's ratio z0/z is 1/25"));
+    assert!(
+        check.findings[0]
+            .message
+            .contains("by 1/24; the model's ratio is 1/25"),
+        "{}",
+        check.findings[0].message
+    );
     // 2/50 is z0/z as a fraction.
-    let bad = replace_line(&text, egon, &egon.replace("B,1,25", "B,2,50"));
+    let bad = replace_line(&text, egon, &egon.replace("B,0,1,25", "B,0,2,50"));
     assert!(nc::check(&bad, &m).0.ok);
+    // The sign is the hob's hand: −1/25 turns the table the wrong way.
+    let bad = replace_line(&text, egon, &egon.replace("B,0,1,25", "B,0,-1,25"));
+    assert_eq!(
+        found(&nc::check(&bad, &m).0),
+        vec![(rules::COUPLING_RATIO, line_of(&bad, "B,0,-1,25"))]
+    );
 
     // Helical: the differential factor of the EGON.
     let h = model("helical_840d.toml", &example("helical_840d.toml"), "H01");
     let htext = program("helical_840d.toml", &h);
-    let egon = block_with(&htext, "EGON(");
-    let bad = replace_line(&htext, egon, &egon.replace("Z,0.395446,1", "Z,0.395456,1"));
+    let egon = block_with(&htext, "EGONSYNE(");
+    let bad = replace_line(&htext, egon, &egon.replace("Z,0,0.395446,1", "Z,0,0.395456,1"));
     let (check, _) = nc::check(&bad, &h);
     assert_eq!(
         found(&check),
-        vec![(rules::COUPLING_RATIO, line_of(&bad, "EGON("))]
+        vec![(rules::COUPLING_RATIO, line_of(&bad, "EGONSYNE("))]
     );
 
     // FANUC: G81 T24 for a 25-tooth gear; L, Q and P likewise.
@@ -733,6 +772,7 @@ fn couplings_other_than_the_models_are_coupling_ratios() {
     for (from, to) in [
         ("T25", "T24"),
         ("L1 ", "L2 "),
+        ("L1 ", "L-1 "),
         ("Q3.0", "Q3.5"),
         ("P15.0", "P-15.0"),
         (" Q3.0 P15.0", ""),
@@ -753,7 +793,7 @@ fn couplings_other_than_the_models_are_coupling_ratios() {
 #[test]
 fn garbage_is_a_parse_finding_naming_its_line() {
     let (m, text) = spur_840d();
-    let egon = block_with(&text, "EGON(");
+    let egon = block_with(&text, "EGONSYNE(");
     let bad = replace_line(
         &text,
         egon,
