@@ -74,12 +74,24 @@ fn check_json_carries_the_contract_and_the_spec_self_check_numbers() {
         2.0 * nw,
         epsilon = 1e-3
     );
-    // Swivel, same hands: γ = −(|β| − |γ0|).
+    // Swivel: the signed setting angle η = s_g·β − s_h·γ0 of the neutral
+    // frame, and H01's axis value A = −η.
     assert_abs_diff_eq!(
         m["swivel_deg"].as_f64().unwrap(),
+        15.0 - 2.3716,
+        epsilon = 1e-9
+    );
+    assert_abs_diff_eq!(
+        m["swivel_axis_deg"].as_f64().unwrap(),
         -(15.0 - 2.3716),
         epsilon = 1e-9
     );
+    // The indexing ratio with its sign (the hob's hand), and ΔH′ as the reach
+    // of the finite hob (independent sweep of its tip cylinder, Python:
+    // 23.456419 mm for this blank and depth).
+    assert_eq!(m["coupling"]["num"], 1);
+    assert_eq!(m["coupling"]["den"], 25);
+    assert_abs_diff_eq!(m["clearance_mm"].as_f64().unwrap(), 23.456_419, epsilon = 1e-5);
     // Positions: C and D share X = L; D is below C by b + 2ΔH′ + 2·safety.
     let p = &m["positions"];
     let (cx, cz, dz) = (
@@ -115,7 +127,7 @@ fn check_json_carries_the_contract_and_the_spec_self_check_numbers() {
     assert!(v["program"]["text"]
         .as_str()
         .unwrap()
-        .contains("EGON(C,\"FINE\",B,1,25,Z,0.395446,1)"));
+        .contains("EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25,Z,0,0.395446,1)"));
     // The template that made it, and its path check (issue 5 contract).
     assert_eq!(v["program"]["template"]["id"], "cylindrical_840d");
     assert!(v["program"]["template"]["version"].as_u64().unwrap() >= 3);
@@ -127,6 +139,37 @@ fn check_json_carries_the_contract_and_the_spec_self_check_numbers() {
             .len(),
         0
     );
+}
+
+#[test]
+fn check_json_mirrors_the_signs_of_a_mirrored_set_up() {
+    // Left-hand gear and left-hand hob: the mirror image of SELF_CHECK. η,
+    // the indexing ratio and the differential turn; nothing else changes.
+    let dir = tempfile::tempdir().unwrap();
+    let mirrored = SELF_CHECK
+        .replace("helix_hand = \"right\"", "helix_hand = \"left\"")
+        .replace("hand = \"right\"", "hand = \"left\"");
+    let (code, v) = check(dir.path(), &mirrored);
+    assert_eq!(code, 0, "{v:#}");
+    let (_, r) = check(dir.path(), SELF_CHECK);
+    let (m, r) = (&v["model"], &r["model"]);
+    for key in ["swivel_deg", "differential_deg_per_mm"] {
+        assert_abs_diff_eq!(
+            m[key].as_f64().unwrap(),
+            -r[key].as_f64().unwrap(),
+            epsilon = 1e-12
+        );
+    }
+    assert_eq!(m["coupling"]["num"], -1);
+    for key in ["clearance_mm", "table_rpm", "axial_feed_mm_min", "centre_distance_mm"] {
+        assert_eq!(m[key], r[key], "{key}");
+    }
+    let text = v["program"]["text"].as_str().unwrap();
+    assert!(
+        text.contains("EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,-1,25,Z,0,-0.395446,1)"),
+        "{text}"
+    );
+    assert!(text.contains(" A=12.6284 "), "{text}");
 }
 
 #[test]
