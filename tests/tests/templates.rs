@@ -83,8 +83,8 @@ fn a_cutting_move_before_the_gearbox_is_coupled_is_caught_with_its_line() {
         .1;
     let egon = shipped
         .lines()
-        .find(|l| l.contains(":: {N()} EGON("))
-        .expect("the EGON record");
+        .find(|l| l.contains(":: {N()} EGONSYNE("))
+        .expect("the EGONSYNE record");
     let broken: String = shipped
         .lines()
         .filter(|l| *l != egon)
@@ -195,9 +195,10 @@ fn round_trip(model: &MachiningModel, program: &NcProgram) -> Result<(), String>
         let k = units
             .iter()
             .find(|k| {
-                i64::from(k.coupling.num) * c.den.abs() == c.num.abs() * i64::from(k.coupling.den)
+                // Signed: the hob's hand in the machine's axis directions.
+                i64::from(k.factors.c_per_b.num) * c.den == c.num * i64::from(k.factors.c_per_b.den)
             })
-            .ok_or_else(|| format!("coupling {}/{} is no unit's z0/z", c.num, c.den))?;
+            .ok_or_else(|| format!("coupling {}/{} is no unit's signed z0/z", c.num, c.den))?;
         let want_z = k.factors.c_per_z_deg_per_mm;
         let got_z = c.c_per_z_deg_per_mm.unwrap_or(0.0);
         // 840D prints the factor with 6 decimals; FANUC's comes from Q and P (4 decimals).
@@ -255,7 +256,7 @@ fn every_example_round_trips_on_both_dialects() {
 #[test]
 fn a_crowned_rough_cut_clears_the_blank_at_its_deepest_point() {
     let job = "[job]\nmachine = \"H01\"\npart_number = \"CR-18\"\nquantity = 6\n\n[gear]\nmodule_mm = 3.0\n\
-               teeth = 18\nface_width_mm = 20.0\nmaterial = \"42CrMo4\"\nfixture_height_mm = 100.0\n\n\
+               teeth = 18\nface_width_mm = 20.0\nmaterial = \"42CrMo4\"\nfixture_height_mm = 100.0\nfixture_diameter_mm = 30.0\n\n\
                [gear.crowning]\namount_mm = 0.005\nshape = \"circular\"\n\n[hob]\nid = \"HOB-M3-80\"\n\n\
                [process]\ncuts = 2\n";
     for machine in ["H01", "H02"] {
@@ -302,7 +303,7 @@ fn random_job() -> impl Strategy<Value = String> {
                 let mut job = format!(
                     "[job]\nmachine = \"{}\"\npart_number = \"RT-{teeth}\"\nquantity = 8\n\n\
                      [gear]\nmodule_mm = {module:.1}\nteeth = {teeth}\nhelix_angle_deg = {helix:.3}\n{hand}\
-                     face_width_mm = {width:.2}\nmaterial = \"20CrMnTi\"\nquality_grade = 8\nfixture_height_mm = 100.0\n\n\
+                     face_width_mm = {width:.2}\nmaterial = \"20CrMnTi\"\nquality_grade = 8\nfixture_height_mm = 100.0\nfixture_diameter_mm = 24.0\n\n\
                      [process]\ncuts = {cuts}\ncut_mode = \"{}\"\ninfeed = \"{}\"\n",
                     if fanuc { "H02" } else { "H01" },
                     if climb { "climb" } else { "conventional" },
@@ -336,7 +337,7 @@ fn random_other_class_job() -> impl Strategy<Value = String> {
         .prop_map(move |(fanuc, teeth, angle, top, width, climb)| {
             format!(
                 "{}[gear]\nmodule_mm = 2.0\nteeth = {teeth}\nface_width_mm = {width:.2}\nmaterial = \"40Cr\"\n\
-                 quality_grade = 7\nfixture_height_mm = 100.0\n\n[gear.cone]\nangle_deg = {angle:.3}\n\
+                 quality_grade = 7\nfixture_height_mm = 100.0\nfixture_diameter_mm = 20.0\n\n[gear.cone]\nangle_deg = {angle:.3}\n\
                  large_end = \"{}\"\n\n[hob]\nid = \"HOB-M2-70\"\n\n[process]\ncut_mode = \"{}\"\n",
                 header(fanuc, format!("CN-{teeth}")),
                 if top { "top" } else { "bottom" },
@@ -362,7 +363,7 @@ fn random_other_class_job() -> impl Strategy<Value = String> {
                 };
                 format!(
                     "{}[gear]\nmodule_mm = 3.0\nteeth = {teeth}\nhelix_angle_deg = {helix:.3}\n{hand}\
-                     face_width_mm = {width:.2}\nmaterial = \"42CrMo4\"\nfixture_height_mm = 100.0\n\n\
+                     face_width_mm = {width:.2}\nmaterial = \"42CrMo4\"\nfixture_height_mm = 100.0\nfixture_diameter_mm = 30.0\n\n\
                      [gear.crowning]\namount_mm = {amount:.4}\nshape = \"{}\"\n\n[hob]\nid = \"HOB-M3-80\"\n\n\
                      [process]\ncuts = {cuts}\n",
                     header(fanuc, format!("CR-{teeth}")),
@@ -390,7 +391,7 @@ fn random_other_class_job() -> impl Strategy<Value = String> {
             let hand = if helix > 0.0 { "helix_hand = \"right\"\n" } else { "" };
             format!(
                 "{}[gear]\nmodule_mm = 3.0\nteeth = {teeth}\nface_width_mm = 30.0\nmaterial = \"20CrMnTi\"\n\
-                 fixture_height_mm = 100.0\n\n[hob]\nid = \"HOB-M3-80\"\n\n\
+                 fixture_height_mm = 100.0\nfixture_diameter_mm = 30.0\n\n[hob]\nid = \"HOB-M3-80\"\n\n\
                  [[units]]\nname = \"upper gear\"\nz_offset_mm = {offset:.2}\n\n[units.gear]\nmodule_mm = 2.0\n\
                  teeth = {upper_teeth}\nhelix_angle_deg = {helix:.3}\n{hand}face_width_mm = 20.0\n\
                  material = \"20CrMnTi\"\nfixture_height_mm = 140.0\n\n[units.hob]\nstarts = 1\nod_mm = 70.0\n\
