@@ -65,7 +65,7 @@ struct Expected {
 
 fn expected_spur() -> Expected {
     let (mn, z, b, h_fix, da1, da0, z0, vc, fa, safety) = (
-        3.0_f64, 25.0_f64, 30.0, 50.0, 81.0_f64, 80.0_f64, 1.0, 90.0, 2.0, 2.0,
+        3.0_f64, 25.0_f64, 30.0, 100.0, 81.0_f64, 80.0_f64, 1.0, 90.0, 2.0, 2.0,
     );
     let gamma0 = 2.3716_f64.to_radians();
     // Check 5's theoretical centre distance; the default depth makes L equal to it.
@@ -73,17 +73,27 @@ fn expected_spur() -> Expected {
     let d0 = z0 * mn / gamma0.sin();
     let l = d0 / 2.0 + d / 2.0;
     let h = (da0 + da1) / 2.0 - l;
-    // ΔH′ = max ΔH(x) over x in (L − R, r), by brute force on a fine grid.
-    let (r_blank, r_hob) = (da1 / 2.0, da0 / 2.0);
-    let gamma = gamma0; // spur: γ = −(|β| − |γ0|) = γ0
-    let (lo, hi) = (l - r_blank, r_hob);
-    let n = 1_000_000;
+    // ΔH′: the lowest point of the hob's tip cylinder (radius r, 100 mm
+    // long, tilted by |η| = γ0 for a spur gear) over the blank disc, by a
+    // sweep around the hob: for each angle θ the point lies over the disc
+    // for an interval of the hob-axial y, the lowest at its largest y.
+    let (r_blank, r_hob, half) = (da1 / 2.0, da0 / 2.0, 50.0);
+    let g = gamma0;
+    let n = 2_000_000;
     let mut best = f64::MIN;
-    for i in 1..n {
-        let x = lo + (hi - lo) * i as f64 / n as f64;
-        let dh = (r_hob * r_hob - x * x).sqrt() * (gamma.cos() - gamma.tan() * gamma.sin())
-            + (r_blank * r_blank - (l - x) * (l - x)).sqrt() * gamma.tan();
-        best = best.max(dh);
+    for i in 0..n {
+        let th = std::f64::consts::TAU * i as f64 / n as f64;
+        let x = l + r_hob * th.cos();
+        if x.abs() > r_blank {
+            continue;
+        }
+        let w = (r_blank * r_blank - x * x).sqrt();
+        let a = r_hob * th.sin() * g.sin();
+        let y_hi = ((w - a) / g.cos()).min(half);
+        if y_hi < ((-w - a) / g.cos()).max(-half) {
+            continue;
+        }
+        best = best.max(y_hi * g.sin() - r_hob * th.sin() * g.cos());
     }
     assert!(h > 0.0 && best > 0.0);
     let nt = 1000.0 * vc / (std::f64::consts::PI * da0);
@@ -150,15 +160,17 @@ fn a_spur_job_is_delivered_through_every_service_process() {
         .rev()
         .find(|l| l.contains("X="))
         .expect("infeed to C");
-    let b_line = lines
+    // The approach: retract, rise to A, swivel, down to B's height, in to B.
+    let b_line = lines[..g1]
         .iter()
+        .rev()
         .find(|l| l.contains(" G0 ") && l.contains("Z="))
         .expect("rapid to B");
     assert_abs_diff_eq!(word(c_line, "X").unwrap(), e.x_c, epsilon = 1e-3);
     assert_abs_diff_eq!(word(b_line, "Z").unwrap(), e.z_c, epsilon = 1e-3);
     assert_abs_diff_eq!(word(lines[g1], "Z").unwrap(), e.z_d, epsilon = 1e-3);
     assert_abs_diff_eq!(word(lines[g1], "F").unwrap(), e.feed_mm_min, epsilon = 1e-3);
-    assert!(text.contains("EGON(C,\"FINE\",B,1,25)"), "{text}");
+    assert!(text.contains("EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25)"), "{text}");
     cluster.assert_all_running();
 }
 

@@ -4,49 +4,12 @@
 //! every program; a deliberately broken template; and the round trip
 //! (instantiate, parse back, compare with the model) over random valid jobs.
 
-use std::path::PathBuf;
-
-use gearcam_proto::{JobId, JobRequest, JobSpec, MachiningModel, MoveKind, NcProgram};
+use gearcam_proto::{MachiningModel, MoveKind, NcProgram};
 use gearcam_template::{TemplateSource, Templates, DEFAULT_FUEL};
 use proptest::prelude::*;
 
-fn examples() -> Vec<(String, String)> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../examples");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    files.sort();
-    files
-        .into_iter()
-        .map(|p| {
-            let name = p.file_name().unwrap().to_string_lossy().into_owned();
-            (name, std::fs::read_to_string(&p).unwrap())
-        })
-        .filter(|(_, text)| !text.contains("# expect:"))
-        .collect()
-}
-
-/// The example on machine `machine` (H01: 840D, H02: FANUC).
-fn on_machine(text: &str, machine: &str) -> String {
-    let line = format!("machine = \"{machine}\"");
-    text.replace("machine = \"H01\"", &line)
-        .replace("machine = \"H02\"", &line)
-}
-
-fn model_of(text: &str) -> Result<MachiningModel, Vec<gearcam_proto::JobError>> {
-    let spec: JobSpec = toml::from_str(text).unwrap_or_else(|e| panic!("{e}\n{text}"));
-    let req = JobRequest {
-        job_id: JobId::new("TEMPLATE-TEST-1").unwrap(),
-        submitted_at_ms: 0,
-        submitted_by: "test".into(),
-        spec,
-    };
-    let conn = gearcam_knowledge::db::open_in_memory().unwrap();
-    let plan = gearcam_knowledge::plan::plan(&conn, &req)?;
-    gearcam_model::compute(&plan)
-}
+mod support;
+use support::{examples, model_of, on_machine};
 
 #[test]
 fn every_example_passes_the_path_check_on_both_dialects() {
