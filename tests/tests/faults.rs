@@ -28,6 +28,7 @@ teeth = {teeth}
 face_width_mm = 30.0
 material = "20CrMnTi"
 fixture_height_mm = 100.0
+fixture_diameter_mm = 40.0
 
 [hob]
 id = "HOB-M3-80"

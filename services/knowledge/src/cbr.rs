@@ -577,8 +577,11 @@ impl Ord for Ranked {
 pub struct Adapted {
     /// Cutting speed, m/min (kept from the cases).
     pub cutting_speed_m_min: f64,
-    /// Feed per revolution, mm/rev (scaled with the module).
-    pub feed_mm_per_rev: f64,
+    /// Feed per revolution, mm/rev (scaled with the module); `None` for a
+    /// finishing job when every case is a rough cut: a roughing feed is
+    /// never proposed for finishing (seed 000's rough bevel cut, 7.9 mm/rev,
+    /// proposed for a grade 7 finish, was the bug).
+    pub feed_mm_per_rev: Option<f64>,
     /// Radial feed rate, mm/min (scaled with the module), when the cases have it.
     pub radial_feed_mm_min: Option<f64>,
     /// Number of cuts (most similar case).
@@ -619,9 +622,27 @@ pub fn adapt(cb: &CaseBase, hits: &[Hit], q: &Problem) -> Option<Adapted> {
                 / s,
         )
     };
+    let finishing: Vec<&(&Case, f64)> = used
+        .iter()
+        .filter(|(c, _)| c.problem.operation == Operation::Finish)
+        .collect();
+    let feed = match q.operation {
+        Operation::Finish if finishing.is_empty() => None,
+        Operation::Finish => {
+            let s: f64 = finishing.iter().map(|(_, s)| s).sum();
+            Some(
+                finishing
+                    .iter()
+                    .map(|(c, w)| w * c.solution.feed_mm_per_rev * scale(c))
+                    .sum::<f64>()
+                    / s,
+            )
+        }
+        Operation::Rough => Some(mean(&|c| c.solution.feed_mm_per_rev * scale(c))),
+    };
     Some(Adapted {
         cutting_speed_m_min: mean(&|c| c.solution.cutting_speed_m_min),
-        feed_mm_per_rev: mean(&|c| c.solution.feed_mm_per_rev * scale(c)),
+        feed_mm_per_rev: feed,
         radial_feed_mm_min: radial,
         cuts: best.solution.cuts.max(1),
         allowance_mm: best.solution.allowance_mm,
@@ -725,7 +746,11 @@ mod tests {
         let hits = cb.retrieve(&q, &Limits::default(), &Weights::default(), 3);
         let a = adapt(&cb, &hits, &q).unwrap();
         assert_eq!(a.cutting_speed_m_min, 90.0);
-        approx::assert_abs_diff_eq!(a.feed_mm_per_rev, 2.0 * 1.5f64.sqrt(), epsilon = 1e-12);
+        approx::assert_abs_diff_eq!(
+            a.feed_mm_per_rev.unwrap(),
+            2.0 * 1.5f64.sqrt(),
+            epsilon = 1e-12
+        );
         approx::assert_abs_diff_eq!(a.confidence, hits[0].similarity * 0.8, epsilon = 1e-12);
     }
 

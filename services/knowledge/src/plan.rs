@@ -171,8 +171,12 @@ fn plan_inner(
             Some(a) => (
                 a.cutting_speed_m_min,
                 Source::Case,
-                a.feed_mm_per_rev,
-                Source::Case,
+                a.feed_mm_per_rev.unwrap_or(DEFAULT_FEED_MM_PER_REV),
+                if a.feed_mm_per_rev.is_some() {
+                    Source::Case
+                } else {
+                    Source::Default
+                },
                 a.cuts,
                 Source::Case,
                 a.cut_mode.unwrap_or(CutMode::Conventional),
@@ -908,6 +912,30 @@ pub(crate) mod tests {
             submitted_by: "test".into(),
             spec,
         }
+    }
+
+    #[test]
+    fn seed_conical_case_gives_a_roughing_feed_to_a_finish() {
+        // Issue 10: seed 000's bevel cut was a rough cut, 105 mm/min at
+        // 246 rpm, 19 teeth, one start: 8.1 mm per table revolution as
+        // published. A finishing job got 7.92 mm/rev from it; now the feed of
+        // a finish comes only from finishing cases, else the default.
+        let conn = db::open_in_memory().unwrap();
+        let finish = plan(&conn, &bevel(json!({}))).unwrap();
+        assert_eq!(finish.cases[0].id, "SEED000-BEVEL-CBR");
+        assert_eq!(
+            finish.values["feed_mm_per_rev"],
+            Sourced {
+                value: DEFAULT_FEED_MM_PER_REV,
+                source: Source::Default
+            }
+        );
+        // A rough job takes the published roughing feed (the mean of the two
+        // seed cases, 8.11 and 7.73 mm/rev by similarity).
+        let rough = plan(&conn, &bevel(json!({"operation": "rough"}))).unwrap();
+        let fa = rough.values["feed_mm_per_rev"];
+        assert_eq!(fa.source, Source::Case);
+        assert!(fa.value > 7.7 && fa.value < 8.2, "{fa:?}");
     }
 
     #[test]
