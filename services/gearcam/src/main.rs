@@ -181,6 +181,14 @@ const DEMO_JOBS: &[(&str, &str)] = &[
         include_str!("../../../examples/helical_climb_840d.toml"),
     ),
     (
+        "examples/helical_left_840d.toml",
+        include_str!("../../../examples/helical_left_840d.toml"),
+    ),
+    (
+        "examples/helical_climb_fanuc.toml",
+        include_str!("../../../examples/helical_climb_fanuc.toml"),
+    ),
+    (
         "examples/multi_cut_shift_840d.toml",
         include_str!("../../../examples/multi_cut_shift_840d.toml"),
     ),
