@@ -91,7 +91,11 @@ fn check_json_carries_the_contract_and_the_spec_self_check_numbers() {
     // 23.456419 mm for this blank and depth).
     assert_eq!(m["coupling"]["num"], 1);
     assert_eq!(m["coupling"]["den"], 25);
-    assert_abs_diff_eq!(m["clearance_mm"].as_f64().unwrap(), 23.456_419, epsilon = 1e-5);
+    assert_abs_diff_eq!(
+        m["clearance_mm"].as_f64().unwrap(),
+        23.456_419,
+        epsilon = 1e-5
+    );
     // Positions: C and D share X = L; D is below C by b + 2ΔH′ + 2·safety.
     let p = &m["positions"];
     let (cx, cz, dz) = (
@@ -161,7 +165,12 @@ fn check_json_mirrors_the_signs_of_a_mirrored_set_up() {
         );
     }
     assert_eq!(m["coupling"]["num"], -1);
-    for key in ["clearance_mm", "table_rpm", "axial_feed_mm_min", "centre_distance_mm"] {
+    for key in [
+        "clearance_mm",
+        "table_rpm",
+        "axial_feed_mm_min",
+        "centre_distance_mm",
+    ] {
         assert_eq!(m[key], r[key], "{key}");
     }
     let text = v["program"]["text"].as_str().unwrap();

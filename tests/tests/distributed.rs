@@ -170,7 +170,10 @@ fn a_spur_job_is_delivered_through_every_service_process() {
     assert_abs_diff_eq!(word(b_line, "Z").unwrap(), e.z_c, epsilon = 1e-3);
     assert_abs_diff_eq!(word(lines[g1], "Z").unwrap(), e.z_d, epsilon = 1e-3);
     assert_abs_diff_eq!(word(lines[g1], "F").unwrap(), e.feed_mm_min, epsilon = 1e-3);
-    assert!(text.contains("EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25)"), "{text}");
+    assert!(
+        text.contains("EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25)"),
+        "{text}"
+    );
     cluster.assert_all_running();
 }
 

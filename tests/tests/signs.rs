@@ -281,10 +281,7 @@ fn multi_cut_840d_resynchronisation_without_one_reference() {
         .unwrap();
     let old = text
         .replace(sync, &format!("{number} {plain}"))
-        .replace(
-            second_cut,
-            &format!("{second_cut}\nN1 EGOFS(C)\nN2 {call}"),
-        );
+        .replace(second_cut, &format!("{second_cut}\nN1 EGOFS(C)\nN2 {call}"));
     let (check, _) = nc::check(&old, &m);
     let hits: Vec<_> = check
         .findings
@@ -292,7 +289,11 @@ fn multi_cut_840d_resynchronisation_without_one_reference() {
         .filter(|f| f.rule == "COUPLING_RATIO" && f.message.contains("new gaps"))
         .collect();
     assert_eq!(hits.len(), 1, "{:#?}\n{old}", check.findings);
-    assert!(hits[0].message.contains("plain EGON"), "{}", hits[0].message);
+    assert!(
+        hits[0].message.contains("plain EGON"),
+        "{}",
+        hits[0].message
+    );
 }
 
 #[test]
@@ -308,8 +309,9 @@ fn fanuc_g_code_system() {
     let old = text.replace("G01 G90 G94 Z", "G01 G90 G98 Z");
     let (check, _) = nc::check(&old, &m);
     assert!(
-        check.findings.iter().any(|f| f.rule == "SETUP"
-            && f.message.contains("G98 is the canned-cycle return level")),
+        check.findings.iter().any(
+            |f| f.rule == "SETUP" && f.message.contains("G98 is the canned-cycle return level")
+        ),
         "{:#?}",
         check.findings
     );
@@ -328,7 +330,8 @@ fn fanuc_g_code_system() {
 fn nothing_keeps_the_hob_off_the_table_and_fixture() {
     // The old spur example stood on a 50 mm fixture: at D the hob reached
     // about 16 mm below the table plane. The model refuses it naming the field.
-    let low = example("spur_840d.toml").replace("fixture_height_mm = 100.0", "fixture_height_mm = 50.0");
+    let low =
+        example("spur_840d.toml").replace("fixture_height_mm = 100.0", "fixture_height_mm = 50.0");
     let errors = model_of(&low).unwrap_err();
     let e = errors
         .iter()
@@ -460,10 +463,7 @@ fn a_shift_comment_names_a_position_never_reached() {
     let last = shift.start_mm
         + shift.step_mm.copysign(shift.end_mm - shift.start_mm) * f64::from(shift.positions - 1);
     let text = Templates::builtin().render(&m).unwrap().text;
-    let comment = text
-        .lines()
-        .find(|l| l.contains("POSITIONS FROM"))
-        .unwrap();
+    let comment = text.lines().find(|l| l.contains("POSITIONS FROM")).unwrap();
     let to: f64 = comment
         .split(" TO ")
         .nth(1)

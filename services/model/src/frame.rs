@@ -225,7 +225,10 @@ mod tests {
             let eta = setting_angle_deg(&g, &h);
             let t = thread(hob_sign(&h), h.lead_angle_deg, eta);
             let line = tooth_line(gear_sign(&g), beta);
-            assert!(parallel(t, line) < 1e-12, "β {beta} {gh:?} hob {hh:?}: η {eta}");
+            assert!(
+                parallel(t, line) < 1e-12,
+                "β {beta} {gh:?} hob {hh:?}: η {eta}"
+            );
             // The patent's rule γ = −(|β| ∓ |γ0|) read with one machine sign
             // (η = −γ) fits only right-hand gears and spur gears cut with a
             // right-hand hob; the mirror images get the wrong swivel.
@@ -234,7 +237,8 @@ mod tests {
             } else {
                 -(beta + h.lead_angle_deg)
             };
-            let old_fits = parallel(thread(hob_sign(&h), h.lead_angle_deg, -gamma_old), line) < 1e-9;
+            let old_fits =
+                parallel(thread(hob_sign(&h), h.lead_angle_deg, -gamma_old), line) < 1e-9;
             let right_handed_setup = gh == Some(Hand::Right) || (gh.is_none() && hh == Hand::Right);
             assert_eq!(old_fits, right_handed_setup, "β {beta} {gh:?} hob {hh:?}");
         }
@@ -285,11 +289,7 @@ mod tests {
             let dz = 1e-4;
             let dpsi = phase([r, 0.0, dz], s_g, lead) - phase([r, 0.0, 0.0], s_g, lead);
             let cw_deg_per_mm = -dpsi.to_degrees() / dz;
-            assert_relative_eq!(
-                cw_deg_per_mm,
-                differential_deg_per_mm(&g),
-                epsilon = 1e-9
-            );
+            assert_relative_eq!(cw_deg_per_mm, differential_deg_per_mm(&g), epsilon = 1e-9);
             let _ = h;
         }
         // SPEC worked self-check: mn 3, z 25, β 15° → 0.395446 °/mm.

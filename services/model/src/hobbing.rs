@@ -10,14 +10,14 @@ use std::f64::consts::PI;
 use gearcam_proto::class::unit_class;
 use gearcam_proto::{
     ConeModel, CouplingFactors, CrowningModel, CrowningShape, Cut, CutMode, GearClass, GearSpec,
-    Geometry, HobData, Infeed, Kinematics, MachineProfile, Position, ProcessData,
-    ProcessOverrides, ProcessPlan, Ratio, WormInfeed, WormModel,
+    Geometry, HobData, Infeed, Kinematics, MachineProfile, Position, ProcessData, ProcessOverrides,
+    ProcessPlan, Ratio, WormInfeed, WormModel,
 };
 use nalgebra::{Matrix4, Vector4};
 
+use crate::frame;
 use crate::geometry::{is_spur, lead_mm};
 use crate::path::{self, CutFrame, WormFrame};
-use crate::frame;
 use crate::shift;
 
 /// Samples of the dense scan for ΔH′ before golden-section refinement.
@@ -220,7 +220,7 @@ impl Clearance {
         let half = self.hob_length_mm / 2.0;
         let y_hi = ((w + s * sin_g) / cos_g).min(half);
         let y_lo = ((-w + s * sin_g) / cos_g).max(-half);
-        (y_hi >= y_lo).then(|| (y_hi * sin_g + s * cos_g, y_hi))
+        (y_hi >= y_lo).then_some((y_hi * sin_g + s * cos_g, y_hi))
     }
 
     /// The contact point at x in gear coordinates (hob centre at height 0).
@@ -861,7 +861,10 @@ mod tests {
             let k = kin(&plan);
             assert_relative_eq!(k.differential_deg_per_mm, 0.395446, epsilon = 5e-7);
             assert_eq!(k.differential_deg_per_mm, right.differential_deg_per_mm);
-            assert_eq!(k.factors.c_per_z_deg_per_mm, right.factors.c_per_z_deg_per_mm);
+            assert_eq!(
+                k.factors.c_per_z_deg_per_mm,
+                right.factors.c_per_z_deg_per_mm
+            );
         }
         // The gear's hand alone turns it.
         let left = kin(&fixtures::helical_plan(15.0, Hand::Left));
@@ -872,7 +875,11 @@ mod tests {
         assert_relative_eq!(left.table_rpm, 15.880_605_820_559, epsilon = 1e-9);
         let mut climb = fixtures::helical_plan(15.0, Hand::Right);
         climb.process.cut_mode = CutMode::Climb;
-        assert_relative_eq!(kin(&climb).axial_feed_mm_min, 31.761_211_641_118, epsilon = 1e-9);
+        assert_relative_eq!(
+            kin(&climb).axial_feed_mm_min,
+            31.761_211_641_118,
+            epsilon = 1e-9
+        );
     }
 
     #[test]
@@ -905,7 +912,11 @@ mod tests {
         // A profile's offset and sign map η to its axis.
         mirrored.machine.settings.swivel_sign = 1.0;
         mirrored.machine.settings.swivel_offset_deg = 90.0;
-        assert_relative_eq!(kin(&mirrored).swivel_axis_deg, 90.0 - 12.6284, epsilon = 1e-12);
+        assert_relative_eq!(
+            kin(&mirrored).swivel_axis_deg,
+            90.0 - 12.6284,
+            epsilon = 1e-12
+        );
     }
 
     #[test]
@@ -951,7 +962,11 @@ mod tests {
         // blank. References: an independent Python sweep of the hob's tip
         // cylinder (2·10⁶ angles around the hob, the lowest point over the
         // blank disc for each), not the ΔH formula.
-        for (gamma, want) in [(0.0, 22.235_950_620), (17.0, 24.466_873_472), (22.0, 25.988_919_048)] {
+        for (gamma, want) in [
+            (0.0, 22.235_950_620),
+            (17.0, 24.466_873_472),
+            (22.0, 25.988_919_048),
+        ] {
             let c = Clearance {
                 blank_od_mm: 85.0,
                 hob_od_mm: 80.0,
@@ -1100,9 +1115,18 @@ mod tests {
             hand,
             ..fixtures::hob()
         };
-        assert_eq!(coupling(&hob(1, Hand::Right), 25), Ratio { num: 1, den: 25 });
-        assert_eq!(coupling(&hob(2, Hand::Right), 40), Ratio { num: 1, den: 20 });
-        assert_eq!(coupling(&hob(3, Hand::Left), 40), Ratio { num: -3, den: 40 });
+        assert_eq!(
+            coupling(&hob(1, Hand::Right), 25),
+            Ratio { num: 1, den: 25 }
+        );
+        assert_eq!(
+            coupling(&hob(2, Hand::Right), 40),
+            Ratio { num: 1, den: 20 }
+        );
+        assert_eq!(
+            coupling(&hob(3, Hand::Left), 40),
+            Ratio { num: -3, den: 40 }
+        );
     }
 
     #[test]

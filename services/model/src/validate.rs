@@ -1158,7 +1158,13 @@ pub fn check_limits_with(plan: &ProcessPlan, k: &Kinematics, cfg: &Config) -> Ve
 /// comes as near as X − r to the table axis (the swivel turns it about X),
 /// so a fixture at least that wide under the gear is hit. (The template
 /// service's path check sweeps the sampled hob solid independently.)
-fn run_out(errors: &mut Vec<JobError>, plan: &ProcessPlan, k: &Kinematics, cfg: &Config, prefix: &str) {
+fn run_out(
+    errors: &mut Vec<JobError>,
+    plan: &ProcessPlan,
+    k: &Kinematics,
+    cfg: &Config,
+    prefix: &str,
+) {
     let gear = &plan.request.spec.gear;
     let env = &plan.machine.envelope;
     let r = plan.hob.od_mm / 2.0;
@@ -1202,7 +1208,9 @@ fn run_out(errors: &mut Vec<JobError>, plan: &ProcessPlan, k: &Kinematics, cfg: 
             ),
         ));
     }
-    let fixture_r = gear.fixture_diameter_mm.map_or(env.fixture_radius_mm, |d| d / 2.0);
+    let fixture_r = gear
+        .fixture_diameter_mm
+        .map_or(env.fixture_radius_mm, |d| d / 2.0);
     let nearest = x_low - r;
     // The fixture stands under the lowest unit only (a unit above runs out
     // over the unit below it, which `check_unit_collisions` covers).

@@ -469,10 +469,11 @@ mod tests {
     use std::collections::BTreeMap;
 
     use gearcam_proto::{
-        AxisNames, CaseRef, Envelope, GCodeSystem, CouplingFactors, Cut, CutMode, GearClass, GearSpec, Geometry, Hand,
-        HobData, HobSpec, Infeed, JobHeader, JobId, JobRequest, JobSpec, Kinematics, MCodes,
-        MachineId, MachineLimits, MachineProfile, MachineSettings, Move, MoveKind, Options,
-        Position, Positions, ProcessData, ProcessOverrides, ProcessPlan, Ratio, Source,
+        AxisNames, CaseRef, CouplingFactors, Cut, CutMode, Envelope, GCodeSystem, GearClass,
+        GearSpec, Geometry, Hand, HobData, HobSpec, Infeed, JobHeader, JobId, JobRequest, JobSpec,
+        Kinematics, MCodes, MachineId, MachineLimits, MachineProfile, MachineSettings, Move,
+        MoveKind, Options, Position, Positions, ProcessData, ProcessOverrides, ProcessPlan, Ratio,
+        Source,
     };
 
     use super::*;
@@ -924,7 +925,10 @@ mod tests {
         // A left-hand hob turns the table the other way (issue 10, defect 3).
         model.model.factors.c_per_b = Ratio { num: -2, den: 37 };
         let text = Templates::builtin().instantiate(&model).unwrap().text;
-        assert!(text.contains("EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,-2,37)"), "{text}");
+        assert!(
+            text.contains("EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,-2,37)"),
+            "{text}"
+        );
     }
 
     #[test]
@@ -937,7 +941,10 @@ mod tests {
             "{text}"
         );
         assert_eq!(block(&text, "R3="), "R3=15.0 ; HELIX ANGLE BETA, DEG");
-        assert_eq!(block(&text, "G0 G90 A="), "G0 G90 A=12.8 ; HOB HEAD SWIVELLED AT THE START POINT");
+        assert_eq!(
+            block(&text, "G0 G90 A="),
+            "G0 G90 A=12.8 ; HOB HEAD SWIVELLED AT THE START POINT"
+        );
         assert!(
             text.contains("; GEAR MN=3.0 Z=25 BETA=15.0 RIGHT B=30.0"),
             "{text}"
@@ -1039,9 +1046,15 @@ mod tests {
         helical.plan.machine = machine.clone();
         let text = render(&model).text;
         assert_eq!(block(&text, "G0 G90 X1=173.75"), "G0 G90 X1=173.75");
-        assert_eq!(block(&text, "G0 G90 A1="), "G0 G90 A1=2.2 ; HOB HEAD SWIVELLED AT THE START POINT");
+        assert_eq!(
+            block(&text, "G0 G90 A1="),
+            "G0 G90 A1=2.2 ; HOB HEAD SWIVELLED AT THE START POINT"
+        );
         assert_eq!(block(&text, "EGDEF"), "EGDEF(C1,SP1,1)");
-        assert!(text.contains("EGONSYNE(C1,\"FINE\",0,\"DCT\",SP1,0,1,25)"), "{text}");
+        assert!(
+            text.contains("EGONSYNE(C1,\"FINE\",0,\"DCT\",SP1,0,1,25)"),
+            "{text}"
+        );
         assert_eq!(block(&text, "G1 "), "G1 G90 G94 Z1=75.5 F=31.831");
         assert_eq!(block(&text, "EGOFS"), "EGOFS(C1) ; GEARBOX OFF");
         assert_eq!(m_codes(&text), vec![10, 7, 24, 13, 15, 9, 25, 11, 2]);
@@ -1110,7 +1123,10 @@ mod tests {
             !text.contains("-0.0 ") && !text.contains("-0.0\n"),
             "{text}"
         );
-        assert_eq!(block(&text, "G0 G90 A="), "G0 G90 A=0.0 ; HOB HEAD SWIVELLED AT THE START POINT");
+        assert_eq!(
+            block(&text, "G0 G90 A="),
+            "G0 G90 A=0.0 ; HOB HEAD SWIVELLED AT THE START POINT"
+        );
         assert!(text.contains(" G0 G90 Z=0.0\n"), "{text}");
         assert!(!text.contains('e') || !text.contains("e-"), "{text}");
     }

@@ -759,7 +759,11 @@ fn couplings_other_than_the_models_are_coupling_ratios() {
     let h = model("helical_840d.toml", &example("helical_840d.toml"), "H01");
     let htext = program("helical_840d.toml", &h);
     let egon = block_with(&htext, "EGONSYNE(");
-    let bad = replace_line(&htext, egon, &egon.replace("Z,0,0.395446,1", "Z,0,0.395456,1"));
+    let bad = replace_line(
+        &htext,
+        egon,
+        &egon.replace("Z,0,0.395446,1", "Z,0,0.395456,1"),
+    );
     let (check, _) = nc::check(&bad, &h);
     assert_eq!(
         found(&check),

@@ -277,7 +277,11 @@ fn hob_for_line(model: &MachiningModel, trace: &Trace, line: u32) -> HobData {
         .filter(|c| c.unit_start)
         .map(|c| c.line)
         .collect::<Vec<_>>();
-    let idx = starts.iter().filter(|&&l| l <= line).count().saturating_sub(1);
+    let idx = starts
+        .iter()
+        .filter(|&&l| l <= line)
+        .count()
+        .saturating_sub(1);
     // Before the first coupling the first unit's hob is mounted.
     hobs[idx.min(hobs.len() - 1)].clone()
 }
@@ -519,7 +523,10 @@ mod tests {
         // (h 6.75): the lowest point over the disc lies √(h·(2r − h)) =
         // 22.235951 mm below the hob centre, at the blank's rim.
         let reach = (6.75f64 * (80.0 - 6.75)).sqrt();
-        let hob = HobSolid { r: 40.0, half: 50.0 };
+        let hob = HobSolid {
+            r: 40.0,
+            half: 50.0,
+        };
         let ob = Obstacle {
             what: "the blank".into(),
             z_lo: 0.0,
@@ -544,7 +551,10 @@ mod tests {
     fn a_tilted_hob_reaches_further_down_by_its_length() {
         // Tilted by 30° with half length 50, the low end of the axis is 25 mm
         // below the centre, and the tip cylinder r·cos 30° below that.
-        let hob = HobSolid { r: 10.0, half: 50.0 };
+        let hob = HobSolid {
+            r: 10.0,
+            half: 50.0,
+        };
         let table = Obstacle {
             what: "the table".into(),
             z_lo: f64::NEG_INFINITY,

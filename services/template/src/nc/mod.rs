@@ -402,8 +402,7 @@ pub fn check(text: &str, model: &MachiningModel) -> (PathCheck, Trace) {
         parsed.findings = structure(&parsed.blocks);
     }
     let (mut findings, trace) = if parsed.findings.is_empty() {
-        let (mut findings, trace) =
-            sim::run(dialect, &parsed.blocks, model, parsed.lines.max(1));
+        let (mut findings, trace) = sim::run(dialect, &parsed.blocks, model, parsed.lines.max(1));
         findings.extend(collide::check(model, &trace));
         (findings, trace)
     } else {

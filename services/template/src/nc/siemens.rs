@@ -301,11 +301,12 @@ fn motion(c: &mut Cursor<'_>, slot: &mut Op) -> Result<(), String> {
                     interp: None,
                     distance: None,
                     per_minute: false,
-                    setup: Setup {
-                        metric: false,
-                        work_offset: None,
-                        radius_x: false,
-                    },
+                    setup:
+                        Setup {
+                            metric: false,
+                            work_offset: None,
+                            radius_x: false,
+                        },
                     ..
                 },
                 Some(seconds),
@@ -613,8 +614,12 @@ mod tests {
             one("N150 R26=TRUNC(R25/R23) ; SHIFT STEPS SO FAR").unwrap(),
             Op::Assign { param: 26, .. }
         ));
-        let Op::GearOn { sync, leading, position, .. } =
-            one("N260 EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25,Y,0,1.526579,1) ; SYNC").unwrap()
+        let Op::GearOn {
+            sync,
+            leading,
+            position,
+            ..
+        } = one("N260 EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25,Y,0,1.526579,1) ; SYNC").unwrap()
         else {
             panic!()
         };

@@ -924,11 +924,16 @@ impl<'m> Sim<'m> {
                     "G-code system A (fanuc_t_a) has no G90/G91 or G94: absolute is X/Z, incremental U/W, feed per minute G98".into(),
                 );
             }
-            (Dialect::Fanuc, S::Sinumerik) | (Dialect::Sinumerik840d, S::FanucM | S::FanucTA | S::FanucTB | S::FanucTC) => {
+            (Dialect::Fanuc, S::Sinumerik)
+            | (Dialect::Sinumerik840d, S::FanucM | S::FanucTA | S::FanucTB | S::FanucTC) => {
                 self.push(
                     line,
                     rules::SETUP,
-                    format!("the machine profile names G-code system {} for a {} control", system.as_str(), self.dialect.as_str()),
+                    format!(
+                        "the machine profile names G-code system {} for a {} control",
+                        system.as_str(),
+                        self.dialect.as_str()
+                    ),
                 );
             }
             _ => {}
@@ -954,7 +959,9 @@ impl<'m> Sim<'m> {
             missing.push(format!("{metric} (metric input)"));
         }
         if want_n.is_some() && s.work_offset != want_n {
-            missing.push(format!("{want} ({offset}: Z0 on the table plane, X0 on the table axis)"));
+            missing.push(format!(
+                "{want} ({offset}: Z0 on the table plane, X0 on the table axis)"
+            ));
         }
         if self.dialect == Dialect::Sinumerik840d && !s.radius_x {
             missing.push("DIAMOF (X is the centre distance, a radius)".into());
