@@ -300,7 +300,7 @@ fn random_other_class_job() -> impl Strategy<Value = String> {
         .prop_map(move |(fanuc, teeth, angle, top, width, climb)| {
             format!(
                 "{}[gear]\nmodule_mm = 2.0\nteeth = {teeth}\nface_width_mm = {width:.2}\nmaterial = \"40Cr\"\n\
-                 quality_grade = 7\nfixture_height_mm = 100.0\nfixture_diameter_mm = 20.0\n\n[gear.cone]\nangle_deg = {angle:.3}\n\
+                 quality_grade = 7\nfixture_height_mm = 100.0\nfixture_diameter_mm = 10.0\n\n[gear.cone]\nangle_deg = {angle:.3}\n\
                  large_end = \"{}\"\n\n[hob]\nid = \"HOB-M2-70\"\n\n[process]\ncut_mode = \"{}\"\n",
                 header(fanuc, format!("CN-{teeth}")),
                 if top { "top" } else { "bottom" },

@@ -1153,7 +1153,8 @@ pub fn check_limits_with(plan: &ProcessPlan, k: &Kinematics, cfg: &Config) -> Ve
 
 /// The hob's run-out below the gear must stay clear of the table and the
 /// fixture: at the lowest hob centre Zl of the stroke, the tilted tip
-/// cylinder reaches r·cos η + (length/2)·|sin η| below it, which must stay
+/// cylinder reaches r·cos η + (length/2 + |shift|)·|sin η| below it (the
+/// largest shift of any part), which must stay
 /// above the table plane where the hob stands over the table; and the hob
 /// comes as near as X − r to the table axis (the swivel turns it about X),
 /// so a fixture at least that wide under the gear is hit. (The template
@@ -1170,7 +1171,20 @@ fn run_out(
     let r = plan.hob.od_mm / 2.0;
     let half = plan.hob.length_mm / 2.0;
     let eta = k.swivel_deg.to_radians();
-    let below = r * eta.cos() + half * eta.sin().abs();
+    // A shifted hob stands off-centre along its own axis: its far end reaches
+    // lower by the shift times sin η. Every part may be cut at any shift
+    // position, so the largest one counts.
+    let shift = k
+        .shift
+        .as_ref()
+        .map_or(0.0, |s| s.start_mm.abs().max(s.end_mm.abs()))
+        .max(
+            k.cuts
+                .iter()
+                .flat_map(|c| c.moves.iter().filter_map(|m| m.y_mm))
+                .fold(0.0, |a: f64, y| a.max(y.abs())),
+        );
+    let below = r * eta.cos() + (half + shift) * eta.sin().abs();
     let (mut low, mut x_low) = (f64::INFINITY, f64::INFINITY);
     for c in &k.cuts {
         for p in [c.positions.C, c.positions.D] {
@@ -1199,10 +1213,11 @@ fn run_out(
             format!("≥ {} mm", num(need)),
             format!("{} mm", num(gear.fixture_height_mm)),
             format!(
-                "Below the gear the hob runs out {} mm below its centre (tip radius {} mm, half its length {} mm, tilted {}°) and would reach {} mm into machine {id}'s table; raise the gear on a taller fixture or use a shorter hob.",
+                "Below the gear the hob runs out {} mm below its centre (tip radius {} mm, half its length {} mm, shifted up to {} mm, tilted {}°) and would reach {} mm into machine {id}'s table; raise the gear on a taller fixture or use a shorter hob.",
                 num(below),
                 num(r),
                 num(half),
+                num(shift),
                 num(k.swivel_deg.abs()),
                 num(-lowest)
             ),

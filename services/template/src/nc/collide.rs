@@ -33,7 +33,7 @@ const N_AXIAL: usize = 21;
 /// Rings sampled on each end face (plus its centre).
 const N_RINGS: usize = 3;
 /// Samples on an obstacle's edge circle.
-const N_RIM: usize = 72;
+const N_RIM: usize = 360;
 /// Largest step between sampled poses along a move, mm.
 const POSE_STEP_MM: f64 = 1.0;
 /// Pattern-search iterations of the refinement.
@@ -152,19 +152,12 @@ impl Obstacle {
             .min(self.z_hi - p[2])
     }
 
-    /// The edge circles (finite faces only).
-    fn rims(&self) -> Vec<P3> {
-        let mut out = Vec::new();
-        for (z, r) in [(self.z_lo, self.r_lo), (self.z_hi, self.r_hi)] {
-            if !z.is_finite() {
-                continue;
-            }
-            for i in 0..N_RIM {
-                let t = std::f64::consts::TAU * i as f64 / N_RIM as f64;
-                out.push([r * t.cos(), r * t.sin(), z]);
-            }
-        }
-        out
+    /// The edge circles (finite faces only): (height, radius).
+    fn rims(&self) -> Vec<(f64, f64)> {
+        [(self.z_lo, self.r_lo), (self.z_hi, self.r_hi)]
+            .into_iter()
+            .filter(|(z, r)| z.is_finite() && *r > 0.0)
+            .collect()
     }
 
     /// Distance from a point to the obstacle's bounding cylinder (0 inside).
@@ -298,7 +291,7 @@ pub(crate) fn check(model: &MachiningModel, trace: &Trace) -> Vec<PathFinding> {
     let settings = &model.plan.machine.settings;
     let axes = &model.plan.machine.axes;
     let obstacles = obstacles(model);
-    let rims: Vec<Vec<P3>> = obstacles.iter().map(Obstacle::rims).collect();
+    let rims: Vec<Vec<(f64, f64)>> = obstacles.iter().map(Obstacle::rims).collect();
     let mut findings = Vec::new();
     let mut from = [
         model.plan.machine.home_x_mm,
@@ -395,7 +388,7 @@ pub(crate) fn check(model: &MachiningModel, trace: &Trace) -> Vec<PathFinding> {
 fn sweep(
     hob: &HobSolid,
     ob: &Obstacle,
-    rims: &[P3],
+    rims: &[(f64, f64)],
     pose_at: &dyn Fn(f64) -> Pose,
     length: f64,
 ) -> Option<Worst> {
@@ -440,22 +433,22 @@ fn sweep(
                 }
             }
         }
-        for &q in rims {
-            // An edge point of the obstacle inside the hob: exact at this pose.
-            let w = Worst {
-                depth: pose.depth_of(hob, q),
-                at: q,
-            };
-            consider(w, t, 2, 0.0, 0.0);
+        // The obstacle's edge circles against the hob (face 2 + circle).
+        for (c, &(z, r)) in rims.iter().enumerate() {
+            for i in 0..N_RIM {
+                let phi = std::f64::consts::TAU * i as f64 / N_RIM as f64;
+                let q = rim_point(z, r, phi);
+                let w = Worst {
+                    depth: pose.depth_of(hob, q),
+                    at: q,
+                };
+                consider(w, t, 2 + c as i8, phi, 0.0);
+            }
         }
     }
     let mut best: Option<Worst> = None;
     for (w, t, face, theta, s) in top {
-        let w = if face == 2 {
-            w
-        } else {
-            refine(hob, ob, pose_at, n, dtheta, (w, t, face, theta, s))
-        };
+        let w = refine(hob, ob, rims, pose_at, n, dtheta, (w, t, face, theta, s));
         if best.is_none_or(|b| w.depth > b.depth) {
             best = Some(w);
         }
@@ -463,11 +456,17 @@ fn sweep(
     best
 }
 
+/// A point of an edge circle at height `z`, radius `r`, angle `phi`.
+fn rim_point(z: f64, r: f64, phi: f64) -> P3 {
+    [r * phi.cos(), r * phi.sin(), z]
+}
+
 /// Pattern search on (t, θ, s) from one sample: try a step either way along
 /// each parameter, keep what goes deeper, halve the steps when nothing does.
 fn refine(
     hob: &HobSolid,
     ob: &Obstacle,
+    rims: &[(f64, f64)],
     pose_at: &dyn Fn(f64) -> Pose,
     n: usize,
     dtheta: f64,
@@ -476,18 +475,32 @@ fn refine(
     let (mut w, mut t, face, mut theta, mut s) = start;
     let mut steps = [
         1.0 / n as f64,
-        dtheta,
-        if face == 0 {
-            2.0 * hob.half / (N_AXIAL - 1) as f64
+        if face >= 2 {
+            std::f64::consts::TAU / N_RIM as f64
         } else {
-            hob.r / N_RINGS as f64
+            dtheta
+        },
+        match face {
+            0 => 2.0 * hob.half / (N_AXIAL - 1) as f64,
+            1 | -1 => hob.r / N_RINGS as f64,
+            _ => 0.0,
         },
     ];
     let eval = |t: f64, theta: f64, s: f64| {
-        let p = pose_at(t).point(hob, face, theta, s);
-        Worst {
-            depth: ob.depth_of(p),
-            at: p,
+        if face >= 2 {
+            // An edge point of the obstacle, how deep inside the hob.
+            let (z, r) = rims[(face - 2) as usize];
+            let q = rim_point(z, r, theta);
+            Worst {
+                depth: pose_at(t).depth_of(hob, q),
+                at: q,
+            }
+        } else {
+            let p = pose_at(t).point(hob, face, theta, s);
+            Worst {
+                depth: ob.depth_of(p),
+                at: p,
+            }
         }
     };
     for _ in 0..REFINE_ITERS {
