@@ -197,6 +197,23 @@ impl GCodeSystem {
     }
 }
 
+/// The block of parameters a machine leaves free for gearcam's programs: a
+/// program's parameter slot n (1–29) is the 840D R parameter `r_first + n − 1`
+/// or the FANUC common variable `#(macro_first + n − 1)`. Slot 25 is the part
+/// counter of hob shifting, which the control keeps between runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ParameterBlock {
+    /// First 840D R parameter gearcam may use (R0–R999).
+    pub r_first: u16,
+    /// First FANUC common variable gearcam may use (retained: #500–#999).
+    pub macro_first: u16,
+}
+
+impl ParameterBlock {
+    /// Parameter slots a program may use (1 to this).
+    pub const SLOTS: u16 = 29;
+}
+
 /// What the hob must never touch besides the blank: the table, the work
 /// fixture (riser and arbor support) under the gear and the tailstock above
 /// it. Heights are measured from the table plane (Z = 0 of the program), radii
@@ -238,6 +255,8 @@ pub struct MachineProfile {
     /// Work offset that puts Z = 0 on the table plane and X = 0 on the table
     /// axis, e.g. `G54`.
     pub work_offset: String,
+    /// The parameters the machine leaves free for gearcam's programs.
+    pub parameters: ParameterBlock,
     /// Start/end position A: X0, mm.
     pub home_x_mm: f64,
     /// Start/end position A: Z0, mm.

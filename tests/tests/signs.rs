@@ -475,3 +475,56 @@ fn a_shift_comment_names_a_position_never_reached() {
         .unwrap();
     assert!((to - last).abs() < 5e-4, "{comment}: last position {last}");
 }
+
+#[test]
+fn parameters_used_as_if_free() {
+    // R1–R26 and #501–#528 were written whatever the machine used them for.
+    // The profile names the block it leaves free; the programs use it, and
+    // the path check refuses a parameter outside it.
+    for (machine, letter) in [("H01", "R"), ("H02", "#")] {
+        let m = model_of(&on_machine(&example("multi_cut_shift_840d.toml"), machine)).unwrap();
+        let text = Templates::builtin().render(&m).unwrap().text;
+        let (_, trace) = nc::check(&text, &m);
+        let mut moved = m.clone();
+        moved.plan.machine.parameters.r_first = 100;
+        moved.plan.machine.parameters.macro_first = 700;
+        let relocated = Templates::builtin()
+            .render(&moved)
+            .unwrap_or_else(|e| panic!("{machine}: {e:#?}"));
+        let (first, counter) = if letter == "R" {
+            ("R100=", "R124")
+        } else {
+            ("#700=", "#724")
+        };
+        assert!(relocated.text.contains(first), "{}", relocated.text);
+        assert!(relocated.text.contains(counter), "{}", relocated.text);
+        let old_counter = if letter == "R" { "R25" } else { "#525" };
+        assert!(!relocated.text.contains(old_counter), "{}", relocated.text);
+        // The same shift positions, computed in the other parameters.
+        let (check, moved_trace) = nc::check(&relocated.text, &moved);
+        assert!(check.ok, "{:#?}", check.findings);
+        let ys = |t: &nc::Trace| t.moves.iter().map(|m| m.y_mm).collect::<Vec<_>>();
+        assert_eq!(ys(&moved_trace), ys(&trace));
+        // The original program on the moved machine writes outside the block.
+        let (check, _) = nc::check(&text, &moved);
+        assert!(
+            check
+                .findings
+                .iter()
+                .any(|f| f.rule == "SETUP" && f.message.contains("leaves free for gearcam")),
+            "{machine}: {:#?}",
+            check.findings
+        );
+    }
+    // A block that does not fit is refused with the field.
+    let m = model_of(&example("spur_840d.toml")).unwrap();
+    let mut plan = m.plan.clone();
+    plan.machine.parameters.r_first = 990;
+    let errors = gearcam_model::compute(&plan).unwrap_err();
+    assert!(
+        errors
+            .iter()
+            .any(|e| e.field == "machine.parameters.r_first" && e.expected == "0 to 971"),
+        "{errors:#?}"
+    );
+}

@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use gearcam_proto::{
-    AxisNames, Dialect, Envelope, GCodeSystem, Hand, HobData, MCodes, MachineId, MachineLimits,
+    AxisNames, Dialect, Envelope, GCodeSystem, ParameterBlock, Hand, HobData, MCodes, MachineId, MachineLimits,
     MachineProfile, MachineSettings, Source,
 };
 use rusqlite::{params, Connection, OptionalExtension};
@@ -273,6 +273,10 @@ pub fn seed_machine_h01() -> MachineProfile {
             tailstock_gap_mm: 60.0,
         },
         work_offset: "G54".into(),
+        parameters: ParameterBlock {
+            r_first: 1,
+            macro_first: 501,
+        },
         home_x_mm: 300.0,
         home_z_mm: 350.0,
     }
@@ -358,6 +362,10 @@ pub fn seed_machine_h02() -> MachineProfile {
             tailstock_gap_mm: 80.0,
         },
         work_offset: "G54".into(),
+        parameters: ParameterBlock {
+            r_first: 1,
+            macro_first: 501,
+        },
         home_x_mm: 450.0,
         home_z_mm: 550.0,
     }

@@ -86,7 +86,7 @@ pub(crate) mod fixtures {
     use std::collections::BTreeMap;
 
     use gearcam_proto::{
-        AxisNames, CaseRef, CutMode, Dialect, Envelope, GCodeSystem, GearSpec, Hand, HobData,
+        AxisNames, CaseRef, CutMode, Dialect, Envelope, GCodeSystem, ParameterBlock, GearSpec, Hand, HobData,
         HobId, HobSpec, JobHeader, JobId, JobRequest, JobSpec, MCodes, MachineId, MachineLimits,
         MachineProfile, MachineSettings, Options, ProcessData, ProcessOverrides, ProcessPlan,
         Source, Sourced,
@@ -158,6 +158,10 @@ pub(crate) mod fixtures {
                 tailstock_gap_mm: 60.0,
             },
             work_offset: "G54".into(),
+            parameters: ParameterBlock {
+                r_first: 1,
+                macro_first: 501,
+            },
             home_x_mm: 300.0,
             home_z_mm: 350.0,
         }

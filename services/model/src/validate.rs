@@ -917,15 +917,48 @@ fn check_machine_settings(r: &mut Report, plan: &ProcessPlan) -> bool {
             );
         }
     }
-    if s.swivel_sign != 1.0 && s.swivel_sign != -1.0 {
+    for (name, v) in [
+        ("swivel_sign", s.swivel_sign),
+        ("table_sign", s.table_sign),
+        ("hob_sign", s.hob_sign),
+        ("shift_sign", s.shift_sign),
+    ] {
+        if v != 1.0 && v != -1.0 {
+            r.error(
+                codes::MACHINE_SETTING_RANGE,
+                &format!("machine.settings.{name}"),
+                "1 or -1",
+                num(v),
+                format!(
+                    "Machine {}'s {name} is the sense of that axis against the neutral frame (docs/hobbing.md), 1 or -1; correct the machine profile in the knowledge base.",
+                    plan.machine.id
+                ),
+            );
+        }
+    }
+    if !s.swivel_offset_deg.is_finite() {
         r.error(
             codes::MACHINE_SETTING_RANGE,
-            "machine.settings.swivel_sign",
-            "1 or -1",
-            num(s.swivel_sign),
+            "machine.settings.swivel_offset_deg",
+            "a finite angle",
+            num(s.swivel_offset_deg),
+            "The swivel offset is the swivel axis reading with the hob parallel to the gear's end face; correct the machine profile.".to_string(),
+        );
+    }
+    let p = plan.machine.parameters;
+    let slots = gearcam_proto::ParameterBlock::SLOTS;
+    let (field, first, lo, hi) = match plan.machine.dialect {
+        gearcam_proto::Dialect::Fanuc => ("machine.parameters.macro_first", p.macro_first, 500, 999),
+        _ => ("machine.parameters.r_first", p.r_first, 0, 999),
+    };
+    if first < lo || first + slots - 1 > hi {
+        r.error(
+            codes::MACHINE_SETTING_RANGE,
+            field,
+            format!("{lo} to {}", hi + 1 - slots),
+            first.to_string(),
             format!(
-                "Machine {}'s swivel sign must be 1 or -1; correct the machine profile in the knowledge base.",
-                plan.machine.id
+                "gearcam's programs use {slots} consecutive parameters from this one (the hob-shift part counter among them, which the control must keep between runs); name a free block of the machine's retained parameters in the profile."
             ),
         );
     }

@@ -255,6 +255,11 @@ impl Compiled {
             unit: None,
             cut: None,
         };
+        let machine = &input.model.plan.machine;
+        run.st.params = match machine.dialect {
+            gearcam_proto::Dialect::Fanuc => ("#", u32::from(machine.parameters.macro_first)),
+            _ => ("R", u32::from(machine.parameters.r_first)),
+        };
         params::fill_part(input, &mut run.vars[PART_BASE..UNIT_BASE]);
         run.nodes(&self.tree)?;
         Ok(run.out)

@@ -146,6 +146,9 @@ pub struct EvalState {
     budget: u64,
     /// The last block number given by `N()`.
     pub block: u32,
+    /// What `P(n)` writes: the parameter letter (`R`, `#`) and the number of
+    /// slot 1 (the machine profile's free block).
+    pub params: (&'static str, u32),
 }
 
 impl EvalState {
@@ -155,6 +158,7 @@ impl EvalState {
             steps_left: budget,
             budget,
             block: 0,
+            params: ("R", 1),
         }
     }
 
@@ -205,6 +209,7 @@ enum Func {
     Text,
     Comment,
     Block,
+    Param,
 }
 
 impl Func {
@@ -229,6 +234,7 @@ impl Func {
             "text" => (Func::Text, 1),
             "comment" => (Func::Comment, 1),
             "N" => (Func::Block, 0),
+            "P" => (Func::Param, 1),
             _ => return None,
         })
     }
@@ -782,6 +788,19 @@ fn call(f: Func, args: &[Expr], vars: &[Value], st: &mut EvalState) -> Result<Va
             Ok(Value::from(out))
         }
         Func::Comment => Ok(Value::from(comment_text(&plain(&a)))),
+        Func::Param => {
+            // Slot n of the machine's free parameter block, as the dialect
+            // writes it: P(25) is R25 on H01, #525 on H02.
+            let n = num(&a, "P")?;
+            if !(n >= 1.0 && n <= f64::from(gearcam_proto::ParameterBlock::SLOTS) && n.fract() == 0.0) {
+                return Err(EvalError::Type(format!(
+                    "P() takes a parameter slot 1 to {}, got {n}",
+                    gearcam_proto::ParameterBlock::SLOTS
+                )));
+            }
+            let (letter, first) = st.params;
+            Ok(Value::from(format!("{letter}{}", first + n as u32 - 1)))
+        }
         Func::If | Func::Block => unreachable!("handled above"),
     }
 }

@@ -469,7 +469,7 @@ mod tests {
     use std::collections::BTreeMap;
 
     use gearcam_proto::{
-        AxisNames, CaseRef, CouplingFactors, Cut, CutMode, Envelope, GCodeSystem, GearClass,
+        AxisNames, CaseRef, CouplingFactors, Cut, CutMode, Envelope, GCodeSystem, ParameterBlock, GearClass,
         GearSpec, Geometry, Hand, HobData, HobSpec, Infeed, JobHeader, JobId, JobRequest, JobSpec,
         Kinematics, MCodes, MachineId, MachineLimits, MachineProfile, MachineSettings, Move,
         MoveKind, Options, Position, Positions, ProcessData, ProcessOverrides, ProcessPlan, Ratio,
@@ -543,6 +543,10 @@ mod tests {
                 tailstock_gap_mm: 60.0,
             },
             work_offset: "G54".into(),
+            parameters: ParameterBlock {
+                r_first: 1,
+                macro_first: 501,
+            },
             home_x_mm: 300.0,
             home_z_mm: 400.0,
         };
@@ -810,7 +814,7 @@ mod tests {
         assert_eq!(lines[4], "; PART SP-1001");
         assert_eq!(lines[5], "; CLASS cylindrical");
         assert_eq!(lines[6], "; MACHINE H01 YK3126 CNC hobbing machine");
-        assert_eq!(lines[7], "; TEMPLATE cylindrical_840d VERSION 5");
+        assert_eq!(lines[7], "; TEMPLATE cylindrical_840d VERSION 6");
         assert_eq!(lines[8], "; CASES CD-STEEL-HSS-1 CASE-0042");
         assert_eq!(lines[9], "; MODEL gearcam-model 0.1.0");
         assert_eq!(lines[10], format!("; GENERATOR {GENERATOR}"));
@@ -839,7 +843,7 @@ mod tests {
             program.template,
             TemplateRef {
                 id: "cylindrical_840d".into(),
-                version: 5
+                version: 6
             }
         );
         assert_eq!(program.cases, vec!["CD-STEEL-HSS-1", "CASE-0042"]);
@@ -1372,7 +1376,7 @@ mod tests {
         }));
         assert!(list.contains(&TemplateRef {
             id: "conical_840d".into(),
-            version: 5
+            version: 6
         }));
     }
 
@@ -1436,7 +1440,7 @@ mod tests {
             .unwrap()
             .1;
         let own = shipped
-            .replace("@version 5", "@version 9")
+            .replace("@version 6", "@version 9")
             .replace("; GEARCAM HOBBING PROGRAM", "; SHOP HOBBING PROGRAM");
         let file = crate::stdcode::parse("own.tpl", &own).unwrap();
         crate::library::Library::open(&path)
@@ -1444,7 +1448,7 @@ mod tests {
             .import(&[file], &[own.as_str()], 2)
             .unwrap();
         // At the next start the service compiles the shop's version, and the
-        // shipped version 5 is not imported over it.
+        // shipped version 6 is not imported over it.
         let next = Templates::from_library(&path, DEFAULT_FUEL, 3).unwrap();
         let t = next.find("cylindrical", Dialect::Sinumerik840d).unwrap();
         assert_eq!(t.version, 9);

@@ -9,7 +9,7 @@
 @template crowned_fanuc
 @class crowned
 @dialect fanuc
-@version 3
+@version 4
 
 main :: %
 main :: {program.name} ({upper(comment(part_number))} HOBBING)
@@ -40,23 +40,23 @@ conditions if: options.coolant :: {N()} M{mc.coolant_on} (COOLANT ON)
 conditions if: options.chip_conveyor :: {N()} M{mc.chip_conveyor_on} (CHIP CONVEYOR ON)
 conditions if: options.mist_separator :: {N()} M{mc.mist_on} (OIL MIST SEPARATOR ON)
 motion/unit calc: xlast = k.B.x; zlast = k.B.z :: (CROWNING {upper(k.crowning.shape)} CB={factor(k.crowning.amount)}{if(has(k.crowning.radius), " RC=" + nc(k.crowning.radius), " CHORDS=" + text(k.crowning.chords) + " DEVIATION=" + factor(k.crowning.max_deviation))})
-synchronous/unit :: #501={nc(u.module)} (NORMAL MODULE MN, MM)
-synchronous/unit :: #502={u.teeth} (NUMBER OF TEETH Z)
-synchronous/unit :: #503={deg(u.helix)} (HELIX ANGLE BETA, DEG)
-synchronous/unit :: #504={u.hob.starts} (HOB STARTS Z0)
-synchronous/unit :: #505={deg(u.hob.lead_angle)} (HOB LEAD ANGLE GAMMA0, DEG)
+synchronous/unit :: {P(1)}={nc(u.module)} (NORMAL MODULE MN, MM)
+synchronous/unit :: {P(2)}={u.teeth} (NUMBER OF TEETH Z)
+synchronous/unit :: {P(3)}={deg(u.helix)} (HELIX ANGLE BETA, DEG)
+synchronous/unit :: {P(4)}={u.hob.starts} (HOB STARTS Z0)
+synchronous/unit :: {P(5)}={deg(u.hob.lead_angle)} (HOB LEAD ANGLE GAMMA0, DEG)
 shift/unit if: k.has_shift :: (HOB SHIFT PER {upper(k.shift.mode)}: {k.shift.positions} POSITIONS FROM {nc(k.shift.start)} TO {nc(k.shift.last)} MM)
-shift/unit if: k.has_shift :: #520={nc(k.shift.start)} (SHIFT START, MM)
-shift/unit if: k.has_shift :: #521={nc(k.shift.end)} (SHIFT END, MM)
-shift/unit if: k.has_shift :: #522={nc(k.shift.step)} (SHIFT PER STEP, MM)
-shift/unit if: k.has_shift :: #523={k.shift.parts_per_step} (PARTS PER SHIFT STEP)
-shift/unit if: k.has_shift :: #524={k.shift.positions} (SHIFT POSITIONS)
-shift/unit if: k.has_shift :: (#525 COUNTS THE PARTS CUT WITH THIS HOB SETTING, SET #525=0 AFTER A HOB CHANGE)
-shift/unit if: k.has_shift :: IF [#525 GE #523*#524] THEN #525=0 (EVERY SHIFT POSITION HAS CUT #523 PARTS: START AGAIN)
-shift/unit if: k.has_shift :: #526=FIX[#525/#523] (SHIFT STEPS SO FAR)
-shift/unit when: k.has_shift calc: first_index = if(k.shift.by_cut, "[#526*" + text(k.cuts) + "]", "#526") if: k.has_shift :: #527={first_index}-FIX[{first_index}/#524]*#524 (SHIFT POSITION OF THE FIRST CUT)
-shift/unit if: k.has_shift :: #528=#520+#522*#527 (SHIFT AXIS POSITION, MM)
-shift/unit if: k.has_shift :: {N()} G00 G90 {ax.shift}[#528] (HOB SHIFTED BEFORE COUPLING)
+shift/unit if: k.has_shift :: {P(20)}={nc(k.shift.start)} (SHIFT START, MM)
+shift/unit if: k.has_shift :: {P(21)}={nc(k.shift.end)} (SHIFT END, MM)
+shift/unit if: k.has_shift :: {P(22)}={nc(k.shift.step)} (SHIFT PER STEP, MM)
+shift/unit if: k.has_shift :: {P(23)}={k.shift.parts_per_step} (PARTS PER SHIFT STEP)
+shift/unit if: k.has_shift :: {P(24)}={k.shift.positions} (SHIFT POSITIONS)
+shift/unit if: k.has_shift :: ({P(25)} COUNTS THE PARTS CUT WITH THIS HOB SETTING, SET {P(25)}=0 AFTER A HOB CHANGE)
+shift/unit if: k.has_shift :: IF [{P(25)} GE {P(23)}*{P(24)}] THEN {P(25)}=0 (EVERY SHIFT POSITION HAS CUT {P(23)} PARTS: START AGAIN)
+shift/unit if: k.has_shift :: {P(26)}=FIX[{P(25)}/{P(23)}] (SHIFT STEPS SO FAR)
+shift/unit when: k.has_shift calc: first_index = if(k.shift.by_cut, "[" + P(26) + "*" + text(k.cuts) + "]", P(26)) if: k.has_shift :: {P(27)}={first_index}-FIX[{first_index}/{P(24)}]*{P(24)} (SHIFT POSITION OF THE FIRST CUT)
+shift/unit if: k.has_shift :: {P(28)}={P(20)}+{P(22)}*{P(27)} (SHIFT AXIS POSITION, MM)
+shift/unit if: k.has_shift :: {N()} G00 G90 {ax.shift}[{P(28)}] (HOB SHIFTED BEFORE COUPLING)
 shift/unit calc: ylast = k.y0 if: k.tangential :: {N()} G00 G90 {ax.shift}{nc(k.y0)} (HOB SHIFTED TO THE TANGENTIAL START BEFORE COUPLING)
 synchronous/unit calc: direction = if(k.coupling.num < 0, -1, 1); helix_p = if(k.c_per_z < 0, -abs(u.helix), abs(u.helix)) :: ({ax.table} FOLLOWS THE HOB BY Z0/Z{if(k.use_z, ", HELICAL COMPENSATION FROM Q AND P", "")}{if(k.use_y, ", " + ax.shift + " MOVES WITH THEIR " + ax.table + " CORRECTION " + factor(k.c_per_y) + " DEG/MM", "")})
 synchronous/unit :: {N()} G81 T{u.teeth} L{direction * u.hob.starts}{if(k.use_z, " Q" + nc(u.module) + " P" + deg(helix_p), "")} (EGB ON)
@@ -65,10 +65,10 @@ motion/cut :: (CUT {cut.number} OF {cut.count} [{upper(k.cut_mode)} CUT]: {if(cu
 motion/cut if: cut.resync :: {N()} G00 G90 {ax.radial}{nc(cut.B.x)} (OUT OF THE GAPS, GEARBOX STAYS COUPLED)
 motion/cut if: cut.resync :: {N()} G00 G90 {ax.axial}{nc(cut.B.z)}
 motion/move calc: words = if(has(m.x), " " + ax.radial + nc(m.x), "") + if(has(m.z), " " + ax.axial + nc(m.z), "") :: ({comment(m.note)})
-shift/move if: has(m.y) and k.shift.by_cut :: #527=[#526*{cut.count}+{cut.number - 1}]-FIX[[#526*{cut.count}+{cut.number - 1}]/#524]*#524 (SHIFT POSITION OF THIS CUT)
-shift/move if: has(m.y) and k.shift.by_cut :: #529=#520+#522*#527-#528 (SHIFT, MM)
-shift/move if: has(m.y) and k.shift.by_cut :: {N()} G01 G91 {ax.shift}[#529] {ax.table}[#529*{factor(k.c_per_y)}] F{nc(machine.max_feed)}
-shift/move if: has(m.y) and k.shift.by_cut :: #528=#528+#529
+shift/move if: has(m.y) and k.shift.by_cut :: {P(27)}=[{P(26)}*{cut.count}+{cut.number - 1}]-FIX[[{P(26)}*{cut.count}+{cut.number - 1}]/{P(24)}]*{P(24)} (SHIFT POSITION OF THIS CUT)
+shift/move if: has(m.y) and k.shift.by_cut :: {P(29)}={P(20)}+{P(22)}*{P(27)}-{P(28)} (SHIFT, MM)
+shift/move if: has(m.y) and k.shift.by_cut :: {N()} G01 G91 {ax.shift}[{P(29)}] {ax.table}[{P(29)}*{factor(k.c_per_y)}] F{nc(machine.max_feed)}
+shift/move if: has(m.y) and k.shift.by_cut :: {P(28)}={P(28)}+{P(29)}
 shift/move when: has(m.y) and not k.has_shift calc: dy = m.y - ylast; ylast = m.y if: has(m.y) and not k.has_shift and dy != 0 :: {N()} G01 G91 {ax.shift}{nc(dy)} {ax.table}{deg(dy * k.c_per_y)} F{nc(if(m.kind == "feed", m.feed, machine.max_feed))}
 motion/move if: m.kind == "rapid" and words != "" :: {N()} G00 G90{words}
 motion/move if: m.kind == "feed" and words != "" :: {N()} G01 G90 G94{words} F{nc(m.feed)}
@@ -79,7 +79,7 @@ motion :: (E TO A: BACK TO THE START POINT)
 motion :: {N()} G00 G90 {ax.radial}{nc(A.x)} (RADIAL RETRACT FIRST: THE HOB LEAVES THE BLANK ZONE)
 motion :: {N()} G00 G90 {ax.axial}{nc(A.z)}
 synchronous if: options.sync_cancel :: {N()} G80 (EGB OFF)
-shift if: any_shift :: #525=#525+1 (PARTS CUT WITH THIS HOB SETTING)
+shift if: any_shift :: {P(25)}={P(25)}+1 (PARTS CUT WITH THIS HOB SETTING)
 conditions if: options.coolant :: {N()} M{mc.coolant_off} (COOLANT OFF)
 conditions if: options.chip_conveyor :: {N()} M{mc.chip_conveyor_off} (CHIP CONVEYOR OFF)
 conditions if: options.mist_separator :: {N()} M{mc.mist_off} (OIL MIST SEPARATOR OFF)

@@ -10,7 +10,7 @@
 @template worm_wheel_840d
 @class worm_wheel
 @dialect sinumerik840d
-@version 5
+@version 6
 
 main :: %{program.file}
 main :: ;$PATH=/_N_MPF_DIR
@@ -42,22 +42,22 @@ conditions if: options.coolant :: {N()} M{mc.coolant_on} ; COOLANT ON
 conditions if: options.chip_conveyor :: {N()} M{mc.chip_conveyor_on} ; CHIP CONVEYOR ON
 conditions if: options.mist_separator :: {N()} M{mc.mist_on} ; OIL MIST SEPARATOR ON
 motion/unit :: ; WORM WHEEL {upper(k.worm.infeed)} INFEED TO A={nc(k.worm.centre_distance)} AT Z={nc(k.worm.throat_z)}
-synchronous/unit :: {N()} R1={nc(u.module)} ; NORMAL MODULE MN, MM
-synchronous/unit :: {N()} R2={u.teeth} ; NUMBER OF TEETH Z
-synchronous/unit :: {N()} R3={deg(u.helix)} ; HELIX ANGLE BETA, DEG
-synchronous/unit :: {N()} R4={u.hob.starts} ; HOB STARTS Z0
-synchronous/unit :: {N()} R5={deg(u.hob.lead_angle)} ; HOB LEAD ANGLE GAMMA0, DEG
+synchronous/unit :: {N()} {P(1)}={nc(u.module)} ; NORMAL MODULE MN, MM
+synchronous/unit :: {N()} {P(2)}={u.teeth} ; NUMBER OF TEETH Z
+synchronous/unit :: {N()} {P(3)}={deg(u.helix)} ; HELIX ANGLE BETA, DEG
+synchronous/unit :: {N()} {P(4)}={u.hob.starts} ; HOB STARTS Z0
+synchronous/unit :: {N()} {P(5)}={deg(u.hob.lead_angle)} ; HOB LEAD ANGLE GAMMA0, DEG
 shift/unit if: k.has_shift :: ; HOB SHIFT PER {upper(k.shift.mode)}: {k.shift.positions} POSITIONS FROM {nc(k.shift.start)} TO {nc(k.shift.last)} MM
-shift/unit if: k.has_shift :: {N()} R20={nc(k.shift.start)} ; SHIFT START, MM
-shift/unit if: k.has_shift :: {N()} R21={nc(k.shift.end)} ; SHIFT END, MM
-shift/unit if: k.has_shift :: {N()} R22={nc(k.shift.step)} ; SHIFT PER STEP, MM
-shift/unit if: k.has_shift :: {N()} R23={k.shift.parts_per_step} ; PARTS PER SHIFT STEP
-shift/unit if: k.has_shift :: {N()} R24={k.shift.positions} ; SHIFT POSITIONS
-shift/unit if: k.has_shift :: ; R25 COUNTS THE PARTS CUT WITH THIS HOB SETTING; SET R25=0 AFTER A HOB CHANGE
-shift/unit if: k.has_shift :: {N()} IF R25>=R23*R24 ; EVERY SHIFT POSITION HAS CUT R23 PARTS
-shift/unit if: k.has_shift :: {N()} R25=0 ; START AGAIN AT THE SHIFT START
+shift/unit if: k.has_shift :: {N()} {P(20)}={nc(k.shift.start)} ; SHIFT START, MM
+shift/unit if: k.has_shift :: {N()} {P(21)}={nc(k.shift.end)} ; SHIFT END, MM
+shift/unit if: k.has_shift :: {N()} {P(22)}={nc(k.shift.step)} ; SHIFT PER STEP, MM
+shift/unit if: k.has_shift :: {N()} {P(23)}={k.shift.parts_per_step} ; PARTS PER SHIFT STEP
+shift/unit if: k.has_shift :: {N()} {P(24)}={k.shift.positions} ; SHIFT POSITIONS
+shift/unit if: k.has_shift :: ; {P(25)} COUNTS THE PARTS CUT WITH THIS HOB SETTING; SET {P(25)}=0 AFTER A HOB CHANGE
+shift/unit if: k.has_shift :: {N()} IF {P(25)}>={P(23)}*{P(24)} ; EVERY SHIFT POSITION HAS CUT {P(23)} PARTS
+shift/unit if: k.has_shift :: {N()} {P(25)}=0 ; START AGAIN AT THE SHIFT START
 shift/unit if: k.has_shift :: {N()} ENDIF
-shift/unit if: k.has_shift :: {N()} R26=TRUNC(R25/R23) ; SHIFT STEPS SO FAR
+shift/unit if: k.has_shift :: {N()} {P(26)}=TRUNC({P(25)}/{P(23)}) ; SHIFT STEPS SO FAR
 synchronous/unit calc: lead = if(k.use_z, "," + ax.axial + ",1", "") + if(k.use_y, "," + ax.shift + ",1", ""); factors = if(k.use_z, "," + ax.axial + ",0," + factor(k.c_per_z) + ",1", "") + if(k.use_y, "," + ax.shift + ",0," + factor(k.c_per_y) + ",1", "") :: ; GEARBOX: {ax.table} FOLLOWS {ax.hob} BY Z0/Z{if(k.use_z, ", " + ax.axial + " BY THE DIFFERENTIAL", "")}{if(k.use_y, ", " + ax.shift + " BY THE SHIFT COMPENSATION", "")}, DEG/MM
 synchronous/unit :: {N()} EGDEF({ax.table},{ax.hob},1{lead})
 synchronous/unit :: {N()} EGONSYNE({ax.table},"FINE",0,"DCT",{ax.hob},0,{k.coupling.num},{k.coupling.den}{factors}) ; COUPLED AT FIXED SYNCHRONISED POSITIONS: EVERY CUT SHARES THIS REFERENCE
@@ -65,7 +65,7 @@ conditions/unit :: {N()} M{mc.spindle_on} S={nc(k.hob_rpm)} ; HOB ON, RPM
 motion/cut :: ; CUT {cut.number} OF {cut.count} ({upper(k.cut_mode)} CUT): {if(cut.finish, "FINISH", "ROUGH")} TO H={nc(cut.depth)} L={nc(cut.centre_distance)}, {nc(cut.time)} MIN
 motion/cut if: cut.resync :: {N()} G0 G90 {ax.radial}={nc(cut.B.x)} ; OUT OF THE GAPS, THE GEARBOX STAYS COUPLED
 motion/cut if: cut.resync :: {N()} G0 G90 {ax.axial}={nc(cut.B.z)}
-motion/move calc: shift_index = if(k.shift.by_cut, "(R26*" + text(cut.count) + "+" + text(cut.number - 1) + ")", "R26"); words = if(has(m.x), " " + ax.radial + "=" + nc(m.x), "") + if(has(m.z), " " + ax.axial + "=" + nc(m.z), "") + if(has(m.y), " " + ax.shift + "=" + if(k.has_shift, "R20+R22*(" + shift_index + " MOD R24)", nc(m.y)), "") :: ; {comment(m.note)}
+motion/move calc: shift_index = if(k.shift.by_cut, "(" + P(26) + "*" + text(cut.count) + "+" + text(cut.number - 1) + ")", P(26)); words = if(has(m.x), " " + ax.radial + "=" + nc(m.x), "") + if(has(m.z), " " + ax.axial + "=" + nc(m.z), "") + if(has(m.y), " " + ax.shift + "=" + if(k.has_shift, P(20) + "+" + P(22) + "*(" + shift_index + " MOD " + P(24) + ")", nc(m.y)), "") :: ; {comment(m.note)}
 motion/move if: m.kind == "rapid" :: {N()} G0 G90{words}
 motion/move if: m.kind == "feed" :: {N()} G1 G90 G94{words} F={nc(m.feed)}
 motion/move if: m.kind == "arc" :: {N()} CIP{words} I1={nc(m.via.x)} K1={nc(m.via.z)} F={nc(m.feed)}
@@ -76,7 +76,7 @@ motion :: {N()} G0 G90 {ax.radial}={nc(A.x)} ; RADIAL RETRACT FIRST: THE HOB LEA
 motion :: {N()} G0 G90 {ax.axial}={nc(A.z)}
 synchronous if: options.sync_cancel :: {N()} EGOFS({ax.table}) ; GEARBOX OFF
 synchronous if: options.sync_cancel :: {N()} EGDEL({ax.table}) ; GEARBOX DEFINITION DELETED
-shift if: any_shift :: {N()} R25=R25+1 ; PARTS CUT WITH THIS HOB SETTING
+shift if: any_shift :: {N()} {P(25)}={P(25)}+1 ; PARTS CUT WITH THIS HOB SETTING
 conditions if: options.coolant :: {N()} M{mc.coolant_off} ; COOLANT OFF
 conditions if: options.chip_conveyor :: {N()} M{mc.chip_conveyor_off} ; CHIP CONVEYOR OFF
 conditions if: options.mist_separator :: {N()} M{mc.mist_off} ; OIL MIST SEPARATOR OFF

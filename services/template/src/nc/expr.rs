@@ -16,8 +16,9 @@ const MAX_TOKENS: usize = 256;
 /// Evaluation stack size; [`MAX_NESTING`] bounds the depth to far less.
 const STACK: usize = 64;
 
-/// Number of parameters: 840D `R0`–`R99`, FANUC `#500`–`#599`.
-pub const PARAMS: usize = 100;
+/// Number of parameters, indexed by their own number: 840D `R0`–`R999`,
+/// FANUC retained common variables `#500`–`#999`.
+pub const PARAMS: usize = 1000;
 
 /// A byte cursor over one program line.
 #[derive(Debug, Clone)]
@@ -217,7 +218,7 @@ pub(crate) enum Syntax {
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Tok {
     Num(f64),
-    Var(u8),
+    Var(u16),
     Neg,
     Add,
     Sub,
@@ -572,12 +573,12 @@ impl Compiler {
             }
             Some(b'R') if self.syntax == Syntax::Siemens => {
                 c.bump();
-                let i = param_index(c.digits()).ok_or("an R parameter is not R0 to R99")?;
+                let i = param_index(c.digits()).ok_or("an R parameter is not R0 to R999")?;
                 self.push(Tok::Var(i))
             }
             Some(b'#') if self.syntax == Syntax::Fanuc => {
                 c.bump();
-                let i = macro_index(c.digits()).ok_or("a macro variable is not #500 to #599")?;
+                let i = macro_index(c.digits()).ok_or("a macro variable is not #500 to #999")?;
                 self.push(Tok::Var(i))
             }
             _ if c.eat_str(func) => {
@@ -600,18 +601,19 @@ impl Compiler {
     }
 }
 
-/// `R<n>` index from its digits: 0–99.
-pub(crate) fn param_index(digits: &[u8]) -> Option<u8> {
+/// `R<n>` number from its digits: 0–999.
+pub(crate) fn param_index(digits: &[u8]) -> Option<u16> {
     match small_uint(digits) {
-        Some(n) if n < PARAMS as u32 && digits.len() <= 2 => Some(n as u8),
+        Some(n) if n < PARAMS as u32 && digits.len() <= 3 => u16::try_from(n).ok(),
         _ => None,
     }
 }
 
-/// `#5nn` index from its digits: 500–599 → 0–99.
-pub(crate) fn macro_index(digits: &[u8]) -> Option<u8> {
+/// `#n` number from its digits: the retained common variables 500–999 (the
+/// part counter must survive a power cycle, so #100–#199 are not offered).
+pub(crate) fn macro_index(digits: &[u8]) -> Option<u16> {
     match small_uint(digits) {
-        Some(n) if (500..600).contains(&n) && digits.len() == 3 => Some((n - 500) as u8),
+        Some(n) if (500..1000).contains(&n) && digits.len() == 3 => u16::try_from(n).ok(),
         _ => None,
     }
 }
@@ -649,8 +651,9 @@ mod tests {
     #[test]
     fn precedence_unary_minus_and_fanuc_brackets() {
         let mut v = [0.0; PARAMS];
-        v[25] = 9.0;
-        v[23] = 4.0;
+        // FANUC variables are indexed by their own number.
+        v[525] = 9.0;
+        v[523] = 4.0;
         assert_eq!(eval("1+2*3-4/2", Syntax::Siemens, &v), Ok(5.0));
         assert_eq!(eval("-(1+2)*-2", Syntax::Siemens, &v), Ok(6.0));
         assert_eq!(eval("FIX[#525/#523]", Syntax::Fanuc, &v), Ok(2.0));
@@ -681,7 +684,7 @@ mod tests {
 
     #[test]
     fn malformed_expressions_are_refused() {
-        for bad in ["R100", "(1+2", "TRUNC(1", "1+", "#499", "MOD 2", "--"] {
+        for bad in ["R1000", "(1+2", "TRUNC(1", "1+", "#499", "#1000", "MOD 2", "--"] {
             let mut c = Cursor::new(bad);
             let syntax = if bad.starts_with('#') {
                 Syntax::Fanuc

@@ -172,8 +172,8 @@ fn body(raw: &str) -> Result<&str, String> {
 }
 
 /// `5nn=value` after the `#`, to the end of the block.
-fn assignment(c: &mut Cursor<'_>) -> Result<(u8, expr::Value), String> {
-    let param = expr::macro_index(c.digits()).ok_or("macro variables are #500 to #599")?;
+fn assignment(c: &mut Cursor<'_>) -> Result<(u16, expr::Value), String> {
+    let param = expr::macro_index(c.digits()).ok_or("macro variables are #500 to #999")?;
     c.skip_spaces();
     if !c.eat(b'=') {
         return Err("an assignment is #5nn=value".into());
@@ -387,10 +387,10 @@ mod tests {
         else {
             panic!()
         };
-        assert_eq!((cond.rel, param), (expr::Rel::Ge, 25));
+        assert_eq!((cond.rel, param), (expr::Rel::Ge, 525));
         assert_eq!(value.literal().unwrap().value, 0.0);
         let mut r = [0.0; expr::PARAMS];
-        (r[23], r[24], r[25]) = (4.0, 6.0, 24.0);
+        (r[523], r[524], r[525]) = (4.0, 6.0, 24.0);
         assert!(cond.eval(&r).unwrap());
         for bad in [
             "IF [#525 GE 4] GOTO 10",
@@ -432,7 +432,7 @@ mod tests {
         ));
         assert!(matches!(
             one("#526=FIX[#525/#523]").unwrap(),
-            Op::Assign { param: 26, .. }
+            Op::Assign { param: 526, .. }
         ));
         let Op::Motion(m) = one("N190 G00 G90 X82.5 Y[#520+#522*#527]").unwrap() else {
             panic!()

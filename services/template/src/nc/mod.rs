@@ -241,10 +241,10 @@ pub struct Lead {
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq)]
 pub enum Op {
-    /// `R<n>=expr` (840D) or `#5nn=expr` (FANUC); `param` is `n` (0–99).
+    /// `R<n>=expr` (840D) or `#n=expr` (FANUC); `param` is `n`.
     Assign {
         /// Parameter index: `R` number, or FANUC variable − 500.
-        param: u8,
+        param: u16,
         /// The value.
         value: Value,
     },
@@ -316,7 +316,7 @@ pub enum Op {
         /// The condition.
         cond: Cond,
         /// Parameter index: FANUC variable − 500.
-        param: u8,
+        param: u16,
         /// The value.
         value: Value,
     },

@@ -148,7 +148,7 @@ fn assignment(c: &mut Cursor<'_>, slot: &mut Op) -> Result<bool, String> {
         c.i = start;
         return Ok(false);
     }
-    let param = expr::param_index(digits).ok_or("R parameters are R0 to R99")?;
+    let param = expr::param_index(digits).ok_or("R parameters are R0 to R999")?;
     let value = expr::expression(c, Syntax::Siemens)?;
     if let Some(n) = value.literal() {
         literal(n, "the value", 6, n.point)?;
@@ -658,7 +658,7 @@ mod tests {
             "N10 G4 X=1.0",                  // dwell with an axis
             "N10 X=1.0 X=2.0",               // repeated axis
             "N10 GOTOF LABEL",               // not in the subset
-            "N10 R100=1.0",                  // R0–R99
+            "N10 R1000=1.0",                 // R0–R999
             "N10 CIP X=1.0 Z=2.0 F=1.0",     // no intermediate point
             "N10 G0 X=1.0 ; ÄÖ",             // not ASCII
             "N10",                           // number alone

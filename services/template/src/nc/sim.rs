@@ -560,11 +560,24 @@ impl<'m> Sim<'m> {
         (&ax.radial, &ax.axial, &ax.shift)
     }
 
-    fn param_name(&self, param: u8) -> String {
+    fn param_name(&self, param: u16) -> String {
         match self.dialect {
-            Dialect::Fanuc => format!("#{}", 500 + u32::from(param)),
+            Dialect::Fanuc => format!("#{param}"),
             _ => format!("R{param}"),
         }
+    }
+
+    /// The parameters the machine leaves free for gearcam (first, last).
+    fn free_params(&self) -> (u16, u16) {
+        let p = self.profile.parameters;
+        let first = match self.dialect {
+            Dialect::Fanuc => p.macro_first,
+            _ => p.r_first,
+        };
+        (
+            first,
+            first.saturating_add(gearcam_proto::ParameterBlock::SLOTS - 1),
+        )
     }
 
     fn turning(&self) -> bool {
@@ -607,7 +620,23 @@ impl<'m> Sim<'m> {
         }
     }
 
-    fn assign(&mut self, line: u32, param: u8, value: &Value) {
+    fn assign(&mut self, line: u32, param: u16, value: &Value) {
+        let (first, last) = self.free_params();
+        if !(first..=last).contains(&param) {
+            let (name, a, b) = (
+                self.param_name(param),
+                self.param_name(first),
+                self.param_name(last),
+            );
+            self.push(
+                line,
+                rules::SETUP,
+                format!(
+                    "{name} is not among the parameters machine {} leaves free for gearcam ({a} to {b}, the profile's parameters)",
+                    self.profile.id
+                ),
+            );
+        }
         match value.eval(&self.vars) {
             Ok(v) => {
                 if let Some(slot) = self.vars.get_mut(usize::from(param)) {
