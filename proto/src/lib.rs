@@ -50,7 +50,8 @@ pub use model::{
 };
 pub use plan::{
     AxisNames, CaseRef, Dialect, Envelope, GCodeSystem, HobData, MCodes, MachineLimits,
-    MachineProfile, MachineSettings, ParameterBlock, ProcessData, ProcessPlan, Source, Sourced, WorkpieceRef,
+    MachineProfile, MachineSettings, ParameterBlock, ProcessData, ProcessPlan, Source, Sourced,
+    WorkpieceRef,
 };
 pub use program::{
     now_ms, DeliveryReceipt, EventKind, JobError, JobEvent, NcProgram, PathCheck, PathFinding,

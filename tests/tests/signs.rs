@@ -233,16 +233,21 @@ fn delta_h_prime_too_small() {
         .collect();
     assert_eq!(clearance.len(), 1, "{found:#?}");
     assert!(clearance[0].1.contains("into the blank"), "{found:#?}");
+    eprintln!("patent ΔH′ {old:.3} mm: {}", clearance[0].1);
 }
 
 #[test]
 fn conical_clearance_taken_at_the_large_end() {
-    // The conical example approaches its small (upper) end. With the
-    // clearance of the large end, as before, the rapid infeed overlaps the
-    // blank's edge; with the clearance of the end it approaches, it does not.
+    // The conical example approaches its small (upper) end. Before, the
+    // clearance was the large end's and X followed the cone line beyond the
+    // face, so at the approach height the hob stood deeper than the cut
+    // against the small end: the rapid infeed overlapped the blank's edge
+    // (about 1.4 mm). Now X holds the face's value beyond the face and the
+    // clearance is the small end's.
     let m = model_of(&example("conical_840d.toml")).unwrap();
     assert!(findings(&m).is_empty());
     let k = &m.model;
+    let cone = k.cone.as_ref().unwrap();
     let large_end = gearcam_model::hobbing::Clearance {
         blank_od_mm: k.blank_od_mm,
         hob_od_mm: m.plan.hob.od_mm,
@@ -252,12 +257,31 @@ fn conical_clearance_taken_at_the_large_end() {
     }
     .solve()
     .clearance_mm;
-    assert!(large_end < k.cuts[0].clearance_mm, "{large_end}");
-    let found = findings(&approach_at(&m, large_end + k.safety_mm));
-    assert!(
-        found.iter().any(|(rule, _)| rule == "HOB_CLEARANCE"),
-        "{found:#?}"
+    let gear = &m.plan.request.spec.gear;
+    let (bottom, top) = (
+        gear.fixture_height_mm,
+        gear.fixture_height_mm + gear.face_width_mm,
     );
+    // The old approach: large-end ΔH′ above the top face, X on the cone line.
+    let z = top + large_end + k.safety_mm;
+    let x = cone.x_large_mm + (z - bottom) * cone.x_per_z;
+    let mut old = m.clone();
+    let cut = &mut old.model.cuts[0];
+    let retract = cut.positions.B.x_mm - cut.positions.C.x_mm;
+    cut.positions.C = gearcam_proto::Position { x_mm: x, z_mm: z };
+    cut.positions.B = gearcam_proto::Position {
+        x_mm: x + retract,
+        z_mm: z,
+    };
+    cut.moves[0].x_mm = Some(x);
+    old.model.positions = cut.positions;
+    let found = findings(&old);
+    let hit = found
+        .iter()
+        .find(|(rule, _)| rule == "HOB_CLEARANCE")
+        .unwrap_or_else(|| panic!("{found:#?}"));
+    assert!(hit.1.contains("into the blank"), "{}", hit.1);
+    eprintln!("old conical approach: {}", hit.1);
 }
 
 #[test]

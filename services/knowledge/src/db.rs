@@ -7,8 +7,8 @@
 use std::path::Path;
 
 use gearcam_proto::{
-    AxisNames, Dialect, Envelope, GCodeSystem, ParameterBlock, Hand, HobData, MCodes, MachineId, MachineLimits,
-    MachineProfile, MachineSettings, Source,
+    AxisNames, Dialect, Envelope, GCodeSystem, Hand, HobData, MCodes, MachineId, MachineLimits,
+    MachineProfile, MachineSettings, ParameterBlock, Source,
 };
 use rusqlite::{params, Connection, OptionalExtension};
 

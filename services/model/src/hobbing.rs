@@ -480,56 +480,36 @@ pub fn shift_compensation_deg_per_mm(hob: &HobData, teeth: u32) -> f64 {
     frame::shift_compensation_deg_per_mm(hob, teeth)
 }
 
-/// The blank radius and the depth the hob meets where it approaches and
-/// where it runs out, for the clearance at each end: (approach OD, approach
-/// depth, run-out OD, run-out depth). A cylinder is the same at both ends.
-/// A cone's blank is smaller by b·tan δ at its small end, and X follows the
-/// cone beyond the face, so the hob stands deeper by `over`·tan δ against the
-/// small end's blank at a hob centre `over` beyond that face.
-fn ends(u: &Unit, blank_od_mm: f64, depth_mm: f64, over_mm: f64, top: bool) -> (f64, f64) {
+/// The blank diameter the hob meets at one face (top or bottom): a
+/// cylinder's everywhere; a cone's is smaller by 2·b·tan δ at its small end.
+/// The depth there is the cut's (the hob's X holds the face's value beyond
+/// the face, [`crate::path::conical`]).
+fn end_blank_od(u: &Unit, blank_od_mm: f64, top: bool) -> f64 {
     match (u.class, u.gear.cone.as_ref()) {
         (GearClass::Conical, Some(cone)) => {
             let large_on_top = cone.large_end == gearcam_proto::LargeEnd::Top;
             if large_on_top == top {
-                (blank_od_mm, depth_mm)
+                blank_od_mm
             } else {
-                let t = cone.angle_deg.to_radians().tan();
-                (
-                    blank_od_mm - 2.0 * u.gear.face_width_mm * t,
-                    depth_mm + over_mm * t,
-                )
+                blank_od_mm - 2.0 * u.gear.face_width_mm * cone.angle_deg.to_radians().tan()
             }
         }
-        _ => (blank_od_mm, depth_mm),
+        _ => blank_od_mm,
     }
 }
 
-/// ΔH′ at one face (top or bottom) of a unit's blank: for a cone at its own
-/// blank radius and with the extra depth the cone's X brings, found as a fixed
-/// point (the overtravel depends on the clearance and the depth on the
-/// overtravel; tan δ < 1 makes it converge).
-fn face_clearance(u: &Unit, eta: f64, blank: f64, depth: f64, safety: f64, top: bool) -> f64 {
-    let solve = |od: f64, h: f64| {
-        Clearance {
-            blank_od_mm: od,
-            hob_od_mm: u.hob.od_mm,
-            depth_mm: h,
-            swivel_deg: eta,
-            hob_length_mm: u.hob.length_mm,
-        }
-        .solve()
-        .clearance_mm
-    };
-    let mut c = solve(blank, depth);
-    for _ in 0..50 {
-        let (od, h) = ends(u, blank, depth, c + safety, top);
-        let next = solve(od, h);
-        if (next - c).abs() < 1e-9 {
-            return next.max(c);
-        }
-        c = next;
+/// ΔH′ at one face (top or bottom) of a unit's blank: a cone's at that
+/// face's own blank radius (the end the hob approaches may be the small one).
+fn face_clearance(u: &Unit, eta: f64, blank: f64, depth: f64, top: bool) -> f64 {
+    Clearance {
+        blank_od_mm: end_blank_od(u, blank, top),
+        hob_od_mm: u.hob.od_mm,
+        depth_mm: depth,
+        swivel_deg: eta,
+        hob_length_mm: u.hob.length_mm,
     }
-    c
+    .solve()
+    .clearance_mm
 }
 
 /// The hobbing kinematics of a validated plan's own gear (SPEC §4.3–4.4), see
@@ -620,8 +600,8 @@ pub fn unit_kinematics(u: &Unit, geometry: &Geometry) -> Kinematics {
             (GearClass::Crowned, Some(cr)) => cr.amount_mm.max(0.0),
             _ => 0.0,
         };
-        let clear_top = face_clearance(u, eta, set.blank_od_mm, depth + crown, safety, true);
-        let clear_bottom = face_clearance(u, eta, set.blank_od_mm, depth + crown, safety, false);
+        let clear_top = face_clearance(u, eta, set.blank_od_mm, depth + crown, true);
+        let clear_bottom = face_clearance(u, eta, set.blank_od_mm, depth + crown, false);
         // The cut's ΔH′ is the one at the face the hob approaches.
         let clearance = if process.cut_mode == CutMode::Conventional {
             clear_top

@@ -86,10 +86,10 @@ pub(crate) mod fixtures {
     use std::collections::BTreeMap;
 
     use gearcam_proto::{
-        AxisNames, CaseRef, CutMode, Dialect, Envelope, GCodeSystem, ParameterBlock, GearSpec, Hand, HobData,
+        AxisNames, CaseRef, CutMode, Dialect, Envelope, GCodeSystem, GearSpec, Hand, HobData,
         HobId, HobSpec, JobHeader, JobId, JobRequest, JobSpec, MCodes, MachineId, MachineLimits,
-        MachineProfile, MachineSettings, Options, ProcessData, ProcessOverrides, ProcessPlan,
-        Source, Sourced,
+        MachineProfile, MachineSettings, Options, ParameterBlock, ProcessData, ProcessOverrides,
+        ProcessPlan, Source, Sourced,
     };
 
     /// Spur gear mn 3, z 25, αn 20°, b 30, x 0, ha* 1, c* 0.25, H 50, blank at da.

@@ -195,28 +195,58 @@ pub fn cone_slope(angle_deg: f64, large_end: LargeEnd) -> f64 {
     }
 }
 
-/// Conical gear: X follows Z linearly along the cone, X(Z) = Xc + (Z − Zl)·slope
-/// with Xc the finishing X at the large-end face Zl. The path feed is
-/// Vf / cos δ so that the axial feed rate stays Vf.
+/// Conical gear: across the face X follows Z linearly along the cone,
+/// X(Z) = Xc + (Z − Zl)·slope with Xc the finishing X at the large-end face
+/// Zl; beyond the faces, where there is no material, X stays at the face's
+/// value (extending the cone line there would take the hob towards the table
+/// axis by the overtravel times tan δ, into the arbor of a long small-end
+/// cone). The path feed along the cone is Vf / cos δ so that the axial feed
+/// rate stays Vf.
 pub fn conical(f: &CutFrame, angle_deg: f64, large_end: LargeEnd) -> CutPath {
     let slope = cone_slope(angle_deg, large_end);
     let z_large = match large_end {
         LargeEnd::Bottom => f.bottom_face_mm,
         LargeEnd::Top => f.top_face_mm(),
     };
-    let x_at = |z: f64| f.xc_mm + (z - z_large) * slope;
+    let x_at = |z: f64| {
+        let z = z.clamp(f.bottom_face_mm, f.top_face_mm());
+        f.xc_mm + (z - z_large) * slope
+    };
     let (start, end) = f.stroke();
+    let (face_in, face_out) = if f.down {
+        (f.top_face_mm(), f.bottom_face_mm)
+    } else {
+        (f.bottom_face_mm, f.top_face_mm())
+    };
     let c = p(x_at(start), start);
     let d = p(x_at(end), end);
     let path_feed = f.axial_feed_mm_min * (1.0 + slope * slope).sqrt();
     let moves = vec![
-        infeed(f, c.x_mm, "B -> C: INFEED TO DEPTH AT THE CONE"),
+        infeed(
+            f,
+            c.x_mm,
+            "B -> C: INFEED TO DEPTH AT THE CONE'S ENTRY FACE",
+        ),
         mv(
             MoveKind::Feed,
-            Some(d.x_mm),
-            Some(d.z_mm),
+            None,
+            Some(face_in),
+            f.axial_feed_mm_min,
+            "C -> FACE: AXIAL FEED",
+        ),
+        mv(
+            MoveKind::Feed,
+            Some(x_at(face_out)),
+            Some(face_out),
             path_feed,
-            "C -> D: FEED ALONG THE CONE, X FOLLOWS Z",
+            "ACROSS THE FACE: X FOLLOWS Z ALONG THE CONE",
+        ),
+        mv(
+            MoveKind::Feed,
+            None,
+            Some(d.z_mm),
+            f.axial_feed_mm_min,
+            "FACE -> D: AXIAL FEED",
         ),
         retract(f, d),
     ];
@@ -506,19 +536,19 @@ mod tests {
     }
 
     #[test]
-    fn conical_x_follows_z_along_the_cone() {
+    fn conical_x_follows_z_along_the_cone_and_holds_beyond_the_faces() {
         let f = frame();
         let path = conical(&f, 6.5, LargeEnd::Bottom);
         let q = path.positions;
         let t = 6.5f64.to_radians().tan();
-        // X at the large (bottom) face is Xc; C is b + overtravel above it.
-        assert_relative_eq!(q.C.x_mm, 73.75 - (30.0 + 24.0) * t, epsilon = 1e-12);
-        assert_relative_eq!(q.D.x_mm, 73.75 + 24.0 * t, epsilon = 1e-12);
-        assert_relative_eq!(
-            (q.C.x_mm - q.D.x_mm) / (q.C.z_mm - q.D.z_mm),
-            -t,
-            epsilon = 1e-12
-        );
+        // X at the large (bottom) face is Xc, at the small (top) face
+        // Xc − b·tan δ; beyond the faces X holds the face's value.
+        assert_relative_eq!(q.C.x_mm, 73.75 - 30.0 * t, epsilon = 1e-12);
+        assert_relative_eq!(q.D.x_mm, 73.75, epsilon = 1e-12);
+        let across = &path.moves[2];
+        assert_eq!((across.x_mm, across.z_mm), (Some(73.75), Some(50.0)));
+        assert_eq!(path.moves[1].z_mm, Some(80.0));
+        assert_eq!(path.moves[1].x_mm, None);
         // The axial feed rate stays Vf: time = stroke / Vf.
         assert_relative_eq!(
             time_min(q.B, 0.0, &path.moves),

@@ -948,7 +948,9 @@ fn check_machine_settings(r: &mut Report, plan: &ProcessPlan) -> bool {
     let p = plan.machine.parameters;
     let slots = gearcam_proto::ParameterBlock::SLOTS;
     let (field, first, lo, hi) = match plan.machine.dialect {
-        gearcam_proto::Dialect::Fanuc => ("machine.parameters.macro_first", p.macro_first, 500, 999),
+        gearcam_proto::Dialect::Fanuc => {
+            ("machine.parameters.macro_first", p.macro_first, 500, 999)
+        }
         _ => ("machine.parameters.r_first", p.r_first, 0, 999),
     };
     if first < lo || first + slots - 1 > hi {

@@ -792,7 +792,10 @@ fn call(f: Func, args: &[Expr], vars: &[Value], st: &mut EvalState) -> Result<Va
             // Slot n of the machine's free parameter block, as the dialect
             // writes it: P(25) is R25 on H01, #525 on H02.
             let n = num(&a, "P")?;
-            if !(n >= 1.0 && n <= f64::from(gearcam_proto::ParameterBlock::SLOTS) && n.fract() == 0.0) {
+            if !(n >= 1.0
+                && n <= f64::from(gearcam_proto::ParameterBlock::SLOTS)
+                && n.fract() == 0.0)
+            {
                 return Err(EvalError::Type(format!(
                     "P() takes a parameter slot 1 to {}, got {n}",
                     gearcam_proto::ParameterBlock::SLOTS

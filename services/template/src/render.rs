@@ -469,11 +469,11 @@ mod tests {
     use std::collections::BTreeMap;
 
     use gearcam_proto::{
-        AxisNames, CaseRef, CouplingFactors, Cut, CutMode, Envelope, GCodeSystem, ParameterBlock, GearClass,
+        AxisNames, CaseRef, CouplingFactors, Cut, CutMode, Envelope, GCodeSystem, GearClass,
         GearSpec, Geometry, Hand, HobData, HobSpec, Infeed, JobHeader, JobId, JobRequest, JobSpec,
         Kinematics, MCodes, MachineId, MachineLimits, MachineProfile, MachineSettings, Move,
-        MoveKind, Options, Position, Positions, ProcessData, ProcessOverrides, ProcessPlan, Ratio,
-        Source,
+        MoveKind, Options, ParameterBlock, Position, Positions, ProcessData, ProcessOverrides,
+        ProcessPlan, Ratio, Source,
     };
 
     use super::*;

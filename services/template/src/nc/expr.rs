@@ -684,7 +684,9 @@ mod tests {
 
     #[test]
     fn malformed_expressions_are_refused() {
-        for bad in ["R1000", "(1+2", "TRUNC(1", "1+", "#499", "#1000", "MOD 2", "--"] {
+        for bad in [
+            "R1000", "(1+2", "TRUNC(1", "1+", "#499", "#1000", "MOD 2", "--",
+        ] {
             let mut c = Cursor::new(bad);
             let syntax = if bad.starts_with('#') {
                 Syntax::Fanuc

@@ -192,11 +192,16 @@ fn zones(units: &[Unit<'_>]) -> Vec<Zone> {
         }
         let face_lo = u.gear.fixture_height_mm;
         let face_hi = face_lo + u.gear.face_width_mm;
+        // C and D stand beyond the faces by each face's own overtravel (a
+        // cone's small end needs less); a radial-axial cut enters at the face
+        // + safety, so its band is widened by the approach's.
         let band = |c: &gearcam_proto::Positions, over: f64| {
-            (
-                c.C.z_mm.min(c.D.z_mm).min(face_lo - over),
-                c.C.z_mm.max(c.D.z_mm).max(face_hi + over),
-            )
+            let (lo, hi) = (c.C.z_mm.min(c.D.z_mm), c.C.z_mm.max(c.D.z_mm));
+            if lo <= face_lo - MM && hi >= face_hi + MM {
+                (lo, hi)
+            } else {
+                (lo.min(face_lo - over), hi.max(face_hi + over))
+            }
         };
         if k.cuts.is_empty() {
             let (z_lo, z_hi) = band(&k.positions, k.clearance_mm + k.safety_mm);
