@@ -79,6 +79,59 @@ fn job(
     )
 }
 
+/// A job of another class with the hands given: conical (spur), crowned,
+/// worm wheel (the wheel's helix is the hob's lead, of the hob's hand) or
+/// multi-gear (a helical second unit cut with the job's hob).
+fn class_job(
+    class: u8,
+    machine: &str,
+    teeth: u32,
+    helix: f64,
+    gear_right: bool,
+    hob_right: bool,
+) -> String {
+    let hand = |right: bool| if right { "right" } else { "left" };
+    let hob = format!(
+        "[hob]\nstarts = 1\nod_mm = 80.0\nmodule_mm = 3.0\nlead_angle_deg = 2.3716\nhand = \"{}\"\nlength_mm = 100.0\n",
+        hand(hob_right)
+    );
+    let head =
+        format!("[job]\nmachine = \"{machine}\"\npart_number = \"MC-{teeth}\"\nquantity = 4\n\n");
+    let gear = |helix: f64, right: bool| {
+        let h = if helix > 0.0 {
+            format!(
+                "helix_angle_deg = {helix:.4}\nhelix_hand = \"{}\"\n",
+                hand(right)
+            )
+        } else {
+            String::new()
+        };
+        format!(
+            "module_mm = 3.0\nteeth = {teeth}\n{h}face_width_mm = 30.0\nmaterial = \"42CrMo4\"\n\
+             fixture_height_mm = 110.0\nfixture_diameter_mm = 30.0\n"
+        )
+    };
+    match class {
+        0 => format!(
+            "{head}[gear]\n{}\n[gear.cone]\nangle_deg = 6.5\nlarge_end = \"bottom\"\n\n{hob}",
+            gear(0.0, true)
+        ),
+        1 => format!(
+            "{head}[gear]\n{}\n[gear.crowning]\namount_mm = 0.02\nshape = \"circular\"\n\n{hob}",
+            gear(helix, gear_right)
+        ),
+        2 => format!(
+            "{head}[gear]\n{}\n[gear.worm_wheel]\ninfeed = \"radial\"\n\n{hob}",
+            gear(2.3716, hob_right)
+        ),
+        _ => format!(
+            "{head}[gear]\n{}\n{hob}\n[[units]]\nname = \"upper gear\"\nz_offset_mm = 90.0\n\n[units.gear]\n{}",
+            gear(0.0, true),
+            gear(helix.max(5.0), gear_right)
+        ),
+    }
+}
+
 fn said_of(text: &str) -> Said {
     said(&model_of(text).unwrap_or_else(|e| panic!("{e:#?}\n{text}")))
 }
@@ -131,6 +184,35 @@ proptest! {
             prop_assert_eq!(&other_gear.ratios, &base.ratios);
             prop_assert_eq!(&other_gear.c_per_z, &negated(&base.c_per_z));
         }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 16, .. ProptestConfig::default() })]
+
+    /// The mirror of every other programmable class: both hands swapped
+    /// mirror the swivel, the indexing direction and the differential of
+    /// every unit, and leave every move as it was. On both dialects.
+    #[test]
+    fn mirror_of_every_class(
+        class in 0u8..4,
+        fanuc in any::<bool>(),
+        teeth in 30u32..60,
+        helix in prop_oneof![Just(0.0), 5.0f64..25.0],
+        gear_right in any::<bool>(),
+        hob_right in any::<bool>(),
+    ) {
+        let machine = if fanuc { "H02" } else { "H01" };
+        let base = said_of(&class_job(class, machine, teeth, helix, gear_right, hob_right));
+        let mirror = said_of(&class_job(class, machine, teeth, helix, !gear_right, !hob_right));
+        prop_assert_eq!(mirror.eta.len(), base.eta.len());
+        for (m, b) in mirror.eta.iter().zip(&base.eta) {
+            prop_assert!((m + b).abs() < 1e-9, "η {} mirrors to {}", b, m);
+        }
+        let flipped: Vec<(i64, i64)> = base.ratios.iter().map(|(n, d)| (-n, *d)).collect();
+        prop_assert_eq!(&mirror.ratios, &flipped);
+        prop_assert_eq!(&mirror.c_per_z, &negated(&base.c_per_z));
+        prop_assert_eq!(&mirror.moves, &base.moves);
     }
 }
 

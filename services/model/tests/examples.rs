@@ -141,9 +141,14 @@ fn crowned_example_is_one_arc_and_conical_follows_the_cone() {
     assert!(text.contains("CIP X="), "{text}");
     let (m, _) = example("conical_840d.toml");
     let cone = m.model.cone.expect("cone model");
+    // Across the face X follows the cone; beyond the faces it holds.
+    let moves = &m.model.cuts[0].moves;
+    let (to_face, across) = (&moves[1], &moves[2]);
     let p = m.model.positions;
-    let slope = (p.D.x_mm - p.C.x_mm) / (p.D.z_mm - p.C.z_mm);
+    assert_eq!(to_face.x_mm, None);
+    let slope = (across.x_mm.unwrap() - p.C.x_mm) / (across.z_mm.unwrap() - to_face.z_mm.unwrap());
     assert!((slope - cone.x_per_z).abs() < 1e-12);
+    assert!((p.D.x_mm - across.x_mm.unwrap()).abs() < 1e-12);
     assert!((cone.x_per_z + 6.5f64.to_radians().tan()).abs() < 1e-12);
 }
 
