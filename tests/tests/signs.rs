@@ -140,6 +140,24 @@ fn negated(v: &[Option<f64>]) -> Vec<Option<f64>> {
     v.iter().map(|z| z.map(|z| -z)).collect()
 }
 
+/// The ratios with the direction turned.
+fn flipped(v: &[(i64, i64)]) -> Vec<(i64, i64)> {
+    v.iter().map(|(n, d)| (-n, *d)).collect()
+}
+
+/// The mirror image's program: η, the ratio's sign and the differential
+/// turned, every move the same.
+fn assert_mirrored(base: &Said, mirror: &Said) -> Result<(), TestCaseError> {
+    prop_assert_eq!(mirror.eta.len(), base.eta.len());
+    for (m, b) in mirror.eta.iter().zip(&base.eta) {
+        prop_assert!((m + b).abs() < 1e-9, "η {} mirrors to {}", b, m);
+    }
+    prop_assert_eq!(&mirror.ratios, &flipped(&base.ratios));
+    prop_assert_eq!(&mirror.c_per_z, &negated(&base.c_per_z));
+    prop_assert_eq!(&mirror.moves, &base.moves);
+    Ok(())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 24, .. ProptestConfig::default() })]
 
@@ -161,19 +179,14 @@ proptest! {
         prop_assert!(!base.eta.is_empty() && !base.ratios.is_empty());
 
         let mirror = said_of(&job(machine, teeth, helix, !gear_right, !hob_right, climb));
-        prop_assert_eq!(mirror.eta.len(), base.eta.len());
-        for (m, b) in mirror.eta.iter().zip(&base.eta) {
-            prop_assert!((m + b).abs() < 1e-9, "η {} mirrors to {}", b, m);
+        assert_mirrored(&base, &mirror)?;
+        for b in &base.eta {
             prop_assert!(b.abs() > 1.0, "a hob is always tilted by its lead angle at least: {}", b);
         }
-        let flipped: Vec<(i64, i64)> = base.ratios.iter().map(|(n, d)| (-n, *d)).collect();
-        prop_assert_eq!(&mirror.ratios, &flipped);
-        prop_assert_eq!(&mirror.c_per_z, &negated(&base.c_per_z));
-        prop_assert_eq!(&mirror.moves, &base.moves);
 
         let other_hob = said_of(&job(machine, teeth, helix, gear_right, !hob_right, climb));
         prop_assert_eq!(&other_hob.c_per_z, &base.c_per_z);
-        prop_assert_eq!(&other_hob.ratios, &flipped);
+        prop_assert_eq!(&other_hob.ratios, &flipped(&base.ratios));
 
         let other_mode = said_of(&job(machine, teeth, helix, gear_right, hob_right, !climb));
         prop_assert_eq!(&other_mode.c_per_z, &base.c_per_z);
@@ -205,14 +218,7 @@ proptest! {
         let machine = if fanuc { "H02" } else { "H01" };
         let base = said_of(&class_job(class, machine, teeth, helix, gear_right, hob_right));
         let mirror = said_of(&class_job(class, machine, teeth, helix, !gear_right, !hob_right));
-        prop_assert_eq!(mirror.eta.len(), base.eta.len());
-        for (m, b) in mirror.eta.iter().zip(&base.eta) {
-            prop_assert!((m + b).abs() < 1e-9, "η {} mirrors to {}", b, m);
-        }
-        let flipped: Vec<(i64, i64)> = base.ratios.iter().map(|(n, d)| (-n, *d)).collect();
-        prop_assert_eq!(&mirror.ratios, &flipped);
-        prop_assert_eq!(&mirror.c_per_z, &negated(&base.c_per_z));
-        prop_assert_eq!(&mirror.moves, &base.moves);
+        assert_mirrored(&base, &mirror)?;
     }
 }
 

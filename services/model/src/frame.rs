@@ -192,6 +192,20 @@ mod tests {
         p[1].atan2(p[0]) - s_g * 2.0 * PI * p[2] / lead
     }
 
+    /// The clockwise table turn (radians) that keeps the tooth under the
+    /// gear's pitch point after the hob's pitch point moves by `d` along
+    /// `dir`: minus the phase change of the moved point.
+    fn table_turn(g: &GearSpec, dir: [f64; 3], d: f64) -> f64 {
+        let geo = crate::geometry::geometry(g);
+        let (r, lead, s_g) = (
+            geo.d_mm / 2.0,
+            geo.lead_mm.unwrap_or(f64::INFINITY),
+            gear_sign(g),
+        );
+        let moved = [r + d * dir[0], d * dir[1], d * dir[2]];
+        -(phase(moved, s_g, lead) - phase([r, 0.0, 0.0], s_g, lead))
+    }
+
     fn gear(beta: f64, hand: Option<Hand>) -> GearSpec {
         let mut g = fixtures::gear();
         g.helix_angle_deg = beta;
@@ -252,21 +266,13 @@ mod tests {
         for (beta, gh, hh) in cases() {
             let (g, h) = (gear(beta, gh), hob(hh));
             let eta = setting_angle_deg(&g, &h);
-            let geo = crate::geometry::geometry(&g);
-            let r = geo.d_mm / 2.0;
-            let lead = geo.lead_mm.unwrap_or(f64::INFINITY);
-            let s_g = gear_sign(&g);
             // Signed lead parameter of the hob: axial lead / 2π with its hand.
             let p = hob_sign(&h) * f64::from(h.starts) * PI * h.module_mm
                 / h.lead_angle_deg.to_radians().cos()
                 / (2.0 * PI);
             let dtau = 1e-6;
-            let uu = u(eta);
-            let d = -p * dtau;
-            let moved = [r + d * uu[0], d * uu[1], d * uu[2]];
-            let dpsi = phase(moved, s_g, lead) - phase([r, 0.0, 0.0], s_g, lead);
             // Clockwise table turn per hob turn.
-            let ratio = -dpsi / dtau;
+            let ratio = table_turn(&g, u(eta), -p * dtau) / dtau;
             let want = indexing(&h, g.teeth);
             assert_relative_eq!(
                 ratio,
@@ -279,18 +285,13 @@ mod tests {
     #[test]
     fn differential_follows_the_gear_hand_alone() {
         for (beta, gh, hh) in cases() {
-            let (g, h) = (gear(beta, gh), hob(hh));
-            let geo = crate::geometry::geometry(&g);
-            let r = geo.d_mm / 2.0;
-            let lead = geo.lead_mm.unwrap_or(f64::INFINITY);
-            let s_g = gear_sign(&g);
-            // The hob rises by dz: the tooth line must pass its pitch point
-            // at the new height.
+            let g = gear(beta, gh);
+            // The hob rises by dz (whatever its hand, hh): the tooth line
+            // must pass its pitch point at the new height.
+            let _ = hh;
             let dz = 1e-4;
-            let dpsi = phase([r, 0.0, dz], s_g, lead) - phase([r, 0.0, 0.0], s_g, lead);
-            let cw_deg_per_mm = -dpsi.to_degrees() / dz;
+            let cw_deg_per_mm = table_turn(&g, [0.0, 0.0, 1.0], dz).to_degrees() / dz;
             assert_relative_eq!(cw_deg_per_mm, differential_deg_per_mm(&g), epsilon = 1e-9);
-            let _ = h;
         }
         // SPEC worked self-check: mn 3, z 25, β 15° → 0.395446 °/mm.
         let g = gear(15.0, Some(Hand::Right));
@@ -307,15 +308,10 @@ mod tests {
         for (beta, gh, hh) in cases() {
             let (g, h) = (gear(beta, gh), hob(hh));
             let eta = setting_angle_deg(&g, &h);
-            let geo = crate::geometry::geometry(&g);
-            let r = geo.d_mm / 2.0;
-            let lead = geo.lead_mm.unwrap_or(f64::INFINITY);
-            let s_g = gear_sign(&g);
             let dy = 1e-5;
             let uu = u(eta);
-            let moved = [r + dy * uu[0], dy * uu[1], dy * uu[2]];
-            let dpsi = phase(moved, s_g, lead) - phase([r, 0.0, 0.0], s_g, lead);
-            let cw_deg_per_mm = -dpsi.to_degrees() / dy;
+            let cw_deg_per_mm = table_turn(&g, uu, dy).to_degrees() / dy;
+            let r = crate::geometry::geometry(&g).d_mm / 2.0;
             assert_relative_eq!(
                 cw_deg_per_mm,
                 shift_compensation_deg_per_mm(&h, g.teeth),
