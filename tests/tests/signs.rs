@@ -640,3 +640,25 @@ fn parameters_used_as_if_free() {
         "{errors:#?}"
     );
 }
+
+#[test]
+fn the_swept_solid_sees_every_units_blank_at_its_own_height() {
+    // A multi-gear part: the second unit's approach moved down to the middle
+    // of its own face is a rapid into its blank. (The first version of the
+    // check put the unit's blank at its offset twice, too high.)
+    let m = model_of(&example("multi_gear_840d.toml")).unwrap();
+    assert!(findings(&m).is_empty());
+    let mut bad = m.clone();
+    let unit = &mut bad.model.units[1];
+    let middle = unit.gear.fixture_height_mm + unit.gear.face_width_mm / 2.0;
+    let cut = &mut unit.model.cuts[0];
+    cut.positions.B.z_mm = middle;
+    cut.positions.C.z_mm = middle;
+    let found = findings(&bad);
+    assert!(
+        found
+            .iter()
+            .any(|(rule, msg)| rule == "HOB_CLEARANCE" && msg.contains("the blank of unit 2")),
+        "{found:#?}"
+    );
+}

@@ -172,20 +172,22 @@ impl Obstacle {
 /// The blanks of every unit, and the table, fixture and tailstock.
 fn obstacles(model: &MachiningModel) -> Vec<Obstacle> {
     let m = &model.model;
-    let units: Vec<(&GearSpec, f64, f64)> = if m.units.is_empty() {
-        vec![(&model.plan.request.spec.gear, 0.0, m.blank_od_mm)]
+    // A unit's gear carries its own lower face: the model replaced its
+    // fixture height by the first unit's plus the unit's offset.
+    let units: Vec<(&GearSpec, f64)> = if m.units.is_empty() {
+        vec![(&model.plan.request.spec.gear, m.blank_od_mm)]
     } else {
         m.units
             .iter()
-            .map(|u| (&u.gear, u.z_offset_mm, u.model.blank_od_mm))
+            .map(|u| (&u.gear, u.model.blank_od_mm))
             .collect()
     };
     let mut out = Vec::new();
     let base = model.plan.request.spec.gear.fixture_height_mm;
     let mut top = f64::NEG_INFINITY;
     let mut bottom = f64::INFINITY;
-    for (i, (gear, offset, od)) in units.iter().enumerate() {
-        let z_lo = gear.fixture_height_mm + offset;
+    for (i, (gear, od)) in units.iter().enumerate() {
+        let z_lo = gear.fixture_height_mm;
         let z_hi = z_lo + gear.face_width_mm;
         let r = od / 2.0;
         let (r_lo, r_hi) = match &gear.cone {
