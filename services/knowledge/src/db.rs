@@ -155,6 +155,11 @@ DROP TABLE cutting_data;
     // repairs a version-2 workpiece record), into new databases and into
     // those created before it alike.
     "",
+    // Version 4 changes no table: the seeded machines gain the neutral
+    // frame's axis senses, the G-code system, the envelope, the work offset
+    // and the parameter block (docs/hobbing.md), and the example workpieces
+    // a fixture tall enough for the hob's run-out.
+    "",
 ];
 
 /// Opens (creating and seeding if new) the knowledge base at `path`.
@@ -196,6 +201,7 @@ fn migrate(conn: &mut Connection) -> Result<(), KnowledgeError> {
             0 => seed(&tx)?,
             1 => crate::seed::seed_v2(&tx)?,
             2 => crate::seed::seed_v3(&tx)?,
+            3 => crate::seed::seed_v4(&tx)?,
             _ => {}
         }
         tx.pragma_update(None, "user_version", (i + 1) as i64)?;
@@ -284,7 +290,8 @@ pub fn seed_machine_h01() -> MachineProfile {
 
 /// Provenance of the seeded FANUC machine `H02`.
 pub const H02_SOURCE: &str =
-    "gearcam seed: example FANUC hobbing machine (Series 0i-TF Plus / 30i-B \
+    "gearcam seed: example FANUC hobbing machine, an M-series control (Series 0i-MF Plus / 30i-B, \
+G-code system M: G90 absolute, G94 feed per minute; the EGB G81 T L Q P is an M-series command) \
 with the EGB electronic gear box option: the hob spindle leads, the table C follows, coupled by \
 G81 T_ L_ Q_ P_ ... G80); X is programmed as a radius, i.e. the centre distance (parameter 1006#3 \
 DIAx = 0). M3/M5 spindle, M8/M9 coolant and M30 end are ISO/FANUC conventions; M10/M11 fixture, \
@@ -299,7 +306,7 @@ estimate); set them to your machine's";
 pub fn seed_machine_h02() -> MachineProfile {
     MachineProfile {
         id: MachineId::new("H02").expect("valid id"),
-        name: "six-axis CNC hobbing machine, FANUC 0i-TF Plus with EGB".into(),
+        name: "six-axis CNC hobbing machine, FANUC 0i-MF Plus (M series) with EGB".into(),
         dialect: Dialect::Fanuc,
         axes: AxisNames {
             // X radial (radius programming), Z axial, A hob head swivel,
@@ -447,12 +454,11 @@ const SEED_HOBS: &[SeedHob] = &[
     },
 ];
 
+/// Provenance of the seeded 840D machine `H01`.
+pub const H01_SOURCE: &str = "gearcam seed: example 840D hobbing machine; M-codes of the patent CN1838008 program; set travels and limits to your machine's";
+
 fn seed(tx: &rusqlite::Transaction<'_>) -> Result<(), KnowledgeError> {
-    seed_machine(
-        tx,
-        &seed_machine_h01(),
-        "gearcam seed: example 840D hobbing machine; M-codes of the patent CN1838008 program; set travels and limits to your machine's",
-    )?;
+    seed_machine(tx, &seed_machine_h01(), H01_SOURCE)?;
     for h in SEED_HOBS {
         let d0 = h.od_mm - 2.0 * 1.25 * h.module_mm;
         let lead = (h.starts as f64 * h.module_mm / d0).asin().to_degrees();
@@ -634,7 +640,7 @@ mod tests {
         conn.pragma_update(None, "user_version", 2).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
-        assert_eq!(schema_version(&conn).unwrap(), 3);
+        assert_eq!(schema_version(&conn).unwrap(), 4);
         let id = MachineId::new("H02").unwrap();
         assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h02()));
         // The version-2 seed record of HG-3003-L gains its profile shift.
@@ -651,5 +657,47 @@ mod tests {
         drop(conn);
         let conn = open(&path).unwrap();
         assert_eq!(machine(&conn, &id).unwrap().unwrap().name, "our own H02");
+    }
+
+    #[test]
+    fn a_knowledge_base_of_version_3_gains_the_new_machine_profiles() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("knowledge.db");
+        let conn = open(&path).unwrap();
+        // A version-3 H01 as seeded then: no axis senses, envelope, G-code
+        // system, work offset or parameter block, and A = +γ of the patent.
+        let mut old = serde_json::to_value(seed_machine_h01()).unwrap();
+        let obj = old.as_object_mut().unwrap();
+        for key in ["gcode_system", "envelope", "work_offset", "parameters"] {
+            obj.remove(key);
+        }
+        let settings = obj["settings"].as_object_mut().unwrap();
+        for key in ["swivel_offset_deg", "table_sign", "hob_sign", "shift_sign"] {
+            settings.remove(key);
+        }
+        settings.insert("swivel_sign".into(), 1.0.into());
+        conn.execute(
+            "UPDATE machines SET profile_json = ?1 WHERE id = 'H01'",
+            [old.to_string()],
+        )
+        .unwrap();
+        conn.execute(
+            "UPDATE workpieces SET fixture_height_mm = 50.0 WHERE part_number = 'SP-1001'",
+            [],
+        )
+        .unwrap();
+        let id = MachineId::new("H01").unwrap();
+        // Loading the old profile names what it lacks.
+        let err = machine(&conn, &id).unwrap_err().to_string();
+        assert!(err.contains("missing field"), "{err}");
+        conn.pragma_update(None, "user_version", 3).unwrap();
+        drop(conn);
+        let conn = open(&path).unwrap();
+        assert_eq!(schema_version(&conn).unwrap(), 4);
+        assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h01()));
+        let sp = library::get(&conn, &library::WORKPIECES, "SP-1001")
+            .unwrap()
+            .unwrap();
+        assert_eq!(sp["fixture_height_mm"], 100.0);
     }
 }

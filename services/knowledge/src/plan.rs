@@ -1167,7 +1167,7 @@ pub(crate) mod tests {
         let path = dir.path().join("kb/knowledge.db");
         let conn = db::open(&path).unwrap();
         assert_eq!(db::hobs(&conn).unwrap().len(), 5);
-        assert_eq!(db::schema_version(&conn).unwrap(), 3);
+        assert_eq!(db::schema_version(&conn).unwrap(), 4);
         let n = library::list(&conn, &library::CASES).unwrap().len();
         assert_eq!(n, 14);
         drop(conn);

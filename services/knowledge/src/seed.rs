@@ -276,6 +276,104 @@ pub fn seed_v3(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     Ok(())
 }
 
+/// Seeds migration 4 into a database made by an older gearcam. Every
+/// machine profile without the new fields gains them, converted so that its
+/// programs of right-hand set-ups stay what they were: `swivel_sign` now maps
+/// the signed setting angle η (the old one mapped the patent's γ = −η for
+/// those), so it is negated; the table, hob and shift senses are those the
+/// old programs implied (+1, +1, −1, docs/hobbing.md); the work offset `G54`
+/// and the parameter block R1…/#501… are what the old programs used; the
+/// G-code system is the dialect's (the FANUC templates write system M). The
+/// envelope is the seed's for `H01` and `H02`; another machine's is estimated
+/// (table radius = half the largest workpiece, fixture radius 0, no
+/// tailstock), and its source says so: check it. A field the profile has is
+/// kept. The example workpieces stood on fixtures too low for the hob's
+/// run-out; unchanged, they take 100 mm.
+pub fn seed_v4(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
+    let rows: Vec<(String, String, String)> = {
+        let mut stmt = tx.prepare("SELECT id, profile_json, source FROM machines")?;
+        let rows = stmt.query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))?;
+        rows.collect::<Result<_, _>>()?
+    };
+    for (id, json, source) in rows {
+        let mut v: Value = serde_json::from_str(&json)?;
+        let seed = match id.as_str() {
+            "H01" => Some(crate::db::seed_machine_h01()),
+            "H02" => Some(crate::db::seed_machine_h02()),
+            _ => None,
+        };
+        let Some(obj) = v.as_object_mut() else {
+            continue;
+        };
+        let mut notes = Vec::new();
+        if let Some(settings) = obj.get_mut("settings").and_then(Value::as_object_mut) {
+            if !settings.contains_key("table_sign") {
+                let old = settings
+                    .get("swivel_sign")
+                    .and_then(Value::as_f64)
+                    .unwrap_or(1.0);
+                settings.insert("swivel_sign".into(), json!(-old));
+                settings.insert("swivel_offset_deg".into(), json!(0.0));
+                settings.insert("table_sign".into(), json!(1.0));
+                settings.insert("hob_sign".into(), json!(1.0));
+                settings.insert("shift_sign".into(), json!(-1.0));
+                notes.push("axis senses of the old programs (swivel_sign negated to map η)");
+            }
+        }
+        let fanuc = obj.get("dialect").and_then(Value::as_str) == Some("fanuc");
+        let defaults = [
+            (
+                "gcode_system",
+                json!(if fanuc { "fanuc_m" } else { "sinumerik" }),
+            ),
+            ("work_offset", json!("G54")),
+            ("parameters", json!({"r_first": 1, "macro_first": 501})),
+        ];
+        for (key, value) in defaults {
+            if !obj.contains_key(key) {
+                obj.insert(key.into(), value);
+                notes.push("G-code system, work offset and parameters of the old programs");
+            }
+        }
+        if !obj.contains_key("envelope") {
+            let envelope = match &seed {
+                Some(m) => serde_json::to_value(&m.envelope)?,
+                None => {
+                    notes.push("envelope ESTIMATED: table radius half the largest workpiece, no fixture, no tailstock; set the machine's");
+                    let od = obj
+                        .get("limits")
+                        .and_then(|l| l.get("max_workpiece_od_mm"))
+                        .and_then(Value::as_f64)
+                        .unwrap_or(0.0);
+                    json!({"table_radius_mm": od / 2.0, "fixture_radius_mm": 0.0,
+                           "tailstock_radius_mm": 0.0, "tailstock_gap_mm": 0.0})
+                }
+            };
+            obj.insert("envelope".into(), envelope);
+        }
+        if notes.is_empty() {
+            continue;
+        }
+        notes.dedup();
+        tx.execute(
+            "UPDATE machines SET profile_json = ?2, source = ?3 WHERE id = ?1",
+            params![
+                id,
+                v.to_string(),
+                format!("{source}; migrated to schema 4: {}", notes.join("; "))
+            ],
+        )?;
+    }
+    for (part, old) in [("SP-1001", 50.0), ("HG-2002", 60.0), ("HG-3003-L", 45.0)] {
+        tx.execute(
+            "UPDATE workpieces SET fixture_height_mm = 100.0
+             WHERE part_number = ?1 AND fixture_height_mm = ?2 AND source = ?3",
+            params![part, old, EXAMPLES],
+        )?;
+    }
+    Ok(())
+}
+
 fn group_code(group: &str) -> &'static str {
     match group {
         "case_hardening_steel" => "CASE",
