@@ -1099,7 +1099,7 @@ fn validate_machine(rec: &Record) -> Outcome<(MachineProfile, Record)> {
             "settings.swivel_sign",
             "1 or -1",
             s.to_string(),
-            "the swivel axis sign convention: A = swivel_sign · γ",
+            "the swivel axis sign: A = swivel_sign·η + swivel_offset_deg (docs/hobbing.md)",
         ));
     }
     for (name, axis) in [

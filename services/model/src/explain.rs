@@ -251,7 +251,7 @@ pub fn explain(plan: &ProcessPlan, geo: &Geometry, k: &Kinematics) -> Vec<Explai
             m.settings.swivel_sign,
             "",
             Origin::Machine,
-            "sign of the swivel axis",
+            "A = swivel_sign·η + swivel_offset",
         ),
         e(
             "machine.home_x_mm",
@@ -307,14 +307,14 @@ pub fn explain(plan: &ProcessPlan, geo: &Geometry, k: &Kinematics) -> Vec<Explai
             k.swivel_deg,
             "deg",
             Origin::Computed,
-            "γ = −(|β| ∓ |γ0|) (SPEC §4.3)",
+            "η = s_g·β − s_h·γ0, signed (docs/hobbing.md §2)",
         ),
         e(
             "model.clearance_mm",
             k.clearance_mm,
             "mm",
             Origin::Computed,
-            "ΔH′ = max ΔH(x) within the hob length (SPEC §4.3)",
+            "ΔH′: lowest point of the finite hob over the blank, 1/cos γ (docs/hobbing.md §3)",
         ),
         e(
             "model.centre_distance_mm",
@@ -356,14 +356,14 @@ pub fn explain(plan: &ProcessPlan, geo: &Geometry, k: &Kinematics) -> Vec<Explai
             k.factors.c_per_z_deg_per_mm,
             "deg/mm",
             Origin::Computed,
-            "±360·sin β / (π·mn·z)",
+            "table_sign·s_g·360·sin β / (π·mn·z): the gear's hand alone",
         ),
         e(
             "model.factors.c_per_y_deg_per_mm",
             k.factors.c_per_y_deg_per_mm,
             "deg/mm",
             Origin::Computed,
-            "±360·cos γ0 / (π·mn0·z)",
+            "−table_sign·shift_sign·360·cos γ0 / (π·mn0·z), either hand",
         ),
         e(
             "model.cut_time_min",
