@@ -406,10 +406,19 @@ fn sweep(
         }
     };
     let dtheta = std::f64::consts::TAU / N_THETA as f64;
+    let step = length / n as f64;
+    let margin = coarse_margin(hob, ob, rims, step);
     for i in 0..=n {
         let t = i as f64 / n as f64;
         let pose = pose_at(t);
         if ob.bound_distance(pose.centre) > hob.reach() + 1.0 {
+            continue;
+        }
+        // A coarse pass bounds the pose's deepest point from above (depth is
+        // Lipschitz in the point, every surface point lies within the coarse
+        // grid's half-diagonal of a sample, and a pose between two sampled
+        // ones within half a step): well clear, the fine pass is skipped.
+        if coarse_depth(hob, ob, rims, &pose) + margin < 0.0 {
             continue;
         }
         for a in 0..N_THETA {
@@ -456,6 +465,60 @@ fn sweep(
         }
     }
     best
+}
+
+/// Samples of the coarse pass: around the hob, along it, on each end face's
+/// radius, and on an obstacle's edge circle.
+const COARSE_THETA: usize = 24;
+const COARSE_AXIAL: usize = 8;
+const COARSE_RINGS: usize = 3;
+const COARSE_RIM: usize = 48;
+
+/// The deepest point of the coarse samples of a pose (hob surface in the
+/// obstacle, or obstacle edge in the hob).
+fn coarse_depth(hob: &HobSolid, ob: &Obstacle, rims: &[(f64, f64)], pose: &Pose) -> f64 {
+    let mut best = f64::NEG_INFINITY;
+    for a in 0..COARSE_THETA {
+        let theta = std::f64::consts::TAU * a as f64 / COARSE_THETA as f64;
+        for j in 0..COARSE_AXIAL {
+            let s = -hob.half + 2.0 * hob.half * j as f64 / (COARSE_AXIAL - 1) as f64;
+            best = best.max(ob.depth_of(pose.point(hob, 0, theta, s)));
+        }
+        for face in [-1i8, 1] {
+            for ring in 0..=COARSE_RINGS {
+                let s = hob.r * ring as f64 / COARSE_RINGS as f64;
+                best = best.max(ob.depth_of(pose.point(hob, face, theta, s)));
+            }
+        }
+    }
+    for &(z, r) in rims {
+        for i in 0..COARSE_RIM {
+            let phi = std::f64::consts::TAU * i as f64 / COARSE_RIM as f64;
+            best = best.max(pose.depth_of(hob, rim_point(z, r, phi)));
+        }
+    }
+    best
+}
+
+/// How much deeper than the coarse samples a pose's deepest point can be:
+/// the Lipschitz constant of the depth (1 + the obstacle's taper) times the
+/// largest distance from any point to its nearest coarse sample (the hob
+/// grid's and the edge circles' half spacings) plus half a pose step.
+fn coarse_margin(hob: &HobSolid, ob: &Obstacle, rims: &[(f64, f64)], step: f64) -> f64 {
+    let arc = hob.r * std::f64::consts::TAU / COARSE_THETA as f64;
+    let along = 2.0 * hob.half / (COARSE_AXIAL - 1) as f64;
+    let ring = hob.r / COARSE_RINGS as f64;
+    let surface = 0.5 * arc.hypot(along.max(ring));
+    let rim = rims
+        .iter()
+        .map(|(_, r)| 0.5 * r * std::f64::consts::TAU / COARSE_RIM as f64)
+        .fold(0.0, f64::max);
+    let taper = if ob.z_hi.is_finite() && ob.z_lo.is_finite() && ob.z_hi > ob.z_lo {
+        ((ob.r_hi - ob.r_lo) / (ob.z_hi - ob.z_lo)).abs()
+    } else {
+        0.0
+    };
+    (1.0 + taper) * (surface.max(rim) + 0.5 * step) + PEN_TOL
 }
 
 /// A point of an edge circle at height `z`, radius `r`, angle `phi`.
