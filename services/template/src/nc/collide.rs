@@ -27,15 +27,15 @@ use super::{finding, rules, Trace};
 pub const PEN_TOL: f64 = 0.002;
 
 /// Samples around the hob's circumference.
-const N_THETA: usize = 72;
+const N_THETA: usize = 48;
 /// Samples along the hob's length (both ends included).
-const N_AXIAL: usize = 21;
+const N_AXIAL: usize = 15;
 /// Rings sampled on each end face (plus its centre).
 const N_RINGS: usize = 3;
 /// Samples on an obstacle's edge circle.
-const N_RIM: usize = 360;
+const N_RIM: usize = 240;
 /// Largest step between sampled poses along a move, mm.
-const POSE_STEP_MM: f64 = 1.0;
+const POSE_STEP_MM: f64 = 2.0;
 /// Pattern-search iterations of the refinement.
 const REFINE_ITERS: usize = 60;
 /// Deepest samples the refinement starts from.
