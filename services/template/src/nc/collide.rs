@@ -9,9 +9,10 @@
 //! centre, and the hob is its tip cylinder (radius da0/2, the hob's length)
 //! around the axis u = (0, cos η, −sin η). The solid is sampled (its tip
 //! cylinder, both end faces, and the edge circles of each obstacle tested
-//! against the hob), the poses along each move are sampled, and the deepest
-//! sample is refined by a pattern search. A finding names the line, the
-//! obstacle and how deep the hob enters it.
+//! against the hob), the poses along each move are sampled, a coarse pass
+//! with a Lipschitz bound skips the poses where the hob is well clear, and
+//! the four deepest samples are refined by a pattern search. A finding names
+//! the line, the obstacle and how deep the hob enters it.
 //!
 //! # Tolerance
 //!
