@@ -945,6 +945,37 @@ fn check_machine_settings(r: &mut Report, plan: &ProcessPlan) -> bool {
             "The swivel offset is the swivel axis reading with the hob parallel to the gear's end face; correct the machine profile.".to_string(),
         );
     }
+    let env = &plan.machine.envelope;
+    for (name, v) in [
+        ("table_radius_mm", env.table_radius_mm),
+        ("fixture_radius_mm", env.fixture_radius_mm),
+        ("tailstock_radius_mm", env.tailstock_radius_mm),
+        ("tailstock_gap_mm", env.tailstock_gap_mm),
+    ] {
+        if !(v >= 0.0 && v.is_finite()) {
+            r.error(
+                codes::MACHINE_SETTING_RANGE,
+                &format!("machine.envelope.{name}"),
+                "≥ 0 mm",
+                format!("{} mm", num(v)),
+                format!(
+                    "Machine {}'s envelope (table, fixture, tailstock) keeps the hob off them; correct the machine profile.",
+                    plan.machine.id
+                ),
+            );
+        }
+    }
+    if let Some(d) = plan.request.spec.gear.fixture_diameter_mm {
+        if !(d >= 0.0 && d.is_finite()) {
+            r.error(
+                codes::MACHINE_SETTING_RANGE,
+                "gear.fixture_diameter_mm",
+                "≥ 0 mm",
+                format!("{} mm", num(d)),
+                "The fixture diameter is the support under the gear's lower face; give it in mm or leave it out for the machine's.".to_string(),
+            );
+        }
+    }
     let p = plan.machine.parameters;
     let slots = gearcam_proto::ParameterBlock::SLOTS;
     let (field, first, lo, hi) = match plan.machine.dialect {
@@ -1811,6 +1842,28 @@ mod tests {
         assert_eq!(errors.len(), 1, "{errors:?}");
         assert_eq!(errors[0].code, "SWIVEL_LIMIT");
         assert_eq!(errors[0].got, "-46.3716 °");
+    }
+
+    #[test]
+    fn the_machine_profile_new_fields_are_checked_with_their_names() {
+        let mut plan = fixtures::plan();
+        plan.machine.settings.table_sign = 0.5;
+        plan.machine.envelope.table_radius_mm = -1.0;
+        plan.machine.parameters.r_first = 980;
+        plan.request.spec.gear.fixture_diameter_mm = Some(f64::NAN);
+        let fields: Vec<String> = validate(&plan)
+            .errors
+            .into_iter()
+            .map(|e| e.field)
+            .collect();
+        for want in [
+            "machine.settings.table_sign",
+            "machine.envelope.table_radius_mm",
+            "machine.parameters.r_first",
+            "gear.fixture_diameter_mm",
+        ] {
+            assert!(fields.iter().any(|f| f == want), "{want} in {fields:?}");
+        }
     }
 
     #[test]
