@@ -132,6 +132,19 @@ fn class_job(
     }
 }
 
+/// A random cylindrical set-up: machine (FANUC or 840D), teeth, helix (0 =
+/// spur), gear hand, hob hand, climb.
+fn setup() -> impl Strategy<Value = (bool, u32, f64, bool, bool, bool)> {
+    (
+        any::<bool>(),
+        18u32..70,
+        prop_oneof![Just(0.0), 5.0f64..30.0],
+        any::<bool>(),
+        any::<bool>(),
+        any::<bool>(),
+    )
+}
+
 fn said_of(text: &str) -> Said {
     said(&model_of(text).unwrap_or_else(|e| panic!("{e:#?}\n{text}")))
 }
@@ -167,12 +180,7 @@ proptest! {
     /// direction ignores the gear's hand and the cut mode. On both dialects.
     #[test]
     fn mirror_and_invariance_of_the_emitted_program(
-        fanuc in any::<bool>(),
-        teeth in 18u32..70,
-        helix in prop_oneof![Just(0.0), 5.0f64..30.0],
-        gear_right in any::<bool>(),
-        hob_right in any::<bool>(),
-        climb in any::<bool>(),
+        (fanuc, teeth, helix, gear_right, hob_right, climb) in setup(),
     ) {
         let machine = if fanuc { "H02" } else { "H01" };
         let base = said_of(&job(machine, teeth, helix, gear_right, hob_right, climb));
@@ -282,12 +290,7 @@ proptest! {
     /// the hob's true reach), and passes the corrected program.
     #[test]
     fn the_independent_clearance_check_catches_the_patent_formula(
-        fanuc in any::<bool>(),
-        teeth in 18u32..70,
-        helix in prop_oneof![Just(0.0), 5.0f64..30.0],
-        gear_right in any::<bool>(),
-        hob_right in any::<bool>(),
-        climb in any::<bool>(),
+        (fanuc, teeth, helix, gear_right, hob_right, climb) in setup(),
     ) {
         let machine = if fanuc { "H02" } else { "H01" };
         let m = model_of(&job(machine, teeth, helix, gear_right, hob_right, climb)).unwrap();
