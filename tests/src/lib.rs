@@ -47,9 +47,18 @@ pub fn free_port() -> u16 {
 }
 
 /// Waits until something accepts TCP connections on the port.
+///
+/// A loopback connect to a port of the ephemeral range can connect to itself
+/// (TCP simultaneous open, when the kernel picks the same port as the source):
+/// such a connection proves nothing listens and is not counted. (It let the
+/// services start before their router in a CI run, and they exited.)
 pub fn wait_for_port(port: u16, timeout: Duration) {
     let start = Instant::now();
-    while TcpStream::connect(("127.0.0.1", port)).is_err() {
+    loop {
+        match TcpStream::connect(("127.0.0.1", port)) {
+            Ok(s) if s.local_addr().map(|a| a.port()).ok() != Some(port) => return,
+            _ => {}
+        }
         assert!(
             start.elapsed() < timeout,
             "nothing listens on port {port} after {timeout:?}"

@@ -252,7 +252,7 @@ impl Store {
             ));
         }
         // A program changed at the machine is never overwritten silently.
-        self.check_unchanged_at_machine(&file_name)?;
+        self.check_unchanged_at_machine(&file_name, &hash)?;
         Ok(Prepared::Write { file_name, hash })
     }
 
@@ -386,8 +386,11 @@ enum Prepared {
 
 impl Store {
     /// Refuses when the file in the program directory differs from the last
-    /// version the index knows (changed or created at the machine).
-    fn check_unchanged_at_machine(&self, file_name: &str) -> Result<(), JobError> {
+    /// version the index knows (changed or created at the machine). A file
+    /// holding exactly the program being delivered is this delivery's own
+    /// write that a crash cut off between the rename and the index commit:
+    /// writing the same bytes again and committing the row loses nothing.
+    fn check_unchanged_at_machine(&self, file_name: &str, incoming: &str) -> Result<(), JobError> {
         let path = self.config.program_dir.join(file_name);
         if !path.exists() {
             return Ok(());
@@ -402,6 +405,9 @@ impl Store {
             )
         })?;
         let disk_hash = sha256_hex(&on_disk);
+        if disk_hash == incoming {
+            return Ok(());
+        }
         let indexed: Option<String> = self
             .conn
             .query_row(
@@ -500,7 +506,7 @@ impl Store {
                 )
             })?;
         let file_name = v.version.file_name.clone();
-        self.check_unchanged_at_machine(&file_name)?;
+        self.check_unchanged_at_machine(&file_name, &v.version.sha256)?;
         let path = self.config.program_dir.join(&file_name);
         write_atomically(&self.config.program_dir, &file_name, v.text.as_bytes()).map_err(|e| {
             refuse(
@@ -683,6 +689,28 @@ mod tests {
             fs::read_dir(dir.path().join("programs")).unwrap().count(),
             0
         );
+    }
+
+    #[test]
+    fn a_crash_between_the_rename_and_the_index_commit_is_finished_not_refused() {
+        // The agent killed after renaming the new file into place and before
+        // committing its index row: at the next delivery of the same program
+        // the file holds exactly its bytes. That is not an operator's edit.
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = store(dir.path());
+        s.store(&program("J1", "SP_1", "first\n")).unwrap();
+        let second = program("J2", "SP_1", "second\n");
+        let path = dir.path().join("programs/_N_SP_1_MPF");
+        fs::write(&path, second.text.as_bytes()).unwrap();
+        let receipt = s
+            .store(&second)
+            .expect("its own unfinished write is finished");
+        assert_eq!(receipt.sha256, second.sha256);
+        assert_eq!(fs::read_to_string(&path).unwrap(), "second\n");
+        // Another content is still an edit at the machine.
+        fs::write(&path, "operator edit\n").unwrap();
+        let err = s.store(&program("J3", "SP_1", "third\n")).unwrap_err();
+        assert_eq!(err.code, "PROGRAM_CHANGED_AT_MACHINE");
     }
 
     #[test]
