@@ -601,7 +601,13 @@ pub fn unit_kinematics(u: &Unit, geometry: &Geometry) -> Kinematics {
             _ => 0.0,
         };
         let clear_top = face_clearance(u, eta, set.blank_od_mm, depth + crown, true);
-        let clear_bottom = face_clearance(u, eta, set.blank_od_mm, depth + crown, false);
+        // Only a cone's blank differs at its other face.
+        let clear_bottom =
+            if end_blank_od(u, set.blank_od_mm, false) == end_blank_od(u, set.blank_od_mm, true) {
+                clear_top
+            } else {
+                face_clearance(u, eta, set.blank_od_mm, depth + crown, false)
+            };
         // The cut's ΔH′ is the one at the face the hob approaches.
         let clearance = if process.cut_mode == CutMode::Conventional {
             clear_top

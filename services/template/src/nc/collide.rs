@@ -257,29 +257,40 @@ fn obstacles(model: &MachiningModel) -> Vec<Obstacle> {
     out
 }
 
-/// The hob of the unit a trace line belongs to: the units' hobs in program
-/// order, switched at every unit's first gearbox coupling.
-fn hob_for_line(model: &MachiningModel, trace: &Trace, line: u32) -> HobData {
-    let hobs: Vec<&HobData> = if model.model.units.is_empty() {
-        vec![&model.plan.hob]
-    } else {
-        model.model.units.iter().map(|u| &u.hob).collect()
-    };
-    // The couplings that start a unit: the first, then every one after a
-    // gap in which the hob changed (a new unit couples after an uncoupling).
-    let starts = trace
-        .couplings
-        .iter()
-        .filter(|c| c.unit_start)
-        .map(|c| c.line)
-        .collect::<Vec<_>>();
-    let idx = starts
-        .iter()
-        .filter(|&&l| l <= line)
-        .count()
-        .saturating_sub(1);
-    // Before the first coupling the first unit's hob is mounted.
-    hobs[idx.min(hobs.len() - 1)].clone()
+/// The units' hobs in program order, and the lines of the couplings that
+/// start each unit (the first, then every one after a new definition or an
+/// uncoupling): a line's hob is the one of the last unit started before it.
+struct Hobs<'m> {
+    hobs: Vec<&'m HobData>,
+    starts: Vec<u32>,
+}
+
+impl<'m> Hobs<'m> {
+    fn new(model: &'m MachiningModel, trace: &Trace) -> Hobs<'m> {
+        let hobs = if model.model.units.is_empty() {
+            vec![&model.plan.hob]
+        } else {
+            model.model.units.iter().map(|u| &u.hob).collect()
+        };
+        let starts = trace
+            .couplings
+            .iter()
+            .filter(|c| c.unit_start)
+            .map(|c| c.line)
+            .collect();
+        Hobs { hobs, starts }
+    }
+
+    /// The hob mounted at `line` (before the first coupling, the first unit's).
+    fn at(&self, line: u32) -> &'m HobData {
+        let idx = self
+            .starts
+            .iter()
+            .filter(|&&l| l <= line)
+            .count()
+            .saturating_sub(1);
+        self.hobs[idx.min(self.hobs.len() - 1)]
+    }
 }
 
 /// One worst point found on a move.
@@ -295,6 +306,7 @@ pub(crate) fn check(model: &MachiningModel, trace: &Trace) -> Vec<PathFinding> {
     let axes = &model.plan.machine.axes;
     let obstacles = obstacles(model);
     let rims: Vec<Vec<(f64, f64)>> = obstacles.iter().map(Obstacle::rims).collect();
+    let hobs = Hobs::new(model, trace);
     let mut findings = Vec::new();
     let mut from = [
         model.plan.machine.home_x_mm,
@@ -317,7 +329,7 @@ pub(crate) fn check(model: &MachiningModel, trace: &Trace) -> Vec<PathFinding> {
             .rev()
             .find(|s| s.0 <= mv.line)
             .map_or(first_a, |s| s.1);
-        let hob = hob_for_line(model, trace, mv.line);
+        let hob = hobs.at(mv.line);
         let solid = HobSolid {
             r: hob.od_mm / 2.0,
             half: hob.length_mm / 2.0,
