@@ -108,27 +108,28 @@ impl Message for JobStatus {
     const KIND: &'static str = "job_status";
 }
 
-/// Every job in the station's journal.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct JobList {
-    /// Jobs, oldest first.
-    pub jobs: Vec<JobStatus>,
-}
-
-impl Message for JobList {
-    const KIND: &'static str = "job_list";
-}
-
-/// The station's answer to a submission.
+/// Every answer of the station's queryables: to a submission (`accepted` or
+/// `refused`), to a status query (`status` or `refused`), to the job list
+/// (`jobs`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum StationReply {
-    /// Journaled (or already journaled: the same request again).
+    /// Journaled (or already journaled: the same job id with the same spec).
     Accepted {
         /// The job's status.
         status: Box<JobStatus>,
     },
-    /// Not journaled.
+    /// One job's status.
+    Status {
+        /// The job's status.
+        status: Box<JobStatus>,
+    },
+    /// Every journaled job, oldest first.
+    Jobs {
+        /// The jobs.
+        jobs: Vec<JobStatus>,
+    },
+    /// Not journaled, or not answerable (unknown job, bad id).
     Refused {
         /// Why.
         errors: Vec<JobError>,
@@ -139,7 +140,7 @@ impl Message for StationReply {
     const KIND: &'static str = "station_reply";
 }
 
-/// The agent's answer to a delivery (or a rollback).
+/// The agent's answer to a delivery, or to the query for a job's stored receipt.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum DeliveryReply {
@@ -159,6 +160,53 @@ pub enum DeliveryReply {
 
 impl Message for DeliveryReply {
     const KIND: &'static str = "delivery_reply";
+}
+
+/// A change of a machine's current program, asked on
+/// `gearcam/v1/machines/{machine}/store/changes/{name}`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum StoreRequest {
+    /// Make the stored version `seq` of the program current again.
+    Rollback {
+        /// The version.
+        seq: u64,
+    },
+}
+
+impl Message for StoreRequest {
+    const KIND: &'static str = "store_request";
+}
+
+/// Every answer of an agent's store queryables (`…/store/programs[/{name}]`,
+/// `…/versions/{seq}`, `…/store/changes/{name}`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum StoreReply {
+    /// Versions of the programs asked for, newest first.
+    History {
+        /// The history.
+        history: ProgramHistory,
+    },
+    /// One version with its text.
+    Version {
+        /// The version and its text.
+        program: Box<ProgramText>,
+    },
+    /// A change done: the version now current, as a receipt.
+    Changed {
+        /// The receipt.
+        receipt: DeliveryReceipt,
+    },
+    /// Refused: unknown program or version, bad key or request, store error.
+    Refused {
+        /// Why.
+        error: JobError,
+    },
+}
+
+impl Message for StoreReply {
+    const KIND: &'static str = "store_reply";
 }
 
 /// One stored version of a program in an agent's store.

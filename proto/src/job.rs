@@ -523,6 +523,47 @@ impl Message for JobRequest {
     const KIND: &'static str = "job_request";
 }
 
+/// The typed errors of the ids inside an encoded [`JobRequest`] that does not
+/// decode: `BAD_JOB_ID` (`job_id` or `spec.job.id`) or `BAD_MACHINE_ID`
+/// (`spec.job.machine`), each with the id as given. Empty when the ids are
+/// valid or cannot be read (then the request is malformed for another reason).
+pub fn request_id_errors(bytes: &[u8], stage: crate::Stage) -> Vec<crate::JobError> {
+    #[derive(Deserialize)]
+    struct Envelope {
+        body: Loose,
+    }
+    #[derive(Deserialize)]
+    struct Loose {
+        job_id: Option<String>,
+        spec: Option<LooseSpec>,
+    }
+    #[derive(Deserialize)]
+    struct LooseSpec {
+        job: Option<LooseHeader>,
+    }
+    #[derive(Deserialize)]
+    struct LooseHeader {
+        id: Option<String>,
+        machine: Option<String>,
+    }
+    let Ok(Envelope { body }) = rmp_serde::from_slice::<Envelope>(bytes) else {
+        return Vec::new();
+    };
+    let header = body.spec.and_then(|s| s.job);
+    let (id, machine) = header.map_or((None, None), |h| (h.id, h.machine));
+    let mut errors = Vec::new();
+    if let Some(Err(e)) = body.job_id.map(JobId::new) {
+        errors.push(crate::JobError::bad_id(stage, "job_id", &e));
+    }
+    if let Some(Err(e)) = id.map(JobId::new) {
+        errors.push(crate::JobError::bad_id(stage, "spec.job.id", &e));
+    }
+    if let Some(Err(e)) = machine.map(MachineId::new) {
+        errors.push(crate::JobError::bad_id(stage, "spec.job.machine", &e));
+    }
+    errors
+}
+
 fn one() -> u32 {
     1
 }

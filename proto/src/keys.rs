@@ -114,8 +114,9 @@ pub fn station_job(job: &JobId) -> String {
     format!("{PREFIX}/station/jobs/{job}")
 }
 
-/// Pattern of the station's per-job status queryable.
-pub const STATION_JOB_ANY: &str = "gearcam/v1/station/jobs/*";
+/// Pattern of the station's per-job status queryable (`**`, so that a bad id
+/// with a `/` in it still reaches the station and is refused by name).
+pub const STATION_JOB_ANY: &str = "gearcam/v1/station/jobs/**";
 
 /// The liveliness name of the planning station service.
 pub const STATION_SERVICE: &str = "station";
@@ -126,17 +127,94 @@ pub fn store_job(machine: &MachineId, job: &JobId) -> String {
     format!("{PREFIX}/machines/{machine}/store/jobs/{job}")
 }
 
-/// `gearcam/v1/machines/{machine}/store/programs`: the agent's programs and their
-/// versions ([`crate::ProgramHistory`]); `.../programs/{name}` one program's history;
-/// `.../programs/{name}/versions/{seq}` one version's text; `.../programs/{name}/rollback/{seq}`
-/// makes that version current again.
+/// `gearcam/v1/machines/{machine}/store/programs`: every version of every
+/// program in the agent's store (a [`crate::StoreReply::History`]).
 pub fn store_programs(machine: &MachineId) -> String {
     format!("{PREFIX}/machines/{machine}/store/programs")
+}
+
+/// `gearcam/v1/machines/{machine}/store/programs/{name}`: one program's versions.
+pub fn store_program(machine: &MachineId, name: &str) -> String {
+    format!("{PREFIX}/machines/{machine}/store/programs/{name}")
+}
+
+/// `gearcam/v1/machines/{machine}/store/programs/{name}/versions/{seq}`: one
+/// version's text (a [`crate::StoreReply::Version`]).
+pub fn store_version(machine: &MachineId, name: &str, seq: u64) -> String {
+    format!("{PREFIX}/machines/{machine}/store/programs/{name}/versions/{seq}")
+}
+
+/// `gearcam/v1/machines/{machine}/store/changes/{name}`: a change of the
+/// machine's current program, asked with a [`crate::StoreRequest`] payload
+/// (a query without one is refused). Its own key so that an access-control
+/// list can grant changes to some users and reads to all.
+pub fn store_change(machine: &MachineId, name: &str) -> String {
+    format!("{PREFIX}/machines/{machine}/store/changes/{name}")
+}
+
+/// Everything a machine's agent answers: deliveries and its store.
+pub fn agent_any(machine: &MachineId) -> String {
+    format!("{PREFIX}/machines/{machine}/**")
 }
 
 /// Pattern of everything an agent's store answers.
 pub fn store_any(machine: &MachineId) -> String {
     format!("{PREFIX}/machines/{machine}/store/**")
+}
+
+/// What a key under `gearcam/v1/machines/{machine}/` asks of its agent. Ids
+/// and names are raw text: the agent checks them and names the bad one.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum AgentKey<'a> {
+    /// `programs/{job}`: a delivery.
+    Delivery(&'a str),
+    /// `store/jobs/{job}`: the stored receipt of a job.
+    StoredJob(&'a str),
+    /// `store/programs`: every program's versions.
+    Programs,
+    /// `store/programs/{name}`: one program's versions.
+    Program(&'a str),
+    /// `store/programs/{name}/versions/{seq}`: one version's text.
+    Version(&'a str, &'a str),
+    /// `store/changes/{name}`: a change of the current program.
+    Change(&'a str),
+}
+
+/// The request inside an agent's key, if `key` is one of `machine`'s agent keys.
+pub fn agent_key_of<'a>(machine: &MachineId, key: &'a str) -> Option<AgentKey<'a>> {
+    let rest = key
+        .strip_prefix(PREFIX)?
+        .strip_prefix("/machines/")?
+        .strip_prefix(machine.as_str())?
+        .strip_prefix('/')?;
+    let parts: Vec<&str> = rest.split('/').collect();
+    Some(match parts.as_slice() {
+        ["programs", job] => AgentKey::Delivery(job),
+        ["store", "jobs", job] => AgentKey::StoredJob(job),
+        ["store", "programs"] => AgentKey::Programs,
+        ["store", "programs", name] => AgentKey::Program(name),
+        ["store", "programs", name, "versions", seq] => AgentKey::Version(name, seq),
+        ["store", "changes", name] => AgentKey::Change(name),
+        _ => return None,
+    })
+}
+
+/// Pattern of every liveliness token.
+pub const ALIVE_ANY: &str = "gearcam/v1/alive/**";
+
+/// The service named by a liveliness key (`gearcam/v1/alive/{service}`).
+pub fn alive_of(key: &str) -> Option<&str> {
+    key.strip_prefix(PREFIX)?.strip_prefix("/alive/")
+}
+
+/// The machine of an agent's liveliness name (`agent/{machine}`).
+pub fn agent_machine_of(service: &str) -> Option<&str> {
+    service.strip_prefix("agent/")
+}
+
+/// The raw job id of a station status key (`gearcam/v1/station/jobs/{job}`).
+pub fn station_job_of(key: &str) -> Option<&str> {
+    key.strip_prefix(PREFIX)?.strip_prefix("/station/jobs/")
 }
 
 #[cfg(test)]
@@ -153,7 +231,7 @@ mod tests {
             "gearcam/v1/machines/H01/programs/J1"
         );
         assert_eq!(job_of(&job_events(&job)), Some(job.clone()));
-        assert_eq!(job_of(&machine_program(&m, &job)), Some(job));
+        assert_eq!(job_of(&machine_program(&m, &job)), Some(job.clone()));
         assert_eq!(job_of("gearcam/v1/other/J1"), None);
         assert_eq!(alive(&agent_service(&m)), "gearcam/v1/alive/agent/H01");
         assert_eq!(
@@ -166,5 +244,21 @@ mod tests {
         );
         assert_eq!(kb_of(&kb_library("cases")), Some(("cases".into(), None)));
         assert_eq!(kb_of("gearcam/v1/kb/a/b/c"), None);
+        assert_eq!(
+            agent_key_of(&m, &store_version(&m, "SP_1", 3)),
+            Some(AgentKey::Version("SP_1", "3"))
+        );
+        assert_eq!(
+            agent_key_of(&m, &store_change(&m, "SP_1")),
+            Some(AgentKey::Change("SP_1"))
+        );
+        assert_eq!(
+            agent_key_of(&m, &machine_program(&m, &job)),
+            Some(AgentKey::Delivery("J1"))
+        );
+        let other = MachineId::new("H011").unwrap();
+        assert_eq!(agent_key_of(&m, &store_programs(&other)), None);
+        assert_eq!(alive_of(&alive("station")), Some("station"));
+        assert_eq!(station_job_of(&station_job(&job)), Some("J1"));
     }
 }

@@ -33,8 +33,8 @@ pub mod program;
 pub use class::{classify, GearClass};
 pub use codec::{decode, encode, Message, MAX_MESSAGE_BYTES, SCHEMA_VERSION};
 pub use delivery::{
-    DeliveryReply, JobList, JobState, JobStatus, ProgramHistory, ProgramRef, ProgramText,
-    ProgramVersion, StationReply,
+    DeliveryReply, JobState, JobStatus, ProgramHistory, ProgramRef, ProgramText, ProgramVersion,
+    StationReply, StoreReply, StoreRequest,
 };
 pub use error::{CodecError, IdError};
 pub use ids::{HobId, JobId, MachineId};

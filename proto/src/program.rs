@@ -181,6 +181,26 @@ impl JobError {
     }
 }
 
+impl JobError {
+    /// `BAD_JOB_ID`, `BAD_MACHINE_ID` or `BAD_HOB_ID`: the id in `field` breaks
+    /// the id rule; `got` is the id as given.
+    pub fn bad_id(stage: Stage, field: &str, err: &crate::IdError) -> JobError {
+        let code = match err.kind {
+            "job id" => "BAD_JOB_ID",
+            "machine id" => "BAD_MACHINE_ID",
+            _ => "BAD_HOB_ID",
+        };
+        JobError::new(
+            stage,
+            code,
+            field,
+            err.expected.clone(),
+            err.got.clone(),
+            format!("the {} is not valid: {}", err.kind, err.reason),
+        )
+    }
+}
+
 impl std::fmt::Display for JobError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
@@ -200,6 +220,12 @@ impl std::fmt::Display for JobError {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum EventKind {
+    /// The planning station journaled the job (published once, when first
+    /// journaled; a resubmission of the same job is not a new state).
+    Accepted {
+        /// The machine the job is for.
+        machine: MachineId,
+    },
     /// The knowledge service produced the plan.
     Planned {
         /// Hob chosen.
@@ -224,8 +250,10 @@ pub enum EventKind {
         /// The receipt.
         receipt: DeliveryReceipt,
     },
-    /// The program could not be handed to the machine's agent yet (offline or
-    /// not answering); the station re-drives the job when the agent is back.
+    /// The job cannot go on yet: a service or the machine's agent is offline
+    /// or not answering (published by the station, and by the template
+    /// service for an agent that does not answer); the station re-drives the
+    /// job when they are back. Published again only when the reason changes.
     Waiting {
         /// Why.
         reason: String,

@@ -369,7 +369,7 @@ impl Tracker {
                 job.progress.programmed = job.progress.programmed.or(at);
                 None
             }
-            EventKind::Waiting { .. } => None,
+            EventKind::Accepted { .. } | EventKind::Waiting { .. } => None,
             EventKind::Delivered { receipt } => Some(Ok(receipt)),
             EventKind::Failed { errors } => Some(Err(errors
                 .iter()
@@ -448,6 +448,7 @@ async fn submit_and_follow(
         {
             StationReply::Accepted { .. } => {}
             StationReply::Refused { errors } => bail!("{job}: the station refused it: {errors:?}"),
+            other => bail!("{job}: the station answered a submission with {other:?}"),
         }
         let receipt = tokio::time::timeout(JOB_TIMEOUT, ended)
             .await

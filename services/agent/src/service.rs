@@ -7,8 +7,10 @@
 use gearcam_bus::query::{run_queryable_batched, Answer};
 use gearcam_bus::stage::codec_error;
 use gearcam_bus::{Bus, CancellationToken};
+use gearcam_proto::keys::AgentKey;
 use gearcam_proto::{
     decode, keys, DeliveryReply, EventKind, JobError, JobId, NcProgram, ProgramHistory, Stage,
+    StoreReply, StoreRequest,
 };
 
 use crate::store::{Store, StoreConfig};
@@ -23,8 +25,7 @@ pub async fn run(
     let machine = config.machine.clone();
     let mut store = Store::open(config)?;
     tracing::info!(%machine, dir = %store.config().program_dir.display(), "program store open");
-    let prefix = format!("{}/machines/{machine}/", keys::PREFIX);
-    let pattern = format!("{prefix}**");
+    let pattern = keys::agent_any(&machine);
     run_queryable_batched(
         &bus,
         &pattern,
@@ -38,8 +39,7 @@ pub async fn run(
             let mut answers: Vec<Option<Answer>> = batch.iter().map(|_| None).collect();
             let mut deliveries = Vec::new();
             for (i, (key, payload)) in batch.iter().enumerate() {
-                let rest = key.strip_prefix(&prefix).unwrap_or_default();
-                if let ["programs", job] = rest.split('/').collect::<Vec<_>>().as_slice() {
+                if let Some(AgentKey::Delivery(job)) = keys::agent_key_of(&machine, key) {
                     match decode_delivery(job, payload) {
                         Ok(program) => deliveries.push((i, program)),
                         Err(answer) => answers[i] = Some(answer),
@@ -50,9 +50,9 @@ pub async fn run(
             for ((i, program), result) in deliveries.into_iter().zip(store.store_batch(&programs)) {
                 answers[i] = Some(delivered(program, result));
             }
-            for (i, (key, _)) in batch.iter().enumerate() {
+            for (i, (key, payload)) in batch.iter().enumerate() {
                 if answers[i].is_none() {
-                    answers[i] = Some(answer_store_query(&mut store, &prefix, key));
+                    answers[i] = Some(answer_store_query(&mut store, key, payload));
                 }
             }
             answers
@@ -68,48 +68,152 @@ pub async fn run(
 /// Largest group of deliveries committed together.
 const MAX_BATCH: usize = 256;
 
-/// Answers a store query (lost receipts, history, versions, rollback).
-fn answer_store_query(store: &mut Store, prefix: &str, key: &str) -> Answer {
-    let rest = key.strip_prefix(prefix).unwrap_or_default();
-    let parts: Vec<&str> = rest.split('/').collect();
-    match parts.as_slice() {
-        ["store", "jobs", job] => match store.stored_receipt(job) {
-            Ok(Some(receipt)) => Answer::message(&DeliveryReply::Stored { receipt }),
-            Ok(None) => Answer::message(&DeliveryReply::NotStored),
-            Err(e) => Answer::error(e.to_string()),
+/// Answers a store query (lost receipts, history, versions, changes), always
+/// with a typed reply.
+fn answer_store_query(store: &mut Store, key: &str, payload: &[u8]) -> Answer {
+    let machine = store.config().machine.clone();
+    let refuse = |error: JobError| Answer::message(&StoreReply::Refused { error });
+    let Some(asked) = keys::agent_key_of(&machine, key) else {
+        return refuse(bad_request(
+            "key",
+            "gearcam/v1/machines/{machine}/store/programs[/{name}[/versions/{seq}]], …/store/changes/{name} or …/store/jobs/{job}",
+            key,
+            "the store has no such key",
+        ));
+    };
+    match asked {
+        AgentKey::StoredJob(job) => match JobId::new(job) {
+            Err(e) => Answer::message(&DeliveryReply::Refused {
+                error: JobError::bad_id(Stage::Agent, "job", &e),
+            }),
+            Ok(job) => match store.stored_receipt(job.as_str()) {
+                Ok(Some(receipt)) => Answer::message(&DeliveryReply::Stored { receipt }),
+                Ok(None) => Answer::message(&DeliveryReply::NotStored),
+                Err(e) => Answer::message(&DeliveryReply::Refused {
+                    error: index_error(e),
+                }),
+            },
         },
-        ["store", "programs"] => history(store, None),
-        ["store", "programs", name] => history(store, Some(name)),
-        ["store", "programs", _name, "versions", seq] => {
-            match seq.parse::<u64>().map(|s| store.version(s)) {
-                Ok(Ok(Some(text))) => Answer::message(&text),
-                Ok(Ok(None)) => Answer::error(format!(
-                    "no version {seq} in the store of {}",
-                    store.config().machine
-                )),
-                Ok(Err(e)) => Answer::error(e.to_string()),
-                Err(_) => Answer::error(format!("version must be a number, got {seq:?}")),
+        AgentKey::Programs => history(store, None),
+        AgentKey::Program(name) => match known(store, name) {
+            Ok(()) => history(store, Some(name)),
+            Err(error) => refuse(error),
+        },
+        AgentKey::Version(name, seq) => {
+            let Ok(seq) = seq.parse::<u64>() else {
+                return refuse(bad_request(
+                    "seq",
+                    "a version number",
+                    seq,
+                    "a version is a number",
+                ));
+            };
+            if let Err(error) = known(store, name) {
+                return refuse(error);
+            }
+            match store.version(name, seq) {
+                Ok(Some(program)) => Answer::message(&StoreReply::Version {
+                    program: Box::new(program),
+                }),
+                Ok(None) => refuse(unknown_version(name, seq)),
+                Err(e) => refuse(index_error(e)),
             }
         }
-        ["store", "programs", name, "rollback", seq] => match seq.parse::<u64>() {
-            Ok(seq) => match store.rollback(name, seq) {
-                Ok(receipt) => Answer::message(&DeliveryReply::Stored { receipt }),
-                Err(error) => Answer::message(&DeliveryReply::Refused { error }),
-            },
-            Err(_) => Answer::error(format!("version must be a number, got {seq:?}")),
-        },
-        _ => Answer::error(format!("unknown agent key {key}")),
+        AgentKey::Change(name) => {
+            if payload.is_empty() {
+                return refuse(bad_request(
+                    "payload",
+                    "a store_request message",
+                    "no payload",
+                    "a change of the current program is asked with a store_request payload",
+                ));
+            }
+            let request = match decode::<StoreRequest>(payload) {
+                Ok(r) => r,
+                Err(e) => return refuse(codec_error::<StoreRequest>(Stage::Agent, &e)),
+            };
+            if let Err(error) = known(store, name) {
+                return refuse(error);
+            }
+            match request {
+                StoreRequest::Rollback { seq } => match store.rollback(name, seq) {
+                    Ok(receipt) => {
+                        tracing::info!(program = name, seq, "rolled back");
+                        Answer::message(&StoreReply::Changed { receipt })
+                    }
+                    Err(error) => refuse(error),
+                },
+            }
+        }
+        AgentKey::Delivery(_) => unreachable!("deliveries are answered first"),
     }
 }
 
 fn history(store: &Store, name: Option<&str>) -> Answer {
     match store.history(name) {
-        Ok(versions) => Answer::message(&ProgramHistory {
-            machine: store.config().machine.clone(),
-            versions,
+        Ok(versions) => Answer::message(&StoreReply::History {
+            history: ProgramHistory {
+                machine: store.config().machine.clone(),
+                versions,
+            },
         }),
-        Err(e) => Answer::error(e.to_string()),
+        Err(e) => Answer::message(&StoreReply::Refused {
+            error: index_error(e),
+        }),
     }
+}
+
+/// `UNKNOWN_PROGRAM` unless the store has held a program called `name`.
+fn known(store: &Store, name: &str) -> Result<(), JobError> {
+    match store.knows(name) {
+        Ok(true) => Ok(()),
+        Ok(false) => Err(JobError::new(
+            Stage::Agent,
+            "UNKNOWN_PROGRAM",
+            "name",
+            format!(
+                "a program in the store of {} (gearcam program history --machine {})",
+                store.config().machine,
+                store.config().machine
+            ),
+            name,
+            "this machine's store has never held a program of this name",
+        )),
+        Err(e) => Err(index_error(e)),
+    }
+}
+
+fn unknown_version(name: &str, seq: u64) -> JobError {
+    JobError::new(
+        Stage::Agent,
+        "UNKNOWN_VERSION",
+        "seq",
+        format!("a stored version of {name} (gearcam program history)"),
+        seq.to_string(),
+        "no such version of this program in the store",
+    )
+}
+
+fn bad_request(field: &str, expected: &str, got: &str, message: &str) -> JobError {
+    JobError::new(
+        Stage::Agent,
+        "BAD_STORE_REQUEST",
+        field,
+        expected,
+        got,
+        message,
+    )
+}
+
+fn index_error(e: AgentError) -> JobError {
+    JobError::new(
+        Stage::Agent,
+        "STORE_INDEX_ERROR",
+        "-",
+        "a readable program index",
+        e.to_string(),
+        "the program index could not be read; see the agent's log",
+    )
 }
 
 fn refused(job: Option<JobId>, error: JobError) -> Answer {
@@ -129,7 +233,10 @@ fn refused(job: Option<JobId>, error: JobError) -> Answer {
 
 /// Decodes a delivery's program, or the refusal to answer with.
 fn decode_delivery(job: &str, payload: &[u8]) -> Result<NcProgram, Answer> {
-    let job_id = JobId::new(job).ok();
+    let job_id = match JobId::new(job) {
+        Ok(id) => Some(id),
+        Err(e) => return Err(refused(None, JobError::bad_id(Stage::Agent, "job", &e))),
+    };
     let program = match decode::<NcProgram>(payload) {
         Ok(p) => p,
         Err(e) => {

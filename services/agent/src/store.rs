@@ -466,18 +466,32 @@ impl Store {
         Ok(rows.collect::<Result<_, _>>()?)
     }
 
-    /// One version's text.
-    pub fn version(&self, seq: u64) -> Result<Option<ProgramText>, AgentError> {
+    /// True when the store has ever held a program called `name`.
+    pub fn knows(&self, name: &str) -> Result<bool, AgentError> {
+        Ok(self
+            .conn
+            .query_row(
+                "SELECT 1 FROM programs WHERE name = ?1 LIMIT 1",
+                [name],
+                |_| Ok(()),
+            )
+            .optional()?
+            .is_some())
+    }
+
+    /// Version `seq` of program `name`, with its text; `None` when the store
+    /// has no such version of that program.
+    pub fn version(&self, name: &str, seq: u64) -> Result<Option<ProgramText>, AgentError> {
         let text: Option<String> = self
             .conn
             .query_row(
-                "SELECT text FROM programs WHERE seq = ?1",
-                [seq as i64],
+                "SELECT text FROM programs WHERE seq = ?1 AND name = ?2",
+                params![seq as i64, name],
                 |r| r.get(0),
             )
             .optional()?;
         let Some(text) = text else { return Ok(None) };
-        let version = self.history(None)?.into_iter().find(|v| v.seq == seq);
+        let version = self.history(Some(name))?.into_iter().find(|v| v.seq == seq);
         Ok(version.map(|version| ProgramText { version, text }))
     }
 
@@ -485,7 +499,7 @@ impl Store {
     /// the program directory (atomically) and records a `rollback` version.
     pub fn rollback(&mut self, name: &str, seq: u64) -> Result<DeliveryReceipt, JobError> {
         let v = self
-            .version(seq)
+            .version(name, seq)
             .map_err(|e| {
                 refuse(
                     "STORE_INDEX_ERROR",
@@ -495,7 +509,6 @@ impl Store {
                     "the program index could not be read",
                 )
             })?
-            .filter(|v| v.version.name == name)
             .ok_or_else(|| {
                 refuse(
                     "UNKNOWN_VERSION",
@@ -793,7 +806,7 @@ mod tests {
         assert_eq!(h.len(), 2);
         assert!(h[0].current && !h[1].current);
         let first = h[1].seq;
-        assert_eq!(s.version(first).unwrap().unwrap().text, "first\n");
+        assert_eq!(s.version("SP_1", first).unwrap().unwrap().text, "first\n");
         let r = s.rollback("SP_1", first).unwrap();
         assert_eq!(fs::read_to_string(&path).unwrap(), "first\n");
         assert_eq!(r.sha256, sha256_hex(b"first\n"));

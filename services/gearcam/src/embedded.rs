@@ -104,14 +104,14 @@ impl Embedded {
             )
         });
         let (b, s) = (bus.clone(), shutdown.clone());
-        let station = crate::station_service::StationConfig {
+        let station = gearcam_station::StationConfig {
             journal: layout.journal(),
             redrive: Duration::from_secs(5),
         };
         tasks.spawn(async move {
             (
                 "station",
-                crate::station_service::run(b, station, s)
+                gearcam_station::run(b, station, s)
                     .await
                     .map_err(Into::into),
             )

@@ -12,12 +12,9 @@ use clap::{Parser, Subcommand};
 use gearcam::check::{self, CheckReport};
 use gearcam::embedded::Embedded;
 use gearcam::station::{self, Outcome, SubmitOptions};
-use gearcam::{jobfile, DEFAULT_ENDPOINT};
-use gearcam_bus::query::Retry;
+use gearcam::{jobfile, store, DEFAULT_ENDPOINT};
 use gearcam_bus::{cancel_on_signal, init_tracing, Bus, BusArgs, BusConfig, Mode};
-use gearcam_proto::{
-    keys, DeliveryReply, JobId, JobRequest, MachineId, ProgramHistory, ProgramText,
-};
+use gearcam_proto::{JobId, MachineId};
 use gearcam_template::Templates;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::json;
@@ -573,11 +570,11 @@ async fn station_cmd(
         config = client_config(bus_args);
     }
     let bus = Bus::open(&config).await.context("joining the bus")?;
-    let cfg = gearcam::station_service::StationConfig {
+    let cfg = gearcam_station::StationConfig {
         journal,
         redrive: Duration::from_millis(redrive_ms),
     };
-    gearcam::station_service::run(bus, cfg, cancel_on_signal()).await?;
+    gearcam_station::run(bus, cfg, cancel_on_signal()).await?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -585,14 +582,17 @@ async fn jobs_cmd(bus_args: &BusArgs, json: bool) -> anyhow::Result<ExitCode> {
     let bus = join_bus(bus_args).await?;
     let list = station::jobs(&bus).await;
     bus.close().await;
-    let list = list.context("asking the station")?;
+    let jobs = match list.context("asking the station")? {
+        Ok(jobs) => jobs,
+        Err(errors) => return Ok(refused(&errors)),
+    };
     if json {
-        println!("{}", serde_json::to_string_pretty(&list.jobs)?);
+        println!("{}", serde_json::to_string_pretty(&jobs)?);
     } else {
-        for s in &list.jobs {
+        for s in &jobs {
             println!("{}", station::describe_status(s));
         }
-        println!("{} job(s)", list.jobs.len());
+        println!("{} job(s)", jobs.len());
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -601,7 +601,10 @@ async fn status_cmd(job: &JobId, bus_args: &BusArgs, json: bool) -> anyhow::Resu
     let bus = join_bus(bus_args).await?;
     let status = station::status(&bus, job).await;
     bus.close().await;
-    let status = status.context("asking the station")?;
+    let status = match status.context("asking the station")? {
+        Ok(status) => status,
+        Err(errors) => return Ok(refused(&errors)),
+    };
     if json {
         println!("{}", serde_json::to_string_pretty(&status)?);
     } else {
@@ -611,8 +614,13 @@ async fn status_cmd(job: &JobId, bus_args: &BusArgs, json: bool) -> anyhow::Resu
     Ok(ExitCode::SUCCESS)
 }
 
+/// Prints a service's typed refusal; exit code 1.
+fn refused(errors: &[gearcam_proto::JobError]) -> ExitCode {
+    eprint!("{}", check::format_errors(errors));
+    ExitCode::FAILURE
+}
+
 async fn program_cmd(action: ProgramAction) -> anyhow::Result<ExitCode> {
-    let retry = Retry::default();
     match action {
         ProgramAction::History {
             machine,
@@ -621,15 +629,12 @@ async fn program_cmd(action: ProgramAction) -> anyhow::Result<ExitCode> {
             json,
         } => {
             let bus = join_bus(&bus).await?;
-            let mut key = keys::store_programs(&machine);
-            if let Some(n) = &name {
-                key = format!("{key}/{n}");
-            }
-            let h: Result<ProgramHistory, _> = bus
-                .call::<JobRequest, ProgramHistory>(&key, None, retry)
-                .await;
+            let h = store::history(&bus, &machine, name.as_deref()).await;
             bus.close().await;
-            let h = h.context(format!("asking the agent of {machine}"))?;
+            let h = match h.context(format!("asking the agent of {machine}"))? {
+                Ok(h) => h,
+                Err(error) => return Ok(refused(&[error])),
+            };
             if json {
                 println!("{}", serde_json::to_string_pretty(&h)?);
             } else {
@@ -656,14 +661,15 @@ async fn program_cmd(action: ProgramAction) -> anyhow::Result<ExitCode> {
             bus,
         } => {
             let bus = join_bus(&bus).await?;
-            let key = format!("{}/{name}/versions/{seq}", keys::store_programs(&machine));
-            let t = bus.call::<JobRequest, ProgramText>(&key, None, retry).await;
+            let t = store::version(&bus, &machine, &name, seq).await;
             bus.close().await;
-            print!(
-                "{}",
-                t.context(format!("asking the agent of {machine}"))?.text
-            );
-            Ok(ExitCode::SUCCESS)
+            match t.context(format!("asking the agent of {machine}"))? {
+                Ok(t) => {
+                    print!("{}", t.text);
+                    Ok(ExitCode::SUCCESS)
+                }
+                Err(error) => Ok(refused(&[error])),
+            }
         }
         ProgramAction::Rollback {
             machine,
@@ -672,24 +678,17 @@ async fn program_cmd(action: ProgramAction) -> anyhow::Result<ExitCode> {
             bus,
         } => {
             let bus = join_bus(&bus).await?;
-            let key = format!("{}/{name}/rollback/{seq}", keys::store_programs(&machine));
-            let r = bus
-                .call::<JobRequest, DeliveryReply>(&key, None, retry)
-                .await;
+            let r = store::rollback(&bus, &machine, &name, seq).await;
             bus.close().await;
             match r.context(format!("asking the agent of {machine}"))? {
-                DeliveryReply::Stored { receipt } => {
+                Ok(receipt) => {
                     println!(
                         "{} is version {seq} again: {} (sha256 {})",
                         name, receipt.path, receipt.sha256
                     );
                     Ok(ExitCode::SUCCESS)
                 }
-                DeliveryReply::Refused { error } => {
-                    eprint!("{}", check::format_errors(&[error]));
-                    Ok(ExitCode::FAILURE)
-                }
-                DeliveryReply::NotStored => Ok(ExitCode::FAILURE),
+                Err(error) => Ok(refused(&[error])),
             }
         }
     }

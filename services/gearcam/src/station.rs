@@ -7,8 +7,8 @@ use std::time::Duration;
 use gearcam_bus::query::{CallError, Retry};
 use gearcam_bus::Bus;
 use gearcam_proto::{
-    decode, keys, DeliveryReceipt, EventKind, JobError, JobEvent, JobId, JobList, JobRequest,
-    JobState, JobStatus, StationReply,
+    decode, keys, DeliveryReceipt, EventKind, JobError, JobEvent, JobId, JobRequest, JobState,
+    JobStatus, StationReply,
 };
 
 /// How to submit.
@@ -73,6 +73,11 @@ pub async fn submit(
     let accepted = match reply {
         StationReply::Refused { errors } => return Ok(Outcome::Failed(errors)),
         StationReply::Accepted { status } => *status,
+        other => {
+            return Err(StationClientError::Unreachable(format!(
+                "the station answered a submission with {other:?}"
+            )))
+        }
     };
     if !opts.wait {
         return Ok(Outcome::Submitted(Box::new(accepted)));
@@ -100,7 +105,7 @@ pub async fn submit(
             _ = poll => {}
         }
         // The journal is the truth: read it after a final event or a poll interval.
-        if let Ok(s) = status(bus, &req.job_id).await {
+        if let Ok(Ok(s)) = status(bus, &req.job_id).await {
             last = s;
         }
     }
@@ -114,21 +119,46 @@ fn final_outcome(s: &JobStatus) -> Option<Outcome> {
     }
 }
 
-/// One job's status from the station's journal.
-pub async fn status(bus: &Bus, job: &JobId) -> Result<JobStatus, CallError> {
-    bus.call::<JobRequest, JobStatus>(&keys::station_job(job), None, Retry::default())
-        .await
+/// One job's status from the station's journal, or the station's typed
+/// refusal (`UNKNOWN_JOB`, `BAD_JOB_ID`).
+pub async fn status(bus: &Bus, job: &JobId) -> Result<Result<JobStatus, Vec<JobError>>, CallError> {
+    let reply = bus
+        .call::<JobRequest, StationReply>(&keys::station_job(job), None, Retry::default())
+        .await?;
+    Ok(match reply {
+        StationReply::Status { status } => Ok(*status),
+        StationReply::Refused { errors } => Err(errors),
+        other => Err(vec![unexpected(&other)]),
+    })
 }
 
-/// Every job in the station's journal.
-pub async fn jobs(bus: &Bus) -> Result<JobList, CallError> {
-    bus.call::<JobRequest, JobList>(keys::STATION_JOBS, None, Retry::default())
-        .await
+/// Every job in the station's journal, oldest first, or the station's refusal.
+pub async fn jobs(bus: &Bus) -> Result<Result<Vec<JobStatus>, Vec<JobError>>, CallError> {
+    let reply = bus
+        .call::<JobRequest, StationReply>(keys::STATION_JOBS, None, Retry::default())
+        .await?;
+    Ok(match reply {
+        StationReply::Jobs { jobs } => Ok(jobs),
+        StationReply::Refused { errors } => Err(errors),
+        other => Err(vec![unexpected(&other)]),
+    })
+}
+
+fn unexpected(reply: &StationReply) -> JobError {
+    JobError::new(
+        gearcam_proto::Stage::Station,
+        "UNEXPECTED_REPLY",
+        "reply",
+        "the reply of the station's protocol for this query",
+        format!("{reply:?}"),
+        "the station answered with another kind of reply; is it another version?",
+    )
 }
 
 /// One line describing an event, for progress output.
 pub fn describe(ev: &JobEvent) -> String {
     match &ev.event {
+        EventKind::Accepted { machine } => format!("station: journaled for {machine}"),
         EventKind::Planned { hob_id, confidence } => {
             format!("knowledge: planned with hob {hob_id} (confidence {confidence:.2})")
         }

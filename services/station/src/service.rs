@@ -2,15 +2,20 @@
 //! drives them through the pipeline, follows their events, and re-drives every
 //! unfinished job until the agent's receipt arrives.
 //!
-//! - `gearcam/v1/station/submit` (query with a `JobRequest`): journal, then
-//!   answer `accepted`; the request is published right after.
-//! - `gearcam/v1/station/jobs[/{job}]` (query): the journal's view.
+//! - `gearcam/v1/station/submit` (query with a `JobRequest`): check the ids
+//!   and that the knowledge base knows the machine, journal, then answer
+//!   `accepted` and publish the `accepted` event; the request is published
+//!   right after. A resubmission (same job id, same spec) is answered with the
+//!   job's status; the same id with another spec is refused.
+//! - `gearcam/v1/station/jobs[/{job}]` (query): the journal's view, always a
+//!   typed `StationReply`.
 //! - Events of every job update the journal. Jobs without progress for
 //!   `redrive` are re-driven with backoff: first the agent's store is asked for
 //!   the job (a lost receipt), then the request is published again (every stage
 //!   is idempotent; the agent answers a repeat with the original receipt).
-//! - A job whose services or agent are offline (no liveliness token) waits, and
-//!   is re-driven as soon as the missing token appears.
+//! - A job whose services or agent are offline (no liveliness token) waits
+//!   (a `waiting` event names what is missing), and is re-driven as soon as
+//!   the missing token appears.
 //!
 //! Changes are applied in batches, one SQLite transaction each (group commit).
 
@@ -20,8 +25,10 @@ use std::time::Duration;
 
 use gearcam_bus::query::Retry;
 use gearcam_bus::{Bus, BusError, CancellationToken};
+use gearcam_proto::plan::{KbReply, KbRequest, KbValue};
 use gearcam_proto::{
-    decode, encode, keys, now_ms, DeliveryReply, JobEvent, JobId, JobList, JobRequest, StationReply,
+    decode, encode, keys, now_ms, DeliveryReply, EventKind, JobError, JobEvent, JobId, JobRequest,
+    MachineId, Stage, StationReply,
 };
 use zenoh::query::Query;
 use zenoh::sample::SampleKind;
@@ -71,7 +78,7 @@ pub async fn run(
         .await
         .map_err(zerr("declare queryable"))?;
     let views = session
-        .declare_queryable(format!("{}/station/jobs/**", keys::PREFIX))
+        .declare_queryable(keys::STATION_JOB_ANY)
         .await
         .map_err(zerr("declare queryable"))?;
     let list_view = session
@@ -84,12 +91,13 @@ pub async fn run(
         .map_err(zerr("declare subscriber"))?;
     let alive_sub = session
         .liveliness()
-        .declare_subscriber(format!("{}/alive/**", keys::PREFIX))
+        .declare_subscriber(keys::ALIVE_ANY)
         .history(true)
         .await
         .map_err(zerr("liveliness subscriber"))?;
     let _token = bus.alive_token(keys::STATION_SERVICE).await?;
     let mut alive: HashSet<String> = HashSet::new();
+    let mut machines: HashSet<MachineId> = HashSet::new();
     // Every unfinished job is due at start: a restarted station finishes its journal.
     let woken = journal.wake(None, now_ms())?;
     tracing::info!(journal = %config.journal.display(), unfinished = woken, "station serving");
@@ -107,16 +115,16 @@ pub async fn run(
             },
             q = views.recv_async() => if let Ok(q) = q {
                 let reply = view_reply(&journal, q.key_expr().as_str());
-                answer_view(reply, q).await
+                reply_message(q, &reply).await
             },
             q = list_view.recv_async() => if let Ok(q) = q {
                 let reply = view_reply(&journal, q.key_expr().as_str());
-                answer_view(reply, q).await
+                reply_message(q, &reply).await
             },
             s = alive_sub.recv_async() => if let Ok(s) = s {
-                let name = s.key_expr().as_str().trim_start_matches(&format!("{}/alive/", keys::PREFIX)).to_string();
+                let name = keys::alive_of(s.key_expr().as_str()).unwrap_or_default().to_string();
                 if s.kind() == SampleKind::Put {
-                    if let Some(machine) = name.strip_prefix("agent/") {
+                    if let Some(machine) = keys::agent_machine_of(&name) {
                         journal.wake(Some(machine), now_ms())?;
                     } else if PIPELINE.contains(&name.as_str()) {
                         journal.wake(None, now_ms())?;
@@ -146,6 +154,35 @@ pub async fn run(
             }
         }
         if !new_submits.is_empty() || !new_events.is_empty() {
+            // Ids and machines are checked before the journal's transaction:
+            // the machine check may ask the knowledge base.
+            let mut checked = Vec::with_capacity(new_submits.len());
+            for q in new_submits {
+                let payload = q
+                    .payload()
+                    .map(|p| p.to_bytes().into_owned())
+                    .unwrap_or_default();
+                let verdict = match decode::<JobRequest>(&payload) {
+                    Err(e) => {
+                        let mut errors =
+                            gearcam_proto::job::request_id_errors(&payload, Stage::Station);
+                        if errors.is_empty() {
+                            errors.push(gearcam_bus::stage::codec_error::<JobRequest>(
+                                Stage::Station,
+                                &e,
+                            ));
+                        }
+                        Err(errors)
+                    }
+                    Ok(req) => {
+                        match known_machine(&bus, &mut machines, &req.spec.job.machine).await {
+                            Ok(()) => Ok(req),
+                            Err(e) => Err(vec![e]),
+                        }
+                    }
+                };
+                checked.push((q, verdict));
+            }
             let now = now_ms();
             let (replies, to_send) = journal.batch(|j| {
                 for ev in &new_events {
@@ -155,27 +192,21 @@ pub async fn run(
                 }
                 let mut replies = Vec::new();
                 let mut to_send = Vec::new();
-                for q in new_submits {
-                    let payload = q
-                        .payload()
-                        .map(|p| p.to_bytes().into_owned())
-                        .unwrap_or_default();
-                    let reply = match decode::<JobRequest>(&payload) {
-                        Err(e) => StationReply::Refused {
-                            errors: vec![gearcam_bus::stage::codec_error::<JobRequest>(
-                                gearcam_proto::Stage::Station,
-                                &e,
-                            )],
-                        },
+                for (q, verdict) in checked {
+                    let reply = match verdict {
+                        Err(errors) => StationReply::Refused { errors },
                         Ok(req) => match j.submit(&req, now) {
                             Ok(status) => {
-                                if status.attempts == 0 {
+                                if status.attempts == 0
+                                    && status.state == gearcam_proto::JobState::Accepted
+                                {
                                     if let Ok(request) = encode(&req) {
                                         to_send.push(Due {
                                             job: req.job_id.clone(),
                                             machine: req.spec.job.machine.clone(),
                                             state: status.state,
                                             attempts: 0,
+                                            waiting_for: None,
                                             request,
                                         });
                                     }
@@ -194,6 +225,14 @@ pub async fn run(
             // The journal is committed: acknowledge, then drive the new jobs.
             for (q, reply) in replies {
                 reply_message(q, &reply).await;
+            }
+            for d in &to_send {
+                let accepted = EventKind::Accepted {
+                    machine: d.machine.clone(),
+                };
+                if let Err(e) = bus.event(&d.job, Stage::Station, accepted).await {
+                    tracing::warn!(job = %d.job, error = %e, "cannot publish the accepted event");
+                }
             }
             if !to_send.is_empty() {
                 let updates = drive(&bus, &alive, redrive_ms, to_send).await?;
@@ -252,11 +291,14 @@ async fn drive(
             .filter(|s| !alive.contains(*s))
             .collect();
         if !missing.is_empty() {
-            updates.push(Update::Waiting(
-                d.job,
-                format!("offline: {}", missing.join(", ")),
-                now + 1000,
-            ));
+            let reason = format!("offline: {}", missing.join(", "));
+            if d.waiting_for.as_deref() != Some(reason.as_str()) {
+                let waiting = EventKind::Waiting {
+                    reason: reason.clone(),
+                };
+                bus.event(&d.job, Stage::Station, waiting).await?;
+            }
+            updates.push(Update::Waiting(d.job, reason, now + 1000));
             continue;
         }
         if d.attempts > 0 {
@@ -299,29 +341,99 @@ async fn reply_message<T: gearcam_proto::Message>(q: Query, msg: &T) {
     }
 }
 
-/// The reply to a view query (`jobs` or `jobs/{job}`), computed from the journal.
-fn view_reply(journal: &Journal, key: &str) -> Result<Vec<u8>, String> {
-    if key == keys::STATION_JOBS {
-        let jobs = journal.list().map_err(|e| e.to_string())?;
-        return encode(&JobList { jobs }).map_err(|e| e.to_string());
+/// Checks that the knowledge base knows `machine` (`UNKNOWN_MACHINE`
+/// otherwise). Known machines are remembered; when the knowledge base does
+/// not answer, the job is accepted and waits for it like any other job.
+async fn known_machine(
+    bus: &Bus,
+    known: &mut HashSet<MachineId>,
+    machine: &MachineId,
+) -> Result<(), JobError> {
+    if known.contains(machine) {
+        return Ok(());
     }
-    let job = key
-        .rsplit('/')
-        .next()
-        .and_then(|j| JobId::new(j).ok())
-        .ok_or_else(|| format!("not a job key: {key}"))?;
-    match journal.status(&job).map_err(|e| e.to_string())? {
-        Some(s) => encode(&s).map_err(|e| e.to_string()),
-        None => Err(format!("unknown job {job}: not in this station's journal")),
+    let retry = Retry {
+        timeout: Duration::from_secs(2),
+        attempts: 1,
+        pause: Duration::ZERO,
+    };
+    let key = keys::kb_library(MACHINES);
+    match bus.call::<KbRequest, KbReply>(&key, None, retry).await {
+        Ok(reply) if reply.errors.is_empty() => {
+            let ids: Vec<String> = reply
+                .records
+                .iter()
+                .filter_map(|r| match r.get("id") {
+                    Some(KbValue::Text(id)) => Some(id.clone()),
+                    _ => None,
+                })
+                .collect();
+            known.extend(ids.iter().filter_map(|id| MachineId::new(id.as_str()).ok()));
+            if known.contains(machine) {
+                Ok(())
+            } else {
+                Err(JobError::new(
+                    Stage::Station,
+                    "UNKNOWN_MACHINE",
+                    "spec.job.machine",
+                    format!("one of the knowledge base's machines: {}", ids.join(", ")),
+                    machine.as_str(),
+                    "the knowledge base has no such machine (gearcam kb machines lists them); the job was not journaled",
+                ))
+            }
+        }
+        Ok(reply) => {
+            tracing::warn!(errors = ?reply.errors, "the knowledge base refused the machine list");
+            Ok(())
+        }
+        Err(e) => {
+            tracing::warn!(error = %e, "the knowledge base did not answer; the machine is checked when the job is planned");
+            Ok(())
+        }
     }
 }
 
-async fn answer_view(reply: Result<Vec<u8>, String>, q: Query) {
-    let sent = match reply {
-        Ok(bytes) => q.reply(q.key_expr().clone(), bytes).await,
-        Err(e) => q.reply_err(e.into_bytes()).await,
+/// The knowledge base's library of machines.
+const MACHINES: &str = "machines";
+
+/// The reply to a view query (`jobs` or `jobs/{job}`), computed from the journal.
+fn view_reply(journal: &Journal, key: &str) -> StationReply {
+    let refused = |error: JobError| StationReply::Refused {
+        errors: vec![error],
     };
-    if let Err(e) = sent {
-        tracing::warn!(error = %e, "cannot reply");
+    let unreadable = |e: JournalError| {
+        refused(JobError::new(
+            Stage::Station,
+            "JOURNAL_ERROR",
+            "-",
+            "a readable journal",
+            e.to_string(),
+            "the station could not read its journal; see its log",
+        ))
+    };
+    if key == keys::STATION_JOBS {
+        return match journal.list() {
+            Ok(jobs) => StationReply::Jobs { jobs },
+            Err(e) => unreadable(e),
+        };
+    }
+    let raw = keys::station_job_of(key).unwrap_or(key);
+    let job = match JobId::new(raw) {
+        Ok(job) => job,
+        Err(e) => return refused(JobError::bad_id(Stage::Station, "job_id", &e)),
+    };
+    match journal.status(&job) {
+        Ok(Some(status)) => StationReply::Status {
+            status: Box::new(status),
+        },
+        Ok(None) => refused(JobError::new(
+            Stage::Station,
+            "UNKNOWN_JOB",
+            "job_id",
+            "a job in this station's journal (gearcam jobs)",
+            job.as_str(),
+            "the station has no such job",
+        )),
+        Err(e) => unreadable(e),
     }
 }

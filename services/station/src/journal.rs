@@ -50,6 +50,8 @@ pub struct Due {
     pub state: JobState,
     /// Attempts so far.
     pub attempts: u32,
+    /// What it waits for, when waiting.
+    pub waiting_for: Option<String>,
     /// The encoded request, ready to publish.
     pub request: Vec<u8>,
 }
@@ -108,30 +110,34 @@ impl Journal {
     }
 
     /// Journals a request. The same request again is accepted as is (idempotent);
-    /// a different request under a known job id is refused.
+    /// a different spec under a known job id is refused (`JOB_ID_EXISTS`).
     pub fn submit(&self, req: &JobRequest, now: u64) -> Result<JobStatus, JobError> {
         let bytes = encode(req).map_err(|e| {
             station_error("ENCODE_FAILED", "-", "an encodable request", &e.to_string())
         })?;
         let hash = sha(&bytes);
-        let known: Option<String> = self
+        let known: Option<Vec<u8>> = self
             .conn
             .query_row(
-                "SELECT request_sha256 FROM jobs WHERE job = ?1",
+                "SELECT request FROM jobs WHERE job = ?1",
                 [req.job_id.as_str()],
                 |r| r.get(0),
             )
             .optional()
             .map_err(db_error)?;
         match known {
-            Some(h) if h == hash => {}
-            Some(_) => {
-                return Err(station_error(
-                    "JOB_ID_EXISTS",
-                    "job.id",
-                    "a job id not used by another request",
-                    req.job_id.as_str(),
-                ))
+            // A resubmission is the same job id with the same spec; who sent
+            // it and when may differ (a client's retry).
+            Some(stored) => {
+                let same = decode::<JobRequest>(&stored).is_ok_and(|s| s.spec == req.spec);
+                if !same {
+                    return Err(station_error(
+                        "JOB_ID_EXISTS",
+                        "job_id",
+                        "a job id not used by another job spec",
+                        req.job_id.as_str(),
+                    ));
+                }
             }
             None => {
                 self.conn
@@ -166,9 +172,14 @@ impl Journal {
         if current.is_final() {
             return Ok(false);
         }
+        if ev.stage == Stage::Station {
+            // The station's own announcements: already in the journal.
+            return Ok(false);
+        }
         let next = (now + redrive_ms) as i64;
         let job = ev.job_id.as_str();
         let n = match &ev.event {
+            EventKind::Accepted { .. } => 0,
             EventKind::Planned { .. } => self.set_state(job, JobState::Planned, now, next)?,
             EventKind::Modelled { .. } => self.set_state(job, JobState::Modelled, now, next)?,
             EventKind::Programmed { .. } => self.set_state(job, JobState::Programmed, now, next)?,
@@ -249,7 +260,7 @@ impl Journal {
     /// Unfinished jobs due at `now`, oldest first, at most `limit`.
     pub fn due(&self, now: u64, limit: usize) -> Result<Vec<Due>, JournalError> {
         let mut stmt = self.conn.prepare_cached(
-            "SELECT job, machine, state, attempts, request FROM jobs
+            "SELECT job, machine, state, attempts, request, waiting_for FROM jobs
              WHERE state NOT IN ('delivered', 'failed') AND next_attempt_ms <= ?1 ORDER BY seq LIMIT ?2",
         )?;
         let rows = stmt.query_map(params![now as i64, limit as i64], |r| {
@@ -259,16 +270,18 @@ impl Journal {
                 r.get::<_, String>(2)?,
                 r.get::<_, u32>(3)?,
                 r.get::<_, Vec<u8>>(4)?,
+                r.get::<_, Option<String>>(5)?,
             ))
         })?;
         let mut out = Vec::new();
         for row in rows {
-            let (job, machine, state, attempts, request) = row?;
+            let (job, machine, state, attempts, request, waiting_for) = row?;
             out.push(Due {
                 job: JobId::new(job).map_err(|e| corrupt("job", e))?,
                 machine: MachineId::new(machine).map_err(|e| corrupt("machine", e))?,
                 state: JobState::parse(&state).ok_or_else(|| corrupt("state", state))?,
                 attempts,
+                waiting_for,
                 request,
             });
         }
@@ -392,7 +405,7 @@ fn corrupt(what: &'static str, e: impl std::fmt::Display) -> JournalError {
 fn station_error(code: &str, field: &str, expected: &str, got: &str) -> JobError {
     let message = match code {
         "JOB_ID_EXISTS" => {
-            "this job id is already journaled with a different request; use a new job id"
+            "this job id is already journaled with a different job spec (a resubmission must carry the same spec); use a new job id"
         }
         _ => "the station could not journal the job; see its log",
     };

@@ -1,0 +1,70 @@
+//! The foreign client of `proto/examples/client.py` (Python, `eclipse-zenoh`
+//! and `msgpack` from PyPI, written from `proto/README.md`) against the real
+//! services, each its own process behind a router on loopback: it submits a
+//! job, follows it to `delivered`, reads the program back from the machine's
+//! store and checks its hash, and checks every typed refusal of the wire
+//! contract (unknown machine, same id with another spec, bad id, unknown job,
+//! unknown program or version, a store change without a request).
+
+use std::process::Command;
+
+use gearcam_tests::Cluster;
+
+#[test]
+fn the_python_client_delivers_reads_back_and_sees_typed_refusals() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let probe = Command::new("python3")
+        .args(["-c", "import zenoh, msgpack"])
+        .output()
+        .expect("python3 on PATH");
+    assert!(
+        probe.status.success(),
+        "the example client needs its packages: pip install -r proto/examples/requirements.txt\n{}",
+        String::from_utf8_lossy(&probe.stderr)
+    );
+    let cluster = Cluster::start();
+    let out = Command::new("python3")
+        .arg(root.join("proto/examples/client.py"))
+        .args([
+            "--connect",
+            &cluster.endpoint,
+            "--job-id",
+            "PY-1",
+            "--refusals",
+        ])
+        .arg(root.join("examples/spur_840d.toml"))
+        .output()
+        .expect("run the client");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "client failed\nstdout:\n{stdout}\nstderr:\n{stderr}\nlogs:\n{}",
+        cluster.logs()
+    );
+    eprintln!("{stdout}");
+    // The client's own checks printed; the hash it computed is the agent's file's.
+    assert!(
+        stdout.contains("ok: sha256 of the text read back = receipt"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("ok: refused with UNKNOWN_MACHINE"),
+        "{stdout}"
+    );
+    let file = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("delivered PY-1: "))
+        .and_then(|l| l.split_whitespace().next())
+        .expect("the delivered line")
+        .to_string();
+    let on_disk = std::fs::read(cluster.program_dir().join(&file)).expect("the stored file");
+    let hash = {
+        use sha2::{Digest, Sha256};
+        hex::encode(Sha256::digest(&on_disk))
+    };
+    assert!(
+        stdout.contains(&hash),
+        "the file's hash {hash} in\n{stdout}"
+    );
+}
