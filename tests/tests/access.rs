@@ -1,13 +1,17 @@
 //! Transport security and access control through a router configured from
 //! `deploy/secure/` (TLS, a user and password per service, ACL default deny):
 //! the pipeline works for the services, and a planner cannot deliver a program
-//! or forge a stage's message; a wrong password cannot even connect.
+//! or forge a stage's message, nor change a machine's current program (a
+//! supervisor can); a wrong password cannot even connect.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
 
-use gearcam_proto::{encode, Dialect, JobId, MachineId, NcProgram, TemplateRef};
+use gearcam_proto::{
+    decode, encode, keys, Dialect, JobId, MachineId, NcProgram, StoreReply, StoreRequest,
+    TemplateRef,
+};
 use gearcam_tests::{bin, free_port, wait_for_port, Proc};
 use sha2::{Digest, Sha256};
 
@@ -242,7 +246,40 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
             .unwrap();
         let heard = tokio::time::timeout(Duration::from_secs(3), events.recv_async()).await;
         assert!(heard.is_err(), "a forged plan reached the model service");
+        // A planner may not change a machine's current program; a supervisor may.
+        let h01 = MachineId::new("H01").unwrap();
+        let change = keys::store_change(&h01, "SEC_0001");
+        let rollback = encode(&StoreRequest::Rollback { seq: 1 }).unwrap();
+        let replies = session
+            .get(&change)
+            .payload(rollback.clone())
+            .timeout(Duration::from_secs(3))
+            .await
+            .unwrap();
+        assert!(
+            replies.recv_async().await.is_err(),
+            "the agent must not see a planner's rollback"
+        );
         session.close().await.unwrap();
+        let supervisor = planner_session(Path::new(&cfg("supervisor")))
+            .await
+            .expect("the supervisor connects");
+        let replies = supervisor
+            .get(&change)
+            .payload(rollback)
+            .timeout(Duration::from_secs(5))
+            .await
+            .unwrap();
+        let reply = replies
+            .recv_async()
+            .await
+            .expect("the agent answers a supervisor");
+        let sample = reply.result().expect("a typed reply");
+        match decode::<StoreReply>(&sample.payload().to_bytes()).unwrap() {
+            StoreReply::Changed { receipt } => assert_eq!(receipt.name, "SEC_0001"),
+            other => panic!("a supervisor's rollback: {other:?}"),
+        }
+        supervisor.close().await.unwrap();
     });
     // Nothing was stored that should not be, and everything still serves.
     assert!(!programs.join("_N_EVIL_MPF").exists());
