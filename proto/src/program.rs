@@ -21,7 +21,7 @@ pub struct PathFinding {
     /// 1-based line number in the program text.
     pub line: u32,
     /// Rule id, e.g. `RAPID_CLEARANCE` (the rules are listed in
-    /// `services/template/DIALECTS.md`).
+    /// `crates/nc/DIALECTS.md`).
     pub rule: String,
     /// What is wrong, in one sentence naming the values.
     pub message: String,

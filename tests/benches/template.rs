@@ -14,7 +14,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use gearcam_proto::{JobId, JobRequest, JobSpec, MachiningModel};
-use gearcam_template::expr::{self, EvalState, Value};
+use gearcam_template::expr::{self, EvalState, TplValue};
 use gearcam_template::Templates;
 use std::hint::black_box;
 
@@ -60,7 +60,7 @@ fn one_job(c: &mut Criterion) {
             })
         });
         g.bench_function(format!("{name}/path_check_only"), |b| {
-            b.iter(|| black_box(gearcam_template::nc::check(black_box(&p.text), &m).0.ok))
+            b.iter(|| black_box(gearcam_nc::check(black_box(&p.text), &m).0.ok))
         });
     }
     g.finish();
@@ -71,7 +71,7 @@ fn expression(c: &mut Criterion) {
     let names = ["X", "F"];
     let mut resolve = |n: &str| names.iter().position(|k| *k == n);
     let ours = expr::compile("\"G1 X\" + nc(X) + \" F\" + nc(F)", &mut resolve).unwrap();
-    let vars = [Value::Num(74.05), Value::Num(28.634)];
+    let vars = [TplValue::Num(74.05), TplValue::Num(28.634)];
     g.bench_function("gearcam_expr", |b| {
         b.iter(|| {
             let mut st = EvalState::new(1000);

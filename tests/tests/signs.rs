@@ -10,8 +10,9 @@
 
 mod support;
 
+use gearcam_nc as nc;
 use gearcam_proto::{MachiningModel, MoveKind};
-use gearcam_template::{nc, Templates};
+use gearcam_template::Templates;
 use proptest::prelude::*;
 use support::{example, model_of, on_machine};
 

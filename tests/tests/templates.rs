@@ -100,7 +100,7 @@ fn a_cutting_move_before_the_gearbox_is_coupled_is_caught_with_its_line() {
 /// feeds, hob speed and gearbox coupling. Returns a description of the first
 /// difference.
 fn round_trip(model: &MachiningModel, program: &NcProgram) -> Result<(), String> {
-    let (check, trace) = gearcam_template::nc::check(&program.text, model);
+    let (check, trace) = gearcam_nc::check(&program.text, model);
     if !check.ok {
         return Err(format!("path check: {:?}", check.findings));
     }

@@ -25,7 +25,7 @@ use std::collections::HashMap;
 
 use gearcam_proto::Dialect;
 
-use crate::expr::{self, EvalError, EvalState, Expr, Value};
+use crate::expr::{self, EvalError, EvalState, TplExpr, TplValue};
 use crate::params::{self, PartInput};
 use crate::stdcode::{self, Scope, TemplateFile};
 
@@ -79,7 +79,7 @@ pub enum RunFailure {
 #[derive(Debug, Clone)]
 enum Piece {
     Lit(String),
-    Expr(Expr),
+    TplExpr(TplExpr),
 }
 
 /// A compiled record.
@@ -87,9 +87,9 @@ enum Piece {
 struct CRecord {
     id: u32,
     line: u32,
-    calc_if: Option<Expr>,
-    calc: Vec<(usize, Expr)>,
-    out_if: Option<Expr>,
+    calc_if: Option<TplExpr>,
+    calc: Vec<(usize, TplExpr)>,
+    out_if: Option<TplExpr>,
     output: Vec<Piece>,
 }
 
@@ -203,7 +203,7 @@ impl Compiled {
                     if lit_start < i {
                         output.push(Piece::Lit(text[lit_start..i].to_string()));
                     }
-                    output.push(Piece::Expr(compile(&text[i + 1..end - 1], &names)?));
+                    output.push(Piece::TplExpr(compile(&text[i + 1..end - 1], &names)?));
                     i = end;
                     lit_start = end;
                 } else {
@@ -248,7 +248,7 @@ impl Compiled {
     pub fn instantiate(&self, input: &PartInput<'_>, budget: u64) -> Result<String, RunError> {
         let mut run = Run {
             t: self,
-            vars: vec![Value::Null; self.slots],
+            vars: vec![TplValue::Null; self.slots],
             st: EvalState::new(budget),
             out: String::with_capacity(4096),
             input,
@@ -288,7 +288,7 @@ fn nest(scopes: &[Scope], pos: &mut usize, level: Scope) -> Result<Vec<Node>, us
 
 struct Run<'a> {
     t: &'a Compiled,
-    vars: Vec<Value>,
+    vars: Vec<TplValue>,
     st: EvalState,
     out: String,
     input: &'a PartInput<'a>,
@@ -367,7 +367,7 @@ impl Run<'_> {
         for piece in &r.output {
             match piece {
                 Piece::Lit(s) => self.out.push_str(s),
-                Piece::Expr(e) => e
+                Piece::TplExpr(e) => e
                     .write_to(&self.vars, &mut self.st, &mut self.out)
                     .map_err(eval)?,
             }

@@ -38,7 +38,7 @@ use crate::render::comment_text;
 /// A value: number, string, boolean or null (a parameter the model does not set,
 /// e.g. the Z of a move that only moves X).
 #[derive(Debug, Clone, PartialEq, Default)]
-pub enum Value {
+pub enum TplValue {
     /// No value.
     #[default]
     Null,
@@ -50,65 +50,65 @@ pub enum Value {
     Bool(bool),
 }
 
-impl Value {
+impl TplValue {
     fn type_name(&self) -> &'static str {
         match self {
-            Value::Null => "null",
-            Value::Num(_) => "number",
-            Value::Str(_) => "string",
-            Value::Bool(_) => "boolean",
+            TplValue::Null => "null",
+            TplValue::Num(_) => "number",
+            TplValue::Str(_) => "string",
+            TplValue::Bool(_) => "boolean",
         }
     }
 }
 
-impl From<f64> for Value {
+impl From<f64> for TplValue {
     fn from(v: f64) -> Self {
-        Value::Num(v)
+        TplValue::Num(v)
     }
 }
-impl From<i32> for Value {
+impl From<i32> for TplValue {
     fn from(v: i32) -> Self {
-        Value::Num(f64::from(v))
+        TplValue::Num(f64::from(v))
     }
 }
-impl From<u32> for Value {
+impl From<u32> for TplValue {
     fn from(v: u32) -> Self {
-        Value::Num(f64::from(v))
+        TplValue::Num(f64::from(v))
     }
 }
-impl From<u16> for Value {
+impl From<u16> for TplValue {
     fn from(v: u16) -> Self {
-        Value::Num(f64::from(v))
+        TplValue::Num(f64::from(v))
     }
 }
-impl From<bool> for Value {
+impl From<bool> for TplValue {
     fn from(v: bool) -> Self {
-        Value::Bool(v)
+        TplValue::Bool(v)
     }
 }
-impl From<&str> for Value {
+impl From<&str> for TplValue {
     fn from(v: &str) -> Self {
-        Value::Str(Arc::from(v))
+        TplValue::Str(Arc::from(v))
     }
 }
-impl From<String> for Value {
+impl From<String> for TplValue {
     fn from(v: String) -> Self {
-        Value::Str(Arc::from(v))
+        TplValue::Str(Arc::from(v))
     }
 }
-impl From<Option<f64>> for Value {
+impl From<Option<f64>> for TplValue {
     fn from(v: Option<f64>) -> Self {
-        v.map_or(Value::Null, Value::Num)
+        v.map_or(TplValue::Null, TplValue::Num)
     }
 }
 
-impl fmt::Display for Value {
+impl fmt::Display for TplValue {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Value::Null => f.write_str("null"),
-            Value::Num(v) => write!(f, "{v}"),
-            Value::Str(s) => write!(f, "{s:?}"),
-            Value::Bool(b) => write!(f, "{b}"),
+            TplValue::Null => f.write_str("null"),
+            TplValue::Num(v) => write!(f, "{v}"),
+            TplValue::Str(s) => write!(f, "{s:?}"),
+            TplValue::Bool(b) => write!(f, "{b}"),
         }
     }
 }
@@ -242,35 +242,35 @@ impl Func {
 
 /// A compiled expression.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Expr {
+pub enum TplExpr {
     /// A constant.
-    Const(Value),
+    Const(TplValue),
     /// A parameter or variable slot, with its name for messages.
     Slot(usize, Arc<str>),
     /// `-e`.
-    Neg(Box<Expr>),
+    Neg(Box<TplExpr>),
     /// `not e`.
-    Not(Box<Expr>),
+    Not(Box<TplExpr>),
     /// A binary operation.
     Bin(BinOpBox),
     /// A function call.
     Call(FuncBox),
 }
 
-/// Boxed binary node (keeps [`Expr`] small).
+/// Boxed binary node (keeps [`TplExpr`] small).
 #[derive(Debug, Clone, PartialEq)]
-pub struct BinOpBox(Box<(BinOp, Expr, Expr)>);
+pub struct BinOpBox(Box<(BinOp, TplExpr, TplExpr)>);
 
 /// Boxed call node.
 #[derive(Debug, Clone, PartialEq)]
-pub struct FuncBox(Box<(Func, Vec<Expr>)>);
+pub struct FuncBox(Box<(Func, Vec<TplExpr>)>);
 
 /// Compiles `text`; `resolve` gives the slot of a name or `None` when the name
 /// is unknown.
 pub fn compile(
     text: &str,
     resolve: &mut dyn FnMut(&str) -> Option<usize>,
-) -> Result<Expr, CompileError> {
+) -> Result<TplExpr, CompileError> {
     let mut p = Parser {
         text,
         b: text.as_bytes(),
@@ -339,7 +339,7 @@ impl Parser<'_, '_> {
         }
     }
 
-    fn or(&mut self) -> Result<Expr, CompileError> {
+    fn or(&mut self) -> Result<TplExpr, CompileError> {
         let mut l = self.and()?;
         while self.eat_word("or") {
             let r = self.and()?;
@@ -348,7 +348,7 @@ impl Parser<'_, '_> {
         Ok(l)
     }
 
-    fn and(&mut self) -> Result<Expr, CompileError> {
+    fn and(&mut self) -> Result<TplExpr, CompileError> {
         let mut l = self.not()?;
         while self.eat_word("and") {
             let r = self.not()?;
@@ -357,14 +357,14 @@ impl Parser<'_, '_> {
         Ok(l)
     }
 
-    fn not(&mut self) -> Result<Expr, CompileError> {
+    fn not(&mut self) -> Result<TplExpr, CompileError> {
         if self.eat_word("not") {
-            return Ok(Expr::Not(Box::new(self.not()?)));
+            return Ok(TplExpr::Not(Box::new(self.not()?)));
         }
         self.cmp()
     }
 
-    fn cmp(&mut self) -> Result<Expr, CompileError> {
+    fn cmp(&mut self) -> Result<TplExpr, CompileError> {
         let l = self.add()?;
         for (s, op) in [
             ("==", BinOp::Eq),
@@ -382,7 +382,7 @@ impl Parser<'_, '_> {
         Ok(l)
     }
 
-    fn add(&mut self) -> Result<Expr, CompileError> {
+    fn add(&mut self) -> Result<TplExpr, CompileError> {
         let mut l = self.mul()?;
         loop {
             if self.eat("+") {
@@ -397,7 +397,7 @@ impl Parser<'_, '_> {
         }
     }
 
-    fn mul(&mut self) -> Result<Expr, CompileError> {
+    fn mul(&mut self) -> Result<TplExpr, CompileError> {
         let mut l = self.unary()?;
         loop {
             if self.eat("*") {
@@ -415,14 +415,14 @@ impl Parser<'_, '_> {
         }
     }
 
-    fn unary(&mut self) -> Result<Expr, CompileError> {
+    fn unary(&mut self) -> Result<TplExpr, CompileError> {
         if self.eat("-") {
-            return Ok(Expr::Neg(Box::new(self.unary()?)));
+            return Ok(TplExpr::Neg(Box::new(self.unary()?)));
         }
         self.primary()
     }
 
-    fn primary(&mut self) -> Result<Expr, CompileError> {
+    fn primary(&mut self) -> Result<TplExpr, CompileError> {
         self.ws();
         let Some(&c) = self.b.get(self.pos) else {
             return Err(self.err("a value"));
@@ -441,7 +441,9 @@ impl Parser<'_, '_> {
                 return Err(self.err("a closing `\"`"));
             };
             self.pos = start + len + 1;
-            return Ok(Expr::Const(Value::from(&self.text[start..start + len])));
+            return Ok(TplExpr::Const(TplValue::from(
+                &self.text[start..start + len],
+            )));
         }
         if c.is_ascii_digit() || c == b'.' {
             let start = self.pos;
@@ -453,7 +455,7 @@ impl Parser<'_, '_> {
             let t = &self.text[start..self.pos];
             return t
                 .parse::<f64>()
-                .map(|v| Expr::Const(Value::Num(v)))
+                .map(|v| TplExpr::Const(TplValue::Num(v)))
                 .map_err(|_| {
                     self.pos = start;
                     self.err("a number")
@@ -470,9 +472,9 @@ impl Parser<'_, '_> {
             }
             let name = &self.text[start..self.pos];
             match name {
-                "true" => return Ok(Expr::Const(Value::Bool(true))),
-                "false" => return Ok(Expr::Const(Value::Bool(false))),
-                "null" => return Ok(Expr::Const(Value::Null)),
+                "true" => return Ok(TplExpr::Const(TplValue::Bool(true))),
+                "false" => return Ok(TplExpr::Const(TplValue::Bool(false))),
+                "null" => return Ok(TplExpr::Const(TplValue::Null)),
                 _ => {}
             }
             if self.eat("(") {
@@ -499,25 +501,25 @@ impl Parser<'_, '_> {
                         args.len()
                     )));
                 }
-                return Ok(Expr::Call(FuncBox(Box::new((func, args)))));
+                return Ok(TplExpr::Call(FuncBox(Box::new((func, args)))));
             }
             let Some(slot) = (self.resolve)(name) else {
                 self.pos = start;
                 return Err(self.err("a known parameter or a variable set by an earlier calc:"));
             };
-            return Ok(Expr::Slot(slot, Arc::from(name)));
+            return Ok(TplExpr::Slot(slot, Arc::from(name)));
         }
         Err(self.err("a value"))
     }
 }
 
-fn bin(op: BinOp, l: Expr, r: Expr) -> Expr {
-    Expr::Bin(BinOpBox(Box::new((op, l, r))))
+fn bin(op: BinOp, l: TplExpr, r: TplExpr) -> TplExpr {
+    TplExpr::Bin(BinOpBox(Box::new((op, l, r))))
 }
 
-fn num(v: &Value, what: &str) -> Result<f64, EvalError> {
+fn num(v: &TplValue, what: &str) -> Result<f64, EvalError> {
     match v {
-        Value::Num(x) => Ok(*x),
+        TplValue::Num(x) => Ok(*x),
         other => Err(EvalError::Type(format!(
             "{what} needs a number, got {} {other}",
             other.type_name()
@@ -525,9 +527,9 @@ fn num(v: &Value, what: &str) -> Result<f64, EvalError> {
     }
 }
 
-fn truth(v: &Value, what: &str) -> Result<bool, EvalError> {
+fn truth(v: &TplValue, what: &str) -> Result<bool, EvalError> {
     match v {
-        Value::Bool(b) => Ok(*b),
+        TplValue::Bool(b) => Ok(*b),
         other => Err(EvalError::Type(format!(
             "{what} needs true or false, got {} {other}",
             other.type_name()
@@ -535,65 +537,41 @@ fn truth(v: &Value, what: &str) -> Result<bool, EvalError> {
     }
 }
 
-fn fixed(v: &Value, decimals: usize, name: &str) -> Result<Value, EvalError> {
+fn fixed(v: &TplValue, decimals: usize, name: &str) -> Result<TplValue, EvalError> {
     let x = num(v, name)?;
     let mut s = String::with_capacity(16);
     if push_fixed(&mut s, x, decimals) {
-        Ok(Value::from(s))
+        Ok(TplValue::from(s))
     } else {
         Err(EvalError::Type(format!("{name}() cannot write {x}")))
     }
 }
 
-/// Appends `v` as an NC number: `decimals` places, trailing zeros trimmed but
-/// at least one digit after the point, never `-0` (what
-/// [`format_fixed`](crate::render::format_fixed) returns); false (and nothing appended) for
-/// NaN and infinities.
-pub fn push_fixed(out: &mut String, v: f64, decimals: usize) -> bool {
-    use std::fmt::Write;
-    if !v.is_finite() {
-        return false;
-    }
-    let start = out.len();
-    let _ = write!(out, "{v:.decimals$}");
-    if out[start..].contains('.') {
-        let trimmed = out.trim_end_matches('0').len();
-        out.truncate(trimmed);
-        if out.ends_with('.') {
-            out.push('0');
-        }
-    } else {
-        out.push_str(".0");
-    }
-    if out[start..].starts_with('-') && out[start + 1..].bytes().all(|c| c == b'0' || c == b'.') {
-        out.remove(start);
-    }
-    true
-}
+pub use gearcam_nc::number::push_fixed;
 
-impl Expr {
+impl TplExpr {
     /// Evaluates against the slot values `vars`.
-    pub fn eval(&self, vars: &[Value], st: &mut EvalState) -> Result<Value, EvalError> {
+    pub fn eval(&self, vars: &[TplValue], st: &mut EvalState) -> Result<TplValue, EvalError> {
         st.step()?;
         match self {
-            Expr::Const(v) => Ok(v.clone()),
-            Expr::Slot(i, _) => Ok(vars.get(*i).cloned().unwrap_or(Value::Null)),
-            Expr::Neg(e) => Ok(Value::Num(-num(&e.eval(vars, st)?, "`-`")?)),
-            Expr::Not(e) => Ok(Value::Bool(!truth(&e.eval(vars, st)?, "`not`")?)),
-            Expr::Bin(b) => {
+            TplExpr::Const(v) => Ok(v.clone()),
+            TplExpr::Slot(i, _) => Ok(vars.get(*i).cloned().unwrap_or(TplValue::Null)),
+            TplExpr::Neg(e) => Ok(TplValue::Num(-num(&e.eval(vars, st)?, "`-`")?)),
+            TplExpr::Not(e) => Ok(TplValue::Bool(!truth(&e.eval(vars, st)?, "`not`")?)),
+            TplExpr::Bin(b) => {
                 let (op, l, r) = &*b.0;
                 match op {
                     BinOp::And => {
                         if !truth(&l.eval(vars, st)?, "`and`")? {
-                            return Ok(Value::Bool(false));
+                            return Ok(TplValue::Bool(false));
                         }
-                        Ok(Value::Bool(truth(&r.eval(vars, st)?, "`and`")?))
+                        Ok(TplValue::Bool(truth(&r.eval(vars, st)?, "`and`")?))
                     }
                     BinOp::Or => {
                         if truth(&l.eval(vars, st)?, "`or`")? {
-                            return Ok(Value::Bool(true));
+                            return Ok(TplValue::Bool(true));
                         }
-                        Ok(Value::Bool(truth(&r.eval(vars, st)?, "`or`")?))
+                        Ok(TplValue::Bool(truth(&r.eval(vars, st)?, "`or`")?))
                     }
                     _ => {
                         let a = l.eval(vars, st)?;
@@ -602,7 +580,7 @@ impl Expr {
                     }
                 }
             }
-            Expr::Call(c) => {
+            TplExpr::Call(c) => {
                 let (f, args) = &*c.0;
                 call(*f, args, vars, st)
             }
@@ -615,17 +593,17 @@ impl Expr {
     /// [`write_output`]. The text is the same as evaluating and writing.
     pub fn write_to(
         &self,
-        vars: &[Value],
+        vars: &[TplValue],
         st: &mut EvalState,
         out: &mut String,
     ) -> Result<(), EvalError> {
         match self {
-            Expr::Const(Value::Str(s)) => {
+            TplExpr::Const(TplValue::Str(s)) => {
                 st.step()?;
                 out.push_str(s);
                 Ok(())
             }
-            Expr::Bin(b) if b.0 .0 == BinOp::Add && self.is_text() => {
+            TplExpr::Bin(b) if b.0 .0 == BinOp::Add && self.is_text() => {
                 st.step()?;
                 let (_, l, r) = &*b.0;
                 for side in [l, r] {
@@ -633,7 +611,7 @@ impl Expr {
                         side.write_to(vars, st, out)?;
                     } else {
                         match side.eval(vars, st)? {
-                            Value::Str(s) => out.push_str(&s),
+                            TplValue::Str(s) => out.push_str(&s),
                             other => {
                                 return Err(EvalError::Type(format!(
                                     "`+` joins two strings here, got {} {other} (write numbers with nc(), deg(), factor() or text())",
@@ -645,7 +623,7 @@ impl Expr {
                 }
                 Ok(())
             }
-            Expr::Call(c) => {
+            TplExpr::Call(c) => {
                 let (f, args) = &*c.0;
                 let decimals = match f {
                     Func::Nc => 3,
@@ -674,12 +652,12 @@ impl Expr {
     /// function, a join with text, an `if` between texts).
     fn is_text(&self) -> bool {
         match self {
-            Expr::Const(Value::Str(_)) => true,
-            Expr::Bin(b) => {
+            TplExpr::Const(TplValue::Str(_)) => true,
+            TplExpr::Bin(b) => {
                 let (op, l, r) = &*b.0;
                 *op == BinOp::Add && (l.is_text() || r.is_text())
             }
-            Expr::Call(c) => {
+            TplExpr::Call(c) => {
                 let (f, args) = &*c.0;
                 match f {
                     Func::Nc
@@ -698,21 +676,21 @@ impl Expr {
     }
 
     /// Evaluates a condition: must give true or false.
-    pub fn eval_bool(&self, vars: &[Value], st: &mut EvalState) -> Result<bool, EvalError> {
+    pub fn eval_bool(&self, vars: &[TplValue], st: &mut EvalState) -> Result<bool, EvalError> {
         truth(&self.eval(vars, st)?, "a condition")
     }
 }
 
-fn binary(op: BinOp, a: &Value, b: &Value) -> Result<Value, EvalError> {
+fn binary(op: BinOp, a: &TplValue, b: &TplValue) -> Result<TplValue, EvalError> {
     use BinOp::*;
     match op {
         Add => match (a, b) {
-            (Value::Num(x), Value::Num(y)) => Ok(Value::Num(x + y)),
-            (Value::Str(x), Value::Str(y)) => {
+            (TplValue::Num(x), TplValue::Num(y)) => Ok(TplValue::Num(x + y)),
+            (TplValue::Str(x), TplValue::Str(y)) => {
                 let mut s = String::with_capacity(x.len() + y.len());
                 s.push_str(x);
                 s.push_str(y);
-                Ok(Value::from(s))
+                Ok(TplValue::from(s))
             }
             _ => Err(EvalError::Type(format!(
                 "`+` adds two numbers or joins two strings, got {} {a} and {} {b} (write numbers with nc(), deg(), factor() or int())",
@@ -722,40 +700,45 @@ fn binary(op: BinOp, a: &Value, b: &Value) -> Result<Value, EvalError> {
         },
         Sub | Mul | Div | Rem => {
             let (x, y) = (num(a, "arithmetic")?, num(b, "arithmetic")?);
-            Ok(Value::Num(match op {
+            Ok(TplValue::Num(match op {
                 Sub => x - y,
                 Mul => x * y,
                 Div => x / y,
                 _ => x % y,
             }))
         }
-        Eq => Ok(Value::Bool(a == b)),
-        Ne => Ok(Value::Bool(a != b)),
+        Eq => Ok(TplValue::Bool(a == b)),
+        Ne => Ok(TplValue::Bool(a != b)),
         Lt | Le | Gt | Ge => {
             let (x, y) = (num(a, "a comparison")?, num(b, "a comparison")?);
-            Ok(Value::Bool(match op {
+            Ok(TplValue::Bool(match op {
                 Lt => x < y,
                 Le => x <= y,
                 Gt => x > y,
                 _ => x >= y,
             }))
         }
-        And | Or => unreachable!("short-circuit operators are evaluated in Expr::eval"),
+        And | Or => unreachable!("short-circuit operators are evaluated in TplExpr::eval"),
     }
 }
 
-fn call(f: Func, args: &[Expr], vars: &[Value], st: &mut EvalState) -> Result<Value, EvalError> {
+fn call(
+    f: Func,
+    args: &[TplExpr],
+    vars: &[TplValue],
+    st: &mut EvalState,
+) -> Result<TplValue, EvalError> {
     if f == Func::If {
         let c = args[0].eval_bool(vars, st)?;
         return args[if c { 1 } else { 2 }].eval(vars, st);
     }
     if f == Func::Block {
         st.block += 10;
-        return Ok(Value::from(format!("N{}", st.block)));
+        return Ok(TplValue::from(format!("N{}", st.block)));
     }
     let a = args[0].eval(vars, st)?;
-    let math = |g: fn(f64) -> f64, name: &str| -> Result<Value, EvalError> {
-        Ok(Value::Num(g(num(&a, name)?)))
+    let math = |g: fn(f64) -> f64, name: &str| -> Result<TplValue, EvalError> {
+        Ok(TplValue::Num(g(num(&a, name)?)))
     };
     match f {
         Func::Nc => fixed(&a, 3, "nc"),
@@ -772,11 +755,15 @@ fn call(f: Func, args: &[Expr], vars: &[Value], st: &mut EvalState) -> Result<Va
         Func::Min | Func::Max => {
             let x = num(&a, "min/max")?;
             let y = num(&args[1].eval(vars, st)?, "min/max")?;
-            Ok(Value::Num(if f == Func::Min { x.min(y) } else { x.max(y) }))
+            Ok(TplValue::Num(if f == Func::Min {
+                x.min(y)
+            } else {
+                x.max(y)
+            }))
         }
-        Func::Has => Ok(Value::Bool(a != Value::Null)),
+        Func::Has => Ok(TplValue::Bool(a != TplValue::Null)),
         Func::Upper => match &a {
-            Value::Str(s) => Ok(Value::from(s.to_ascii_uppercase())),
+            TplValue::Str(s) => Ok(TplValue::from(s.to_ascii_uppercase())),
             other => Err(EvalError::Type(format!(
                 "upper() needs a string, got {} {other}",
                 other.type_name()
@@ -785,9 +772,9 @@ fn call(f: Func, args: &[Expr], vars: &[Value], st: &mut EvalState) -> Result<Va
         Func::Text => {
             let mut out = String::new();
             write_output(&mut out, &a)?;
-            Ok(Value::from(out))
+            Ok(TplValue::from(out))
         }
-        Func::Comment => Ok(Value::from(comment_text(&plain(&a)))),
+        Func::Comment => Ok(TplValue::from(comment_text(&plain(&a)))),
         Func::Param => {
             // Slot n of the machine's free parameter block, as the dialect
             // writes it: P(25) is R25 on H01, #525 on H02.
@@ -802,31 +789,31 @@ fn call(f: Func, args: &[Expr], vars: &[Value], st: &mut EvalState) -> Result<Va
                 )));
             }
             let (letter, first) = st.params;
-            Ok(Value::from(format!("{letter}{}", first + n as u32 - 1)))
+            Ok(TplValue::from(format!("{letter}{}", first + n as u32 - 1)))
         }
         Func::If | Func::Block => unreachable!("handled above"),
     }
 }
 
 /// A value as plain text for comments: strings bare, numbers as Rust prints them.
-fn plain(v: &Value) -> String {
+fn plain(v: &TplValue) -> String {
     match v {
-        Value::Str(s) => s.to_string(),
-        Value::Num(x) => x.to_string(),
-        Value::Bool(b) => b.to_string(),
-        Value::Null => String::new(),
+        TplValue::Str(s) => s.to_string(),
+        TplValue::Num(x) => x.to_string(),
+        TplValue::Bool(b) => b.to_string(),
+        TplValue::Null => String::new(),
     }
 }
 
 /// Appends a value to NC output: strings as they are, integral numbers without a
 /// decimal point; anything else is an error (format it with `nc()` and friends).
-pub fn write_output(out: &mut String, v: &Value) -> Result<(), EvalError> {
+pub fn write_output(out: &mut String, v: &TplValue) -> Result<(), EvalError> {
     match v {
-        Value::Str(s) => {
+        TplValue::Str(s) => {
             out.push_str(s);
             Ok(())
         }
-        Value::Num(x) if x.fract() == 0.0 && x.abs() < 1e15 => {
+        TplValue::Num(x) if x.fract() == 0.0 && x.abs() < 1e15 => {
             use std::fmt::Write;
             let _ = write!(out, "{}", *x as i64);
             Ok(())
@@ -842,53 +829,59 @@ pub fn write_output(out: &mut String, v: &Value) -> Result<(), EvalError> {
 mod tests {
     use super::*;
 
-    fn run(text: &str, names: &[(&str, Value)]) -> Result<Value, String> {
+    fn run(text: &str, names: &[(&str, TplValue)]) -> Result<TplValue, String> {
         let mut resolve = |n: &str| names.iter().position(|(k, _)| *k == n);
         let e = compile(text, &mut resolve).map_err(|e| e.to_string())?;
-        let vars: Vec<Value> = names.iter().map(|(_, v)| v.clone()).collect();
+        let vars: Vec<TplValue> = names.iter().map(|(_, v)| v.clone()).collect();
         e.eval(&vars, &mut EvalState::new(1000))
             .map_err(|e| e.to_string())
     }
 
     #[test]
     fn arithmetic_comparison_and_logic() {
-        let p = [("X1", Value::Num(74.05)), ("f1", Value::Num(100.0))];
-        assert_eq!(run("X1 + f1", &p), Ok(Value::Num(174.05)));
-        assert_eq!(run("2 + 3 * 4 - -1", &p), Ok(Value::Num(15.0)));
-        assert_eq!(run("(2 + 3) * 4 / 5 % 3", &p), Ok(Value::Num(1.0)));
-        assert_eq!(run("X1 > 70 and not (f1 == 3)", &p), Ok(Value::Bool(true)));
-        assert_eq!(run("false or 1 <= 0", &p), Ok(Value::Bool(false)));
+        let p = [("X1", TplValue::Num(74.05)), ("f1", TplValue::Num(100.0))];
+        assert_eq!(run("X1 + f1", &p), Ok(TplValue::Num(174.05)));
+        assert_eq!(run("2 + 3 * 4 - -1", &p), Ok(TplValue::Num(15.0)));
+        assert_eq!(run("(2 + 3) * 4 / 5 % 3", &p), Ok(TplValue::Num(1.0)));
+        assert_eq!(
+            run("X1 > 70 and not (f1 == 3)", &p),
+            Ok(TplValue::Bool(true))
+        );
+        assert_eq!(run("false or 1 <= 0", &p), Ok(TplValue::Bool(false)));
         // Short-circuit: the right side would be a type error.
-        assert_eq!(run("false and 1", &p), Ok(Value::Bool(false)));
+        assert_eq!(run("false and 1", &p), Ok(TplValue::Bool(false)));
     }
 
     #[test]
     fn strings_and_nc_formatting() {
-        let p = [("X", Value::Num(74.05)), ("Z", Value::Num(-0.00001))];
+        let p = [("X", TplValue::Num(74.05)), ("Z", TplValue::Num(-0.00001))];
         // SPEC §6: "G90 X" + X + " Z" + Z, with the numbers written as NC numbers.
         assert_eq!(
             run("\"G90 X\" + nc(X) + \" Z\" + nc(Z)", &p),
-            Ok(Value::from("G90 X74.05 Z0.0"))
+            Ok(TplValue::from("G90 X74.05 Z0.0"))
         );
-        assert_eq!(run("deg(2.37154321)", &p), Ok(Value::from("2.3715")));
-        assert_eq!(run("factor(1.5265789)", &p), Ok(Value::from("1.526579")));
+        assert_eq!(run("deg(2.37154321)", &p), Ok(TplValue::from("2.3715")));
+        assert_eq!(run("factor(1.5265789)", &p), Ok(TplValue::from("1.526579")));
         assert!(run("\"X\" + X", &p).unwrap_err().contains("nc()"));
     }
 
     #[test]
     fn functions() {
-        let p = [("m.x", Value::Null), ("s", Value::from("a(b);c"))];
-        assert_eq!(run("has(m.x)", &p), Ok(Value::Bool(false)));
-        assert_eq!(run("if(has(m.x), nc(m.x), \"\")", &p), Ok(Value::from("")));
-        assert_eq!(run("upper(\"right\")", &p), Ok(Value::from("RIGHT")));
+        let p = [("m.x", TplValue::Null), ("s", TplValue::from("a(b);c"))];
+        assert_eq!(run("has(m.x)", &p), Ok(TplValue::Bool(false)));
+        assert_eq!(
+            run("if(has(m.x), nc(m.x), \"\")", &p),
+            Ok(TplValue::from(""))
+        );
+        assert_eq!(run("upper(\"right\")", &p), Ok(TplValue::from("RIGHT")));
         assert_eq!(
             run("\"R26*\" + text(2) + text(s)", &p),
-            Ok(Value::from("R26*2a(b);c"))
+            Ok(TplValue::from("R26*2a(b);c"))
         );
         assert!(run("text(2.5)", &p).is_err());
-        assert_eq!(run("int(2.6) + trunc(2.6)", &p), Ok(Value::Num(5.0)));
-        assert_eq!(run("round(sin(30) * 1000)", &p), Ok(Value::Num(500.0)));
-        assert_eq!(run("max(1, 2) + min(1, 2)", &p), Ok(Value::Num(3.0)));
+        assert_eq!(run("int(2.6) + trunc(2.6)", &p), Ok(TplValue::Num(5.0)));
+        assert_eq!(run("round(sin(30) * 1000)", &p), Ok(TplValue::Num(500.0)));
+        assert_eq!(run("max(1, 2) + min(1, 2)", &p), Ok(TplValue::Num(3.0)));
     }
 
     #[test]
@@ -916,10 +909,10 @@ mod tests {
     #[test]
     fn output_writes_integers_and_refuses_fractions() {
         let mut s = String::new();
-        write_output(&mut s, &Value::Num(25.0)).unwrap();
-        write_output(&mut s, &Value::from(" X")).unwrap();
+        write_output(&mut s, &TplValue::Num(25.0)).unwrap();
+        write_output(&mut s, &TplValue::from(" X")).unwrap();
         assert_eq!(s, "25 X");
-        assert!(write_output(&mut s, &Value::Num(0.1)).is_err());
-        assert!(write_output(&mut s, &Value::Null).is_err());
+        assert!(write_output(&mut s, &TplValue::Num(0.1)).is_err());
+        assert!(write_output(&mut s, &TplValue::Null).is_err());
     }
 }

@@ -21,8 +21,6 @@
 //! - [`library`]: the SQLite template library (components, versions, decision
 //!   tables, assembly).
 //! - [`builtin`]: the shipped standard code, compiled into the binary.
-//! - [`nc`]: parser and path check of the programs (840D and FANUC subsets,
-//!   `DIALECTS.md`).
 //! - [`render`]: [`Templates`]: the compiled library, rendering a model into a
 //!   checked program, program names.
 //! - [`source`]: reading a directory of template files (the only file I/O
@@ -38,7 +36,6 @@ pub mod engine;
 pub mod error;
 pub mod expr;
 pub mod library;
-pub mod nc;
 pub mod params;
 pub mod render;
 pub mod service;

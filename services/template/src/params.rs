@@ -9,7 +9,7 @@
 
 use gearcam_proto::{Cut, GearSpec, HobData, Kinematics, MachiningModel, Move, MoveKind};
 
-use crate::expr::Value;
+use crate::expr::TplValue;
 
 /// What the renderer adds to the model for the part scope.
 #[derive(Debug)]
@@ -76,8 +76,8 @@ named!(gearcam_proto::CrowningShape { Circular => "circular", Parabolic => "para
 named!(gearcam_proto::WormInfeed { Radial => "radial", Tangential => "tangential" });
 named!(gearcam_proto::ShiftMode { Part => "part", Cut => "cut" });
 
-fn lower(v: &impl Named) -> Value {
-    Value::from(v.name())
+fn lower(v: &impl Named) -> TplValue {
+    TplValue::from(v.name())
 }
 
 /// Declares a scope's names and its fill function together, so the order of the
@@ -87,8 +87,8 @@ macro_rules! scope_table {
         $(#[$doc])*
         pub const $names: &[&str] = &[$($name),*];
         /// Fills this scope's slots (`out` has exactly the scope's length).
-        pub fn $fill($($arg: $ty),*, out: &mut [Value]) {
-            let values = [$(Value::from($val)),*];
+        pub fn $fill($($arg: $ty),*, out: &mut [TplValue]) {
+            let values = [$(TplValue::from($val)),*];
             for (slot, v) in out.iter_mut().zip(values) {
                 *slot = v;
             }
@@ -143,7 +143,7 @@ scope_table!(
     "gear.module" => p.gear.module_mm,
     "gear.teeth" => p.gear.teeth,
     "gear.helix" => p.gear.helix_angle_deg,
-    "gear.hand" => p.gear.helix_hand.map_or(Value::Null, |h| lower(&h)),
+    "gear.hand" => p.gear.helix_hand.map_or(TplValue::Null, |h| lower(&h)),
     "gear.face_width" => p.gear.face_width_mm,
     "helical" => p.gear.helix_angle_deg.abs() > HELIX_EPS_DEG,
     "hob.id" => p.model.plan.hob.id.as_str(),
@@ -193,7 +193,7 @@ scope_table!(
     "u.module" => u.gear.module_mm,
     "u.teeth" => u.gear.teeth,
     "u.helix" => u.gear.helix_angle_deg,
-    "u.hand" => u.gear.helix_hand.map_or(Value::Null, |h| lower(&h)),
+    "u.hand" => u.gear.helix_hand.map_or(TplValue::Null, |h| lower(&h)),
     "u.hob.id" => u.hob.id.as_str(),
     "u.hob.starts" => u.hob.starts,
     "u.hob.lead_angle" => u.hob.lead_angle_deg,
@@ -215,22 +215,22 @@ scope_table!(
     "k.tangential" => tangential(u.kin),
     "k.has_cone" => u.kin.cone.is_some(),
     "k.cone.angle" => u.kin.cone.as_ref().map(|c| c.angle_deg),
-    "k.cone.large_end" => u.kin.cone.as_ref().map_or(Value::Null, |c| lower(&c.large_end)),
+    "k.cone.large_end" => u.kin.cone.as_ref().map_or(TplValue::Null, |c| lower(&c.large_end)),
     "k.cone.x_per_z" => u.kin.cone.as_ref().map(|c| c.x_per_z),
     "k.has_crowning" => u.kin.crowning.is_some(),
-    "k.crowning.shape" => u.kin.crowning.as_ref().map_or(Value::Null, |c| lower(&c.shape)),
+    "k.crowning.shape" => u.kin.crowning.as_ref().map_or(TplValue::Null, |c| lower(&c.shape)),
     "k.crowning.amount" => u.kin.crowning.as_ref().map(|c| c.amount_mm),
     "k.crowning.radius" => u.kin.crowning.as_ref().and_then(|c| c.radius_mm),
-    "k.crowning.chords" => u.kin.crowning.as_ref().map_or(Value::Null, |c| Value::from(c.chords)),
+    "k.crowning.chords" => u.kin.crowning.as_ref().map_or(TplValue::Null, |c| TplValue::from(c.chords)),
     "k.crowning.max_deviation" => u.kin.crowning.as_ref().map(|c| c.max_deviation_mm),
     "k.has_worm" => u.kin.worm.is_some(),
-    "k.worm.infeed" => u.kin.worm.as_ref().map_or(Value::Null, |w| lower(&w.infeed)),
+    "k.worm.infeed" => u.kin.worm.as_ref().map_or(TplValue::Null, |w| lower(&w.infeed)),
     "k.worm.centre_distance" => u.kin.worm.as_ref().map(|w| w.centre_distance_mm),
     "k.worm.throat_z" => u.kin.worm.as_ref().map(|w| w.throat_z_mm),
     "k.has_shift" => u.kin.shift.is_some(),
-    "k.shift.mode" => u.kin.shift.as_ref().map_or(Value::Null, |s| lower(&s.mode)),
+    "k.shift.mode" => u.kin.shift.as_ref().map_or(TplValue::Null, |s| lower(&s.mode)),
     "k.shift.by_cut" => u.kin.shift.as_ref().is_some_and(|s| s.mode == gearcam_proto::ShiftMode::Cut),
-    "k.shift.positions" => u.kin.shift.as_ref().map_or(Value::Null, |s| Value::from(s.positions)),
+    "k.shift.positions" => u.kin.shift.as_ref().map_or(TplValue::Null, |s| TplValue::from(s.positions)),
     "k.shift.start" => u.kin.shift.as_ref().map(|s| s.start_mm),
     "k.shift.end" => u.kin.shift.as_ref().map(|s| s.end_mm),
     "k.shift.last" => u.kin.shift.as_ref().map(|s| {
@@ -238,7 +238,7 @@ scope_table!(
         s.start_mm + dir * s.step_mm * f64::from(s.positions.saturating_sub(1))
     }),
     "k.shift.step" => u.kin.shift.as_ref().map(|s| if s.end_mm >= s.start_mm { s.step_mm } else { -s.step_mm }),
-    "k.shift.parts_per_step" => u.kin.shift.as_ref().map_or(Value::Null, |s| Value::from(s.parts_per_step)),
+    "k.shift.parts_per_step" => u.kin.shift.as_ref().map_or(TplValue::Null, |s| TplValue::from(s.parts_per_step)),
 });
 
 scope_table!(
@@ -303,7 +303,10 @@ mod tests {
 
     #[test]
     fn enum_names_are_the_serde_names() {
-        assert_eq!(lower(&gearcam_proto::CutMode::Climb), Value::from("climb"));
-        assert_eq!(lower(&gearcam_proto::Hand::Right), Value::from("right"));
+        assert_eq!(
+            lower(&gearcam_proto::CutMode::Climb),
+            TplValue::from("climb")
+        );
+        assert_eq!(lower(&gearcam_proto::Hand::Right), TplValue::from("right"));
     }
 }

@@ -259,7 +259,7 @@ impl Templates {
                 ),
             }]
         })?;
-        let (path_check, _) = crate::nc::check(&text, model);
+        let (path_check, _) = gearcam_nc::check(&text, model);
         let sha256 = hex::encode(Sha256::digest(text.as_bytes()));
         tracing::debug!(job = %model.job_id, template = %template.id, %name, bytes = text.len(), "rendered");
         Ok(NcProgram {
@@ -375,15 +375,7 @@ pub fn unit_inputs(model: &MachiningModel) -> Vec<UnitInput<'_>> {
         .collect()
 }
 
-/// Formats a number for an NC word: `decimals` places, trailing zeros trimmed but at
-/// least one digit after the point, never `-0`. `None` for NaN and infinities.
-///
-/// `format_fixed(123.4, 3) == "123.4"`, `format_fixed(12.0, 3) == "12.0"`,
-/// `format_fixed(-0.0001, 3) == "0.0"`.
-pub fn format_fixed(v: f64, decimals: usize) -> Option<String> {
-    let mut s = String::with_capacity(16);
-    crate::expr::push_fixed(&mut s, v, decimals).then_some(s)
-}
+pub use gearcam_nc::number::format_fixed;
 
 /// Free text made safe for an NC comment (840D `; ...`, FANUC `( ... )`): one
 /// line of printable ASCII (control characters become spaces, other characters

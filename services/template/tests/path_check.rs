@@ -1,4 +1,4 @@
-//! The path check (`gearcam_template::nc`) against real programs: every valid
+//! The path check (`gearcam_nc`) against real programs: every valid
 //! example's 840D program (machine H01) and FANUC program (machine H02) from
 //! the shipped templates, hand-written FANUC programs per `DIALECTS.md`, one
 //! broken program per rule naming its line, the round trip model → program →
@@ -10,11 +10,11 @@
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
+use gearcam_nc::{self as nc, rules, Trace};
 use gearcam_proto::{
     Dialect, JobId, JobRequest, JobSpec, Kinematics, MachineId, MachiningModel, MoveKind, PathCheck,
 };
 use gearcam_template::format_fixed;
-use gearcam_template::nc::{self, rules, Trace};
 use gearcam_template::Templates;
 use proptest::prelude::*;
 

@@ -43,7 +43,7 @@ fn header(raw: &str) -> Result<(), String> {
         .strip_prefix("%_N_")
         .and_then(|r| r.strip_suffix("_MPF"))
         .ok_or("the first line is not the file header %_N_NAME_MPF")?;
-    crate::render::check_name_840d(name)
+    gearcam_proto::naming::check_name_840d(name)
         .map_err(|e| format!("the program name in the header is not valid: {e}"))
 }
 
@@ -541,7 +541,7 @@ mod tests {
     use super::*;
 
     fn one(line: &str) -> Result<Op, String> {
-        crate::nc::one_block(line, body, block)
+        crate::one_block(line, body, block)
     }
 
     #[test]

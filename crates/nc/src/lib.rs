@@ -1,8 +1,10 @@
-//! The path check (SPEC §4.5, seed 000 §4): every program is parsed back and
-//! simulated before it leaves the template service.
+//! NC programs read back: the dialect parsers and the machine simulation of
+//! the path check (seed 000 §4). Every program is parsed back and simulated
+//! before it leaves the template service; anything else that reads programs
+//! back (a web page, a future verifier) uses the same crate.
 //!
 //! [`parse`] reads a program in exactly the subset of its dialect that
-//! `services/template/DIALECTS.md` describes (SINUMERIK 840D, FANUC with the
+//! `crates/nc/DIALECTS.md` describes (SINUMERIK 840D, FANUC with the
 //! EGB `G81`) and refuses every other line with a `PARSE` finding naming it.
 //! [`check`] parses and simulates the program against the machining model it
 //! was made from: the parameter arithmetic (840D `R` parameters, FANUC `#5nn`
@@ -24,19 +26,26 @@
 //!   line and evaluated without allocating.
 //! - `siemens`: the 840D line parser.
 //! - `fanuc`: the FANUC line parser.
-//! - `sim`: the contact zones and the simulation that applies the rules.
+//! - [`number`]: NC numbers as programs write them.
+//! - `sim`: the contact zones and the simulation that applies the rules
+//!   (motion, machine functions, the electronic gearbox).
+//! - `collide`: the swept hob solid against blanks and the machine's envelope.
+
+#![forbid(unsafe_code)]
 
 mod collide;
 pub mod expr;
 mod fanuc;
+pub mod number;
 mod siemens;
 mod sim;
 
 use gearcam_proto::{Dialect, MachiningModel, MoveKind, PathCheck, PathFinding};
 
-pub use expr::{Cond, EvalError, Expr, Num, Rel, Value};
+pub use expr::{Cond, EvalError, NcExpr, NcValue, Num, Rel};
+pub use number::{format_fixed, push_fixed};
 
-/// The rule ids of the findings (`services/template/DIALECTS.md`).
+/// The rule ids of the findings (`crates/nc/DIALECTS.md`).
 pub mod rules {
     /// A line outside the dialect's subset (or one whose arithmetic fails).
     pub const PARSE: &str = "PARSE";
@@ -129,7 +138,7 @@ pub struct AxisWord {
     /// The axis.
     pub axis: AxisName,
     /// Its value (absolute, or an increment under FANUC `G91`).
-    pub value: Value,
+    pub value: NcValue,
 }
 
 /// Interpolation of a motion block.
@@ -246,7 +255,7 @@ pub enum Op {
         /// Parameter index: `R` number, or FANUC variable − 500.
         param: u16,
         /// The value.
-        value: Value,
+        value: NcValue,
     },
     /// A motion block.
     Motion(Motion),
@@ -318,7 +327,7 @@ pub enum Op {
         /// Parameter index: FANUC variable − 500.
         param: u16,
         /// The value.
-        value: Value,
+        value: NcValue,
     },
 }
 

@@ -172,7 +172,7 @@ fn body(raw: &str) -> Result<&str, String> {
 }
 
 /// `5nn=value` after the `#`, to the end of the block.
-fn assignment(c: &mut Cursor<'_>) -> Result<(u16, expr::Value), String> {
+fn assignment(c: &mut Cursor<'_>) -> Result<(u16, expr::NcValue), String> {
     let param = expr::macro_index(c.digits()).ok_or("macro variables are #500 to #999")?;
     c.skip_spaces();
     if !c.eat(b'=') {
@@ -377,7 +377,7 @@ mod tests {
     use super::*;
 
     fn one(line: &str) -> Result<Op, String> {
-        crate::nc::one_block(line, body, block)
+        crate::one_block(line, body, block)
     }
 
     #[test]

@@ -230,7 +230,7 @@ enum Tok {
 
 /// A compiled parameter expression.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Expr {
+pub struct NcExpr {
     toks: Box<[Tok]>,
 }
 
@@ -252,7 +252,7 @@ impl std::fmt::Display for EvalError {
     }
 }
 
-impl Expr {
+impl NcExpr {
     /// Evaluates with the parameter values `vars` (`R0`… or `#500`…).
     pub fn eval(&self, vars: &[f64; PARAMS]) -> Result<f64, EvalError> {
         let mut stack = [0.0f64; STACK];
@@ -305,33 +305,33 @@ impl Expr {
 
 /// A word's value: a literal or an expression.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Value {
+pub enum NcValue {
     /// A literal number.
     Num(Num),
     /// A parameter expression.
-    Expr(Expr),
+    Expr(NcExpr),
 }
 
-impl Default for Value {
+impl Default for NcValue {
     fn default() -> Self {
-        Value::Num(Num::default())
+        NcValue::Num(Num::default())
     }
 }
 
-impl Value {
+impl NcValue {
     /// The value with the parameters `vars`.
     pub fn eval(&self, vars: &[f64; PARAMS]) -> Result<f64, EvalError> {
         match self {
-            Value::Num(n) => Ok(n.value),
-            Value::Expr(e) => e.eval(vars),
+            NcValue::Num(n) => Ok(n.value),
+            NcValue::Expr(e) => e.eval(vars),
         }
     }
 
     /// The literal, when the value is one.
     pub fn literal(&self) -> Option<Num> {
         match self {
-            Value::Num(n) => Some(*n),
-            Value::Expr(_) => None,
+            NcValue::Num(n) => Some(*n),
+            NcValue::Expr(_) => None,
         }
     }
 }
@@ -358,11 +358,11 @@ pub enum Rel {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cond {
     /// Left-hand side.
-    pub left: Value,
+    pub left: NcValue,
     /// The comparison.
     pub rel: Rel,
     /// Right-hand side.
-    pub right: Value,
+    pub right: NcValue,
 }
 
 impl Cond {
@@ -424,10 +424,10 @@ pub(crate) fn condition(c: &mut Cursor<'_>, syntax: Syntax) -> Result<Cond, &'st
 
 /// Compiles an expression at the cursor. It ends before the first character
 /// that cannot continue it (840D: spaces end it unless an operator follows).
-/// A lone literal comes back as [`Value::Num`].
-pub(crate) fn expression(c: &mut Cursor<'_>, syntax: Syntax) -> Result<Value, &'static str> {
+/// A lone literal comes back as [`NcValue::Num`].
+pub(crate) fn expression(c: &mut Cursor<'_>, syntax: Syntax) -> Result<NcValue, &'static str> {
     if let Some(n) = lone_literal(c, syntax) {
-        return Ok(Value::Num(n));
+        return Ok(NcValue::Num(n));
     }
     let mut p = Compiler {
         syntax,
@@ -442,9 +442,9 @@ pub(crate) fn expression(c: &mut Cursor<'_>, syntax: Syntax) -> Result<Value, &'
 /// Compiles one operand at the cursor: a literal, a parameter, a bracketed
 /// expression or a function (the form of a FANUC address value, `X#501`,
 /// `Y[#520+#522*#527]`).
-pub(crate) fn operand(c: &mut Cursor<'_>, syntax: Syntax) -> Result<Value, &'static str> {
+pub(crate) fn operand(c: &mut Cursor<'_>, syntax: Syntax) -> Result<NcValue, &'static str> {
     if let Some(n) = number(c) {
-        return Ok(Value::Num(n));
+        return Ok(NcValue::Num(n));
     }
     let mut p = Compiler {
         syntax,
@@ -482,10 +482,10 @@ struct Compiler {
 
 impl Compiler {
     /// The compiled value; a lone literal stays a literal.
-    fn finish(self) -> Value {
+    fn finish(self) -> NcValue {
         match (self.out.as_slice(), self.literal) {
-            ([Tok::Num(_)], Some(n)) => Value::Num(n),
-            _ => Value::Expr(Expr {
+            ([Tok::Num(_)], Some(n)) => NcValue::Num(n),
+            _ => NcValue::Expr(NcExpr {
                 toks: self.out.into_boxed_slice(),
             }),
         }
@@ -669,12 +669,12 @@ mod tests {
     fn a_space_ends_the_expression_unless_an_operator_follows() {
         let mut c = Cursor::new("R1 Z=2.0");
         let v = expression(&mut c, Syntax::Siemens).unwrap();
-        assert!(matches!(v, Value::Expr(_)));
+        assert!(matches!(v, NcValue::Expr(_)));
         assert_eq!(c.i, 2);
         let mut c = Cursor::new("-26.738 ;");
         assert_eq!(
             expression(&mut c, Syntax::Siemens).unwrap(),
-            Value::Num(Num {
+            NcValue::Num(Num {
                 value: -26.738,
                 decimals: 3,
                 point: true

@@ -1,0 +1,460 @@
+//! The simulation of axis motion: the G-code system and set-up, travel limits, feeds,
+//! contact zones crossed by rapids, and the shift moves.
+
+use super::*;
+
+impl<'m> Sim<'m> {
+    pub(super) fn motion(&mut self, line: u32, m: &Motion) {
+        self.setup.merge(m.setup);
+        self.check_system(line, m);
+        if !self.setup_checked && !m.words().is_empty() {
+            self.setup_checked = true;
+            self.check_setup(line);
+        }
+        if let Some(i) = m.interp {
+            self.interp = Some(i);
+        }
+        match m.distance {
+            Some(Distance::Incremental) => self.incremental = Some(line),
+            Some(Distance::Absolute) => self.incremental = None,
+            None => {}
+        }
+        if let Some(f) = m.feed {
+            self.feed = Some(f.value);
+        }
+        if m.words().is_empty() {
+            return;
+        }
+        let Some(interp) = self.interp else {
+            self.push(
+                line,
+                rules::PARSE,
+                "a move without G0 or G1 in effect".into(),
+            );
+            return;
+        };
+        let inc = self.incremental.is_some();
+        let (mut x, mut z, mut y) = (self.x, self.z, self.y);
+        let (mut x_set, mut z_set, mut y_set) = (false, false, false);
+        let (mut a, mut c) = (None, None);
+        for w in m.words() {
+            let v = match w.value.eval(&self.vars) {
+                Ok(v) => v,
+                Err(e) => {
+                    self.push(
+                        line,
+                        rules::PARSE,
+                        format!("the value of {} cannot be computed: {e}", w.axis),
+                    );
+                    return;
+                }
+            };
+            let role = self.role(&w.axis);
+            if let Some(n) = w.value.literal() {
+                if n.decimals > 3 && !matches!(role, Role::A | Role::C) {
+                    self.push(
+                        line,
+                        rules::PARSE,
+                        format!(
+                            "{} has {} decimals; lengths are written with at most 3",
+                            w.axis, n.decimals
+                        ),
+                    );
+                    return;
+                }
+            }
+            let base = |old: f64| if inc { old + v } else { v };
+            match role {
+                Role::X => (x, x_set) = (base(self.x), true),
+                Role::Z => (z, z_set) = (base(self.z), true),
+                Role::Y => (y, y_set) = (base(self.y), true),
+                Role::A => a = Some(base(self.a.unwrap_or(0.0))),
+                Role::C if self.dialect == Dialect::Fanuc => c = Some(v),
+                _ => {
+                    let ax = &self.profile.axes;
+                    let msg = format!(
+                        "{} is not an axis a motion block moves (this machine's are {} {} {} {})",
+                        w.axis, ax.radial, ax.axial, ax.shift, ax.swivel
+                    );
+                    self.push(line, rules::PARSE, msg);
+                    return;
+                }
+            }
+        }
+        let shift_form = inc
+            && interp == Interp::Linear
+            && y_set
+            && c.is_some()
+            && !x_set
+            && !z_set
+            && a.is_none();
+        if let Some(g91) = self.incremental.filter(|_| !shift_form) {
+            let since = if g91 == line {
+                String::new()
+            } else {
+                format!(" (G91 of line {g91} is still in effect; write G90)")
+            };
+            self.push(
+                line,
+                rules::PARSE,
+                format!("incremental dimensions are used only for the shift move G01 G91 Y.. C..{since}"),
+            );
+            return;
+        }
+        if c.is_some() && !inc {
+            self.push(
+                line,
+                rules::PARSE,
+                "C is programmed only in the incremental shift move G01 G91 Y.. C..".into(),
+            );
+            return;
+        }
+        let kind = match interp {
+            Interp::Rapid => MoveKind::Rapid,
+            Interp::Linear => MoveKind::Feed,
+            _ => MoveKind::Arc,
+        };
+        let from = [self.x, self.z, self.y];
+        let to = [x, z, y];
+
+        // The path: a line, or the arc sampled.
+        let path = match interp {
+            Interp::Rapid | Interp::Linear => Path::line(from, to),
+            Interp::CircleVia => {
+                let Some((vx, vz)) = m.via else {
+                    self.push(
+                        line,
+                        rules::PARSE,
+                        "CIP is in effect, but the block has no intermediate point I1= K1=".into(),
+                    );
+                    return;
+                };
+                self.travel(line, Role::X, vx.value);
+                self.travel(line, Role::Z, vz.value);
+                match circle_via((from[1], from[0]), (vz.value, vx.value), (to[1], to[0])) {
+                    Some((centre, t0, sweep)) => Path::arc(from, to, centre, t0, sweep),
+                    None => {
+                        self.push(
+                            line,
+                            rules::PARSE,
+                            "the start, intermediate and end point of the CIP lie on one line"
+                                .into(),
+                        );
+                        return;
+                    }
+                }
+            }
+            Interp::ArcCw | Interp::ArcCcw => {
+                let Some(r) = m.radius.map(|r| r.value) else {
+                    self.push(
+                        line,
+                        rules::PARSE,
+                        "G02/G03 is in effect, but the block has no radius R".into(),
+                    );
+                    return;
+                };
+                let ccw = interp == Interp::ArcCcw;
+                match arc_radius((from[1], from[0]), (to[1], to[0]), r, ccw) {
+                    Some((centre, t0, sweep)) => Path::arc(from, to, centre, t0, sweep),
+                    None => {
+                        self.push(
+                            line,
+                            rules::PARSE,
+                            format!(
+                                "the arc radius R{} cannot join its start and end point",
+                                f3(r)
+                            ),
+                        );
+                        return;
+                    }
+                }
+            }
+        };
+
+        if x_set {
+            self.travel(line, Role::X, x);
+        }
+        if z_set {
+            self.travel(line, Role::Z, z);
+        }
+        if let Some(a) = a {
+            let max = self.profile.limits.max_swivel_deg;
+            if (a - self.profile.settings.swivel_offset_deg).abs() > max + DEG {
+                let name = &self.profile.axes.swivel;
+                self.push(
+                    line,
+                    rules::TRAVEL_LIMIT,
+                    format!(
+                        "swivel {name}={} is beyond the machine's limit of ±{} degrees about {}",
+                        f4(a),
+                        f4(max),
+                        f4(self.profile.settings.swivel_offset_deg)
+                    ),
+                );
+            }
+            self.trace.swivel_deg.push((line, a));
+            self.a = Some(a);
+        }
+
+        let feed = if kind == MoveKind::Rapid {
+            None
+        } else {
+            self.check_feed(line);
+            self.feed
+        };
+
+        let coupled = self.coupled.is_some();
+        // A move that only increases X is a radial withdrawal: it can leave
+        // the zone (a worm wheel's D → E retract from the throat) but never
+        // enter it.
+        let withdrawal = to[0] > from[0]
+            && (to[1] - from[1]).abs() <= TOL
+            && (to[2] - from[2]).abs() <= TOL
+            && matches!(interp, Interp::Rapid | Interp::Linear);
+        let zone = if withdrawal {
+            None
+        } else {
+            self.zone_crossed(&path)
+        };
+        let why = match (coupled, self.turning()) {
+            (true, true) => None,
+            (false, true) => Some("the gearbox is not coupled"),
+            (true, false) => Some("the hob is not turning"),
+            (false, false) => Some("the gearbox is not coupled and the hob is not turning"),
+        };
+        if let Some(zone) = zone.filter(|_| kind == MoveKind::Rapid || why.is_some()) {
+            let what = self.move_text(kind, from, to);
+            let zone_text = zone.describe(self.axes(), self.units.len());
+            if kind == MoveKind::Rapid {
+                self.push(
+                    line,
+                    rules::RAPID_CLEARANCE,
+                    format!("{what} passes through the blank zone ({zone_text})"),
+                );
+            }
+            if let Some(why) = why {
+                self.push(
+                    line,
+                    rules::DEPTH_UNCOUPLED,
+                    format!("{what} enters the contact zone ({zone_text}) while {why}"),
+                );
+            }
+        }
+
+        let dy = y - self.y;
+        if shift_form {
+            self.check_shift_correction(line, dy, c.unwrap_or(0.0));
+        } else if dy.abs() > TOL && coupled {
+            self.check_coupled_shift(line, from[2], y);
+        }
+
+        self.trace.moves.push(TraceMove {
+            line,
+            kind,
+            x_mm: x,
+            z_mm: z,
+            y_mm: y,
+            feed_mm_min: feed,
+            dwell_s: None,
+            coupled,
+            c_correction_deg: c,
+        });
+        (self.x, self.z, self.y) = (x, z, y);
+        self.last_move = Some(line);
+    }
+
+    /// The program's G codes mean what the machine's G-code system says:
+    /// FANUC M series and T systems B and C take G94 for feed per minute
+    /// (G98 is a canned-cycle return level there); T system A takes G98 and
+    /// has no G90/G91 (G90 is a turning cycle).
+    pub(super) fn check_system(&mut self, line: u32, m: &Motion) {
+        use gearcam_proto::GCodeSystem as S;
+        let system = self.profile.gcode_system;
+        match (self.dialect, system) {
+            (Dialect::Fanuc, S::FanucM | S::FanucTB | S::FanucTC) if m.feed_code == Some(98) => {
+                self.push(
+                    line,
+                    rules::SETUP,
+                    format!("G98 is the canned-cycle return level in G-code system {}, not feed per minute: write G94", system.as_str()),
+                );
+            }
+            (Dialect::Fanuc, S::FanucTA) if m.distance.is_some() || m.feed_code == Some(94) => {
+                self.push(
+                    line,
+                    rules::SETUP,
+                    "G-code system A (fanuc_t_a) has no G90/G91 or G94: absolute is X/Z, incremental U/W, feed per minute G98".into(),
+                );
+            }
+            (Dialect::Fanuc, S::Sinumerik)
+            | (Dialect::Sinumerik840d, S::FanucM | S::FanucTA | S::FanucTB | S::FanucTC) => {
+                self.push(
+                    line,
+                    rules::SETUP,
+                    format!(
+                        "the machine profile names G-code system {} for a {} control",
+                        system.as_str(),
+                        self.dialect.as_str()
+                    ),
+                );
+            }
+            _ => {}
+        }
+    }
+
+    /// Before the first move the program states the metric unit, the
+    /// machine's work offset (Z0 on the table, X0 on its axis) and, on an
+    /// 840D, that X is a radius.
+    pub(super) fn check_setup(&mut self, line: u32) {
+        let s = self.setup;
+        let (metric, offset) = match self.dialect {
+            Dialect::Fanuc => ("G21", "work offset"),
+            _ => ("G71", "work offset"),
+        };
+        let want = self.profile.work_offset.trim().to_ascii_uppercase();
+        let want_n = want
+            .strip_prefix('G')
+            .and_then(|n| n.parse::<u8>().ok())
+            .filter(|n| (54..=59).contains(n));
+        let mut missing = Vec::new();
+        if !s.metric {
+            missing.push(format!("{metric} (metric input)"));
+        }
+        if want_n.is_some() && s.work_offset != want_n {
+            missing.push(format!(
+                "{want} ({offset}: Z0 on the table plane, X0 on the table axis)"
+            ));
+        }
+        if self.dialect == Dialect::Sinumerik840d && !s.radius_x {
+            missing.push("DIAMOF (X is the centre distance, a radius)".into());
+        }
+        if !missing.is_empty() {
+            self.push(
+                line,
+                rules::SETUP,
+                format!("the first move comes before {}", missing.join(", ")),
+            );
+        }
+    }
+
+    pub(super) fn move_text(&self, kind: MoveKind, from: [f64; 3], to: [f64; 3]) -> String {
+        let (xn, zn, _) = self.axes();
+        let what = match kind {
+            MoveKind::Rapid => "rapid move",
+            MoveKind::Feed => "feed move",
+            MoveKind::Arc => "arc",
+            MoveKind::Dwell => "dwell",
+        };
+        format!(
+            "{what} from {xn}={} {zn}={} to {xn}={} {zn}={}",
+            f3(from[0]),
+            f3(from[1]),
+            f3(to[0]),
+            f3(to[1])
+        )
+    }
+
+    /// The first zone the path passes through.
+    pub(super) fn zone_crossed(&self, path: &Path) -> Option<Zone> {
+        path.segments()
+            .find_map(|(p, q)| self.zones.iter().find(|z| z.crossed_by(p, q)).copied())
+    }
+
+    /// The zone the hob stands in.
+    pub(super) fn zone_here(&self) -> Option<Zone> {
+        let p = [self.x, self.z, self.y];
+        self.zones.iter().find(|z| z.crossed_by(p, p)).copied()
+    }
+
+    pub(super) fn travel(&mut self, line: u32, role: Role, v: f64) {
+        let (name, [lo, hi]) = match role {
+            Role::X => (&self.profile.axes.radial, self.profile.limits.x_mm),
+            _ => (&self.profile.axes.axial, self.profile.limits.z_mm),
+        };
+        if !(v >= lo - MM && v <= hi + MM) {
+            let msg = format!(
+                "{name}={} is outside the machine's travel {} to {} mm",
+                f3(v),
+                f3(lo),
+                f3(hi)
+            );
+            self.push(line, rules::TRAVEL_LIMIT, msg);
+        }
+    }
+
+    pub(super) fn check_feed(&mut self, line: u32) {
+        let max = self.profile.limits.max_axial_feed_mm_min;
+        match self.feed {
+            Some(f) if f > 0.0 && f <= max + MM => {}
+            Some(f) if f > 0.0 => self.push(
+                line,
+                rules::FEED_LIMIT,
+                format!(
+                    "feed F={} mm/min is above the machine's largest feed {} mm/min",
+                    f3(f),
+                    f3(max)
+                ),
+            ),
+            Some(_) => self.push(
+                line,
+                rules::FEED_LIMIT,
+                "a feed move with a zero feed F".into(),
+            ),
+            None => self.push(
+                line,
+                rules::FEED_LIMIT,
+                "a feed move without a feed F in effect".into(),
+            ),
+        }
+    }
+
+    /// FANUC: the C correction of the incremental shift move.
+    pub(super) fn check_shift_correction(&mut self, line: u32, dy: f64, c: f64) {
+        if self.coupled.is_none() {
+            self.push(
+                line,
+                rules::COUPLING_RATIO,
+                "the shift move G01 G91 Y.. C.. corrects C for a coupled gearbox, but the gearbox is not coupled".into(),
+            );
+            return;
+        }
+        let per_y = self.unit().kin.factors.c_per_y_deg_per_mm;
+        let want = per_y * dy;
+        if (c - want).abs() > DEG + per_y.abs() * MM {
+            let (_, _, yn) = self.axes();
+            let table = &self.profile.axes.table;
+            self.push(
+                line,
+                rules::COUPLING_RATIO,
+                format!(
+                    "the correction {table}{} for the shift {yn}{} differs from the model's {} ({} deg/mm)",
+                    f4(c),
+                    f3(dy),
+                    f4(want),
+                    f6(per_y)
+                ),
+            );
+        }
+    }
+
+    /// A Y move while coupled, outside the FANUC shift form.
+    pub(super) fn check_coupled_shift(&mut self, line: u32, from: f64, to: f64) {
+        let (_, _, yn) = self.axes();
+        let table = &self.profile.axes.table;
+        let msg = match self.dialect {
+            Dialect::Fanuc => format!(
+                "{yn} moves from {} to {} while the gearbox is coupled without its {table} correction; write G01 G91 {yn}.. {table}..",
+                f3(from),
+                f3(to)
+            ),
+            _ if self.coupled.is_some_and(|c| c.y.is_none()) => format!(
+                "{yn} moves from {} to {} while {table} is coupled without the shift compensation ({yn} is not a leading axis of the gearbox)",
+                f3(from),
+                f3(to)
+            ),
+            _ => return,
+        };
+        self.push(line, rules::COUPLING_RATIO, msg);
+    }
+
+    // ----- M functions -----
+}
