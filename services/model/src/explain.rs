@@ -30,30 +30,46 @@ fn e(name: &str, value: f64, unit: &str, origin: Origin, note: &str) -> Explaine
 /// Every input and result of a model with its origin, in reading order:
 /// drawing data, hob, process, machine, geometry, kinematics.
 pub fn explain(plan: &ProcessPlan, geo: &Geometry, k: &Kinematics) -> Vec<Explained> {
-    let spec = &plan.request.spec;
-    let g = &spec.gear;
-    let o = &spec.process;
-    let hob = &plan.hob;
-    let m = &plan.machine;
-    // The plan records each decided value's source; a value it does not list
-    // took gearcam's default.
-    let from_values = |name: &str| {
-        plan.values
-            .get(name)
-            .map(|s| origin(s.source))
-            .unwrap_or(Origin::Default)
-    };
-    let job_or = |given: bool, other: Origin| if given { Origin::Job } else { other };
-    // Drawing data is the job's, unless the plan took it from the workpiece
-    // library (values `gear.*` with source `library`).
-    let gear_origin = |name: &str| {
-        plan.values
-            .get(name)
-            .map(|s| origin(s.source))
-            .unwrap_or(Origin::Job)
-    };
-    let hob_origin = origin(hob.source);
-    let mut out = vec![
+    let mut out = drawing(plan, k);
+    out.extend(hob(plan));
+    out.extend(process(plan, k));
+    out.extend(machine(plan));
+    out.extend(geometry(geo));
+    out.extend(model(k));
+    out
+}
+
+/// The origin of a decided value the plan lists; gearcam's default otherwise.
+fn from_values(plan: &ProcessPlan, name: &str) -> Origin {
+    plan.values
+        .get(name)
+        .map(|s| origin(s.source))
+        .unwrap_or(Origin::Default)
+}
+
+/// The job's origin when it gave the value, else `other`.
+fn job_or(given: bool, other: Origin) -> Origin {
+    if given {
+        Origin::Job
+    } else {
+        other
+    }
+}
+
+/// Drawing data: the job's, unless the plan took it from the workpiece
+/// library (values `gear.*` with source `library`).
+fn gear_origin(plan: &ProcessPlan, name: &str) -> Origin {
+    plan.values
+        .get(name)
+        .map(|s| origin(s.source))
+        .unwrap_or(Origin::Job)
+}
+
+/// The gear's drawing data.
+fn drawing(plan: &ProcessPlan, k: &Kinematics) -> Vec<Explained> {
+    let g = &plan.request.spec.gear;
+    let gear_origin = |name: &str| gear_origin(plan, name);
+    vec![
         e(
             "gear.module_mm",
             g.module_mm,
@@ -115,9 +131,17 @@ pub fn explain(plan: &ProcessPlan, geo: &Geometry, k: &Kinematics) -> Vec<Explai
             "gear.fixture_height_mm",
             g.fixture_height_mm,
             "mm",
-            gear_origin("gear.blank_od_mm"),
+            gear_origin("gear.fixture_height_mm"),
             "H, lower tooth face above the table",
         ),
+    ]
+}
+
+/// The hob.
+fn hob(plan: &ProcessPlan) -> Vec<Explained> {
+    let hob = &plan.hob;
+    let hob_origin = origin(hob.source);
+    vec![
         e(
             "hob.starts",
             f64::from(hob.starts),
@@ -153,6 +177,15 @@ pub fn explain(plan: &ProcessPlan, geo: &Geometry, k: &Kinematics) -> Vec<Explai
             hob_origin,
             "usable hob length",
         ),
+    ]
+}
+
+/// The process values, with the rough cuts' and the radial feed when they apply.
+fn process(plan: &ProcessPlan, k: &Kinematics) -> Vec<Explained> {
+    let g = &plan.request.spec.gear;
+    let o = &plan.request.spec.process;
+    let from_values = |name: &str| from_values(plan, name);
+    let mut out = vec![
         e(
             "process.cutting_speed_m_min",
             plan.process.cutting_speed_m_min,
@@ -231,7 +264,13 @@ pub fn explain(plan: &ProcessPlan, geo: &Geometry, k: &Kinematics) -> Vec<Explai
             ),
         ));
     }
-    out.extend([
+    out
+}
+
+/// The machine profile's settings.
+fn machine(plan: &ProcessPlan) -> Vec<Explained> {
+    let m = &plan.machine;
+    vec![
         e(
             "machine.retract_mm",
             m.settings.retract_mm,
@@ -267,6 +306,12 @@ pub fn explain(plan: &ProcessPlan, geo: &Geometry, k: &Kinematics) -> Vec<Explai
             Origin::Machine,
             "position A, Z",
         ),
+    ]
+}
+
+/// The gear's geometry.
+fn geometry(geo: &Geometry) -> Vec<Explained> {
+    vec![
         e(
             "geometry.d_mm",
             geo.d_mm,
@@ -302,6 +347,12 @@ pub fn explain(plan: &ProcessPlan, geo: &Geometry, k: &Kinematics) -> Vec<Explai
             Origin::Computed,
             &format!("MdK over {} mm balls (ISO 21771)", geo.ball_mm),
         ),
+    ]
+}
+
+/// The hobbing model's results.
+fn model(k: &Kinematics) -> Vec<Explained> {
+    vec![
         e(
             "model.swivel_deg",
             k.swivel_deg,
@@ -379,6 +430,5 @@ pub fn explain(plan: &ProcessPlan, geo: &Geometry, k: &Kinematics) -> Vec<Explai
             Origin::Computed,
             "every cut's feed moves and dwells",
         ),
-    ]);
-    out
+    ]
 }

@@ -271,3 +271,26 @@ fn units_too_close_for_the_hob_run_out_collide() {
         "{errors:#?}"
     );
 }
+
+/// The explained origin of the fixture height is its own value's: with the
+/// drawing data from the workpiece library but no blank diameter among the
+/// plan's values, it is `library`, not the job's (it once took the blank
+/// diameter's origin).
+#[test]
+fn explain_names_the_fixture_heights_own_origin() {
+    let (m, _) = example("spur_by_part_840d.toml");
+    let mut plan = m.plan.clone();
+    plan.values.remove("gear.blank_od_mm");
+    let rows = gearcam_model::explain::explain(&plan, &m.geometry, &m.model);
+    let origin = |name: &str| {
+        rows.iter()
+            .find(|e| e.name == name)
+            .unwrap_or_else(|| panic!("no {name}"))
+            .origin
+    };
+    assert_eq!(
+        origin("gear.fixture_height_mm"),
+        gearcam_proto::Origin::Library
+    );
+    assert_eq!(origin("gear.module_mm"), gearcam_proto::Origin::Library);
+}
