@@ -4,8 +4,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::codec::Message;
+use crate::error::JobError;
 use crate::ids::{JobId, MachineId};
-use crate::program::{DeliveryReceipt, JobError};
+use crate::program::DeliveryReceipt;
 
 /// A job's state in the planning station's journal.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]

@@ -1,20 +1,11 @@
-//! Errors of the protocol crate: invalid ids and undecodable messages.
+//! Errors: the typed [`JobError`] every stage reports (with the [`Stage`] that
+//! found it), invalid ids and undecodable messages.
 
+use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-/// An id that breaks its rule.
-#[derive(Debug, Clone, Error, PartialEq, Eq)]
-#[error("invalid {kind} {got:?}: {reason}; expected {expected}")]
-pub struct IdError {
-    /// Which kind of id (`job id`, `machine id`, ...).
-    pub kind: &'static str,
-    /// The text given.
-    pub got: String,
-    /// The rule it had to follow.
-    pub expected: String,
-    /// What is wrong with it.
-    pub reason: String,
-}
+pub use crate::ids::IdError;
+use crate::ids::JobId;
 
 /// A message that could not be encoded or decoded.
 #[derive(Debug, Error)]
@@ -75,5 +66,120 @@ impl CodecError {
             CodecError::TooLarge { .. } => "MESSAGE_TOO_LARGE",
             CodecError::Encode { .. } => "ENCODE_FAILED",
         }
+    }
+}
+
+/// The stage of the pipeline an event or error comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Stage {
+    /// Planning station (job file, submission).
+    Station,
+    /// Knowledge service.
+    Knowledge,
+    /// Model service.
+    Model,
+    /// Template service.
+    Template,
+    /// Delivery agent.
+    Agent,
+}
+
+impl Stage {
+    /// The stage's name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Stage::Station => "station",
+            Stage::Knowledge => "knowledge",
+            Stage::Model => "model",
+            Stage::Template => "template",
+            Stage::Agent => "agent",
+        }
+    }
+}
+
+/// A typed error: what was wrong, where, what was expected and what was given.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JobError {
+    /// Stage that found it.
+    pub stage: Stage,
+    /// Stable code, e.g. `BASE_PITCH_MISMATCH`.
+    pub code: String,
+    /// Field concerned, e.g. `hob.module_mm`.
+    pub field: String,
+    /// The expected value or range, as text.
+    pub expected: String,
+    /// The given value, as text.
+    pub got: String,
+    /// A sentence saying what is wrong and what to do.
+    pub message: String,
+}
+
+impl JobError {
+    /// A typed error of `stage`.
+    pub fn new(
+        stage: Stage,
+        code: &str,
+        field: &str,
+        expected: impl Into<String>,
+        got: impl Into<String>,
+        message: impl Into<String>,
+    ) -> JobError {
+        JobError {
+            stage,
+            code: code.into(),
+            field: field.into(),
+            expected: expected.into(),
+            got: got.into(),
+            message: message.into(),
+        }
+    }
+
+    /// `JOB_ID_MISMATCH`: the `what` (request, plan, model, program) received
+    /// on `key` carries the job id `got`, not the key's.
+    pub fn job_id_mismatch(stage: Stage, key: &str, got: &JobId, what: &str) -> JobError {
+        JobError::new(
+            stage,
+            "JOB_ID_MISMATCH",
+            "job_id",
+            key,
+            got.to_string(),
+            format!("the {what}'s job id differs from the job id in its key"),
+        )
+    }
+}
+
+impl JobError {
+    /// `BAD_JOB_ID`, `BAD_MACHINE_ID` or `BAD_HOB_ID`: the id in `field` breaks
+    /// the id rule; `got` is the id as given.
+    pub fn bad_id(stage: Stage, field: &str, err: &IdError) -> JobError {
+        let code = match err.kind {
+            "job id" => "BAD_JOB_ID",
+            "machine id" => "BAD_MACHINE_ID",
+            _ => "BAD_HOB_ID",
+        };
+        JobError::new(
+            stage,
+            code,
+            field,
+            err.expected.clone(),
+            err.got.clone(),
+            format!("the {} is not valid: {}", err.kind, err.reason),
+        )
+    }
+}
+
+impl std::fmt::Display for JobError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "[{}] {} {}: {} (expected {}, got {})",
+            self.stage.as_str(),
+            self.code,
+            self.field,
+            self.message,
+            self.expected,
+            self.got
+        )
     }
 }

@@ -8,8 +8,21 @@ use std::fmt;
 use std::str::FromStr;
 
 use serde::{Deserialize, Deserializer, Serialize};
+use thiserror::Error;
 
-use crate::error::IdError;
+/// An id that breaks its rule.
+#[derive(Debug, Clone, Error, PartialEq, Eq)]
+#[error("invalid {kind} {got:?}: {reason}; expected {expected}")]
+pub struct IdError {
+    /// Which kind of id (`job id`, `machine id`, ...).
+    pub kind: &'static str,
+    /// The text given.
+    pub got: String,
+    /// The rule it had to follow.
+    pub expected: String,
+    /// What is wrong with it.
+    pub reason: String,
+}
 
 /// Checks the common id rule: 1 to `max` characters from `A–Z a–z 0–9 _ -`,
 /// starting with a letter or digit.

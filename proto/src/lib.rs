@@ -10,10 +10,10 @@
 //! - [`job`]: the job file / [`JobRequest`].
 //! - [`plan`]: machine profiles, hobs, the [`ProcessPlan`].
 //! - [`model`]: geometry and the [`MachiningModel`].
-//! - [`program`]: [`NcProgram`], [`DeliveryReceipt`], [`JobEvent`] and typed [`JobError`]s.
+//! - [`program`]: [`NcProgram`], [`DeliveryReceipt`], [`JobEvent`].
 //! - [`naming`]: controllers' program naming rules.
 //! - [`delivery`]: station journal states and queries, agent replies and program history.
-//! - [`error`]: id and codec errors.
+//! - [`error`]: typed [`JobError`]s and the [`Stage`] that found them, id and codec errors.
 //!
 //! `proto/README.md` documents the same for readers in other languages.
 #![forbid(unsafe_code)]
@@ -36,7 +36,7 @@ pub use delivery::{
     DeliveryReply, JobState, JobStatus, ProgramHistory, ProgramRef, ProgramText, ProgramVersion,
     StationReply, StoreReply, StoreRequest,
 };
-pub use error::{CodecError, IdError};
+pub use error::{CodecError, IdError, JobError, Stage};
 pub use ids::{HobId, JobId, MachineId};
 pub use job::{
     ConeSpec, CrowningShape, CrowningSpec, CurvedToothSpec, CutMode, GearSpec, Hand, HobSpec,
@@ -54,6 +54,5 @@ pub use plan::{
     WorkpieceRef,
 };
 pub use program::{
-    now_ms, DeliveryReceipt, EventKind, JobError, JobEvent, NcProgram, PathCheck, PathFinding,
-    Stage, TemplateRef,
+    now_ms, DeliveryReceipt, EventKind, JobEvent, NcProgram, PathCheck, PathFinding, TemplateRef,
 };

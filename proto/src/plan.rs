@@ -483,7 +483,7 @@ pub struct KbReply {
     pub records: Vec<KbRecord>,
     /// Errors; empty on success.
     #[serde(default)]
-    pub errors: Vec<crate::program::JobError>,
+    pub errors: Vec<crate::error::JobError>,
 }
 
 impl Message for KbReply {

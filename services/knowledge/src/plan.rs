@@ -718,7 +718,7 @@ pub(crate) mod tests {
         let mut req = request(json!({}), json!({}));
         req.spec.job.machine = MachineId::new("H02").unwrap();
         let h02 = plan(&conn, &req).unwrap();
-        assert_eq!(h02.machine, db::seed_machine_h02());
+        assert_eq!(h02.machine, crate::seed::seed_machine_h02());
         assert_eq!(h02.machine.dialect, gearcam_proto::Dialect::Fanuc);
         // The seed cases name no machine, so they fit both machines alike.
         assert_eq!(h02.cases, h01.cases);
@@ -1174,6 +1174,9 @@ pub(crate) mod tests {
         let conn = db::open(&path).unwrap();
         assert_eq!(db::hobs(&conn).unwrap().len(), 5);
         assert_eq!(library::list(&conn, &library::CASES).unwrap().len(), n);
-        assert_eq!(db::machines(&conn).unwrap()[0], db::seed_machine_h01());
+        assert_eq!(
+            db::machines(&conn).unwrap()[0],
+            crate::seed::seed_machine_h01()
+        );
     }
 }

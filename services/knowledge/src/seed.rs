@@ -4,6 +4,10 @@
 //! our own estimate it says "engineering estimate", and a shop replaces it
 //! by importing its history (`gearcam kb import cases FILE.csv`).
 
+use gearcam_proto::{
+    AxisNames, Dialect, Envelope, GCodeSystem, MCodes, MachineId, MachineLimits, MachineProfile,
+    MachineSettings, ParameterBlock,
+};
 use rusqlite::{params, Transaction};
 use serde_json::{json, Value};
 
@@ -267,7 +271,7 @@ pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
 /// profile shift 0.2 of its example job (`helical_climb_840d.toml`); a record
 /// the shop has changed since is left alone.
 pub fn seed_v3(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
-    crate::db::seed_machine(tx, &crate::db::seed_machine_h02(), crate::db::H02_SOURCE)?;
+    seed_machine(tx, &seed_machine_h02(), H02_SOURCE)?;
     tx.execute(
         "UPDATE workpieces SET profile_shift = 0.2
          WHERE part_number = 'HG-3003-L' AND profile_shift = 0 AND source = ?1",
@@ -298,8 +302,8 @@ pub fn seed_v4(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     for (id, json, source) in rows {
         let mut v: Value = serde_json::from_str(&json)?;
         let seed = match id.as_str() {
-            "H01" => Some(crate::db::seed_machine_h01()),
-            "H02" => Some(crate::db::seed_machine_h02()),
+            "H01" => Some(seed_machine_h01()),
+            "H02" => Some(seed_machine_h02()),
             _ => None,
         };
         let Some(obj) = v.as_object_mut() else {
@@ -381,4 +385,307 @@ fn group_code(group: &str) -> &'static str {
         "cast_iron" => "CI",
         _ => "NF",
     }
+}
+
+/// The seeded 840D hobbing machine `H01`.
+pub fn seed_machine_h01() -> MachineProfile {
+    MachineProfile {
+        id: MachineId::new("H01").expect("valid id"),
+        name: "six-axis CNC hobbing machine, SINUMERIK 840D sl".into(),
+        dialect: Dialect::Sinumerik840d,
+        axes: AxisNames {
+            radial: "X".into(),
+            axial: "Z".into(),
+            swivel: "A".into(),
+            hob: "B".into(),
+            table: "C".into(),
+            shift: "Y".into(),
+        },
+        // M-codes as in the patent's 840D program (M20/M21 outer support,
+        // M10/M11 fixture, M7/M9 coolant, M2 end); conveyor and mist separator
+        // codes are this machine's builder codes.
+        mcodes: MCodes {
+            spindle_on: 3,
+            spindle_off: 5,
+            coolant_on: 7,
+            coolant_off: 9,
+            outer_support_on: 20,
+            outer_support_off: 21,
+            fixture_clamp: 10,
+            fixture_unclamp: 11,
+            chip_conveyor_on: 24,
+            chip_conveyor_off: 25,
+            mist_on: 26,
+            mist_off: 27,
+            program_end: 2,
+        },
+        limits: MachineLimits {
+            module_mm: [0.5, 8.0],
+            max_workpiece_od_mm: 320.0,
+            max_hob_od_mm: 130.0,
+            x_mm: [0.0, 400.0],
+            z_mm: [-50.0, 400.0],
+            max_hob_rpm: 1500.0,
+            max_table_rpm: 150.0,
+            max_axial_feed_mm_min: 2000.0,
+            max_swivel_deg: 45.0,
+        },
+        settings: MachineSettings {
+            blank_od_below_mm: 2.0,
+            blank_od_above_mm: 0.5,
+            depth_allowance_mm: 0.5,
+            safety_mm: 2.0,
+            retract_mm: 100.0,
+            exit_mm: 5.0,
+            swivel_sign: -1.0,
+            swivel_offset_deg: 0.0,
+            table_sign: 1.0,
+            hob_sign: 1.0,
+            shift_sign: -1.0,
+        },
+        gcode_system: GCodeSystem::Sinumerik,
+        envelope: Envelope {
+            table_radius_mm: 130.0,
+            fixture_radius_mm: 30.0,
+            tailstock_radius_mm: 20.0,
+            tailstock_gap_mm: 60.0,
+        },
+        work_offset: "G54".into(),
+        parameters: ParameterBlock {
+            r_first: 1,
+            macro_first: 501,
+        },
+        home_x_mm: 300.0,
+        home_z_mm: 350.0,
+    }
+}
+
+/// Provenance of the seeded FANUC machine `H02`.
+pub const H02_SOURCE: &str =
+    "gearcam seed: example FANUC hobbing machine, an M-series control (Series 0i-MF Plus / 30i-B, \
+G-code system M: G90 absolute, G94 feed per minute; the EGB G81 T L Q P is an M-series command) \
+with the EGB electronic gear box option: the hob spindle leads, the table C follows, coupled by \
+G81 T_ L_ Q_ P_ ... G80); X is programmed as a radius, i.e. the centre distance (parameter 1006#3 \
+DIAx = 0). M3/M5 spindle, M8/M9 coolant and M30 end are ISO/FANUC conventions; M10/M11 fixture, \
+M24/M25 chip conveyor, M26/M27 mist separator and M68/M69 outer support are this shop's \
+assignments (M-codes beyond M3/M5/M8/M9/M30 are machine-builder specific): check them against \
+your machine builder's M-code list. Travels and limits: a larger machine than H01 (engineering \
+estimate); set them to your machine's";
+
+/// The seeded FANUC hobbing machine `H02`: a larger machine than `H01`
+/// (slower hob and table spindles, longer travels), programmed in the FANUC
+/// dialect with the EGB hobbing cycle (see [`H02_SOURCE`]).
+pub fn seed_machine_h02() -> MachineProfile {
+    MachineProfile {
+        id: MachineId::new("H02").expect("valid id"),
+        name: "six-axis CNC hobbing machine, FANUC 0i-MF Plus (M series) with EGB".into(),
+        dialect: Dialect::Fanuc,
+        axes: AxisNames {
+            // X radial (radius programming), Z axial, A hob head swivel,
+            // C table, Y hob shift. The hob spindle is the EGB master
+            // spindle, commanded by S and coupled by G81, never as an axis
+            // word; `B` only names it in messages.
+            radial: "X".into(),
+            axial: "Z".into(),
+            swivel: "A".into(),
+            hob: "B".into(),
+            table: "C".into(),
+            shift: "Y".into(),
+        },
+        // M3/M5, M8/M9 and M30 as on every FANUC control; the others are
+        // this shop's assignments on H02 (see H02_SOURCE).
+        mcodes: MCodes {
+            spindle_on: 3,
+            spindle_off: 5,
+            coolant_on: 8,
+            coolant_off: 9,
+            outer_support_on: 68,
+            outer_support_off: 69,
+            fixture_clamp: 10,
+            fixture_unclamp: 11,
+            chip_conveyor_on: 24,
+            chip_conveyor_off: 25,
+            mist_on: 26,
+            mist_off: 27,
+            program_end: 30,
+        },
+        limits: MachineLimits {
+            module_mm: [1.0, 8.0],
+            max_workpiece_od_mm: 500.0,
+            max_hob_od_mm: 180.0,
+            x_mm: [0.0, 500.0],
+            z_mm: [-50.0, 600.0],
+            max_hob_rpm: 1000.0,
+            max_table_rpm: 100.0,
+            max_axial_feed_mm_min: 1500.0,
+            max_swivel_deg: 45.0,
+        },
+        settings: MachineSettings {
+            blank_od_below_mm: 2.0,
+            blank_od_above_mm: 0.5,
+            depth_allowance_mm: 0.5,
+            safety_mm: 3.0,
+            retract_mm: 120.0,
+            exit_mm: 5.0,
+            swivel_sign: -1.0,
+            swivel_offset_deg: 0.0,
+            table_sign: 1.0,
+            hob_sign: 1.0,
+            shift_sign: -1.0,
+        },
+        gcode_system: GCodeSystem::FanucM,
+        envelope: Envelope {
+            table_radius_mm: 200.0,
+            fixture_radius_mm: 30.0,
+            tailstock_radius_mm: 25.0,
+            tailstock_gap_mm: 80.0,
+        },
+        work_offset: "G54".into(),
+        parameters: ParameterBlock {
+            r_first: 1,
+            macro_first: 501,
+        },
+        home_x_mm: 450.0,
+        home_z_mm: 550.0,
+    }
+}
+
+/// Inserts a seed machine unless the database already has a machine with
+/// its id (a shop that added its own `H02` keeps it).
+pub(crate) fn seed_machine(
+    tx: &rusqlite::Transaction<'_>,
+    m: &MachineProfile,
+    source: &str,
+) -> Result<(), KnowledgeError> {
+    tx.execute(
+        "INSERT OR IGNORE INTO machines (id, name, dialect, profile_json, source) VALUES (?1, ?2, ?3, ?4, ?5)",
+        params![
+            m.id.as_str(),
+            m.name,
+            m.dialect.as_str(),
+            serde_json::to_string(m)?,
+            source,
+        ],
+    )?;
+    Ok(())
+}
+
+struct SeedHob {
+    id: &'static str,
+    module_mm: f64,
+    starts: u32,
+    hand: &'static str,
+    od_mm: f64,
+    length_mm: f64,
+}
+
+/// Seed hobs. Outside diameters and lengths follow common single-piece hob
+/// sizes; the lead angle is derived, not catalogued: the reference diameter is
+/// taken as d0 = da0 − 2·1.25·mn0 (tip 1.25·mn0 over d0, so SPEC §4.2 check 4
+/// holds with equality for ha* = 1, c* = 0.25) and γ0 = asin(z0·mn0 / d0).
+const SEED_HOBS: &[SeedHob] = &[
+    SeedHob {
+        id: "HOB-M2-70",
+        module_mm: 2.0,
+        starts: 1,
+        hand: "right",
+        od_mm: 70.0,
+        length_mm: 70.0,
+    },
+    SeedHob {
+        id: "HOB-M3-80",
+        module_mm: 3.0,
+        starts: 1,
+        hand: "right",
+        od_mm: 80.0,
+        length_mm: 100.0,
+    },
+    SeedHob {
+        id: "HOB-M3-80L",
+        module_mm: 3.0,
+        starts: 1,
+        hand: "left",
+        od_mm: 80.0,
+        length_mm: 100.0,
+    },
+    SeedHob {
+        id: "HOB-M3-100-2",
+        module_mm: 3.0,
+        starts: 2,
+        hand: "right",
+        od_mm: 100.0,
+        length_mm: 120.0,
+    },
+    SeedHob {
+        id: "HOB-M4-90",
+        module_mm: 4.0,
+        starts: 1,
+        hand: "right",
+        od_mm: 90.0,
+        length_mm: 110.0,
+    },
+];
+
+/// Provenance of the seeded 840D machine `H01`.
+pub const H01_SOURCE: &str = "gearcam seed: example 840D hobbing machine; M-codes of the patent CN1838008 program; set travels and limits to your machine's";
+
+pub(crate) fn seed_v1(tx: &rusqlite::Transaction<'_>) -> Result<(), KnowledgeError> {
+    seed_machine(tx, &seed_machine_h01(), H01_SOURCE)?;
+    for h in SEED_HOBS {
+        let d0 = h.od_mm - 2.0 * 1.25 * h.module_mm;
+        let lead = (h.starts as f64 * h.module_mm / d0).asin().to_degrees();
+        tx.execute(
+            "INSERT INTO hobs (id, module_mm, pressure_angle_deg, starts, hand, lead_angle_deg, od_mm, length_mm,
+                               usable_length_mm, accuracy_class, material, coating, source)
+             VALUES (?1, ?2, 20.0, ?3, ?4, ?5, ?6, ?7, ?8, 'A', 'HSS', 'TiN', ?9)",
+            params![
+                h.id,
+                h.module_mm,
+                h.starts,
+                h.hand,
+                lead,
+                h.od_mm,
+                h.length_mm,
+                h.length_mm - 10.0,
+                "gearcam seed: typical solid-hob size; lead angle derived from d0 = da0 - 2.5*mn0",
+            ],
+        )?;
+    }
+    const STOCK: &str = "gearcam seed: engineering estimate for TiN-coated HSS hobs, one cut, from general hobbing practice (not shop history); replace by importing your cases";
+    for (id, group, vc, fa, conf) in [
+        ("CD-CASE-HSS", "case_hardening_steel", 90.0, 2.0, 0.5),
+        ("CD-QT-HSS", "quenched_tempered_steel", 80.0, 1.8, 0.5),
+        ("CD-CI-HSS", "cast_iron", 100.0, 2.5, 0.4),
+        ("CD-NF-HSS", "nonferrous", 150.0, 2.5, 0.3),
+        ("CD-STEEL-HSS", "steel", 80.0, 1.8, 0.3),
+    ] {
+        tx.execute(
+            "INSERT INTO cutting_data VALUES (?1, ?2, 'HSS', ?3, ?4, ?5, ?6)",
+            params![id, group, vc, fa, conf, STOCK],
+        )?;
+    }
+    for (name, group) in [
+        ("20CrMnTi", "case_hardening_steel"),
+        ("16MnCr5", "case_hardening_steel"),
+        ("20MnCr5", "case_hardening_steel"),
+        ("18CrNiMo7-6", "case_hardening_steel"),
+        ("20CrMo", "case_hardening_steel"),
+        ("42CrMo4", "quenched_tempered_steel"),
+        ("42CrMo", "quenched_tempered_steel"),
+        ("40Cr", "quenched_tempered_steel"),
+        ("C45", "quenched_tempered_steel"),
+        ("45", "quenched_tempered_steel"),
+        ("GG25", "cast_iron"),
+        ("HT250", "cast_iron"),
+        ("EN-GJL-250", "cast_iron"),
+        ("QT600", "cast_iron"),
+        ("CuSn12", "nonferrous"),
+        ("brass", "nonferrous"),
+    ] {
+        tx.execute(
+            "INSERT INTO materials VALUES (?1, ?2)",
+            params![name, group],
+        )?;
+    }
+    Ok(())
 }

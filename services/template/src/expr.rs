@@ -33,8 +33,6 @@
 use std::fmt;
 use std::sync::Arc;
 
-use crate::render::comment_text;
-
 /// A value: number, string, boolean or null (a parameter the model does not set,
 /// e.g. the Z of a move that only moves X).
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -823,6 +821,25 @@ pub fn write_output(out: &mut String, v: &TplValue) -> Result<(), EvalError> {
             other.type_name()
         ))),
     }
+}
+
+/// Free text made safe for an NC comment (840D `; ...`, FANUC `( ... )`): one
+/// line of printable ASCII (control characters become spaces, other characters
+/// `?`), parentheses as brackets (a FANUC comment cannot contain them), at most
+/// 120 characters.
+pub fn comment_text(text: &str) -> String {
+    text.chars()
+        .map(|c| match c {
+            '(' => '[',
+            ')' => ']',
+            ' '..='~' => c,
+            c if c.is_control() || c.is_whitespace() => ' ',
+            _ => '?',
+        })
+        .take(120)
+        .collect::<String>()
+        .trim_end()
+        .to_string()
 }
 
 #[cfg(test)]

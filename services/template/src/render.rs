@@ -377,24 +377,7 @@ pub fn unit_inputs(model: &MachiningModel) -> Vec<UnitInput<'_>> {
 
 pub use gearcam_nc::number::format_fixed;
 
-/// Free text made safe for an NC comment (840D `; ...`, FANUC `( ... )`): one
-/// line of printable ASCII (control characters become spaces, other characters
-/// `?`), parentheses as brackets (a FANUC comment cannot contain them), at most
-/// 120 characters.
-pub fn comment_text(text: &str) -> String {
-    text.chars()
-        .map(|c| match c {
-            '(' => '[',
-            ')' => ']',
-            ' '..='~' => c,
-            c if c.is_control() || c.is_whitespace() => ' ',
-            _ => '?',
-        })
-        .take(120)
-        .collect::<String>()
-        .trim_end()
-        .to_string()
-}
+pub use crate::expr::comment_text;
 
 /// Checks the values that go into NC words verbatim (not through a number filter).
 fn check_inputs(model: &MachiningModel) -> Result<(), Vec<JobError>> {
