@@ -1,4 +1,4 @@
-//! Group-technology classes of gears (SPEC §3, seed 000 §2.1) and the rule
+//! Group-technology classes of gears (docs/knowledge.md#group-technology-classes, seed 000 §2.1) and the rule
 //! that puts a job into one of them.
 //!
 //! The class tree: cylindrical (spur, helical), conical involute, worm wheel,

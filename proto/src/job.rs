@@ -345,7 +345,7 @@ impl Operation {
 #[serde(deny_unknown_fields)]
 pub struct ProcessOverrides {
     /// Rough or finish hobbing (default finish). Case retrieval proposes the
-    /// cutting data from cases of the same operation first (SPEC §5).
+    /// cutting data from cases of the same operation first (docs/knowledge.md#case-based-reasoning).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub operation: Option<Operation>,
     /// Cutting mode (default conventional, as in the patent).

@@ -109,7 +109,7 @@ pub struct Ratio {
     pub den: u32,
 }
 
-/// Hobbing kinematics of one job (SPEC §4.3).
+/// Hobbing kinematics of one job (docs/hobbing.md#4-the-cycle-positions-speeds-feeds).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Kinematics {
     /// Signed setting angle of the hob axis against the gear end face in the
@@ -268,7 +268,7 @@ pub struct Cut {
     pub time_min: f64,
 }
 
-/// Electronic-gearbox coupling factors (SPEC §4.3).
+/// Electronic-gearbox coupling factors (docs/hobbing.md#4-the-cycle-positions-speeds-feeds).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CouplingFactors {
     /// C per B as programmed: table turns per hob turn in the machine's axis

@@ -1,4 +1,4 @@
-//! Program naming rules of the controllers (SPEC §9): the one place that says
+//! Program naming rules of the controllers (docs/programs.md#program-names-and-files): the one place that says
 //! what a program may be called and what file it is stored in.
 
 use crate::plan::Dialect;
@@ -73,7 +73,7 @@ fn check_plain(name: &str, max: usize) -> Result<(), String> {
     Ok(())
 }
 
-/// The 840D program name for a part number (SPEC §9).
+/// The 840D program name for a part number (docs/programs.md#program-names-and-files).
 ///
 /// Letters and digits are kept and upper-cased; every other character (`-`, `.`,
 /// spaces, ...) becomes `_`, runs of `_` collapse to one and leading and trailing
@@ -142,7 +142,7 @@ fn starts_840d(name: &str) -> bool {
     b.len() >= 2 && (b[0].is_ascii_alphabetic() || b[0] == b'_') && b[1].is_ascii_alphabetic()
 }
 
-/// Checks an 840D program name (without `_N_` and `_MPF`) against SPEC §9:
+/// Checks an 840D program name (without `_N_` and `_MPF`) against docs/programs.md#program-names-and-files:
 /// 1 to 24 characters from `A–Z 0–9 _`, the first two letters or `_` plus a letter.
 /// The error says what is wrong.
 pub fn check_name_840d(name: &str) -> Result<(), String> {

@@ -23,7 +23,7 @@ fn check(dir: &std::path::Path, job: &str) -> (i32, serde_json::Value) {
     (out.status.code().unwrap_or(-1), v)
 }
 
-/// SPEC §4.3's worked self-check: da0 = 80, vc = 100 m/min, z0 = 1, z = 25,
+/// docs/reference.md#worked-self-check: da0 = 80, vc = 100 m/min, z0 = 1, z = 25,
 /// fa = 2, mn = 3, β = 15° → Nt = 397.887 rpm, Ni = 15.9155 rpm,
 /// differential 0.395446° of C per mm of Z.
 const SELF_CHECK: &str = r#"

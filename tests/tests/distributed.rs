@@ -9,7 +9,7 @@ use gearcam_tests::Cluster;
 use sha2::{Digest, Sha256};
 
 /// A spur job as a planner would write it, with every process value given so
-/// the expected numbers below depend only on this file and SPEC §4.3.
+/// the expected numbers below depend only on this file and docs/hobbing.md#4-the-cycle-positions-speeds-feeds.
 const SPUR_JOB: &str = r#"
 [job]
 machine = "H01"
@@ -55,7 +55,7 @@ chip_conveyor = false
 mist_separator = false
 "#;
 
-/// SPEC §4.3 for the job above, computed here independently of the model crate.
+/// docs/hobbing.md#4-the-cycle-positions-speeds-feeds for the job above, computed here independently of the model crate.
 struct Expected {
     x_c: f64,
     z_c: f64,
@@ -148,7 +148,7 @@ fn a_spur_job_is_delivered_through_every_service_process() {
         ("TS_0001", receipt_hash.as_str(), job_id.as_str())
     );
 
-    // The numbers in the program against SPEC §4.3.
+    // The numbers in the program against docs/hobbing.md#4-the-cycle-positions-speeds-feeds.
     let e = expected_spur();
     let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with(';')).collect();
     let g1 = lines

@@ -1,5 +1,5 @@
 //! `gearcam templates analyze|import|list|show`: the standard module library
-//! (SPEC §6) from the command line, on `{data}/templates.db`.
+//! (docs/programs.md#standard-templates) from the command line, on `{data}/templates.db`.
 //!
 //! `analyze` and `import` read every `*.tpl` file of a directory, or by
 //! default the shipped standard code compiled into the binary

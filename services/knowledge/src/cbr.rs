@@ -1,4 +1,4 @@
-//! Case-based reasoning for cutting data (SPEC §5; seed 000 §1): retrieve the
+//! Case-based reasoning for cutting data (docs/knowledge.md#case-based-reasoning; seed 000 §1): retrieve the
 //! cases most similar to a job, and adapt their solutions to it.
 //!
 //! Pure functions on plain data: no database, no clock.

@@ -1,10 +1,10 @@
-//! Hob matching (SPEC §5): pick the library hob that can cut the gear, and
+//! Hob matching (docs/knowledge.md#case-based-reasoning): pick the library hob that can cut the gear, and
 //! say why it was chosen and why every other hob was not.
 //!
 //! Pure functions on plain data. A hob fits when
 //!
 //! 1. its normal base pitch equals the gear's: `mn0·cos α0 = mn·cos αn` within
-//!    1e-4 mm (SPEC §4.2 check 3);
+//!    1e-4 mm (docs/reference.md#check-3-base-pitch);
 //! 2. the machine takes it: `da0 ≤ max_hob_od_mm`;
 //! 3. its accuracy class fits the grade: AA for grade ≤ 7, A for 8, B for 9,
 //!    C for 10 and coarser (the usual hob-maker guidance relating DIN 3968
@@ -25,7 +25,7 @@
 use gearcam_proto::plan::{HobChoice, HobRejection};
 use gearcam_proto::Hand;
 
-/// Normal base pitch tolerance, mm (SPEC §4.2 check 3).
+/// Normal base pitch tolerance, mm (docs/reference.md#check-3-base-pitch).
 pub const BASE_PITCH_TOL_MM: f64 = 1e-4;
 
 /// A library hob with everything matching needs.

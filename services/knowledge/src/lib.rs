@@ -2,7 +2,7 @@
 //! tree, workpieces, hobs, machines, machining history as cases, jobs) and the
 //! step that turns a job request into a process plan: hob matching, cutting
 //! data by case-based reasoning, the job's overrides, every value with its
-//! source (SPEC §5).
+//! source (docs/knowledge.md#case-based-reasoning).
 //!
 //! # Layout
 //!

@@ -135,12 +135,12 @@ pub struct Library {
     pub csv: bool,
 }
 
-/// The group-technology class tree (SPEC §3).
+/// The group-technology class tree (docs/knowledge.md#group-technology-classes).
 pub const CLASSES_LIB: Library = Library {
     name: "classes",
     table: "gt_classes",
     key: "id",
-    doc: "group-technology class tree (SPEC §3)",
+    doc: "group-technology class tree (docs/knowledge.md#group-technology-classes)",
     csv: false,
     fields: &[
         f("id", Text, Required, Id, "class id, e.g. cylindrical"),

@@ -31,7 +31,7 @@ pub const DEFAULT_CONFIDENCE: f64 = 0.2;
 
 use crate::library::kb_err as err;
 
-/// The group-technology class of a job (SPEC §3), by the rule in
+/// The group-technology class of a job (docs/knowledge.md#group-technology-classes), by the rule in
 /// [`gearcam_proto::classify`]: `[[units]]` make a multi-gear part, otherwise
 /// the `[gear]` table's class marker (cone, crowning, worm wheel, curved
 /// tooth) or cylindrical.
@@ -894,7 +894,7 @@ pub(crate) mod tests {
         assert_eq!(p.values["gear.cone.angle_deg"].value, 6.5);
     }
 
-    /// Seed 000's bevel gear (SPEC §5): conical, mn 2, z 19, OD 42.5, 40Cr,
+    /// Seed 000's bevel gear (docs/knowledge.md#case-based-reasoning): conical, mn 2, z 19, OD 42.5, 40Cr,
     /// grade 7, cone 6.5°, on the module-2 hob; `process` as given.
     fn bevel(process: serde_json::Value) -> JobRequest {
         let spec: JobSpec = serde_json::from_value(json!({

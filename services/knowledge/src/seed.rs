@@ -50,7 +50,7 @@ fn insert(tx: &Transaction<'_>, lib: &library::Library, v: Value) -> Result<(), 
 
 /// Seeds the tables of migration 2.
 pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
-    const GT: &str = "SPEC §3 / seed 000 §2.1 (group-technology classification tree)";
+    const GT: &str = "gearcam docs/knowledge.md#group-technology-classes / seed 000 §2.1 (group-technology classification tree)";
     for (id, parent, name, trace, deformation, method, programmable) in [
         ("gear", None, "hobbed gears", "-", "-", "hobbing", false),
         (
@@ -581,7 +581,7 @@ struct SeedHob {
 
 /// Seed hobs. Outside diameters and lengths follow common single-piece hob
 /// sizes; the lead angle is derived, not catalogued: the reference diameter is
-/// taken as d0 = da0 − 2·1.25·mn0 (tip 1.25·mn0 over d0, so SPEC §4.2 check 4
+/// taken as d0 = da0 − 2·1.25·mn0 (tip 1.25·mn0 over d0, so docs/reference.md#check-4-hob-outside-diameter
 /// holds with equality for ha* = 1, c* = 0.25) and γ0 = asin(z0·mn0 / d0).
 const SEED_HOBS: &[SeedHob] = &[
     SeedHob {

@@ -222,7 +222,7 @@ fn process(plan: &ProcessPlan, k: &Kinematics) -> Vec<Explained> {
             if plan.process.depth_mm.is_some() {
                 "radial depth h"
             } else {
-                "h = (da0 + Da1)/2 − theoretical centre distance (SPEC §4.2)"
+                "h = (da0 + Da1)/2 − theoretical centre distance (docs/reference.md#validation-checks)"
             },
         ),
     ];
@@ -421,7 +421,7 @@ fn model(k: &Kinematics) -> Vec<Explained> {
             k.cut_time_min,
             "min",
             Origin::Computed,
-            "(b + 2·ΔH′)·z / (Nt·z0·fa) (SPEC §4.3)",
+            "(b + 2·ΔH′)·z / (Nt·z0·fa) (docs/hobbing.md#4-the-cycle-positions-speeds-feeds)",
         ),
         e(
             "model.part_time_min",

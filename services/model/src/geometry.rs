@@ -15,7 +15,7 @@ use gearcam_proto::{GearSpec, Geometry, MateSpec, PairGeometry};
 pub const SPUR_EPS_DEG: f64 = 1e-9;
 
 /// Default ball diameter for the measurement over balls, as a multiple of mn
-/// (the ratio of SPEC §10's MESYS example, DM = 1.7 mm for mn = 1).
+/// (the ratio of docs/reference.md#reference-values's MESYS example, DM = 1.7 mm for mn = 1).
 pub const DEFAULT_BALL_PER_MODULE: f64 = 1.7;
 
 /// True when the gear's helix angle is zero (within [`SPUR_EPS_DEG`]).
@@ -103,7 +103,7 @@ pub fn span_mm(gear: &GearSpec, k: u32) -> f64 {
 /// cos αMt = db/dM (ISO 21771 / DIN 3960). Published calculators differ in dM
 /// and in the rounding; we take dM in the middle of the tooth depth,
 /// (da + df)/2, and round to the nearest integer, clamped to 1..z. This
-/// reproduces both MESYS (SPEC §10: z 20, x 0 → k 2) and KHK (z 24, x 0.4 →
+/// reproduces both MESYS (docs/reference.md#reference-values: z 20, x 0 → k 2) and KHK (z 24, x 0.4 →
 /// k 4), where dM = d + 2·x·mn with rounding would give 3 for the MESYS gear.
 pub fn span_teeth(gear: &GearSpec) -> u32 {
     let alpha_t = transverse_pressure_angle(gear);
@@ -332,7 +332,7 @@ pub(crate) mod tests {
 
     #[test]
     fn spur_gear_matches_mesys_reference() {
-        // SPEC §10: ISO 21771 reference values published by the MESYS online
+        // docs/reference.md#reference-values: ISO 21771 reference values published by the MESYS online
         // calculator for mn 1, αn 20°, β 0, z 20, x 0, ha* 1, tool addendum 1.25.
         let g = geometry(&gear(1.0, 20, 0.0));
         assert_relative_eq!(g.d_mm, 20.0, epsilon = 1e-12);
@@ -391,7 +391,7 @@ mod published {
     // printed value is the oracle, so it stays as printed.
     #[allow(clippy::approx_constant)]
     fn mesys_spur_gear_thickness_span_and_balls() {
-        // SPEC §10, MESYS online calculator (ISO 21771): mn 1, αn 20°, β 0, z 20,
+        // docs/reference.md#reference-values, MESYS online calculator (ISO 21771): mn 1, αn 20°, β 0, z 20,
         // x 0, ha* 1 → sn 1.5708, k 2, Wk 4.7083, MdK 22.2941 over 1.7 mm balls.
         let mut g = gear(1.0, 20, 0.0);
         g.ball_diameter_mm = Some(1.7);

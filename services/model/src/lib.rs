@@ -1,5 +1,5 @@
 //! The gearcam model service: validates a [`ProcessPlan`] and computes its
-//! [`MachiningModel`] — gear geometry and hobbing kinematics (SPEC §4.2–4.3,
+//! [`MachiningModel`] — gear geometry and hobbing kinematics (docs/reference.md#what-the-model-service-computes,
 //! the "zero programming" patent's steps 2 and 3).
 //!
 //! The computation is pure: plain functions on plain data, no I/O, no async,

@@ -1,4 +1,4 @@
-//! The X–Z(–Y) path of one cut for each gear class (SPEC §4.3–4.4): the five
+//! The X–Z(–Y) path of one cut for each gear class (docs/reference.md#class-models): the five
 //! positions A–E and the moves between B and E.
 //!
 //! X is the radial centre distance, Z the hob-centre height, Y the hob shift.

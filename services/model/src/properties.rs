@@ -19,7 +19,7 @@ use crate::validate::codes;
 /// A valid cylindrical job: module, teeth, helix, face width, hob starts and
 /// diameter, cut mode, cuts, infeed, feed and cutting speed from wide ranges;
 /// the hob matches the gear's base pitch and its lead angle follows from its
-/// diameter (d0 = da0 − 2.5·mn0, SPEC §4.2 check 4 with equality).
+/// diameter (d0 = da0 − 2.5·mn0, docs/reference.md#check-4-hob-outside-diameter with equality).
 fn plans() -> impl Strategy<Value = ProcessPlan> {
     (
         (

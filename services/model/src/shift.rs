@@ -1,4 +1,4 @@
-//! Hob shifting (SPEC §4.1, §4.4; the patent's shift start, end, per step and
+//! Hob shifting (docs/reference.md#hob-shifting; the patent's shift start, end, per step and
 //! parts per step): which section of the hob cuts which part and which cut,
 //! inside the usable hob length.
 //!

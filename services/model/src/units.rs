@@ -1,4 +1,4 @@
-//! Multi-gear parts (SPEC §4.4): an ordered list of units, each of its own
+//! Multi-gear parts (docs/reference.md#class-models): an ordered list of units, each of its own
 //! class and hob, at its Z offset on the part; the hob is changed between
 //! units when it differs.
 //!

@@ -173,7 +173,7 @@ fn worm_wheel_and_multi_gear_examples() {
     assert!((m.model.part_time_min - sum).abs() < 1e-12);
 }
 
-/// SPEC §10's MESYS gear (mn 1, αn 20°, z 20, x 0, ha* 1, 1.7 mm balls) with
+/// docs/reference.md#reference-values's MESYS gear (mn 1, αn 20°, z 20, x 0, ha* 1, 1.7 mm balls) with
 /// a matching inline module-1 hob, on H01.
 const MESYS_JOB: &str = r#"
 [job]
@@ -204,7 +204,7 @@ feed_mm_per_rev = 1.0
 #[allow(clippy::approx_constant)]
 fn check_json_fields_carry_the_published_geometry_and_the_cut_list() {
     // `gearcam check --json` writes `geometry` and `model` as these structs
-    // serialise; the MESYS values (SPEC §10) to their printed precision.
+    // serialise; the MESYS values (docs/reference.md#reference-values) to their printed precision.
     let (m, _) = run("MESYS", MESYS_JOB).unwrap_or_else(|e| panic!("{e:#?}"));
     let geometry = serde_json::to_value(&m.geometry).unwrap();
     let model = serde_json::to_value(&m.model).unwrap();

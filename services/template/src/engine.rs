@@ -1,4 +1,4 @@
-//! Assembly and the expression-driven algorithm (SPEC §6, seed 000 §3.2).
+//! Assembly and the expression-driven algorithm (docs/programs.md#standard-templates, seed 000 §3.2).
 //!
 //! [`Compiled::new`] takes an assembled template (its records in ID order, see
 //! [`crate::library`] for assembly from the module library), resolves every

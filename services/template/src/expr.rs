@@ -1,4 +1,4 @@
-//! The template expression language (SPEC §6): small, safe, bounded.
+//! The template expression language (docs/programs.md#standard-templates): small, safe, bounded.
 //!
 //! Arithmetic (`+ - * / %`), comparison (`== != < <= > >=`), boolean (`and or
 //! not`), string concatenation (`+` of two strings), parentheses, literals
@@ -872,7 +872,7 @@ mod tests {
     #[test]
     fn strings_and_nc_formatting() {
         let p = [("X", TplValue::Num(74.05)), ("Z", TplValue::Num(-0.00001))];
-        // SPEC §6: "G90 X" + X + " Z" + Z, with the numbers written as NC numbers.
+        // docs/programs.md#standard-templates: "G90 X" + X + " Z" + Z, with the numbers written as NC numbers.
         assert_eq!(
             run("\"G90 X\" + nc(X) + \" Z\" + nc(Z)", &p),
             Ok(TplValue::from("G90 X74.05 Z0.0"))

@@ -1,5 +1,5 @@
 //! The gearcam template service: NC programs from the standard-template method
-//! of seed 000 (SPEC §4.5, §6), checked before they leave.
+//! of seed 000 (docs/programs.md#standard-templates), checked before they leave.
 //!
 //! Standard NC code per gear class and controller dialect (`standard/*.tpl`, one
 //! six-tuple record ⟨ID, O, P, S, T, N⟩ per line) is split into the six control

@@ -1,4 +1,4 @@
-//! The standard module library in SQLite (SPEC §6; seed 000 §3.1.3–3.1.4).
+//! The standard module library in SQLite (docs/programs.md#standard-templates; seed 000 §3.1.3–3.1.4).
 //!
 //! Template source files (`standard/*.tpl`, [`crate::stdcode`]) are imported
 //! into one database: every record of every class is a **component** — a
@@ -555,7 +555,7 @@ impl Library {
         Ok(out)
     }
 
-    /// Assembles a template from its components (SPEC §6): the class's similar
+    /// Assembles a template from its components (docs/programs.md#standard-templates): the class's similar
     /// and non-similar components per module ordered by N, then all records by
     /// ID. `None`: the latest version. The result equals the parsed source
     /// file record for record.
@@ -843,7 +843,7 @@ fn available(conn: &Connection) -> Result<Vec<String>, LibraryError> {
         .collect())
 }
 
-/// SPEC §6 assembly from the stored components.
+/// docs/programs.md#standard-templates assembly from the stored components.
 fn assemble(
     conn: &Connection,
     id: &str,

@@ -1,4 +1,4 @@
-//! The parameter table: every value a template can read, by scope (SPEC §6 step
+//! The parameter table: every value a template can read, by scope (docs/programs.md#standard-templates step
 //! 1, "load the parameter values").
 //!
 //! Each scope has a fixed list of names ([`PART`], [`UNIT`], [`CUT`], [`MOVE`]);

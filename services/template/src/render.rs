@@ -454,7 +454,7 @@ mod tests {
     use super::*;
 
     /// A spur gear mn 3, z 25 with an 80 mm single-start hob on machine H01, the
-    /// numbers of SPEC §4.3's self-check (vc 100 m/min → Nt 397.887 rpm, fa 2 mm/rev
+    /// numbers of docs/reference.md#worked-self-check (vc 100 m/min → Nt 397.887 rpm, fa 2 mm/rev
     /// → Vf = 2·397.887/25 = 31.831 mm/min). Positions as the model computes them
     /// for H = 50, b = 30, ΔH′ + safety = 24.5, L = 75.073, A = (300, 400).
     fn spur_model() -> MachiningModel {
@@ -735,7 +735,7 @@ mod tests {
     }
 
     /// The spur model turned helical: β = 15° right hand, differential
-    /// 360·sin β / (π·mn·z) = 0.395446 °/mm (SPEC §4.3 self-check).
+    /// 360·sin β / (π·mn·z) = 0.395446 °/mm (docs/reference.md#worked-self-check).
     fn helical_model() -> MachiningModel {
         let mut m = spur_model();
         let beta = 15f64.to_radians();
@@ -914,7 +914,7 @@ mod tests {
     fn helical_gear_adds_the_axial_axis_with_the_differential() {
         let text = render(&helical_model()).text;
         assert_eq!(block(&text, "EGDEF"), "EGDEF(C,B,1,Z,1)");
-        // 360·sin 15° / (π·3·25) = 0.395446 °/mm (SPEC §4.3).
+        // 360·sin 15° / (π·3·25) = 0.395446 °/mm (docs/hobbing.md#4-the-cycle-positions-speeds-feeds).
         assert!(
             text.contains("EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25,Z,0,0.395446,1)"),
             "{text}"

@@ -1,5 +1,5 @@
 //! Literal similarity of standard NC code and the split into similar and
-//! non-similar components (SPEC §6; seed 000 §3.1.3).
+//! non-similar components (docs/programs.md#standard-templates; seed 000 §3.1.3).
 //!
 //! Two lines are compared element by element, position by position:
 //!

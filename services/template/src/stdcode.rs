@@ -1,4 +1,4 @@
-//! Parametrised standard NC code: the template source format (SPEC §6).
+//! Parametrised standard NC code: the template source format (docs/programs.md#standard-templates).
 //!
 //! A template file is the standard NC code of one gear class on one controller
 //! dialect, one **record** per line, in program order. Each record is one
@@ -207,7 +207,7 @@ impl Record {
         s
     }
 
-    /// The record's elements for the literal similarity (SPEC §6): its letters
+    /// The record's elements for the literal similarity (docs/programs.md#standard-templates): its letters
     /// and letter groups, numbers, symbols, and each `{…}` parameter as one
     /// element, in order. Module and conditions are part of the record.
     pub fn elements(&self) -> Vec<String> {

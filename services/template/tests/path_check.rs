@@ -371,7 +371,7 @@ fn hand_written_fanuc_spur_and_helical_programs_pass_and_trace_back() {
         let g81 = &trace.couplings[0];
         assert_eq!((g81.num, g81.den), (1, 25));
         if name.starts_with("helical") {
-            // 360·sin 15°/(π·3·25) = 0.395446 °/mm (SPEC §4.3 self-check).
+            // 360·sin 15°/(π·3·25) = 0.395446 °/mm (docs/reference.md#worked-self-check).
             let z = g81.c_per_z_deg_per_mm.expect("helical compensation");
             assert!((z - 0.395446).abs() < 1e-6, "{z}");
             assert!(text.contains("G81 T25 L1 Q3.0 P15.0"), "{text}");

@@ -1,4 +1,4 @@
-//! The hobbing model of a cylindrical gear (SPEC §4.3, patent step 3): hob
+//! The hobbing model of a cylindrical gear (docs/hobbing.md#4-the-cycle-positions-speeds-feeds, patent step 3): hob
 //! swivel, approach clearance ΔH′, the five cycle positions A–E, speeds, feed,
 //! differential, gearbox coupling and machining time.
 //!
@@ -30,7 +30,7 @@ pub use couplings::*;
 /// Samples of the dense scan for ΔH′ before golden-section refinement.
 pub const CLEARANCE_SAMPLES: usize = 128;
 
-/// Hob reference diameter d0 = z0·mn0 / sin γ0, mm (SPEC §4.2 check 4).
+/// Hob reference diameter d0 = z0·mn0 / sin γ0, mm (docs/reference.md#check-4-hob-outside-diameter).
 pub fn hob_reference_diameter_mm(hob: &HobData) -> f64 {
     f64::from(hob.starts) * hob.module_mm / hob.lead_angle_deg.to_radians().sin()
 }
@@ -41,7 +41,7 @@ pub fn blank_od_mm(gear: &GearSpec, geometry: &Geometry) -> f64 {
     gear.blank_od_mm.unwrap_or(geometry.da_mm)
 }
 
-/// Theoretical centre distance of hob and gear (SPEC §4.2 check 5), mm:
+/// Theoretical centre distance of hob and gear (docs/reference.md#check-5-centre-distance), mm:
 /// d0/2 + (d·cos αn / cos α0)/2 + x·mn.
 pub fn theoretical_centre_distance_mm(gear: &GearSpec, geometry: &Geometry, hob: &HobData) -> f64 {
     let cos_ratio =
@@ -70,7 +70,7 @@ pub struct Setup {
 }
 
 /// Blank, depth and centre distance of a plan. The default depth is
-/// h = (da0 + Da1)/2 − L_theory (SPEC §4.2 check 1).
+/// h = (da0 + Da1)/2 − L_theory (docs/reference.md#check-1-blank-outside-diameter).
 pub fn setup(plan: &ProcessPlan, geometry: &Geometry) -> Setup {
     setup_unit(&Unit::of_plan(plan), geometry)
 }
@@ -192,13 +192,13 @@ pub fn cut_depth_mm(depth_mm: f64, allowance_mm: f64, i: u32, n: u32) -> f64 {
     }
 }
 
-/// The hobbing kinematics of a validated plan's own gear (SPEC §4.3–4.4), see
+/// The hobbing kinematics of a validated plan's own gear (docs/reference.md#class-models), see
 /// [`unit_kinematics`].
 pub fn kinematics(plan: &ProcessPlan, geometry: &Geometry) -> Kinematics {
     unit_kinematics(&Unit::of_plan(plan), geometry)
 }
 
-/// The hobbing kinematics of one validated unit (SPEC §4.3–4.4):
+/// The hobbing kinematics of one validated unit (docs/reference.md#class-models):
 ///
 /// - swivel γ ([`swivel_deg`]), programmed as `machine.settings.swivel_sign · γ`;
 /// - cuts: rough cuts to (h − allowance)·i/(n − 1), the last to h, each with

@@ -10,7 +10,7 @@ fn kin(plan: &ProcessPlan) -> Kinematics {
 
 #[test]
 fn spec_worked_self_check_helical() {
-    // SPEC §4.3 worked self-check: da0 80, vc 100, z0 1, z 25, fa 2, mn 3, β 15°
+    // docs/reference.md#worked-self-check: da0 80, vc 100, z0 1, z 25, fa 2, mn 3, β 15°
     // → Nt 397.887 rpm, Ni 15.9155 rpm, differential 0.395446 °/mm.
     let k = kin(&fixtures::helical_plan(15.0, Hand::Right));
     assert_relative_eq!(k.hob_rpm, 397.887, epsilon = 5e-4);
@@ -24,7 +24,7 @@ fn spec_worked_self_check_helical() {
 
 #[test]
 fn spur_feed_is_fa_times_index_speed() {
-    // SPEC §4.3: spur Vf = fa·z0·Nt/z = 2·15.9155 = 31.831 mm/min, no differential.
+    // docs/hobbing.md#4-the-cycle-positions-speeds-feeds: spur Vf = fa·z0·Nt/z = 2·15.9155 = 31.831 mm/min, no differential.
     let k = kin(&fixtures::plan());
     assert_relative_eq!(k.axial_feed_mm_min, 31.831, epsilon = 5e-4);
     assert_eq!(k.table_rpm, k.index_rpm);
@@ -123,7 +123,7 @@ fn indexing_840d_ignores_the_hob_hand() {
 
 #[test]
 fn clearance_without_swivel_is_the_approach_length() {
-    // SPEC §4.3: for γ = 0, ΔH′ = √(h·(da0 − h)).
+    // docs/hobbing.md#4-the-cycle-positions-speeds-feeds: for γ = 0, ΔH′ = √(h·(da0 − h)).
     let c = Clearance {
         blank_od_mm: 81.0,
         hob_od_mm: 80.0,

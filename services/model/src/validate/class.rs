@@ -27,7 +27,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
             "gear.curved_tooth",
             "a programmable class: cylindrical, conical, crowned, worm_wheel or multi_gear",
             GearClass::CurvedTooth.as_str(),
-            "Curved-tooth gears are classified (SPEC §3) but not yet programmable: gearcam has no hobbing model for a curved tooth trace. Program this part by hand for now, or remove [gear.curved_tooth] if the trace is in fact straight.",
+            "Curved-tooth gears are classified (docs/knowledge.md#group-technology-classes) but not yet programmable: gearcam has no hobbing model for a curved tooth trace. Program this part by hand for now, or remove [gear.curved_tooth] if the trace is in fact straight.",
         );
     }
     let unit = gearcam_proto::class::unit_class(g);

@@ -111,7 +111,7 @@ pub(super) fn run_out(
 /// other units. For a neighbour of radius Rn, the hob (radius r, swivel γ) at
 /// the unit's centre distance L overlaps it radially by hn = Rn + r − L; when
 /// hn > 0 the hob centre must stay ΔH′(Rn, r, hn, γ) away from the
-/// neighbour's face (the same clearance as the approach, SPEC §4.3), over the
+/// neighbour's face (the same clearance as the approach, docs/hobbing.md#4-the-cycle-positions-speeds-feeds), over the
 /// unit's whole feed stroke.
 pub(super) fn check_unit_collisions(errors: &mut Vec<JobError>, k: &Kinematics, cfg: &Config) {
     for (i, u) in k.units.iter().enumerate() {

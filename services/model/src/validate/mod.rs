@@ -1,5 +1,5 @@
 //! Validation of a process plan before and after the hobbing computation
-//! (SPEC §4.2, patent step 2).
+//! (docs/reference.md#validation-checks, patent step 2).
 //!
 //! [`validate`] runs every parameter check and the five physical checks of the
 //! patent and reports all failures together; a check whose inputs already
@@ -64,7 +64,7 @@ pub const EDGE_FRACTION: f64 = 0.1;
 /// Most cuts a job may ask for.
 pub const MAX_CUTS: u32 = 6;
 
-/// Tolerances and windows of validation for one machine (SPEC §4.2).
+/// Tolerances and windows of validation for one machine (docs/reference.md#validation-checks).
 ///
 /// The windows come from the machine profile's settings
 /// ([`Config::for_machine`]); the tolerances default to [`TOLERANCE_MM`],
@@ -292,7 +292,7 @@ fn open(v: f64, lo: f64, hi: f64) -> bool {
 }
 
 /// Runs every pre-computation check of a plan and reports all failures
-/// together (SPEC §4.2).
+/// together (docs/reference.md#validation-checks).
 ///
 /// Parameter checks: teeth, module, pressure angles, helix angle and hand,
 /// face width, coefficients, quantity, feed, cutting speed, safety, cuts (one
