@@ -1,7 +1,11 @@
-//! The planning station: the `gearcam` command's library.
+//! The `gearcam` command's library: the command line, one module per command,
+//! and the client side of the planning station and the program stores.
 //!
 //! # Layout
 //!
+//! - [`cli`]: the arguments and the dispatch; [`cmd`]: one module per command.
+//! - [`bus_config`]: the one place that decides how a command joins the bus.
+//! - [`examples`]: the example jobs bundled into the binary.
 //! - [`jobfile`]: TOML job files to [`gearcam_proto::JobSpec`], errors naming the key.
 //! - [`check`]: the local pipeline (`gearcam check`) and its JSON contract.
 //! - [`station`]: the client side: submitting a job to the station and following it.
@@ -9,8 +13,12 @@
 //! - [`embedded`]: every service in one process on one session (`gearcam up`, `gearcam demo`).
 #![forbid(unsafe_code)]
 
+pub mod bus_config;
 pub mod check;
+pub mod cli;
+pub mod cmd;
 pub mod embedded;
+pub mod examples;
 pub mod jobfile;
 pub mod station;
 pub mod store;

@@ -86,10 +86,9 @@ pub(crate) mod fixtures {
     use std::collections::BTreeMap;
 
     use gearcam_proto::{
-        AxisNames, CaseRef, CutMode, Dialect, Envelope, GCodeSystem, GearSpec, Hand, HobData,
-        HobId, HobSpec, JobHeader, JobId, JobRequest, JobSpec, MCodes, MachineId, MachineLimits,
-        MachineProfile, MachineSettings, Options, ParameterBlock, ProcessData, ProcessOverrides,
-        ProcessPlan, Source, Sourced,
+        CaseRef, CutMode, GearSpec, Hand, HobData, HobId, HobSpec, JobHeader, JobId, JobRequest,
+        JobSpec, MachineProfile, Options, ProcessData, ProcessOverrides, ProcessPlan, Source,
+        Sourced,
     };
 
     /// Spur gear mn 3, z 25, αn 20°, b 30, x 0, ha* 1, c* 0.25, H 50, blank at da.
@@ -97,74 +96,9 @@ pub(crate) mod fixtures {
         crate::geometry::tests::gear(3.0, 25, 0.0)
     }
 
-    /// Machine H01: 840D, axes X Z A B C Y, module 0.5–8 mm, X 0–400, Z −50–400.
+    /// Machine H01 as the knowledge base seeds it (840D, axes X Z A B C Y).
     pub(crate) fn machine() -> MachineProfile {
-        MachineProfile {
-            id: MachineId::new("H01").unwrap(),
-            name: "YK3126 CNC hobbing machine".into(),
-            dialect: Dialect::Sinumerik840d,
-            axes: AxisNames {
-                radial: "X".into(),
-                axial: "Z".into(),
-                swivel: "A".into(),
-                hob: "B".into(),
-                table: "C".into(),
-                shift: "Y".into(),
-            },
-            mcodes: MCodes {
-                spindle_on: 3,
-                spindle_off: 5,
-                coolant_on: 7,
-                coolant_off: 9,
-                outer_support_on: 20,
-                outer_support_off: 21,
-                fixture_clamp: 10,
-                fixture_unclamp: 11,
-                chip_conveyor_on: 24,
-                chip_conveyor_off: 25,
-                mist_on: 26,
-                mist_off: 27,
-                program_end: 2,
-            },
-            limits: MachineLimits {
-                module_mm: [0.5, 8.0],
-                max_workpiece_od_mm: 260.0,
-                max_hob_od_mm: 130.0,
-                x_mm: [0.0, 400.0],
-                z_mm: [-50.0, 400.0],
-                max_hob_rpm: 1500.0,
-                max_table_rpm: 150.0,
-                max_axial_feed_mm_min: 2000.0,
-                max_swivel_deg: 45.0,
-            },
-            settings: MachineSettings {
-                blank_od_below_mm: 2.0,
-                blank_od_above_mm: 0.5,
-                depth_allowance_mm: 0.5,
-                safety_mm: 2.0,
-                retract_mm: 100.0,
-                exit_mm: 5.0,
-                swivel_sign: -1.0,
-                swivel_offset_deg: 0.0,
-                table_sign: 1.0,
-                hob_sign: 1.0,
-                shift_sign: -1.0,
-            },
-            gcode_system: GCodeSystem::Sinumerik,
-            envelope: Envelope {
-                table_radius_mm: 130.0,
-                fixture_radius_mm: 30.0,
-                tailstock_radius_mm: 20.0,
-                tailstock_gap_mm: 60.0,
-            },
-            work_offset: "G54".into(),
-            parameters: ParameterBlock {
-                r_first: 1,
-                macro_first: 501,
-            },
-            home_x_mm: 300.0,
-            home_z_mm: 350.0,
-        }
+        gearcam_knowledge::seed::seed_machine_h01()
     }
 
     /// Hob HOB-M3-80: one start, OD 80, mn 3, α 20°, lead angle 2.3716°, right hand, length 100.

@@ -444,11 +444,10 @@ mod tests {
     use std::collections::BTreeMap;
 
     use gearcam_proto::{
-        AxisNames, CaseRef, CouplingFactors, Cut, CutMode, Envelope, GCodeSystem, GearClass,
-        GearSpec, Geometry, Hand, HobData, HobSpec, Infeed, JobHeader, JobId, JobRequest, JobSpec,
-        Kinematics, MCodes, MachineId, MachineLimits, MachineProfile, MachineSettings, Move,
-        MoveKind, Options, ParameterBlock, Position, Positions, ProcessData, ProcessOverrides,
-        ProcessPlan, Ratio, Source,
+        AxisNames, CaseRef, CouplingFactors, Cut, CutMode, GearClass, GearSpec, Geometry, Hand,
+        HobData, HobSpec, Infeed, JobHeader, JobId, JobRequest, JobSpec, Kinematics, Move,
+        MoveKind, Options, Position, Positions, ProcessData, ProcessOverrides, ProcessPlan, Ratio,
+        Source,
     };
 
     use super::*;
@@ -459,72 +458,11 @@ mod tests {
     /// for H = 50, b = 30, ΔH′ + safety = 24.5, L = 75.073, A = (300, 400).
     fn spur_model() -> MachiningModel {
         let job_id = JobId::new("J-0001").unwrap();
-        let machine = MachineProfile {
-            id: MachineId::new("H01").unwrap(),
-            name: "YK3126 CNC hobbing machine".into(),
-            dialect: Dialect::Sinumerik840d,
-            axes: AxisNames {
-                radial: "X".into(),
-                axial: "Z".into(),
-                swivel: "A".into(),
-                hob: "B".into(),
-                table: "C".into(),
-                shift: "Y".into(),
-            },
-            mcodes: MCodes {
-                spindle_on: 3,
-                spindle_off: 5,
-                coolant_on: 8,
-                coolant_off: 9,
-                outer_support_on: 20,
-                outer_support_off: 21,
-                fixture_clamp: 10,
-                fixture_unclamp: 11,
-                chip_conveyor_on: 24,
-                chip_conveyor_off: 25,
-                mist_on: 26,
-                mist_off: 27,
-                program_end: 30,
-            },
-            limits: MachineLimits {
-                module_mm: [0.5, 6.0],
-                max_workpiece_od_mm: 260.0,
-                max_hob_od_mm: 120.0,
-                x_mm: [0.0, 350.0],
-                z_mm: [0.0, 450.0],
-                max_hob_rpm: 1000.0,
-                max_table_rpm: 60.0,
-                max_axial_feed_mm_min: 500.0,
-                max_swivel_deg: 45.0,
-            },
-            settings: MachineSettings {
-                blank_od_below_mm: 2.0,
-                blank_od_above_mm: 0.5,
-                depth_allowance_mm: 0.5,
-                safety_mm: 2.0,
-                retract_mm: 100.0,
-                exit_mm: 5.0,
-                swivel_sign: -1.0,
-                swivel_offset_deg: 0.0,
-                table_sign: 1.0,
-                hob_sign: 1.0,
-                shift_sign: -1.0,
-            },
-            gcode_system: GCodeSystem::Sinumerik,
-            envelope: Envelope {
-                table_radius_mm: 130.0,
-                fixture_radius_mm: 30.0,
-                tailstock_radius_mm: 20.0,
-                tailstock_gap_mm: 60.0,
-            },
-            work_offset: "G54".into(),
-            parameters: ParameterBlock {
-                r_first: 1,
-                macro_first: 501,
-            },
-            home_x_mm: 300.0,
-            home_z_mm: 400.0,
-        };
+        // The seeded H01, at the home position this hand-built model's
+        // positions were computed for.
+        let mut machine = gearcam_knowledge::seed::seed_machine_h01();
+        machine.home_x_mm = 300.0;
+        machine.home_z_mm = 400.0;
         let spec = JobSpec {
             job: JobHeader {
                 id: Some(job_id.clone()),
@@ -788,7 +726,10 @@ mod tests {
         assert_eq!(lines[3], "; JOB J-0001");
         assert_eq!(lines[4], "; PART SP-1001");
         assert_eq!(lines[5], "; CLASS cylindrical");
-        assert_eq!(lines[6], "; MACHINE H01 YK3126 CNC hobbing machine");
+        assert_eq!(
+            lines[6],
+            "; MACHINE H01 six-axis CNC hobbing machine, SINUMERIK 840D sl"
+        );
         assert_eq!(lines[7], "; TEMPLATE cylindrical_840d VERSION 6");
         assert_eq!(lines[8], "; CASES CD-STEEL-HSS-1 CASE-0042");
         assert_eq!(lines[9], "; MODEL gearcam-model 0.1.0");
@@ -862,7 +803,7 @@ mod tests {
             "G0 G90 Z=154.5",
             "G0 G90 X=173.75",
             "M10 ; FIXTURE CLAMP",
-            "M8 ; COOLANT ON",
+            "M7 ; COOLANT ON",
             "M24 ; CHIP CONVEYOR ON",
             "R1=3.0 ; NORMAL MODULE MN, MM",
             "R2=25 ; NUMBER OF TEETH Z",
@@ -883,10 +824,10 @@ mod tests {
             "M9 ; COOLANT OFF",
             "M25 ; CHIP CONVEYOR OFF",
             "M11 ; FIXTURE UNCLAMP",
-            "M30 ; END OF PROGRAM",
+            "M2 ; END OF PROGRAM",
         ];
         assert_eq!(words, expected, "program:\n{}", program.text);
-        assert!(program.text.ends_with("M30 ; END OF PROGRAM\n"));
+        assert!(program.text.ends_with("M2 ; END OF PROGRAM\n"));
     }
 
     #[test]
@@ -978,7 +919,7 @@ mod tests {
             mist_separator: false,
         };
         let text = render(&model).text;
-        assert_eq!(m_codes(&text), vec![3, 5, 30], "{text}");
+        assert_eq!(m_codes(&text), vec![3, 5, 2], "{text}");
         assert!(!text.contains("EGOFS"), "{text}");
         assert!(!text.contains("EGDEL"), "{text}");
     }
@@ -997,7 +938,7 @@ mod tests {
         let text = render(&model).text;
         assert_eq!(
             m_codes(&text),
-            vec![20, 10, 8, 24, 26, 3, 5, 9, 25, 27, 21, 11, 30],
+            vec![20, 10, 7, 24, 26, 3, 5, 9, 25, 27, 21, 11, 2],
             "{text}"
         );
         let at = |code: &str| text.find(code).unwrap();
@@ -1341,7 +1282,7 @@ mod tests {
         assert_eq!(program.template.version, 7);
         assert_eq!(
             program.text,
-            "%_N_SP_1001_MPF\n;$PATH=/_N_MPF_DIR\nN10 M30\n"
+            "%_N_SP_1001_MPF\n;$PATH=/_N_MPF_DIR\nN10 M2\n"
         );
         // The other classes keep the shipped one.
         let list = templates.list();

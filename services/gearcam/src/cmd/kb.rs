@@ -148,7 +148,7 @@ fn refused(errors: &[JobError]) -> ExitCode {
     eprintln!(
         "gearcam: refused with {} error(s):\n{}",
         errors.len(),
-        gearcam::check::format_errors(errors)
+        crate::check::format_errors(errors)
     );
     ExitCode::FAILURE
 }

@@ -1,0 +1,179 @@
+//! The `gearcam` command line: its arguments (clap) and the dispatch to one
+//! module per command ([`crate::cmd`]).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use gearcam_bus::BusArgs;
+use gearcam_proto::{JobId, MachineId};
+
+use crate::cmd::{self, kb, templates};
+
+/// gearcam: from a gear drawing to a proven NC program in the machine's program store.
+#[derive(Debug, Parser)]
+#[command(version, about)]
+pub struct Cli {
+    /// The command.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run every service and one agent per configured machine in this process.
+    Up {
+        /// Data directory (knowledge base, machines' program stores).
+        #[arg(long, default_value = "gearcam-data")]
+        data: PathBuf,
+        #[command(flatten)]
+        bus: BusArgs,
+    },
+    /// Start what `up` starts, submit the bundled example jobs, show the programs, stop.
+    Demo {
+        /// Data directory (knowledge base, machines' program stores).
+        #[arg(long, default_value = "gearcam-data")]
+        data: PathBuf,
+    },
+    /// Submit a job file over the bus.
+    Submit {
+        /// The job file (TOML; see examples/).
+        job: PathBuf,
+        #[command(flatten)]
+        bus: BusArgs,
+        /// Follow the job until the program is delivered (exit 0) or refused (exit 1).
+        #[arg(long)]
+        wait: bool,
+        /// Print the outcome as JSON.
+        #[arg(long)]
+        json: bool,
+        /// Seconds to wait for the outcome (with --wait) and for the services.
+        #[arg(long, default_value_t = 60)]
+        timeout: u64,
+    },
+    /// Compute the job locally (no bus) and print the result and the program.
+    Check {
+        /// The job file (TOML; see examples/).
+        job: PathBuf,
+        /// Print the report as JSON.
+        #[arg(long)]
+        json: bool,
+        /// Data directory holding the knowledge base (created and seeded if missing).
+        #[arg(long, default_value = "gearcam-data")]
+        data: PathBuf,
+    },
+    /// Run the planning station service on its own (job journal, re-drives).
+    Station {
+        /// The job journal (SQLite).
+        #[arg(long, default_value = "gearcam-data/station.db")]
+        journal: PathBuf,
+        /// Re-drive a job after this many milliseconds without progress (then with backoff).
+        #[arg(long, default_value_t = 5000)]
+        redrive_ms: u64,
+        #[command(flatten)]
+        bus: BusArgs,
+    },
+    /// List every job in the station's journal.
+    Jobs {
+        #[command(flatten)]
+        bus: BusArgs,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Show one job's state.
+    Status {
+        /// The job id.
+        job: JobId,
+        #[command(flatten)]
+        bus: BusArgs,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// A machine's stored programs: history, show a version, roll back.
+    Program {
+        #[command(subcommand)]
+        action: ProgramAction,
+    },
+    /// The knowledge base's libraries: list, show, add, edit, remove, CSV import/export.
+    Kb(kb::KbArgs),
+    /// After delivery: record the values actually used and the outcome; the job becomes a case.
+    Confirm(kb::ConfirmArgs),
+    /// The standard module library: analyze literal similarity, import, list, show templates.
+    Templates(templates::TemplatesArgs),
+    /// Run a Zenoh router (for a shop network without zenohd, and for tests).
+    Router {
+        #[command(flatten)]
+        bus: BusArgs,
+    },
+}
+
+#[derive(Debug, Subcommand)]
+pub enum ProgramAction {
+    /// Every stored version (of one program, if named), newest first.
+    History {
+        /// The machine, e.g. H01.
+        #[arg(long)]
+        machine: MachineId,
+        /// Program name, e.g. SP_1001.
+        name: Option<String>,
+        #[command(flatten)]
+        bus: BusArgs,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Print one stored version's text.
+    Show {
+        /// The machine, e.g. H01.
+        #[arg(long)]
+        machine: MachineId,
+        /// Program name.
+        name: String,
+        /// Version number (from `history`).
+        seq: u64,
+        #[command(flatten)]
+        bus: BusArgs,
+    },
+    /// Make a stored version current again in the machine's program directory.
+    Rollback {
+        /// The machine, e.g. H01.
+        #[arg(long)]
+        machine: MachineId,
+        /// Program name.
+        name: String,
+        /// Version number (from `history`).
+        seq: u64,
+        #[command(flatten)]
+        bus: BusArgs,
+    },
+}
+
+/// Runs a parsed command; the exit code of its outcome.
+pub async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
+    match cli.command {
+        Command::Up { data, bus } => cmd::up::up(&data, &bus).await,
+        Command::Demo { data } => cmd::demo::demo(&data).await,
+        Command::Submit {
+            job,
+            bus,
+            wait,
+            json,
+            timeout,
+        } => cmd::submit::submit(&job, &bus, wait, json, timeout).await,
+        Command::Check { job, json, data } => Ok(cmd::check::check(&job, json, &data)),
+        Command::Router { bus } => cmd::router::router(&bus).await,
+        Command::Kb(args) => Ok(kb::run(args)),
+        Command::Confirm(args) => Ok(kb::confirm(args)),
+        Command::Templates(args) => Ok(templates::run(args)),
+        Command::Station {
+            journal,
+            redrive_ms,
+            bus,
+        } => cmd::station::station(journal, redrive_ms, &bus).await,
+        Command::Jobs { bus, json } => cmd::jobs::jobs(&bus, json).await,
+        Command::Status { job, bus, json } => cmd::jobs::status(&job, &bus, json).await,
+        Command::Program { action } => cmd::program::program(action).await,
+    }
+}

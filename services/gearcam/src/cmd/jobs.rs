@@ -1,0 +1,47 @@
+//! `gearcam jobs` and `gearcam status`: the station's journal.
+
+use std::process::ExitCode;
+
+use anyhow::Context;
+use gearcam_bus::BusArgs;
+use gearcam_proto::JobId;
+
+use crate::check;
+use crate::cmd::{join_bus, refused};
+use crate::station;
+
+pub async fn jobs(bus_args: &BusArgs, json: bool) -> anyhow::Result<ExitCode> {
+    let bus = join_bus(bus_args).await?;
+    let list = station::jobs(&bus).await;
+    bus.close().await;
+    let jobs = match list.context("asking the station")? {
+        Ok(jobs) => jobs,
+        Err(errors) => return Ok(refused(&errors)),
+    };
+    if json {
+        println!("{}", serde_json::to_string_pretty(&jobs)?);
+    } else {
+        for s in &jobs {
+            println!("{}", station::describe_status(s));
+        }
+        println!("{} job(s)", jobs.len());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+pub async fn status(job: &JobId, bus_args: &BusArgs, json: bool) -> anyhow::Result<ExitCode> {
+    let bus = join_bus(bus_args).await?;
+    let status = station::status(&bus, job).await;
+    bus.close().await;
+    let status = match status.context("asking the station")? {
+        Ok(status) => status,
+        Err(errors) => return Ok(refused(&errors)),
+    };
+    if json {
+        println!("{}", serde_json::to_string_pretty(&status)?);
+    } else {
+        println!("{}", station::describe_status(&status));
+        print!("{}", check::format_errors(&status.errors));
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,46 @@
+//! One module per `gearcam` command, and what they share.
+
+pub mod check;
+pub mod demo;
+pub mod jobs;
+pub mod kb;
+pub mod program;
+pub mod router;
+pub mod station;
+pub mod submit;
+pub mod templates;
+pub mod up;
+
+use std::process::ExitCode;
+use std::time::Duration;
+
+use anyhow::Context;
+use gearcam_bus::{Bus, BusArgs};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::{bus_config, check as report};
+
+pub fn progress(json: bool) -> ProgressBar {
+    if json {
+        return ProgressBar::hidden();
+    }
+    let pb = ProgressBar::new_spinner();
+    pb.set_style(
+        ProgressStyle::with_template("{spinner} {elapsed} {msg}").expect("valid template"),
+    );
+    pb.enable_steady_tick(Duration::from_millis(120));
+    pb
+}
+
+/// Joins the bus as a client ([`bus_config::client`]).
+pub async fn join_bus(bus_args: &BusArgs) -> anyhow::Result<Bus> {
+    Bus::open(&bus_config::client(bus_args))
+        .await
+        .context("joining the bus")
+}
+
+/// Prints a service's typed refusal; exit code 1.
+pub fn refused(errors: &[gearcam_proto::JobError]) -> ExitCode {
+    eprint!("{}", report::format_errors(errors));
+    ExitCode::FAILURE
+}

@@ -1,0 +1,116 @@
+//! `gearcam submit`: a job file to the planning station over the bus, followed
+//! to its receipt with `--wait`.
+
+use std::path::Path;
+use std::process::ExitCode;
+use std::time::Duration;
+
+use gearcam_bus::{Bus, BusArgs};
+use serde_json::json;
+
+use crate::bus_config;
+use crate::check;
+use crate::cmd::progress;
+use crate::jobfile;
+use crate::station::{self, Outcome, SubmitOptions};
+
+pub async fn submit(
+    job: &Path,
+    bus_args: &BusArgs,
+    wait: bool,
+    json: bool,
+    timeout: u64,
+) -> anyhow::Result<ExitCode> {
+    let spec = match jobfile::load(job) {
+        Ok(s) => s,
+        Err(e) => {
+            if json {
+                println!(
+                    "{}",
+                    json!({"job": null, "state": "rejected", "errors": [e]})
+                );
+            } else {
+                eprintln!("gearcam: job file refused\n{}", check::format_errors(&[e]));
+            }
+            return Ok(ExitCode::FAILURE);
+        }
+    };
+    let req = jobfile::request(spec);
+    let config = bus_config::client(bus_args);
+    let bus = match Bus::open(&config).await {
+        Ok(bus) => bus,
+        Err(e) => {
+            let message = format!(
+                "cannot join the bus at {}: {e}; is `gearcam up` (or a router) running there?",
+                config.connect.join(", ")
+            );
+            if json {
+                println!(
+                    "{}",
+                    json!({"job": req.job_id, "state": "unreachable", "message": message})
+                );
+            } else {
+                eprintln!("gearcam: {message}");
+            }
+            return Ok(ExitCode::from(2));
+        }
+    };
+    let opts = SubmitOptions {
+        wait,
+        alive_timeout: Duration::from_secs(timeout.min(30)),
+        timeout: Duration::from_secs(timeout),
+    };
+    let pb = progress(json);
+    pb.set_message(format!("job {}", req.job_id));
+    let outcome = station::submit(&bus, &req, &opts, |ev| {
+        if !json {
+            pb.suspend(|| eprintln!("{}", station::describe(ev)));
+        }
+    })
+    .await;
+    pb.finish_and_clear();
+    bus.close().await;
+    let outcome = match outcome {
+        Ok(o) => o,
+        Err(e) => {
+            if json {
+                println!(
+                    "{}",
+                    json!({"job": req.job_id, "state": "unreachable", "message": e.to_string()})
+                );
+            } else {
+                eprintln!("gearcam: {e}");
+            }
+            return Ok(ExitCode::from(2));
+        }
+    };
+    let (value, code) = match &outcome {
+        Outcome::Submitted(s) => (serde_json::to_value(s)?, ExitCode::SUCCESS),
+        Outcome::Delivered(r) => (
+            json!({"job": r.job_id, "state": "delivered", "program": {"name": r.name, "sha256": r.sha256, "path": r.path}, "receipt": r}),
+            ExitCode::SUCCESS,
+        ),
+        Outcome::Failed(errors) => (
+            json!({"job": req.job_id, "state": "failed", "errors": errors}),
+            ExitCode::FAILURE,
+        ),
+        Outcome::TimedOut(s) => (serde_json::to_value(s)?, ExitCode::from(2)),
+    };
+    if json {
+        println!("{value}");
+    } else {
+        match &outcome {
+            Outcome::Submitted(s) => println!("job {} journaled by the station ({})", s.job, s.state.as_str()),
+            Outcome::Delivered(r) => println!("job {} delivered: {} (sha256 {})", r.job_id, r.path, r.sha256),
+            Outcome::Failed(errors) => {
+                eprintln!("job {} refused with {} error(s):\n{}", req.job_id, errors.len(), check::format_errors(errors))
+            }
+            Outcome::TimedOut(s) => eprintln!(
+                "job {}: not finished within {timeout} s; it stays journaled and the station keeps driving it\n  {}",
+                s.job,
+                station::describe_status(s)
+            ),
+        }
+    }
+    Ok(code)
+}

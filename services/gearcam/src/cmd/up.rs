@@ -1,0 +1,37 @@
+//! `gearcam up`: every service and one agent per machine in this process.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use anyhow::Context;
+use gearcam_bus::{cancel_on_signal, BusArgs};
+
+use crate::bus_config;
+use crate::cmd::check::template_library;
+use crate::embedded::Embedded;
+use crate::DEFAULT_ENDPOINT;
+
+pub async fn up(data: &Path, bus: &BusArgs) -> anyhow::Result<ExitCode> {
+    let config = bus_config::embedded(bus, DEFAULT_ENDPOINT);
+    let mut services = Embedded::start(&config, data, template_library(data)?)
+        .await
+        .with_context(|| format!("starting the services (listening on {:?})", config.listen))?;
+    println!(
+        "gearcam up: all services running; listening on {}",
+        config.listen.join(", ")
+    );
+    println!("  knowledge base {}", data.join("knowledge.db").display());
+    for (m, dir) in &services.machines {
+        println!(
+            "  agent {} ({}) stores programs in {}",
+            m.id,
+            m.dialect.as_str(),
+            dir.display()
+        );
+    }
+    println!("submit with: gearcam submit examples/spur_840d.toml --wait   (Ctrl-C stops)");
+    let stop = cancel_on_signal();
+    let result = services.serve_until(stop).await;
+    services.stop().await;
+    result.map(|()| ExitCode::SUCCESS)
+}

@@ -1,0 +1,100 @@
+//! The example jobs bundled into the binary (`gearcam demo`), one or more per
+//! gear class, and the invalid ones with the error code each must get. The
+//! tests read the same list (and check it holds every file of `examples/`).
+
+/// The example jobs `gearcam demo` submits, bundled into the binary: one or
+/// more per gear class.
+pub const VALID: &[(&str, &str)] = &[
+    (
+        "examples/spur_840d.toml",
+        include_str!("../../../examples/spur_840d.toml"),
+    ),
+    (
+        "examples/spur_by_part_840d.toml",
+        include_str!("../../../examples/spur_by_part_840d.toml"),
+    ),
+    (
+        "examples/helical_840d.toml",
+        include_str!("../../../examples/helical_840d.toml"),
+    ),
+    (
+        "examples/helical_climb_840d.toml",
+        include_str!("../../../examples/helical_climb_840d.toml"),
+    ),
+    (
+        "examples/helical_left_840d.toml",
+        include_str!("../../../examples/helical_left_840d.toml"),
+    ),
+    (
+        "examples/helical_climb_fanuc.toml",
+        include_str!("../../../examples/helical_climb_fanuc.toml"),
+    ),
+    (
+        "examples/multi_cut_shift_840d.toml",
+        include_str!("../../../examples/multi_cut_shift_840d.toml"),
+    ),
+    (
+        "examples/conical_840d.toml",
+        include_str!("../../../examples/conical_840d.toml"),
+    ),
+    (
+        "examples/crowned_840d.toml",
+        include_str!("../../../examples/crowned_840d.toml"),
+    ),
+    (
+        "examples/crowned_parabolic_840d.toml",
+        include_str!("../../../examples/crowned_parabolic_840d.toml"),
+    ),
+    (
+        "examples/worm_wheel_840d.toml",
+        include_str!("../../../examples/worm_wheel_840d.toml"),
+    ),
+    (
+        "examples/worm_wheel_tangential_840d.toml",
+        include_str!("../../../examples/worm_wheel_tangential_840d.toml"),
+    ),
+    (
+        "examples/helical_shift_fanuc.toml",
+        include_str!("../../../examples/helical_shift_fanuc.toml"),
+    ),
+    (
+        "examples/multi_gear_840d.toml",
+        include_str!("../../../examples/multi_gear_840d.toml"),
+    ),
+];
+
+/// Invalid jobs `gearcam demo` submits to show typed refusals; each file names
+/// the error code it must get in a `# expect: CODE` line.
+pub const INVALID: &[(&str, &str)] = &[
+    (
+        "examples/invalid_base_pitch.toml",
+        include_str!("../../../examples/invalid_base_pitch.toml"),
+    ),
+    (
+        "examples/invalid_two_classes.toml",
+        include_str!("../../../examples/invalid_two_classes.toml"),
+    ),
+    (
+        "examples/invalid_crowning.toml",
+        include_str!("../../../examples/invalid_crowning.toml"),
+    ),
+    (
+        "examples/invalid_shift_range.toml",
+        include_str!("../../../examples/invalid_shift_range.toml"),
+    ),
+    (
+        "examples/invalid_curved_tooth.toml",
+        include_str!("../../../examples/invalid_curved_tooth.toml"),
+    ),
+    (
+        "examples/invalid_unknown_part.toml",
+        include_str!("../../../examples/invalid_unknown_part.toml"),
+    ),
+];
+
+/// The code an invalid example expects (its `# expect:` line).
+pub fn expected_code(text: &str) -> Option<&str> {
+    text.lines()
+        .find_map(|l| l.trim().strip_prefix("# expect:"))
+        .map(str::trim)
+}
