@@ -71,6 +71,14 @@ pub fn kb_record(library: &str, id: &str) -> String {
     format!("{PREFIX}/kb/{library}/{id}")
 }
 
+/// The knowledge base's key forms, for messages that name them.
+pub const KB_KEY_FORMS: &str = "gearcam/v1/kb/{library} or gearcam/v1/kb/{library}/{id}";
+
+/// The form of a record's key in `library`, for messages that name it.
+pub fn kb_record_form(library: &str) -> String {
+    format!("{PREFIX}/kb/{library}/{{id}}")
+}
+
 /// Pattern of everything the knowledge service's library queryable answers.
 pub const KB_ALL: &str = "gearcam/v1/kb/**";
 
@@ -156,6 +164,9 @@ pub fn store_change(machine: &MachineId, name: &str) -> String {
 pub fn agent_any(machine: &MachineId) -> String {
     format!("{PREFIX}/machines/{machine}/**")
 }
+
+/// An agent store's key forms, for messages that name them.
+pub const STORE_KEY_FORMS: &str = "gearcam/v1/machines/{machine}/store/programs[/{name}[/versions/{seq}]], …/store/changes/{name} or …/store/jobs/{job}";
 
 /// Pattern of everything an agent's store answers.
 pub fn store_any(machine: &MachineId) -> String {

@@ -20,6 +20,7 @@
 
 pub mod class;
 pub mod codec;
+pub mod codes;
 pub mod delivery;
 pub mod error;
 pub mod ids;

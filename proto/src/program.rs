@@ -172,6 +172,7 @@ impl Message for JobEvent {
 }
 
 /// Milliseconds since the Unix epoch, for message timestamps.
+#[allow(clippy::disallowed_methods)]
 pub fn now_ms() -> u64 {
     std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)

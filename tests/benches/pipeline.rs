@@ -37,6 +37,8 @@
 //! cargo build --release --workspace --bins && cargo bench -p gearcam-tests --bench pipeline
 //! cargo bench -p gearcam-tests --bench pipeline -- --jobs 10000 --window 128
 //! ```
+// Test code: clocks for timeouts, the environment for switches.
+#![allow(clippy::disallowed_methods)]
 
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -49,7 +51,7 @@ use gearcam_proto::{
     decode, encode, keys, now_ms, DeliveryReceipt, EventKind, JobEvent, JobId, JobRequest, JobSpec,
     MachineId, StationReply,
 };
-use gearcam_tests::{Cluster, Proc};
+use gearcam_testkit::{Cluster, Proc};
 use sha2::{Digest, Sha256};
 use tokio::sync::{oneshot, Semaphore};
 use zenoh::Session;

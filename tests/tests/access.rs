@@ -12,7 +12,7 @@ use gearcam_proto::{
     decode, encode, keys, Dialect, JobId, MachineId, NcProgram, StoreReply, StoreRequest,
     TemplateRef,
 };
-use gearcam_tests::{bin, free_port, wait_for_port, Proc};
+use gearcam_testkit::{bin, Proc};
 use sha2::{Digest, Sha256};
 
 fn deploy() -> PathBuf {
@@ -88,21 +88,23 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
         String::from_utf8_lossy(&made.stderr)
     );
     std::fs::copy(deploy().join("users.txt"), dir.join("users.txt")).unwrap();
-    let port = free_port();
-    let router = local_config(dir, "router.json5", port);
+    // The router listens on a port the operating system chooses; the
+    // services' configurations get the port it printed.
+    let router = local_config(dir, "router.json5", 0);
+    let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+    let router = Proc::start(
+        dir,
+        "router",
+        "gearcam",
+        &s(&["router", "--config", &router.display().to_string()]),
+    );
+    let port = router.listening_port(Duration::from_secs(20));
     let cfg = |name: &str| {
         local_config(dir, &format!("{name}.json5"), port)
             .display()
             .to_string()
     };
-    let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
-    let mut procs = vec![Proc::start(
-        dir,
-        "router",
-        "gearcam",
-        &s(&["router", "--config", &router.display().to_string()]),
-    )];
-    wait_for_port(port, Duration::from_secs(20));
+    let mut procs = vec![router];
     let (journal, db) = (
         dir.join("station.db").display().to_string(),
         dir.join("kb.db").display().to_string(),

@@ -3,7 +3,7 @@
 use std::process::Command;
 
 use approx::assert_abs_diff_eq;
-use gearcam_tests::bin;
+use gearcam_testkit::bin;
 
 fn check(dir: &std::path::Path, job: &str) -> (i32, serde_json::Value) {
     let path = dir.join("job.toml");

@@ -1,11 +1,13 @@
 //! Distributed tests: a Zenoh router and every gearcam service as its own
 //! process on loopback, jobs submitted with the real `gearcam submit --wait`.
+// Test code: clocks for timeouts, the environment for switches.
+#![allow(clippy::disallowed_methods)]
 
 use std::time::Duration;
 
 use approx::assert_abs_diff_eq;
 use gearcam_proto::{decode, DeliveryReply, EventKind, JobEvent};
-use gearcam_tests::Cluster;
+use gearcam_testkit::Cluster;
 use sha2::{Digest, Sha256};
 
 /// A spur job as a planner would write it, with every process value given so

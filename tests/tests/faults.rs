@@ -3,13 +3,15 @@
 //! submission, a station restarted with jobs in its journal. In each, N jobs
 //! submitted give exactly N programs at the agent — no duplicates, contents
 //! and hashes right — and every job ends delivered.
+// Test code: clocks for timeouts, the environment for switches.
+#![allow(clippy::disallowed_methods)]
 
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 use std::thread;
 use std::time::Duration;
 
-use gearcam_tests::Cluster;
+use gearcam_testkit::Cluster;
 use sha2::{Digest, Sha256};
 
 const N: usize = 12;
@@ -95,7 +97,7 @@ fn submit_while(c: &mut Cluster, during: impl FnOnce(&mut Cluster)) {
     let endpoint = c.endpoint.clone();
     let submitter = thread::spawn(move || {
         for f in files {
-            let out = std::process::Command::new(gearcam_tests::bin("gearcam"))
+            let out = std::process::Command::new(gearcam_testkit::bin("gearcam"))
                 .args([
                     "submit",
                     &f.display().to_string(),

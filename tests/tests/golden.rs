@@ -2,11 +2,13 @@
 //! in `tests/golden/`: a refactoring that changes one character of a program
 //! fails here. A deliberate change is written back with `GEARCAM_BLESS=1
 //! cargo test -p gearcam-tests --test golden` and reviewed in the diff.
+// Test code: clocks for timeouts, the environment for switches.
+#![allow(clippy::disallowed_methods)]
 
 use gearcam_template::Templates;
 
-mod support;
-use support::{examples, model_of, on_machine};
+use gearcam_testkit::examples::{on_machine, valid as examples};
+use gearcam_testkit::pipeline::model_of;
 
 #[test]
 fn every_example_program_is_unchanged() {

@@ -8,7 +8,7 @@
 
 use std::process::Command;
 
-use gearcam_tests::Cluster;
+use gearcam_testkit::Cluster;
 
 #[test]
 fn the_python_client_delivers_reads_back_and_sees_typed_refusals() {

@@ -8,13 +8,12 @@
 //! swivel value back into η), and the clearance from the path check's swept
 //! hob solid.
 
-mod support;
-
 use gearcam_nc as nc;
 use gearcam_proto::{MachiningModel, MoveKind};
 use gearcam_template::Templates;
+use gearcam_testkit::examples::{example, on_machine};
+use gearcam_testkit::pipeline::model_of;
 use proptest::prelude::*;
-use support::{example, model_of, on_machine};
 
 /// What a program says, parsed back: η of every swivel value (through the
 /// machine profile's mapping), every coupling's signed ratio and C-per-Z

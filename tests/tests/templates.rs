@@ -8,8 +8,8 @@ use gearcam_proto::{MachiningModel, MoveKind, NcProgram};
 use gearcam_template::{TemplateSource, Templates, DEFAULT_FUEL};
 use proptest::prelude::*;
 
-mod support;
-use support::{examples, model_of, on_machine};
+use gearcam_testkit::examples::{on_machine, valid as examples};
+use gearcam_testkit::pipeline::model_of;
 
 #[test]
 fn every_example_passes_the_path_check_on_both_dialects() {

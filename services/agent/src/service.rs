@@ -76,7 +76,7 @@ fn answer_store_query(store: &mut Store, key: &str, payload: &[u8]) -> Answer {
     let Some(asked) = keys::agent_key_of(&machine, key) else {
         return refuse(bad_request(
             "key",
-            "gearcam/v1/machines/{machine}/store/programs[/{name}[/versions/{seq}]], …/store/changes/{name} or …/store/jobs/{job}",
+            keys::STORE_KEY_FORMS,
             key,
             "the store has no such key",
         ));

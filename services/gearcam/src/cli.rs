@@ -6,8 +6,9 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use gearcam_bus::BusArgs;
-use gearcam_proto::{JobId, MachineId};
+use gearcam_proto::JobId;
 
+use crate::cmd::program::ProgramAction;
 use crate::cmd::{self, kb, templates};
 
 /// gearcam: from a gear drawing to a proven NC program in the machine's program store.
@@ -104,47 +105,6 @@ pub enum Command {
     Templates(templates::TemplatesArgs),
     /// Run a Zenoh router (for a shop network without zenohd, and for tests).
     Router {
-        #[command(flatten)]
-        bus: BusArgs,
-    },
-}
-
-#[derive(Debug, Subcommand)]
-pub enum ProgramAction {
-    /// Every stored version (of one program, if named), newest first.
-    History {
-        /// The machine, e.g. H01.
-        #[arg(long)]
-        machine: MachineId,
-        /// Program name, e.g. SP_1001.
-        name: Option<String>,
-        #[command(flatten)]
-        bus: BusArgs,
-        /// Print JSON.
-        #[arg(long)]
-        json: bool,
-    },
-    /// Print one stored version's text.
-    Show {
-        /// The machine, e.g. H01.
-        #[arg(long)]
-        machine: MachineId,
-        /// Program name.
-        name: String,
-        /// Version number (from `history`).
-        seq: u64,
-        #[command(flatten)]
-        bus: BusArgs,
-    },
-    /// Make a stored version current again in the machine's program directory.
-    Rollback {
-        /// The machine, e.g. H01.
-        #[arg(long)]
-        machine: MachineId,
-        /// Program name.
-        name: String,
-        /// Version number (from `history`).
-        seq: u64,
         #[command(flatten)]
         bus: BusArgs,
     },

@@ -120,14 +120,21 @@ pub fn job_id(spec: &JobSpec) -> JobId {
     .expect("generated job ids are valid")
 }
 
-/// Wraps a spec into a request from this station.
+/// Wraps a spec into a request from this station, submitted by [`user`].
 pub fn request(spec: JobSpec) -> JobRequest {
     JobRequest {
         job_id: job_id(&spec),
         submitted_at_ms: now_ms(),
-        submitted_by: std::env::var("USER").unwrap_or_else(|_| "gearcam".into()),
+        submitted_by: user(),
         spec,
     }
+}
+
+/// Who submits: the login name (`$USER`), or `gearcam`. The one place the
+/// command's library reads the environment.
+#[allow(clippy::disallowed_methods)]
+pub fn user() -> String {
+    std::env::var("USER").unwrap_or_else(|_| "gearcam".into())
 }
 
 #[cfg(test)]

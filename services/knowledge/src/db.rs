@@ -1,14 +1,16 @@
-//! The knowledge base in SQLite: schema migrations, seed data, and reads.
+//! The knowledge base in SQLite: opening it, its schema migrations, and the
+//! reads other crates use (machines and hobs, over [`crate::records`]).
 //!
-//! The database is created and seeded on first open. Every seeded row says
+//! The database is created and seeded ([`crate::seed`]) on first open. Every seeded row says
 //! where its values come from (`source`) and how far to trust them
 //! (`confidence`); a shop replaces them with its own history.
 
 use std::path::Path;
 
-use gearcam_proto::{Hand, HobData, MachineId, MachineProfile, Source};
-use rusqlite::{Connection, OptionalExtension};
+use gearcam_proto::{HobData, MachineId, MachineProfile};
+use rusqlite::Connection;
 
+use crate::records::{self, HobRecord};
 use crate::KnowledgeError;
 
 /// Schema migrations, applied in order; the index + 1 is the schema version.
@@ -212,77 +214,34 @@ pub fn schema_version(conn: &Connection) -> Result<i64, KnowledgeError> {
     Ok(conn.pragma_query_value(None, "user_version", |r| r.get(0))?)
 }
 
-/// A machine's profile by id.
+/// A machine's profile by id (see [`records::machine`]).
 pub fn machine(
     conn: &Connection,
     id: &MachineId,
 ) -> Result<Option<MachineProfile>, KnowledgeError> {
-    let json: Option<String> = conn
-        .query_row(
-            "SELECT profile_json FROM machines WHERE id = ?1",
-            [id.as_str()],
-            |r| r.get(0),
-        )
-        .optional()?;
-    json.map(|j| serde_json::from_str(&j).map_err(KnowledgeError::from))
-        .transpose()
+    records::machine(conn, id)
 }
 
-/// Every machine's profile, ordered by id.
+/// Every machine's profile, ordered by id (see [`records::machines`]).
 pub fn machines(conn: &Connection) -> Result<Vec<MachineProfile>, KnowledgeError> {
-    let mut stmt = conn.prepare("SELECT profile_json FROM machines ORDER BY id")?;
-    let rows = stmt.query_map([], |r| r.get::<_, String>(0))?;
-    let mut out = Vec::new();
-    for j in rows {
-        out.push(serde_json::from_str(&j?)?);
-    }
-    Ok(out)
+    records::machines(conn)
 }
 
-/// A hob's data as the model needs it. Its source is `library`: the hob's
-/// geometry comes from the tool library, not from a case or the machine.
-fn hob_from_row(r: &rusqlite::Row<'_>) -> rusqlite::Result<HobData> {
-    let hand: String = r.get("hand")?;
-    Ok(HobData {
-        id: r.get("id")?,
-        starts: r.get("starts")?,
-        od_mm: r.get("od_mm")?,
-        module_mm: r.get("module_mm")?,
-        pressure_angle_deg: r.get("pressure_angle_deg")?,
-        lead_angle_deg: r.get("lead_angle_deg")?,
-        hand: if hand == "left" {
-            Hand::Left
-        } else {
-            Hand::Right
-        },
-        length_mm: r.get("length_mm")?,
-        source: Source::Library,
-    })
-}
-
-/// A hob by id.
+/// A hob's data as the model needs it, with source `library` (see
+/// [`records::hob`] for the whole record).
 pub fn hob(conn: &Connection, id: &str) -> Result<Option<HobData>, KnowledgeError> {
-    Ok(conn
-        .query_row("SELECT * FROM hobs WHERE id = ?1", [id], hob_from_row)
-        .optional()?)
+    Ok(records::hob(conn, id)?.map(|h| h.data()))
 }
 
-/// Every hob, ordered by id.
+/// Every hob's data, ordered by id (see [`records::hobs`] for the whole records).
 pub fn hobs(conn: &Connection) -> Result<Vec<HobData>, KnowledgeError> {
-    let mut stmt = conn.prepare("SELECT * FROM hobs ORDER BY id")?;
-    let rows = stmt.query_map([], hob_from_row)?;
-    Ok(rows.collect::<Result<_, _>>()?)
+    Ok(records::hobs(conn)?.iter().map(HobRecord::data).collect())
 }
 
-/// The material group of a material name, if the materials table knows it.
+/// The material group of a material name, if the materials table knows it
+/// (see [`records::material`] for the whole record).
 pub fn material_group(conn: &Connection, material: &str) -> Result<Option<String>, KnowledgeError> {
-    Ok(conn
-        .query_row(
-            "SELECT material_group FROM materials WHERE name = ?1",
-            [material.trim()],
-            |r| r.get(0),
-        )
-        .optional()?)
+    Ok(records::material(conn, material)?.map(|m| m.material_group))
 }
 
 #[cfg(test)]

@@ -1,72 +1,59 @@
-//! Reads the libraries into the plain types of retrieval and hob matching.
+//! The typed records of the machining history and the workpiece library as
+//! the types of retrieval ([`crate::cbr`]) and of a job's drawing data.
 
 use std::collections::BTreeMap;
 
-use gearcam_proto::{ConeSpec, CutMode, GearSpec, Hand, HobData, LargeEnd, Source};
-use rusqlite::{Connection, OptionalExtension};
-use serde_json::Value;
+use gearcam_proto::{ConeSpec, GearClass, GearSpec, LargeEnd};
+use rusqlite::Connection;
 
-use crate::cbr::{Case, CaseBase, Operation, Problem, Solution, Weights};
-use crate::hobmatch::Hob;
-use crate::library::{self, Record};
+use crate::cbr::{Case, CaseBase, Problem, Solution, Weights};
+use crate::records::{self, CaseOutcome, CaseRecord, WorkpieceRecord};
 use crate::KnowledgeError;
 
-fn f(r: &Record, k: &str) -> Option<f64> {
-    r.get(k).and_then(Value::as_f64)
-}
-
-fn s(r: &Record, k: &str) -> Option<String> {
-    r.get(k).and_then(Value::as_str).map(str::to_string)
-}
-
-/// A case from its library record (a record that passed validation).
-pub fn case_from_record(r: &Record) -> Case {
+/// A case for retrieval from its record. A case whose job needed rework is
+/// trusted half as much as its recorded confidence.
+pub fn case_from_record(r: &CaseRecord) -> Case {
     Case {
-        id: s(r, "id").unwrap_or_default(),
+        id: r.id.clone(),
         problem: Problem {
-            class: s(r, "class").unwrap_or_default(),
-            material: s(r, "material").unwrap_or_default(),
-            material_group: s(r, "material_group").unwrap_or_default(),
-            hardness_hb: f(r, "hardness_hb"),
-            module_mm: f(r, "module_mm").unwrap_or(1.0),
-            teeth: f(r, "teeth").unwrap_or(1.0) as u32,
-            helix_angle_deg: f(r, "helix_angle_deg").unwrap_or(0.0),
-            face_width_mm: f(r, "face_width_mm"),
-            quality_grade: f(r, "quality_grade").unwrap_or(8.0) as u8,
-            hob_material: s(r, "hob_material"),
-            hob_coating: s(r, "hob_coating"),
-            hob_starts: f(r, "hob_starts").unwrap_or(1.0) as u32,
-            operation: Operation::parse(&s(r, "operation").unwrap_or_default()),
-            machine: s(r, "machine"),
+            class: r.class.as_str().to_string(),
+            material: r.material.clone(),
+            material_group: r.material_group.clone(),
+            hardness_hb: r.hardness_hb,
+            module_mm: r.module_mm,
+            teeth: r.teeth,
+            helix_angle_deg: r.helix_angle_deg,
+            face_width_mm: r.face_width_mm,
+            quality_grade: r.quality_grade,
+            hob_material: Some(r.hob_material.clone()),
+            hob_coating: Some(r.hob_coating.clone()),
+            hob_starts: r.hob_starts,
+            operation: r.operation.into(),
+            machine: r.machine.clone(),
         },
         solution: Solution {
-            cutting_speed_m_min: f(r, "cutting_speed_m_min").unwrap_or(0.0),
-            feed_mm_per_rev: f(r, "feed_mm_per_rev").unwrap_or(0.0),
-            hob_od_mm: f(r, "hob_od_mm"),
-            radial_feed_mm_min: f(r, "radial_feed_mm_min"),
-            cuts: f(r, "cuts").unwrap_or(1.0) as u32,
-            allowance_mm: f(r, "allowance_mm"),
-            cut_mode: match s(r, "cut_mode").as_deref() {
-                Some("climb") => Some(CutMode::Climb),
-                Some("conventional") => Some(CutMode::Conventional),
-                _ => None,
-            },
+            cutting_speed_m_min: r.cutting_speed_m_min,
+            feed_mm_per_rev: r.feed_mm_per_rev,
+            hob_od_mm: r.hob_od_mm,
+            radial_feed_mm_min: r.radial_feed_mm_min,
+            cuts: r.cuts,
+            allowance_mm: r.allowance_mm,
+            cut_mode: r.cut_mode,
         },
-        confidence: f(r, "confidence").unwrap_or(0.0)
-            * match s(r, "outcome").as_deref() {
-                // A case that needed rework is trusted half as much.
-                Some("rework") => 0.5,
-                _ => 1.0,
+        confidence: r.confidence
+            * match r.outcome {
+                CaseOutcome::Rework => 0.5,
+                CaseOutcome::Ok | CaseOutcome::Scrap | CaseOutcome::Unknown => 1.0,
             },
-        provenance: s(r, "provenance").unwrap_or_default(),
+        provenance: r.provenance.clone(),
     }
 }
 
 /// Every usable case (scrapped outcomes are history, not advice).
 pub fn load_cases(conn: &Connection) -> Result<Vec<Case>, KnowledgeError> {
-    Ok(library::list(conn, &library::CASES)?
+    Ok(records::cases(conn)?
         .iter()
-        .filter(|r| s(r, "outcome").as_deref() != Some("scrap"))
+        .filter(|r| r.outcome != CaseOutcome::Scrap)
         .map(case_from_record)
         .collect())
 }
@@ -78,117 +65,35 @@ pub fn load_case_base(conn: &Connection) -> Result<CaseBase, KnowledgeError> {
 
 /// The retrieval weights (defaults for features without a row).
 pub fn load_weights(conn: &Connection) -> Result<Weights, KnowledgeError> {
-    let map: BTreeMap<String, f64> = library::list(conn, &library::WEIGHTS)?
-        .iter()
-        .filter_map(|r| Some((s(r, "feature")?, f(r, "weight")?)))
+    let map: BTreeMap<String, f64> = records::weights(conn)?
+        .into_iter()
+        .map(|w| (w.feature, w.weight))
         .collect();
     Ok(Weights::from_map(&map))
 }
 
-/// A material's group and typical hardness.
-pub fn material(
-    conn: &Connection,
-    name: &str,
-) -> Result<Option<(String, Option<f64>)>, KnowledgeError> {
-    Ok(conn
-        .query_row(
-            "SELECT material_group, hardness_hb FROM materials WHERE name = ?1",
-            [name.trim()],
-            |r| Ok((r.get(0)?, r.get(1)?)),
-        )
-        .optional()?)
-}
-
-/// A library hob for matching, its data for the plan, and its material and coating.
-#[derive(Debug, Clone)]
-pub struct LibraryHob {
-    /// For matching.
-    pub hob: Hob,
-    /// For the plan.
-    pub data: HobData,
-    /// Cutting material.
-    pub material: String,
-    /// Coating.
-    pub coating: String,
-}
-
-/// A hob from its library record.
-pub fn hob_from_record(r: &Record) -> LibraryHob {
-    let hand = if s(r, "hand").as_deref() == Some("left") {
-        Hand::Left
-    } else {
-        Hand::Right
-    };
-    let id = s(r, "id").unwrap_or_default();
-    LibraryHob {
-        hob: Hob {
-            id: id.clone(),
-            module_mm: f(r, "module_mm").unwrap_or(0.0),
-            pressure_angle_deg: f(r, "pressure_angle_deg").unwrap_or(20.0),
-            starts: f(r, "starts").unwrap_or(1.0) as u32,
-            hand,
-            lead_angle_deg: f(r, "lead_angle_deg").unwrap_or(0.0),
-            od_mm: f(r, "od_mm").unwrap_or(0.0),
-            usable_length_mm: f(r, "usable_length_mm").unwrap_or(0.0),
-            accuracy_class: s(r, "accuracy_class").unwrap_or_default(),
-            shift_position_mm: f(r, "shift_position_mm").unwrap_or(0.0),
-            shift_step_mm: f(r, "shift_step_mm").unwrap_or(0.5),
-            parts_per_shift: f(r, "parts_per_shift").unwrap_or(1.0) as u32,
-            remaining_life_parts: f(r, "remaining_life_parts").unwrap_or(0.0) as u64,
-        },
-        data: HobData {
-            id,
-            starts: f(r, "starts").unwrap_or(1.0) as u32,
-            od_mm: f(r, "od_mm").unwrap_or(0.0),
-            module_mm: f(r, "module_mm").unwrap_or(0.0),
-            pressure_angle_deg: f(r, "pressure_angle_deg").unwrap_or(20.0),
-            lead_angle_deg: f(r, "lead_angle_deg").unwrap_or(0.0),
-            hand,
-            length_mm: f(r, "length_mm").unwrap_or(0.0),
-            source: Source::Library,
-        },
-        material: s(r, "material").unwrap_or_default(),
-        coating: s(r, "coating").unwrap_or_default(),
-    }
-}
-
-/// Every library hob.
-pub fn library_hobs(conn: &Connection) -> Result<Vec<LibraryHob>, KnowledgeError> {
-    Ok(library::list(conn, &library::HOBS)?
-        .iter()
-        .map(hob_from_record)
-        .collect())
-}
-
-/// The drawing data of a workpiece record (a record that passed validation)
-/// as a job's gear. A conical workpiece with a cone angle becomes a conical
-/// gear (cone angle δ, blank OD taken at the bottom face); the library holds
-/// no crowning, worm-wheel, curved-tooth or unit data, see
-/// [`workpiece_lacks_class_data`].
-pub fn gear_from_workpiece(r: &Record) -> GearSpec {
+/// The drawing data of a workpiece record as a job's gear. A conical
+/// workpiece with a cone angle becomes a conical gear (cone angle δ, blank
+/// OD taken at the bottom face); the library holds no crowning, worm-wheel,
+/// curved-tooth or unit data, see [`workpiece_lacks_class_data`].
+pub fn gear_from_workpiece(w: &WorkpieceRecord) -> GearSpec {
     let mut g = GearSpec::absent();
-    g.module_mm = f(r, "module_mm").unwrap_or(0.0);
-    g.teeth = f(r, "teeth").unwrap_or(0.0) as u32;
-    g.pressure_angle_deg = f(r, "pressure_angle_deg").unwrap_or(20.0);
-    g.helix_angle_deg = f(r, "helix_angle_deg").unwrap_or(0.0);
-    g.helix_hand = match s(r, "helix_hand").as_deref() {
-        Some("left") => Some(Hand::Left),
-        Some("right") => Some(Hand::Right),
-        _ => None,
-    };
-    g.face_width_mm = f(r, "face_width_mm").unwrap_or(0.0);
-    g.profile_shift = f(r, "profile_shift").unwrap_or(0.0);
-    g.addendum_coef = f(r, "addendum_coef").unwrap_or(1.0);
-    g.clearance_coef = f(r, "clearance_coef").unwrap_or(0.25);
-    g.blank_od_mm = f(r, "blank_od_mm");
-    g.od_correction_mm = f(r, "od_correction_mm").unwrap_or(0.0);
-    if let Some(m) = s(r, "material") {
-        g.material = m;
-    }
-    g.quality_grade = f(r, "quality_grade").unwrap_or(8.0) as u8;
-    g.fixture_height_mm = f(r, "fixture_height_mm").unwrap_or(0.0);
-    if s(r, "class").as_deref() == Some("conical") {
-        g.cone = f(r, "cone_angle_deg").map(|angle_deg| ConeSpec {
+    g.module_mm = w.module_mm;
+    g.teeth = w.teeth;
+    g.pressure_angle_deg = w.pressure_angle_deg;
+    g.helix_angle_deg = w.helix_angle_deg;
+    g.helix_hand = w.helix_hand;
+    g.face_width_mm = w.face_width_mm;
+    g.profile_shift = w.profile_shift;
+    g.addendum_coef = w.addendum_coef;
+    g.clearance_coef = w.clearance_coef;
+    g.blank_od_mm = w.blank_od_mm;
+    g.od_correction_mm = w.od_correction_mm;
+    g.material = w.material.clone();
+    g.quality_grade = w.quality_grade;
+    g.fixture_height_mm = w.fixture_height_mm;
+    if w.class == GearClass::Conical {
+        g.cone = w.cone_angle_deg.map(|angle_deg| ConeSpec {
             angle_deg,
             large_end: LargeEnd::Bottom,
         });
@@ -200,15 +105,18 @@ pub fn gear_from_workpiece(r: &Record) -> GearSpec {
 /// `None` for a cylindrical part, a conical one with its cone angle, and a
 /// multi-gear part whose job gives the further units (the record is the
 /// first unit); otherwise the class data a job must give itself.
-pub fn workpiece_lacks_class_data(r: &Record, job_has_units: bool) -> Option<&'static str> {
-    match s(r, "class").as_deref().unwrap_or("cylindrical") {
-        "cylindrical" => None,
-        "multi_gear" if job_has_units => None,
-        "conical" if f(r, "cone_angle_deg").is_some() => None,
-        "conical" => Some("the cone angle (cone_angle_deg)"),
-        "crowned" => Some("the crowning ([gear.crowning])"),
-        "worm_wheel" => Some("the worm-wheel hobbing data ([gear.worm_wheel])"),
-        "curved_tooth" => Some("the tooth trace ([gear.curved_tooth])"),
-        _ => Some("the gear units ([[units]]) of a multi-gear part"),
+pub fn workpiece_lacks_class_data(
+    w: &WorkpieceRecord,
+    job_has_units: bool,
+) -> Option<&'static str> {
+    match w.class {
+        GearClass::Cylindrical => None,
+        GearClass::MultiGear if job_has_units => None,
+        GearClass::Conical if w.cone_angle_deg.is_some() => None,
+        GearClass::Conical => Some("the cone angle (cone_angle_deg)"),
+        GearClass::Crowned => Some("the crowning ([gear.crowning])"),
+        GearClass::WormWheel => Some("the worm-wheel hobbing data ([gear.worm_wheel])"),
+        GearClass::CurvedTooth => Some("the tooth trace ([gear.curved_tooth])"),
+        GearClass::MultiGear => Some("the gear units ([[units]]) of a multi-gear part"),
     }
 }

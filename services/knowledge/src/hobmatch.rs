@@ -1,7 +1,7 @@
 //! Hob matching (docs/knowledge.md#case-based-reasoning): pick the library hob that can cut the gear, and
 //! say why it was chosen and why every other hob was not.
 //!
-//! Pure functions on plain data. A hob fits when
+//! Pure functions on the tool library's records ([`HobRecord`]). A hob fits when
 //!
 //! 1. its normal base pitch equals the gear's: `mn0·cos α0 = mn·cos αn` within
 //!    1e-4 mm (docs/reference.md#check-3-base-pitch);
@@ -25,39 +25,10 @@
 use gearcam_proto::plan::{HobChoice, HobRejection};
 use gearcam_proto::Hand;
 
+use crate::records::HobRecord;
+
 /// Normal base pitch tolerance, mm (docs/reference.md#check-3-base-pitch).
 pub const BASE_PITCH_TOL_MM: f64 = 1e-4;
-
-/// A library hob with everything matching needs.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Hob {
-    /// Id.
-    pub id: String,
-    /// Normal module mn0, mm.
-    pub module_mm: f64,
-    /// Normal pressure angle α0, degrees.
-    pub pressure_angle_deg: f64,
-    /// Starts z0.
-    pub starts: u32,
-    /// Hand.
-    pub hand: Hand,
-    /// Lead angle γ0, degrees.
-    pub lead_angle_deg: f64,
-    /// Outside diameter da0, mm.
-    pub od_mm: f64,
-    /// Usable length, mm.
-    pub usable_length_mm: f64,
-    /// Accuracy class AA/A/B/C.
-    pub accuracy_class: String,
-    /// Current shift position from the start of the usable length, mm.
-    pub shift_position_mm: f64,
-    /// Shift per step, mm.
-    pub shift_step_mm: f64,
-    /// Parts per shift step.
-    pub parts_per_shift: u32,
-    /// Parts the hob can still cut before regrinding.
-    pub remaining_life_parts: u64,
-}
 
 /// What the gear and job ask of the hob.
 #[derive(Debug, Clone, PartialEq)]
@@ -97,20 +68,20 @@ fn class_rank(c: &str) -> Option<usize> {
 }
 
 /// Shift length a job of `quantity` parts uses on a hob, mm.
-pub fn shift_needed_mm(h: &Hob, quantity: u32) -> f64 {
+pub fn shift_needed_mm(h: &HobRecord, quantity: u32) -> f64 {
     let steps = quantity.div_ceil(h.parts_per_shift.max(1));
     f64::from(steps) * h.shift_step_mm
 }
 
 /// Length of the hob in contact with the gear, mm: `2·√(h·(da0 − h))`,
 /// whole depth `h = 2.25·mn`.
-pub fn working_zone_mm(h: &Hob) -> f64 {
+pub fn working_zone_mm(h: &HobRecord) -> f64 {
     let depth = 2.25 * h.module_mm;
     2.0 * (depth * (h.od_mm - depth)).max(0.0).sqrt()
 }
 
 /// Why a hob cannot cut the job (empty when it can).
-pub fn reasons(h: &Hob, n: &Need) -> Vec<String> {
+pub fn reasons(h: &HobRecord, n: &Need) -> Vec<String> {
     let mut out = Vec::new();
     let pb_gear = n.module_mm * n.pressure_angle_deg.to_radians().cos();
     let pb_hob = h.module_mm * h.pressure_angle_deg.to_radians().cos();
@@ -172,7 +143,7 @@ fn hand_str(h: Hand) -> &'static str {
     }
 }
 
-fn swivel_deg(h: &Hob, n: &Need) -> f64 {
+fn swivel_deg(h: &HobRecord, n: &Need) -> f64 {
     match n.helix_hand {
         Some(gh) if n.helix_angle_deg != 0.0 => {
             if gh == h.hand {
@@ -187,7 +158,7 @@ fn swivel_deg(h: &Hob, n: &Need) -> f64 {
 
 /// Chooses a hob; `Err` carries the explanation with every rejection when
 /// none fits.
-pub fn choose(hobs: &[Hob], n: &Need) -> Result<(Hob, HobChoice), HobChoice> {
+pub fn choose(hobs: &[HobRecord], n: &Need) -> Result<(HobRecord, HobChoice), HobChoice> {
     let want = n.helix_hand.unwrap_or(Hand::Right);
     let need = required_class(n.quality_grade);
     let mut fit = Vec::new();
@@ -204,7 +175,7 @@ pub fn choose(hobs: &[Hob], n: &Need) -> Result<(Hob, HobChoice), HobChoice> {
         }
     }
     fit.sort_by(|a, b| {
-        let key = |h: &Hob| {
+        let key = |h: &HobRecord| {
             (
                 h.hand != want,
                 need - class_rank(&h.accuracy_class).unwrap_or(0).min(need),
@@ -266,8 +237,8 @@ pub fn choose(hobs: &[Hob], n: &Need) -> Result<(Hob, HobChoice), HobChoice> {
 mod tests {
     use super::*;
 
-    fn hob(id: &str, module: f64, hand: Hand, class: &str) -> Hob {
-        Hob {
+    fn hob(id: &str, module: f64, hand: Hand, class: &str) -> HobRecord {
+        HobRecord {
             id: id.into(),
             module_mm: module,
             pressure_angle_deg: 20.0,
@@ -275,12 +246,16 @@ mod tests {
             hand,
             lead_angle_deg: 2.37,
             od_mm: 80.0,
+            length_mm: 100.0,
             usable_length_mm: 90.0,
             accuracy_class: class.into(),
+            material: "HSS".into(),
+            coating: "TiN".into(),
             shift_position_mm: 0.0,
             shift_step_mm: 0.5,
             parts_per_shift: 2,
             remaining_life_parts: 400,
+            source: "test".into(),
         }
     }
 

@@ -7,9 +7,9 @@ use gearcam_proto::{DeliveryReceipt, ProcessPlan, Source};
 use rusqlite::Connection;
 use serde_json::{json, Value};
 
-use crate::history;
 use crate::hobmatch;
 use crate::library::{self, kb_err, Outcome, Record};
+use crate::records::{self, JobState};
 use crate::KnowledgeError;
 
 /// Records a planned job (state `planned`; a re-plan replaces the row and
@@ -93,7 +93,7 @@ pub struct Confirmed {
 /// Confirms a delivered job: it becomes a case, the hob's shift position and
 /// remaining life move on, the job is marked confirmed; all in one transaction.
 pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
-    let Some(job) = library::get(conn, &library::JOBS, &c.job_id)? else {
+    let Some(job) = records::job(conn, &c.job_id)? else {
         return Err(vec![kb_err(
             "UNKNOWN_JOB",
             "job",
@@ -102,8 +102,9 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
             "only jobs planned by this knowledge base can be confirmed",
         )]);
     };
-    let state = job.get("state").and_then(Value::as_str).unwrap_or_default();
-    let ok_state = state == "delivered" || (c.allow_undelivered && state == "planned");
+    let state = job.state;
+    let ok_state =
+        state == JobState::Delivered || (c.allow_undelivered && state == JobState::Planned);
     if !ok_state {
         return Err(vec![kb_err(
             "JOB_STATE",
@@ -113,29 +114,22 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
             } else {
                 "delivered (or pass --undelivered for a job cut from a program delivered another way)"
             },
-            state,
+            state.as_str(),
             format!(
-                "job {} is {state}; a job is confirmed once, after delivery",
-                c.job_id
+                "job {} is {}; a job is confirmed once, after delivery",
+                c.job_id,
+                state.as_str()
             ),
         )]);
     }
-    let plan_json = job.get("plan_json").and_then(Value::as_str).unwrap_or("{}");
-    let plan: ProcessPlan = serde_json::from_str(plan_json).map_err(KnowledgeError::from)?;
+    let plan: ProcessPlan = serde_json::from_str(&job.plan_json).map_err(KnowledgeError::from)?;
     let g = &plan.request.spec.gear;
     let quantity = c.quantity.unwrap_or(plan.request.spec.job.quantity);
-    let material = history::material(conn, &g.material)?;
+    let material = records::material(conn, &g.material)?;
     let lib_hob = if plan.hob.source == Source::Library {
-        library::get(conn, &library::HOBS, &plan.hob.id)?
+        records::hob(conn, &plan.hob.id)?
     } else {
         None
-    };
-    let text = |r: &Option<Record>, k: &str, default: &str| {
-        r.as_ref()
-            .and_then(|r| r.get(k))
-            .and_then(Value::as_str)
-            .unwrap_or(default)
-            .to_string()
     };
     let vc = c
         .cutting_speed_m_min
@@ -158,15 +152,16 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
         "class": plan.class,
         "machine": plan.machine.id.as_str(),
         "material": g.material.trim(),
-        "material_group": material.as_ref().map(|m| m.0.as_str()).unwrap_or("unknown"),
-        "hardness_hb": material.as_ref().and_then(|m| m.1),
+        // A material or hob the knowledge base does not know is recorded as unknown.
+        "material_group": material.as_ref().map_or("unknown", |m| m.material_group.as_str()),
+        "hardness_hb": material.as_ref().and_then(|m| m.hardness_hb),
         "module_mm": g.module_mm,
         "teeth": g.teeth,
         "helix_angle_deg": g.helix_angle_deg.abs(),
         "face_width_mm": g.face_width_mm,
         "quality_grade": g.quality_grade,
-        "hob_material": text(&lib_hob, "material", "unknown"),
-        "hob_coating": text(&lib_hob, "coating", "unknown"),
+        "hob_material": lib_hob.as_ref().map_or("unknown", |h| h.material.as_str()),
+        "hob_coating": lib_hob.as_ref().map_or("unknown", |h| h.coating.as_str()),
         "hob_starts": plan.hob.starts,
         "hob_od_mm": plan.hob.od_mm,
         "operation": plan.request.spec.process.operation.unwrap_or_default().as_str(),
@@ -204,13 +199,9 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
     let case = library::add(&tx, &library::CASES, &case)?;
     let hob = match lib_hob {
         Some(h) => {
-            let lh = history::hob_from_record(&h);
-            let used = hobmatch::shift_needed_mm(&lh.hob, quantity);
-            let pos = (lh.hob.shift_position_mm + used).min(lh.hob.usable_length_mm);
-            let life = lh
-                .hob
-                .remaining_life_parts
-                .saturating_sub(u64::from(quantity));
+            let used = hobmatch::shift_needed_mm(&h, quantity);
+            let pos = (h.shift_position_mm + used).min(h.usable_length_mm);
+            let life = h.remaining_life_parts.saturating_sub(u64::from(quantity));
             let mut set = Record::new();
             set.insert("shift_position_mm".into(), json!(pos));
             set.insert("remaining_life_parts".into(), json!(life));

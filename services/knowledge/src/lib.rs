@@ -6,13 +6,17 @@
 //!
 //! # Layout
 //!
-//! - [`db`]: schema migrations, seed data of version 1, machine and hob reads.
-//! - [`seed`]: seed data of versions 2 (classes, cases, weights, workpieces) and 3 (machine H02), with provenance.
-//! - [`library`]: every library as records: list, get, add, edit, remove, validation.
+//! - [`db`]: opening the database and its schema migrations.
+//! - [`seed`]: the seed data of every schema version (machines, hobs, materials,
+//!   classes, cases, weights, workpieces), with provenance.
+//! - [`library`]: every library as generic records: list, get, add, edit,
+//!   remove, validation (the `kb` queryable, CLI and CSV).
+//! - [`records`]: one typed record per library, read by one reader per
+//!   table; what planning, retrieval, hob matching and learning read.
 //! - [`csvio`]: CSV import and export of workpieces, hobs, cases and materials.
 //! - [`cbr`]: case retrieval (hard constraints, weighted similarity, top-k) and adaptation; pure.
 //! - [`hobmatch`]: hob matching with explanations; pure.
-//! - [`history`]: reads the libraries into the types of [`cbr`] and [`hobmatch`].
+//! - [`history`]: the case and workpiece records as the types of [`cbr`] and of a job.
 //! - [`plan`]: job request → process plan.
 //! - [`learn`]: the learning loop: a confirmed job becomes a case; hob life and shift.
 //! - [`service`]: the Zenoh stage (`JobRequest` in, `ProcessPlan` out) and the
@@ -27,6 +31,7 @@ pub mod hobmatch;
 pub mod learn;
 pub mod library;
 pub mod plan;
+pub mod records;
 pub mod seed;
 pub mod service;
 
@@ -41,6 +46,20 @@ pub enum KnowledgeError {
     /// A stored JSON column is unreadable.
     #[error("knowledge base JSON column: {0}")]
     Json(#[from] serde_json::Error),
+    /// A stored record does not fit its library's type: a required field
+    /// is NULL, or a value is of another type, out of the type's range or
+    /// not one of the field's choices ([`records`]).
+    #[error("{library} record {id:?}, field {field}: {detail}")]
+    Record {
+        /// The library, e.g. `hobs`.
+        library: &'static str,
+        /// The record's key.
+        id: String,
+        /// The field (for a machine, the path into its profile).
+        field: String,
+        /// What is wrong with the value.
+        detail: String,
+    },
     /// A file or directory could not be created.
     #[error("{path}: {source}")]
     Io {

@@ -1,17 +1,20 @@
-//! Seed data of schema version 2 (the class tree, hob accuracy/life data,
-//! material hardness, starting cases, retrieval weights and example
-//! workpieces) and of version 3 (the FANUC machine `H02`). Every row says where its values come from; where a value is
-//! our own estimate it says "engineering estimate", and a shop replaces it
-//! by importing its history (`gearcam kb import cases FILE.csv`).
+//! Seed data of every schema version: 1 (the 840D machine `H01`, the seed
+//! hobs, materials and their groups), 2 (the class tree, hob accuracy/life
+//! data, material hardness, starting cases, retrieval weights and example
+//! workpieces), 3 (the FANUC machine `H02`) and 4 (older machine profiles
+//! gain the new fields). Every row says where its values come from; where a
+//! value is our own estimate it says "engineering estimate", and a shop
+//! replaces it by importing its history (`gearcam kb import cases FILE.csv`).
 
 use gearcam_proto::{
-    AxisNames, Dialect, Envelope, GCodeSystem, MCodes, MachineId, MachineLimits, MachineProfile,
-    MachineSettings, ParameterBlock,
+    AxisNames, Dialect, Envelope, GCodeSystem, Hand, MCodes, MachineId, MachineLimits,
+    MachineProfile, MachineSettings, ParameterBlock,
 };
 use rusqlite::{params, Transaction};
 use serde_json::{json, Value};
 
 use crate::library::{self, Record};
+use crate::records::{hand_name, HobRecord};
 use crate::KnowledgeError;
 
 /// Provenance of the starting cutting data.
@@ -117,22 +120,22 @@ pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
         )?;
     }
 
-    // Hobs of migration 1 gain accuracy class, material, coating, shift plan
-    // and life. Classes AA for the module-2/3 single-start hobs (grade 7 work,
-    // as in seed 000's example), A for the others.
-    const HOB_LIFE: &str = "; accuracy class, shift step 0.5 mm per 2 parts and remaining life 400 parts: engineering estimate, set them from your tool room";
-    for (id, class) in [
-        ("HOB-M2-70", "AA"),
-        ("HOB-M3-80", "AA"),
-        ("HOB-M3-80L", "AA"),
-        ("HOB-M3-100-2", "A"),
-        ("HOB-M4-90", "A"),
-    ] {
+    // The seed hobs of migration 1 gain their accuracy class, shift plan and
+    // life (in a database of an older gearcam too).
+    for h in seed_hobs() {
         tx.execute(
-            "UPDATE hobs SET accuracy_class = ?2, shift_position_mm = 0, shift_step_mm = 0.5,
-                             parts_per_shift = 2, remaining_life_parts = 400, source = source || ?3
+            "UPDATE hobs SET accuracy_class = ?2, shift_position_mm = ?3, shift_step_mm = ?4,
+                             parts_per_shift = ?5, remaining_life_parts = ?6, source = source || ?7
              WHERE id = ?1",
-            params![id, class, HOB_LIFE],
+            params![
+                h.id,
+                h.accuracy_class,
+                h.shift_position_mm,
+                h.shift_step_mm,
+                h.parts_per_shift,
+                h.remaining_life_parts,
+                HOB_LIFE
+            ],
         )?;
     }
 
@@ -570,84 +573,86 @@ pub(crate) fn seed_machine(
     Ok(())
 }
 
-struct SeedHob {
-    id: &'static str,
-    module_mm: f64,
-    starts: u32,
-    hand: &'static str,
-    od_mm: f64,
-    length_mm: f64,
-}
-
-/// Seed hobs. Outside diameters and lengths follow common single-piece hob
-/// sizes; the lead angle is derived, not catalogued: the reference diameter is
-/// taken as d0 = da0 − 2·1.25·mn0 (tip 1.25·mn0 over d0, so docs/reference.md#check-4-hob-outside-diameter
+/// Seed hobs: id, normal module mn0 (mm), starts z0, hand, outside diameter
+/// da0 (mm), overall length (mm), accuracy class. Outside diameters and
+/// lengths follow common single-piece hob sizes; the lead angle is derived,
+/// not catalogued: the reference diameter is taken as d0 = da0 − 2·1.25·mn0
+/// (tip 1.25·mn0 over d0, so docs/reference.md#check-4-hob-outside-diameter
 /// holds with equality for ha* = 1, c* = 0.25) and γ0 = asin(z0·mn0 / d0).
-const SEED_HOBS: &[SeedHob] = &[
-    SeedHob {
-        id: "HOB-M2-70",
-        module_mm: 2.0,
-        starts: 1,
-        hand: "right",
-        od_mm: 70.0,
-        length_mm: 70.0,
-    },
-    SeedHob {
-        id: "HOB-M3-80",
-        module_mm: 3.0,
-        starts: 1,
-        hand: "right",
-        od_mm: 80.0,
-        length_mm: 100.0,
-    },
-    SeedHob {
-        id: "HOB-M3-80L",
-        module_mm: 3.0,
-        starts: 1,
-        hand: "left",
-        od_mm: 80.0,
-        length_mm: 100.0,
-    },
-    SeedHob {
-        id: "HOB-M3-100-2",
-        module_mm: 3.0,
-        starts: 2,
-        hand: "right",
-        od_mm: 100.0,
-        length_mm: 120.0,
-    },
-    SeedHob {
-        id: "HOB-M4-90",
-        module_mm: 4.0,
-        starts: 1,
-        hand: "right",
-        od_mm: 90.0,
-        length_mm: 110.0,
-    },
+/// Classes AA for the module-2/3 single-start hobs (grade 7 work, as in seed
+/// 000's example), A for the others.
+const SEED_HOBS: &[(&str, f64, u32, Hand, f64, f64, &str)] = &[
+    ("HOB-M2-70", 2.0, 1, Hand::Right, 70.0, 70.0, "AA"),
+    ("HOB-M3-80", 3.0, 1, Hand::Right, 80.0, 100.0, "AA"),
+    ("HOB-M3-80L", 3.0, 1, Hand::Left, 80.0, 100.0, "AA"),
+    ("HOB-M3-100-2", 3.0, 2, Hand::Right, 100.0, 120.0, "A"),
+    ("HOB-M4-90", 4.0, 1, Hand::Right, 90.0, 110.0, "A"),
 ];
+
+/// Provenance of the seed hobs' geometry (schema 1).
+const HOB_SOURCE: &str =
+    "gearcam seed: typical solid-hob size; lead angle derived from d0 = da0 - 2.5*mn0";
+
+/// What schema 2 adds to the seed hobs' provenance.
+const HOB_LIFE: &str = "; accuracy class, shift step 0.5 mm per 2 parts and remaining life 400 parts: engineering estimate, set them from your tool room";
+
+/// The seed hobs as the tool library holds them from schema 2 on: TiN-coated
+/// HSS, the usable length 10 mm short of the overall length, at the start of
+/// their usable length, shifted 0.5 mm per 2 parts, with 400 parts of life
+/// (engineering estimates; see [`SEED_HOBS`] for the geometry).
+pub fn seed_hobs() -> Vec<HobRecord> {
+    SEED_HOBS
+        .iter()
+        .map(|&(id, module_mm, starts, hand, od_mm, length_mm, class)| {
+            let d0 = od_mm - 2.0 * 1.25 * module_mm;
+            HobRecord {
+                id: id.into(),
+                module_mm,
+                pressure_angle_deg: 20.0,
+                starts,
+                hand,
+                lead_angle_deg: (f64::from(starts) * module_mm / d0).asin().to_degrees(),
+                od_mm,
+                length_mm,
+                usable_length_mm: length_mm - 10.0,
+                accuracy_class: class.into(),
+                material: "HSS".into(),
+                coating: "TiN".into(),
+                shift_position_mm: 0.0,
+                shift_step_mm: 0.5,
+                parts_per_shift: 2,
+                remaining_life_parts: 400,
+                source: format!("{HOB_SOURCE}{HOB_LIFE}"),
+            }
+        })
+        .collect()
+}
 
 /// Provenance of the seeded 840D machine `H01`.
 pub const H01_SOURCE: &str = "gearcam seed: example 840D hobbing machine; M-codes of the patent CN1838008 program; set travels and limits to your machine's";
 
 pub(crate) fn seed_v1(tx: &rusqlite::Transaction<'_>) -> Result<(), KnowledgeError> {
     seed_machine(tx, &seed_machine_h01(), H01_SOURCE)?;
-    for h in SEED_HOBS {
-        let d0 = h.od_mm - 2.0 * 1.25 * h.module_mm;
-        let lead = (h.starts as f64 * h.module_mm / d0).asin().to_degrees();
+    // The columns of schema 1; schema 2 adds the shift plan and life.
+    for h in seed_hobs() {
         tx.execute(
             "INSERT INTO hobs (id, module_mm, pressure_angle_deg, starts, hand, lead_angle_deg, od_mm, length_mm,
                                usable_length_mm, accuracy_class, material, coating, source)
-             VALUES (?1, ?2, 20.0, ?3, ?4, ?5, ?6, ?7, ?8, 'A', 'HSS', 'TiN', ?9)",
+             VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)",
             params![
                 h.id,
                 h.module_mm,
+                h.pressure_angle_deg,
                 h.starts,
-                h.hand,
-                lead,
+                hand_name(h.hand),
+                h.lead_angle_deg,
                 h.od_mm,
                 h.length_mm,
-                h.length_mm - 10.0,
-                "gearcam seed: typical solid-hob size; lead angle derived from d0 = da0 - 2.5*mn0",
+                h.usable_length_mm,
+                h.accuracy_class,
+                h.material,
+                h.coating,
+                HOB_SOURCE,
             ],
         )?;
     }

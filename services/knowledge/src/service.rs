@@ -268,7 +268,7 @@ fn answer_inner(
         return Err(vec![kb_err(
             "BAD_KEY",
             "key",
-            "gearcam/v1/kb/{library} or gearcam/v1/kb/{library}/{id}",
+            keys::KB_KEY_FORMS,
             key,
             "a knowledge-base query names a library and, for one record, its id",
         )]);
@@ -301,7 +301,7 @@ fn answer_inner(
             vec![kb_err(
                 "MISSING_ID",
                 "key",
-                format!("gearcam/v1/kb/{}/{{id}}", lib.name),
+                keys::kb_record_form(lib.name),
                 key,
                 format!("{op} needs the record's id in the key"),
             )]

@@ -2,7 +2,6 @@
 //! queries on `gearcam/v1/kb/**` and a job without a process section planned
 //! from the cases.
 
-use std::net::TcpListener;
 use std::time::Duration;
 
 use gearcam_bus::{Bus, BusConfig, CancellationToken};
@@ -12,14 +11,6 @@ use gearcam_proto::{decode, encode, keys, JobRequest, JobSpec, ProcessPlan, Sour
 use tokio::time::timeout;
 
 const T: Duration = Duration::from_secs(20);
-
-fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port()
-}
 
 async fn query(bus: &Bus, key: &str, req: Option<&KbRequest>) -> KbReply {
     let mut get = bus.session().get(key).timeout(Duration::from_secs(5));
@@ -39,11 +30,14 @@ fn text(s: &str) -> KbValue {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn libraries_are_browsed_and_edited_over_zenoh_and_a_job_gets_a_proposal() {
     let dir = tempfile::tempdir().unwrap();
-    let endpoint = format!("tcp/127.0.0.1:{}", free_port());
-    let server = timeout(T, Bus::open(&BusConfig::loopback(&[&endpoint])))
+    // The server listens on a port the operating system chooses, read back.
+    let server = timeout(T, Bus::open(&BusConfig::loopback(&["tcp/127.0.0.1:0"])))
         .await
         .unwrap()
         .unwrap();
+    let port = gearcam_testkit::process::listening_port(std::process::id())
+        .expect("the server listens on a TCP port");
+    let endpoint = format!("tcp/127.0.0.1:{port}");
     let shutdown = CancellationToken::new();
     let task = tokio::spawn(service::run(
         server.clone(),

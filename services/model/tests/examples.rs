@@ -3,50 +3,18 @@
 //! model of its class and an 840D program; an invalid one (marked
 //! `# expect: CODE`) is refused with that named error.
 
-use std::path::PathBuf;
-
-use gearcam_proto::{classify, GearClass, JobId, JobRequest, JobSpec, MachiningModel, MoveKind};
-
-fn examples() -> Vec<(String, String)> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    files.sort();
-    files
-        .into_iter()
-        .map(|p| {
-            let name = p.file_name().unwrap().to_string_lossy().into_owned();
-            (name, std::fs::read_to_string(&p).unwrap())
-        })
-        .collect()
-}
-
-fn expected_code(text: &str) -> Option<&str> {
-    text.lines()
-        .find_map(|l| l.strip_prefix("# expect: "))
-        .map(str::trim)
-}
+use gearcam_proto::{classify, GearClass, MachiningModel, MoveKind};
+use gearcam_testkit::examples::{all as examples, expected_code};
+use gearcam_testkit::pipeline::{model_of, program_of};
 
 /// Plan, model and program of one job file, or the errors of the first
 /// stage that refuses it.
 fn run(
-    name: &str,
+    _name: &str,
     text: &str,
 ) -> Result<(MachiningModel, gearcam_proto::NcProgram), Vec<gearcam_proto::JobError>> {
-    let spec: JobSpec = toml::from_str(text).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let req = JobRequest {
-        job_id: JobId::new("EXAMPLE-1").unwrap(),
-        submitted_at_ms: 0,
-        submitted_by: "test".into(),
-        spec,
-    };
-    let conn = gearcam_knowledge::db::open_in_memory().unwrap();
-    let plan = gearcam_knowledge::plan::plan(&conn, &req)?;
-    let model = gearcam_model::compute(&plan)?;
-    let program = gearcam_template::Templates::builtin().render(&model)?;
+    let model = model_of(text)?;
+    let program = program_of(&model)?;
     Ok((model, program))
 }
 

@@ -378,7 +378,7 @@ async fn known_machine(
                     "spec.job.machine",
                     format!("one of the knowledge base's machines: {}", ids.join(", ")),
                     machine.as_str(),
-                    "the knowledge base has no such machine (gearcam kb machines lists them); the job was not journaled",
+                    "the knowledge base has no such machine (gearcam kb list machines lists them); the job was not journaled",
                 ))
             }
         }

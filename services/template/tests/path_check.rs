@@ -7,13 +7,10 @@
 //! Models are computed as `gearcam check` computes them: the seeded in-memory
 //! knowledge base plans the job, `gearcam_model::compute` models it.
 
-use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use gearcam_nc::{self as nc, rules, Trace};
-use gearcam_proto::{
-    Dialect, JobId, JobRequest, JobSpec, Kinematics, MachineId, MachiningModel, MoveKind, PathCheck,
-};
+use gearcam_proto::{Dialect, Kinematics, MachiningModel, MoveKind, PathCheck};
 use gearcam_template::format_fixed;
 use gearcam_template::Templates;
 use proptest::prelude::*;
@@ -23,47 +20,12 @@ const MM: f64 = 0.0005 + 1e-6;
 /// Print rounding of gearbox factors (6 decimals).
 const FACTOR: f64 = 0.000_000_5 + 1e-9;
 
-/// Every `examples/*.toml` without an `# expect:` line: (file name, text).
-fn valid_examples() -> Vec<(String, String)> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    files.sort();
-    files
-        .into_iter()
-        .map(|p| {
-            let name = p.file_name().unwrap().to_string_lossy().into_owned();
-            (name, std::fs::read_to_string(&p).unwrap())
-        })
-        .filter(|(_, text)| !text.lines().any(|l| l.starts_with("# expect:")))
-        .collect()
-}
-
-fn example(name: &str) -> String {
-    valid_examples()
-        .into_iter()
-        .find(|(n, _)| n == name)
-        .unwrap_or_else(|| panic!("{name} missing"))
-        .1
-}
+use gearcam_testkit::examples::{example, on_machine, valid as valid_examples};
 
 /// The model of a job file, planned for `machine` (H01: 840D, H02: FANUC).
 fn model(name: &str, text: &str, machine: &str) -> MachiningModel {
-    let mut spec: JobSpec = toml::from_str(text).unwrap_or_else(|e| panic!("{name}: {e}"));
-    spec.job.machine = MachineId::new(machine).unwrap();
-    let req = JobRequest {
-        job_id: JobId::new("PATH-CHECK-1").unwrap(),
-        submitted_at_ms: 0,
-        submitted_by: "test".into(),
-        spec,
-    };
-    let conn = gearcam_knowledge::db::open_in_memory().unwrap();
-    let plan = gearcam_knowledge::plan::plan(&conn, &req)
-        .unwrap_or_else(|e| panic!("{name} on {machine}: {e:#?}"));
-    gearcam_model::compute(&plan).unwrap_or_else(|e| panic!("{name} on {machine}: {e:#?}"))
+    gearcam_testkit::pipeline::model_of(&on_machine(text, machine))
+        .unwrap_or_else(|e| panic!("{name} on {machine}: {e:#?}"))
 }
 
 /// The program the shipped templates write for a model.

@@ -11,6 +11,8 @@
 //! ```sh
 //! gearcam-echo --connect tcp/127.0.0.1:7447
 //! ```
+// Test code: clocks for timeouts, the environment for switches.
+#![allow(clippy::disallowed_methods)]
 
 use anyhow::{bail, Context, Result};
 

@@ -3,10 +3,54 @@
 use std::process::ExitCode;
 
 use anyhow::Context;
+use clap::Subcommand;
+use gearcam_bus::BusArgs;
+use gearcam_proto::MachineId;
 
-use crate::cli::ProgramAction;
 use crate::cmd::{join_bus, refused};
 use crate::store;
+
+/// `gearcam program …`: what to do with a machine's stored programs.
+#[derive(Debug, Subcommand)]
+pub enum ProgramAction {
+    /// Every stored version (of one program, if named), newest first.
+    History {
+        /// The machine, e.g. H01.
+        #[arg(long)]
+        machine: MachineId,
+        /// Program name, e.g. SP_1001.
+        name: Option<String>,
+        #[command(flatten)]
+        bus: BusArgs,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Print one stored version's text.
+    Show {
+        /// The machine, e.g. H01.
+        #[arg(long)]
+        machine: MachineId,
+        /// Program name.
+        name: String,
+        /// Version number (from `history`).
+        seq: u64,
+        #[command(flatten)]
+        bus: BusArgs,
+    },
+    /// Make a stored version current again in the machine's program directory.
+    Rollback {
+        /// The machine, e.g. H01.
+        #[arg(long)]
+        machine: MachineId,
+        /// Program name.
+        name: String,
+        /// Version number (from `history`).
+        seq: u64,
+        #[command(flatten)]
+        bus: BusArgs,
+    },
+}
 
 pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
     match action {

@@ -1,15 +1,15 @@
-//! Helpers for gearcam's distributed tests: start the real binaries as
-//! processes on loopback, each in a fresh temporary directory, and stop them
-//! when the test ends.
-//!
-//! # Layout
+//! The real binaries as processes on loopback, each in a fresh temporary
+//! directory, stopped when the test ends.
 //!
 //! - [`bin`]: the path of a built workspace binary.
-//! - [`free_port`]: a free loopback TCP port.
+//! - [`Proc`]: one process, its log, and what it printed.
 //! - [`Cluster`]: a router plus every service and one agent, as processes.
-#![forbid(unsafe_code)]
+//!
+//! Ports come from the operating system: a router listens on port 0 and the
+//! port it got is read back from what it prints (`gearcam router: listening
+//! on …`); a restarted router takes the same port again.
 
-use std::net::{TcpListener, TcpStream};
+use std::net::TcpStream;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -36,14 +36,6 @@ pub fn bin(name: &str) -> PathBuf {
         path.display()
     );
     path
-}
-
-/// A free TCP port on 127.0.0.1 (bound, read, released).
-pub fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .map(|a| a.port())
-        .expect("a free loopback port")
 }
 
 /// Waits until something accepts TCP connections on the port.
@@ -99,6 +91,57 @@ impl Proc {
         self.child = spawn(&self.log, &self.bin, &self.args);
     }
 
+    /// Waits until the process has printed a line starting with `prefix`;
+    /// returns the rest of that line.
+    pub fn wait_for_line(&self, prefix: &str, timeout: Duration) -> String {
+        let start = Instant::now();
+        loop {
+            let log = std::fs::read_to_string(&self.log).unwrap_or_default();
+            if let Some(rest) = log.lines().find_map(|l| l.strip_prefix(prefix)) {
+                return rest.trim().to_string();
+            }
+            assert!(
+                start.elapsed() < timeout,
+                "{} printed no line {prefix:?} within {timeout:?}:\n{log}",
+                self.name
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+
+    /// The TCP port this process listens on, read back from the operating
+    /// system (`/proc`: the process's sockets in the LISTEN state) once it
+    /// listens. Start a router with port 0 and ask here which it got.
+    pub fn listening_port(&self, timeout: Duration) -> u16 {
+        let start = Instant::now();
+        loop {
+            if let Some(port) = listening_port(self.child.id()) {
+                return port;
+            }
+            assert!(
+                start.elapsed() < timeout,
+                "{} listens on no TCP port after {timeout:?}:\n{}",
+                self.name,
+                std::fs::read_to_string(&self.log).unwrap_or_default()
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+
+    /// The endpoint of a router started by this process with `--listen
+    /// tcp/127.0.0.1:0`: the port the operating system chose. From then on a
+    /// restart listens there again.
+    pub fn router_endpoint(&mut self, timeout: Duration) -> String {
+        let port = self.listening_port(timeout);
+        let endpoint = format!("tcp/127.0.0.1:{port}");
+        for a in &mut self.args {
+            if a == "tcp/127.0.0.1:0" {
+                a.clone_from(&endpoint);
+            }
+        }
+        endpoint
+    }
+
     /// True while the process runs.
     pub fn running(&mut self) -> bool {
         matches!(self.child.try_wait(), Ok(None))
@@ -115,6 +158,32 @@ impl Drop for Proc {
     fn drop(&mut self) {
         self.kill();
     }
+}
+
+/// The TCP port process `pid` listens on (Linux `/proc`), if it listens.
+pub fn listening_port(pid: u32) -> Option<u16> {
+    let inodes: Vec<String> = std::fs::read_dir(format!("/proc/{pid}/fd"))
+        .ok()?
+        .filter_map(|e| std::fs::read_link(e.ok()?.path()).ok())
+        .filter_map(|l| {
+            let l = l.to_string_lossy().into_owned();
+            Some(l.strip_prefix("socket:[")?.strip_suffix(']')?.to_string())
+        })
+        .collect();
+    ["/proc/net/tcp", "/proc/net/tcp6"]
+        .iter()
+        .find_map(|table| {
+            let text = std::fs::read_to_string(table).ok()?;
+            text.lines().skip(1).find_map(|line| {
+                let f: Vec<&str> = line.split_whitespace().collect();
+                // local_address, st (0A = LISTEN), inode
+                let (local, state, inode) = (f.get(1)?, f.get(3)?, f.get(9)?);
+                if *state != "0A" || !inodes.iter().any(|i| i == inode) {
+                    return None;
+                }
+                u16::from_str_radix(local.rsplit(':').next()?, 16).ok()
+            })
+        })
 }
 
 fn spawn(log: &Path, name: &str, args: &[String]) -> Child {
@@ -162,8 +231,19 @@ impl Cluster {
     /// Like [`Cluster::start`] but the agent of H01 is not started (offline).
     pub fn start_without_agent() -> Cluster {
         let dir = tempfile::tempdir().expect("temp dir");
-        let port = free_port();
-        let endpoint = format!("tcp/127.0.0.1:{port}");
+        let d = dir.path();
+        let mut router = Proc::start(
+            d,
+            "router",
+            "gearcam",
+            &[
+                "router".into(),
+                "--listen".into(),
+                "tcp/127.0.0.1:0".into(),
+                "--no-multicast-scouting".into(),
+            ],
+        );
+        let endpoint = router.router_endpoint(Duration::from_secs(20));
         let client = |extra: &[&str]| -> Vec<String> {
             let mut v: Vec<String> = [
                 "--mode",
@@ -178,19 +258,7 @@ impl Cluster {
             v.extend(extra.iter().map(|s| s.to_string()));
             v
         };
-        let d = dir.path();
-        let mut procs = vec![Proc::start(
-            d,
-            "router",
-            "gearcam",
-            &[
-                "router".into(),
-                "--listen".into(),
-                endpoint.clone(),
-                "--no-multicast-scouting".into(),
-            ],
-        )];
-        wait_for_port(port, Duration::from_secs(20));
+        let mut procs = vec![router];
         let journal = d.join("station.db").display().to_string();
         procs.push(Proc::start(
             d,

@@ -1,0 +1,527 @@
+//! The catalogue of every error, warning and path-check code gearcam raises
+//! (issue 11): the code, the stages that raise it, what it means and what
+//! the user should do.
+//!
+//! A [`crate::JobError`] carries its code as text on the wire, so readers in
+//! other languages see the same strings; here each code is also a constant of
+//! the same name (e.g. [`BASE_PITCH_MISMATCH`]) for the Rust code that raises
+//! it. [`lookup`] finds a code's entry.
+//!
+//! `docs/errors.md` is generated from [`CATALOGUE`], and the test
+//! `cargo test -p gearcam-tests --test error_codes` fails when a code raised
+//! anywhere in the services is missing here, when an entry here is raised
+//! nowhere, or when the page differs from the catalogue (rewrite it with
+//! `GEARCAM_BLESS=1`).
+//!
+//! Stages: `station`, `knowledge`, `model`, `template`, `agent` (the
+//! [`crate::Stage`] the error carries), or `any` for the codec's codes, which
+//! every stage that decodes a message can raise. The rules of the NC path
+//! check (stage `template (path check)`) are not errors themselves: each
+//! finding reaches the user as a `PATH_CHECK_FAILED` error whose `expected`
+//! names the rule, and `gearcam check` lists them.
+
+/// One code of the catalogue.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CodeInfo {
+    /// The code, e.g. `BASE_PITCH_MISMATCH`.
+    pub code: &'static str,
+    /// The stages that raise it, e.g. `model` or `station, knowledge`; a
+    /// note in brackets says more (e.g. `model (warning)`).
+    pub stage: &'static str,
+    /// What it means: one or two plain sentences.
+    pub meaning: &'static str,
+    /// What the user should do.
+    pub action: &'static str,
+}
+
+/// The entry of `code`, if the catalogue has it.
+pub fn lookup(code: &str) -> Option<&'static CodeInfo> {
+    CATALOGUE
+        .binary_search_by(|c| c.code.cmp(code))
+        .ok()
+        .map(|i| &CATALOGUE[i])
+}
+
+/// Declares each code as a constant (documented with its meaning) and lists
+/// them all in [`CATALOGUE`], in the order given (sorted by code).
+macro_rules! catalogue {
+    ($($code:ident: $stage:literal, $meaning:literal, $action:literal;)*) => {
+        $(
+            #[doc = $meaning]
+            pub const $code: &str = stringify!($code);
+        )*
+
+        /// Every code gearcam raises, sorted by code.
+        pub const CATALOGUE: &[CodeInfo] = &[
+            $(CodeInfo {
+                code: $code,
+                stage: $stage,
+                meaning: $meaning,
+                action: $action,
+            },)*
+        ];
+    };
+}
+
+catalogue! {
+    ADDENDUM_RANGE: "model",
+        "The gear's addendum coefficient ha* is not a positive number.",
+        "Correct `gear.addendum_coef` (usually 1).";
+    AXIAL_FEED_LIMIT: "model",
+        "The computed axial feed of the job or of a rough cut is above the machine's feed limit.",
+        "Lower `process.feed_mm_per_rev` or the cutting speed.";
+    BAD_ARGUMENT: "knowledge (`gearcam kb`)",
+        "A `--set` argument of `gearcam kb` is not of the form FIELD=VALUE.",
+        "Write each `--set` as field=value, e.g. `--set module_mm=3`.";
+    BAD_HOB_ID: "any",
+        "A hob id breaks the id rule (1 to 32 characters from A-Z a-z 0-9 _ -, starting with a letter or digit); got is the id.",
+        "Use a hob id that follows the rule.";
+    BAD_JOB_ID: "station, agent",
+        "A job id in a key or message breaks the id rule (1 to 64 characters from A-Z a-z 0-9 _ -, starting with a letter or digit); got is the id.",
+        "Use a job id that follows the rule, or leave `[job] id` out to get a generated one.";
+    BAD_JSON: "knowledge (`gearcam kb add`)",
+        "The `--from-json` file of `gearcam kb add` is not a JSON object of the record's fields.",
+        "Fix the file; `gearcam kb show LIBRARY ID --json` prints a record in this form.";
+    BAD_KEY: "knowledge",
+        "A knowledge-base query used a key that is not `gearcam/v1/kb/{library}` or `gearcam/v1/kb/{library}/{id}`.",
+        "Query one of those two keys.";
+    BAD_MACHINE_ID: "station",
+        "The job's machine id (`spec.job.machine`) breaks the id rule (1 to 32 characters from A-Z a-z 0-9 _ -, starting with a letter or digit).",
+        "Name the machine by its id in the knowledge base, e.g. H01.";
+    BAD_PROGRAM_NAME: "agent",
+        "The program name breaks the controller's naming rule, so the agent does not store it.",
+        "Check the part number the name is made from; the error states the rule.";
+    BAD_STORE_REQUEST: "agent",
+        "A store query has a key or payload the program store does not understand (an unknown key, a version that is not a number, or a change without a store_request payload).",
+        "Use the store keys and payloads of proto/README.md, or the `gearcam program` commands.";
+    BALL_DIAMETER_RANGE: "model",
+        "The ball diameter for the measurement over balls is not positive, or too small to rest on the involute flanks.",
+        "Correct `gear.ball_diameter_mm` (about 1.7 times the module) or leave it out.";
+    BASE_PITCH_MISMATCH: "model",
+        "Hob and gear have different normal base pitches (mn0·cos α0 ≠ mn·cos αn), so the hob cannot generate this gear.",
+        "Choose a hob with the gear's module and pressure angle.";
+    BLANK_OD_EDGE: "model (warning)",
+        "Warning: the blank outside diameter lies near the edge of its allowed window around the tip diameter.",
+        "Check the blank before cutting; the job goes on.";
+    BLANK_OD_WINDOW: "model",
+        "The blank outside diameter lies outside the machine's window around the gear's tip diameter.",
+        "Turn the blank to size or correct `gear.blank_od_mm`.";
+    CENTRE_DISTANCE_TOO_SMALL: "model",
+        "The final centre distance is below the theoretical one, so the teeth would be cut thin.",
+        "Reduce `process.depth_mm`, or leave it out to use the theoretical depth.";
+    CHORD_TOLERANCE_RANGE: "model",
+        "The chord tolerance of a parabolic crowning is not positive, or so fine that it needs too many chords.",
+        "Correct `gear.crowning.chord_tolerance_mm`.";
+    CLASS_AMBIGUOUS: "model",
+        "The gear carries the markers of more than one class (cone, crowning, worm wheel, curved tooth).",
+        "Keep only the one `[gear.*]` table that describes the gear.";
+    CLASS_NOT_PROGRAMMABLE: "model",
+        "The gear is a curved-tooth gear: gearcam classifies it but cannot program it yet.",
+        "Program this part by hand for now.";
+    CLASS_OPTION_UNSUPPORTED: "model",
+        "The job asks for an option its gear class does not support (radial-axial infeed on a gear that is not cylindrical, or hob shifting with tangential worm-wheel infeed).",
+        "Leave `process.infeed` or `[process.shift]` out, as the message says.";
+    CLEARANCE_COEF_RANGE: "model",
+        "The tip clearance coefficient c* is negative or not a number.",
+        "Correct `gear.clearance_coef` (usually 0.25).";
+    CONE_ANGLE_RANGE: "model",
+        "The cone angle is outside (0°, 45°), or so large that the root cone reaches the axis within the face width.",
+        "Correct `gear.cone.angle_deg` or `gear.face_width_mm`.";
+    COUPLING_RATIO: "template (path check)",
+        "Path check finding: a gearbox coupling differs from the model's ratio or factors, or a unit is coupled again in another way.",
+        "The program was not sent; report it with the job file, since the template and the model disagree.";
+    CROWNING_RANGE: "model",
+        "The crowning amount is not between 0 and half the face width.",
+        "Correct `gear.crowning.amount_mm` (typically 0.01 to 0.05 mm).";
+    CSV_ROW: "knowledge",
+        "A row of the CSV file cannot be read (for example, it has the wrong number of cells).",
+        "Fix the row named in the error and import again; nothing was imported.";
+    CUTS_RANGE: "model",
+        "The number of cuts is outside 1 to 6.",
+        "Correct `process.cuts`.";
+    CUTTING_SPEED_RANGE: "model",
+        "The cutting speed is not positive.",
+        "Correct `process.cutting_speed_m_min`, or leave it out for the knowledge base to propose one.";
+    CUT_DEPTH: "model",
+        "The cut depth is not positive, or cuts the root deeper than the whole depth plus the machine's allowance.",
+        "Correct `process.depth_mm`, or leave it out to use the theoretical depth.";
+    DEPTH_UNCOUPLED: "template (path check)",
+        "Path check finding: the hob moves into the contact zone while the gearbox is uncoupled or the hob is stopped, or stops there.",
+        "The program was not sent; correct the template so it couples and starts the hob before the cut.";
+    DUPLICATE_ID: "knowledge",
+        "The library already has a record with this key.",
+        "Change it with `gearcam kb edit`, or add the record under a new id.";
+    DWELL_RANGE: "model",
+        "The worm-wheel dwell is negative or not a number.",
+        "Correct `gear.worm_wheel.dwell_rev` (0 or more revolutions).";
+    ENCODE_FAILED: "station, knowledge, model",
+        "A message could not be encoded for the bus or the journal; this is a bug.",
+        "Report it with the service's log.";
+    END_AT_A: "template (path check)",
+        "Path check finding: the program does not end at the start point A, or not with the end code.",
+        "The program was not sent; correct the template's last moves and end code.";
+    ENVELOPE: "template (path check)",
+        "Path check finding: the hob, swept as a solid along a move, enters the table, the fixture or the tailstock.",
+        "The program was not sent; check the fixture and the machine's envelope, or correct the template.";
+    ENVELOPE_COLLISION: "model",
+        "The hob's run-out below the gear would reach the machine's table or the fixture.",
+        "Raise the gear on a taller fixture, use a shorter hob, or give the real `gear.fixture_diameter_mm`.";
+    FACE_WIDTH_RANGE: "model",
+        "The face width is not a positive length.",
+        "Correct `gear.face_width_mm`.";
+    FEED_LIMIT: "template (path check)",
+        "Path check finding: a feed above the machine's largest axial feed, or a feed move without a feed.",
+        "The program was not sent; lower the feed or correct the template.";
+    FEED_RANGE: "model",
+        "The axial feed per revolution is not positive, or not below the helix lead of a helical gear.",
+        "Correct `process.feed_mm_per_rev`, or leave it out for the knowledge base to propose one.";
+    FEED_RATE_LIMIT: "model",
+        "A computed radial feed move is faster than the machine's feed limit.",
+        "Lower the radial feed per revolution or the cutting speed.";
+    FEED_RATE_RANGE: "model",
+        "A radial, tangential or finishing feed per revolution is not positive.",
+        "Correct the feed field named in the error.";
+    FIELD_INVALID: "knowledge",
+        "A knowledge-base field has a value of the wrong type or out of range (a machine profile included).",
+        "Give a value as the error's expected says; `gearcam kb libraries` lists every field.";
+    FIELD_MISSING: "knowledge",
+        "A required knowledge-base field has no value, or an add request carries no record.",
+        "Give the field; `gearcam kb libraries` marks the required ones.";
+    FINISH_ALLOWANCE_RANGE: "model",
+        "The finish allowance is not between 0 and the whole tooth depth.",
+        "Correct `process.finish_allowance_mm` (typically 0.1 to 0.5 mm).";
+    GEAR_MISSING: "knowledge",
+        "The job has no `[gear]` section, and its part number is not in the workpiece library.",
+        "Add the `[gear]` section, or add the part with `gearcam kb add workpieces` and name it in `[job] part_number`.";
+    HASH_MISMATCH: "agent",
+        "The program text does not match its SHA-256 hash; it was damaged on the way.",
+        "Submit the job again; if it repeats, check the network and the sender.";
+    HELIX_HAND_MISSING: "model",
+        "A helical gear has no helix hand.",
+        "Add `helix_hand` (right or left) to `[gear]`.";
+    HELIX_RANGE: "model",
+        "The helix angle is not strictly between -90° and 90°.",
+        "Correct `gear.helix_angle_deg` (0 for a spur gear).";
+    HOB_AMBIGUOUS: "knowledge",
+        "The job gives both a library hob id and inline hob data.",
+        "Give either `hob.id` or the inline hob data, not both.";
+    HOB_CLEARANCE: "template (path check)",
+        "Path check finding: the hob, swept as a solid along a rapid move, enters a blank.",
+        "The program was not sent; correct the template's rapid moves or the safety distance.";
+    HOB_FIELD_MISSING: "knowledge",
+        "The job's inline hob data lacks a field (starts, od_mm, module_mm, lead_angle_deg, hand or length_mm).",
+        "Add the missing `hob.*` field, or give `hob.id` from the library instead.";
+    HOB_LEAD_ANGLE_RANGE: "model",
+        "The hob lead angle is not between 0° and 45°.",
+        "Correct the hob's `lead_angle_deg` (in the job or the tool library).";
+    HOB_LENGTH_RANGE: "model",
+        "The hob length is not a positive length.",
+        "Correct the hob's `length_mm` (in the job or the tool library).";
+    HOB_MODULE_RANGE: "model",
+        "The hob module is not a positive length.",
+        "Correct the hob's `module_mm` (in the job or the tool library).";
+    HOB_OD_LIMIT: "model",
+        "The hob outside diameter is larger than the machine's hob head takes.",
+        "Choose a smaller hob or another machine.";
+    HOB_OD_RANGE: "model",
+        "The hob outside diameter is not a positive length.",
+        "Correct the hob's `od_mm` (in the job or the tool library).";
+    HOB_OD_TOO_SMALL: "model",
+        "The hob outside diameter is below d0 + 2·(ha* + c*)·mn0, so the hob cannot reach the gear's root.",
+        "Check the hob's OD and lead angle, or choose another hob.";
+    HOB_PRESSURE_ANGLE_RANGE: "model",
+        "The hob pressure angle is not between 0° and 45°.",
+        "Correct the hob's `pressure_angle_deg` (in the job or the tool library).";
+    HOB_RPM_LIMIT: "model",
+        "The computed hob speed is above the machine's limit.",
+        "Lower `process.cutting_speed_m_min` or use a hob of larger diameter.";
+    HOB_STARTS_RANGE: "model",
+        "The hob has fewer than one start.",
+        "Correct the hob's `starts` (in the job or the tool library).";
+    HOB_TOO_SHORT_FOR_SHIFT: "model",
+        "The hob is shorter than its active length, so it cannot shift.",
+        "Leave `[process.shift]` out or use a longer hob.";
+    ID_MISMATCH: "knowledge",
+        "An add query's record has a key that differs from the id in the query's key.",
+        "Make the record's key and the id in the query key the same.";
+    INTERNAL_ERROR: "knowledge, model, template",
+        "The stage's handler panicked on this job; this is a bug.",
+        "Report it with the job file and the service's log.";
+    INVALID_AXIS_NAME: "template",
+        "An axis name in the machine profile is not a valid 840D identifier, or two axes share a name.",
+        "Correct the machine's axes in the knowledge base (`gearcam kb edit machines`).";
+    INVALID_COUPLING: "template",
+        "The model's gearbox ratio z0/z has a zero term; the model stage should have refused the job.",
+        "Report it as a bug, with the job file.";
+    INVALID_PROGRAM_NAME: "template",
+        "The 840D program name made from the part number is not valid on the controller.",
+        "Change `job.part_number` so that it makes a valid 840D program name.";
+    JOB_FILE_INVALID: "station",
+        "The job file is not valid TOML, or a value has the wrong type.",
+        "Fix the job file at the line the message names.";
+    JOB_FILE_MISSING_KEY: "station",
+        "The job file lacks a required key.",
+        "Add the key; for `[gear]` keys you may instead leave the whole section out and name a library part number.";
+    JOB_FILE_UNKNOWN_KEY: "station",
+        "The job file has a key gearcam does not know (often a typo).",
+        "Correct or remove the key; the error lists the expected ones.";
+    JOB_FILE_UNREADABLE: "station",
+        "The job file cannot be read.",
+        "Check the path and the file's permissions.";
+    JOB_ID_EXISTS: "station",
+        "The job id is already journaled with a different job spec.",
+        "Use a new job id; a resubmission must carry the same spec.";
+    JOB_ID_MISMATCH: "knowledge, model, template, agent",
+        "A message's job id differs from the job id in its key.",
+        "Fix the sender so that key and message name the same job.";
+    JOB_STATE: "knowledge",
+        "The job cannot be confirmed in its state: it is not delivered yet, or already confirmed.",
+        "Confirm a job once, after delivery; pass `--undelivered` for a job cut from a program delivered another way.";
+    JOURNAL_ERROR: "station",
+        "The station could not read or write its job journal.",
+        "See the station's log; check the journal's database file and disk.";
+    KEY_IMMUTABLE: "knowledge",
+        "An edit tried to change a record's key.",
+        "Add a new record with the new key and remove the old one.";
+    KNOWLEDGE_BASE_ERROR: "knowledge",
+        "The knowledge base could not be read or written.",
+        "Check the knowledge service's log and its database file.";
+    MACHINE_MODULE_LIMIT: "model",
+        "The gear's module is outside the machine's module range.",
+        "Choose another machine for this gear.";
+    MACHINE_SETTING_RANGE: "model",
+        "A setting, axis sense, envelope value or parameter block of the machine profile is out of range.",
+        "Correct the machine profile in the knowledge base (`gearcam kb edit machines`).";
+    MALFORMED_MESSAGE: "any",
+        "A message's bytes are not a gearcam MessagePack envelope of the expected kind.",
+        "Fix the sender; the message was dropped.";
+    MATE_RANGE: "model",
+        "The mating gear's data is out of range: teeth below 1, a profile shift that is not a number, or a centre distance that is not positive.",
+        "Correct `[gear.mate]`.";
+    MCODE_PAIR: "template (path check)",
+        "Path check finding: a switched function (support, fixture, coolant, conveyor, mist) is switched off without being on, on twice, or still on at the end.",
+        "The program was not sent; correct the template's M codes.";
+    MESSAGE_TOO_LARGE: "any",
+        "A message is larger than its reader accepts.",
+        "Fix the sender; the message was dropped.";
+    MISSING_ID: "knowledge",
+        "A get, edit or remove query has no record id in its key.",
+        "Query `gearcam/v1/kb/{library}/{id}`.";
+    MODULE_RANGE: "model",
+        "The gear's normal module is not a positive length.",
+        "Correct `gear.module_mm`.";
+    NOT_FINITE: "model",
+        "A value that must be a number (profile shift, OD correction, fixture height) is NaN or infinite.",
+        "Give a finite value for the field named.";
+    NOT_FOUND: "knowledge",
+        "The library has no record with this id.",
+        "Use an existing id; `gearcam kb list LIBRARY` lists them.";
+    NO_CSV: "knowledge",
+        "This library cannot be imported or exported as CSV.",
+        "Use workpieces, hobs, cases or materials, which have CSV.";
+    NO_MATCHING_HOB: "knowledge",
+        "No hob in the tool library fits the gear (base pitch, accuracy class, usable length).",
+        "Add a fitting hob with `gearcam kb add hobs`, or give the hob inline.";
+    PARSE: "template (path check)",
+        "Path check finding: a program line lies outside the NC subset gearcam emits, or its arithmetic fails.",
+        "The program was not sent; correct the template line named in the error.";
+    PATH_CHECK_FAILED: "template",
+        "The path check of the rendered program found a line that breaks a rule; the rule is in expected, one error per finding.",
+        "The program was not sent; look up the rule in this table and correct the template or the job.";
+    POSITION_TRAVEL_LIMIT: "model",
+        "A computed position or move end lies outside the machine's X or Z travel.",
+        "Check the blank and hob diameters, fixture height, face width and safety distance, as the message says.";
+    PRESSURE_ANGLE_RANGE: "model",
+        "The gear's normal pressure angle is not between 0° and 45°.",
+        "Correct `gear.pressure_angle_deg` (usually 20°).";
+    PROGRAM_CHANGED_AT_MACHINE: "agent",
+        "The program file at the machine was changed or created there since gearcam stored it; the agent kept the file.",
+        "Resolve the conflict at the machine, then deliver or roll back again.";
+    PROGRAM_TOO_LARGE: "template, agent",
+        "The program is larger than the size limit (when rendered, or when stored).",
+        "Check the template for runaway repetition.";
+    QUANTITY_RANGE: "model",
+        "The job's quantity is below 1.",
+        "Correct `job.quantity`.";
+    RAPID_CLEARANCE: "template (path check)",
+        "Path check finding: a rapid move passes through the zone where the hob can touch the blank.",
+        "The program was not sent; correct the template's rapid moves or the safety distance.";
+    REVISION_CONFLICT: "agent",
+        "This job revision was already stored with different content.",
+        "Send the changed program as a new revision.";
+    SAFETY_RANGE: "model",
+        "The safety distance is negative.",
+        "Correct `process.safety_mm`.";
+    SETUP: "template (path check)",
+        "Path check finding: the program does not set unit, work offset, diameter mode or G-code system as the machine profile needs, or writes a parameter outside the profile's free block.",
+        "The program was not sent; correct the template's header or the machine profile.";
+    SHIFT_RANGE: "model",
+        "A hob-shift setting is out of range: a step that is not positive, zero parts per step, or a start or end outside the usable hob length.",
+        "Correct the `process.shift` field named, or leave it out.";
+    SPEED_LIMIT: "template (path check)",
+        "Path check finding: a hob speed, or the table speed it gives, is above the machine's limit.",
+        "The program was not sent; lower the cutting speed or correct the template.";
+    STORE_INDEX_ERROR: "agent",
+        "The agent could not read or write its program index, or found a bad row in it.",
+        "See the agent's log; check the store's database file.";
+    STORE_IO_ERROR: "agent",
+        "The agent could not read or write a file in the machine's program directory.",
+        "Check the program directory's path, permissions and free space.";
+    SWIVEL_LIMIT: "model",
+        "The computed swivel angle is above the machine's limit.",
+        "Use a hob of the same hand as the gear's helix, or another machine.";
+    TABLE_RPM_LIMIT: "model",
+        "The computed table speed of the job or of a rough cut is above the machine's limit.",
+        "Lower `process.cutting_speed_m_min` or use a hob with fewer starts.";
+    TEETH_RANGE: "model",
+        "The gear has fewer than one tooth.",
+        "Correct `gear.teeth`.";
+    TEMPLATE_FUEL_EXHAUSTED: "template",
+        "The template used up its budget of expression steps while rendering.",
+        "Check the template for runaway loops.";
+    TEMPLATE_LIBRARY_UNREADABLE: "template (`gearcam check`)",
+        "The template library (templates.db in the data directory) cannot be read.",
+        "Check `--data` and the templates.db file in it.";
+    TEMPLATE_NOT_FOUND: "template",
+        "There is no template for the gear's class on the machine's controller.",
+        "Choose a machine whose controller has a template for this class, or add the template to the library.";
+    TEMPLATE_RENDER_FAILED: "template",
+        "The template failed while rendering this model.",
+        "Correct the template at the line the message names.";
+    TRAVEL_LIMIT: "template (path check)",
+        "Path check finding: an X or Z target lies outside the machine's travel, or a swivel goes beyond its limit.",
+        "The program was not sent; check the machine profile's travel or correct the template.";
+    UNEXPECTED_REPLY: "station, agent (seen by the CLI)",
+        "The station or agent answered a query with another kind of reply than expected; it may run another version.",
+        "Run the same gearcam version on the station, the agents and this computer.";
+    UNIT_COLLISION: "model",
+        "While cutting one unit of a multi-gear part, the hob would cut into another unit.",
+        "Move the units apart with `z_offset_mm`, or plan a run-out groove.";
+    UNIT_HOB_INCOMPLETE: "model",
+        "A unit's inline hob data lacks a field (starts, od_mm, module_mm, lead_angle_deg, hand or length_mm).",
+        "Add the field, or leave `[units.hob]` empty to use the job's hob.";
+    UNIT_HOB_UNRESOLVED: "model",
+        "A unit names a library hob other than the job's; only the job's hob is taken from the library so far.",
+        "Give this unit's hob data inline.";
+    UNIT_RANGE: "model",
+        "A unit of a multi-gear part overlaps the unit below it, or its offset is not a number.",
+        "List units from the bottom up and correct the unit's `z_offset_mm`.";
+    UNKNOWN_FIELD: "knowledge",
+        "A record, an edit path or a CSV column names a field the library does not have.",
+        "Use the fields `gearcam kb libraries` lists.";
+    UNKNOWN_HOB: "knowledge",
+        "The job's `hob.id` is not in the tool library.",
+        "Use a hob id from `gearcam kb list hobs`, or give the hob data inline.";
+    UNKNOWN_JOB: "station, knowledge",
+        "The job is unknown: the station's journal has no such job (status), or the knowledge base did not plan it (confirm).",
+        "Check the job id with `gearcam jobs` or `gearcam kb list jobs`.";
+    UNKNOWN_LIBRARY: "knowledge",
+        "The knowledge base has no library of this name.",
+        "Use classes, workpieces, hobs, machines, cases, jobs, materials or weights.";
+    UNKNOWN_MACHINE: "station, knowledge",
+        "The job names a machine the knowledge base does not have.",
+        "Pick one of the machines listed by `gearcam kb list machines`, or add the machine.";
+    UNKNOWN_PROGRAM: "agent",
+        "The machine's program store has never held a program of this name.",
+        "Check the name with `gearcam program history --machine MACHINE`.";
+    UNKNOWN_SCHEMA_VERSION: "any",
+        "A message carries a schema version this reader does not understand.",
+        "Run the same gearcam version on every station, service and agent.";
+    UNKNOWN_VERSION: "agent",
+        "The program store has no such version (seq) of this program.",
+        "Pick a version listed by `gearcam program history`.";
+    WORKPIECE_INCOMPLETE: "knowledge",
+        "The workpiece library's record of the part lacks data its gear class needs.",
+        "Give the job's `[gear]` section in full, or complete the workpiece record.";
+    WORKPIECE_OD_LIMIT: "model",
+        "The blank is larger than the machine's largest workpiece.",
+        "Choose a larger machine.";
+    WRONG_DIALECT: "agent",
+        "The program is written for another controller dialect than the agent's machine has.",
+        "Make the machine's dialect in the knowledge base match the agent's configuration.";
+    WRONG_MACHINE: "agent",
+        "The program is for another machine than the one this agent serves.",
+        "Check the agent's configured machine id.";
+    WRONG_MESSAGE_KIND: "any",
+        "A message holds another kind of message than its key promises.",
+        "Fix the sender to put the right kind of message on this key.";
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The stage names a [`CodeInfo::stage`] may list.
+    const STAGES: [&str; 6] = ["station", "knowledge", "model", "template", "agent", "any"];
+
+    fn upper_snake(code: &str) -> bool {
+        code.starts_with(|c: char| c.is_ascii_uppercase())
+            && !code.ends_with('_')
+            && !code.contains("__")
+            && code
+                .chars()
+                .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
+    }
+
+    #[test]
+    fn codes_are_unique_sorted_and_upper_snake() {
+        for pair in CATALOGUE.windows(2) {
+            assert!(
+                pair[0].code < pair[1].code,
+                "not sorted or not unique: {} then {}",
+                pair[0].code,
+                pair[1].code
+            );
+        }
+        let bad: Vec<&str> = CATALOGUE
+            .iter()
+            .map(|c| c.code)
+            .filter(|c| !upper_snake(c))
+            .collect();
+        assert!(bad.is_empty(), "not UPPER_SNAKE: {bad:?}");
+    }
+
+    #[test]
+    fn every_meaning_and_action_is_a_sentence() {
+        for c in CATALOGUE {
+            for (what, text) in [("meaning", c.meaning), ("action", c.action)] {
+                assert!(
+                    !text.trim().is_empty() && text.ends_with('.'),
+                    "{}: the {what} must be non-empty and end with a period: {text:?}",
+                    c.code
+                );
+            }
+            assert!(
+                !c.meaning.contains('|') && !c.action.contains('|'),
+                "{}: no | (docs/errors.md is a table)",
+                c.code
+            );
+        }
+    }
+
+    #[test]
+    fn every_stage_names_known_stages() {
+        for c in CATALOGUE {
+            let names = c.stage.split(" (").next().unwrap_or_default();
+            for name in names.split(", ") {
+                assert!(
+                    STAGES.contains(&name),
+                    "{}: unknown stage {name:?} in {:?}",
+                    c.code,
+                    c.stage
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn lookup_finds_every_code_and_only_those() {
+        for c in CATALOGUE {
+            assert_eq!(lookup(c.code), Some(c));
+        }
+        assert_eq!(lookup("BASE_PITCH_MISMATCH").unwrap().stage, "model");
+        assert_eq!(BASE_PITCH_MISMATCH, "BASE_PITCH_MISMATCH");
+        assert!(lookup("NO_SUCH_CODE").is_none());
+        assert!(lookup("").is_none());
+    }
+}

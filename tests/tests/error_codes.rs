@@ -1,0 +1,436 @@
+//! The error-code catalogue (`gearcam_proto::codes::CATALOGUE`, issue 11)
+//! against the source and against `docs/errors.md`:
+//!
+//! - every code raised in the non-test source of the services, the protocol
+//!   and the NC path check has a catalogue entry;
+//! - every catalogue entry is raised somewhere (no stale entries);
+//! - `docs/errors.md` is exactly the page generated from the catalogue. A
+//!   deliberate change is written back with `GEARCAM_BLESS=1 cargo test -p
+//!   gearcam-tests --test error_codes` and reviewed in the diff.
+//!
+//! # What counts as a use of a code
+//!
+//! The walk reads every `.rs` and `.tpl` file under `services/*/src`,
+//! `proto/src` and `crates/nc/src` (the path check's rule ids live in
+//! `crates/nc/src/lib.rs`), except the catalogue itself
+//! (`proto/src/codes.rs`) and test code: an item under `#[cfg(test)]` (a
+//! `mod tests { … }` block, a test helper function) is skipped to its closing
+//! brace, and a test module in its own file (`#[cfg(test)] mod tests;`) is not
+//! read at all. Comment lines are skipped.
+//!
+//! In what is left, a use is
+//!
+//! - a string literal `"X"` where X is UPPER_SNAKE with at least one
+//!   underscore (`^[A-Z][A-Z0-9]*(_[A-Z0-9]+)+$`), or any upper-case word
+//!   declared as a constant of its own name (`const PARSE: &str = "PARSE";`,
+//!   the path check's one-word rules), or
+//! - a path `codes::X` or `codes::{X, Y}` (the catalogue's constants, or the
+//!   model stage's own `codes` module), so the test keeps working once the
+//!   literals are replaced by constants.
+//!
+//! Literals on a line that names an environment variable (`env!(`,
+//! `env = `) are not codes, nor are the few in [`NOT_CODES`]. Every literal
+//! of that shape counts unless listed there: a new literal that is not a code
+//! fails this test until it is added to [`NOT_CODES`], so no real code can slip
+//! past. NC words and SQL never match (no quoted UPPER_SNAKE word of their
+//! own).
+// Test code: the environment for the bless switch.
+#![allow(clippy::disallowed_methods)]
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+use gearcam_proto::codes::{CodeInfo, CATALOGUE};
+
+/// Literals and `codes::` names of that shape that are not error codes.
+const NOT_CODES: &[(&str, &str)] = &[
+    (
+        "GC_PART",
+        "proto/src/naming.rs: the 840D program name of a part number without usable characters",
+    ),
+    (
+        "CATALOGUE",
+        "proto/src/codes.rs: the catalogue itself, when named as codes::CATALOGUE",
+    ),
+];
+
+/// The catalogue's own file: its codes are definitions, not uses.
+const CATALOGUE_FILE: &str = "proto/src/codes.rs";
+
+/// The page generated from the catalogue.
+const PAGE: &str = "docs/errors.md";
+
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("tests/ lies in the workspace")
+        .to_path_buf()
+}
+
+/// The directories walked, relative to the workspace.
+fn source_roots(root: &Path) -> Vec<PathBuf> {
+    let mut roots = Vec::new();
+    let services = root.join("services");
+    let mut entries: Vec<PathBuf> = std::fs::read_dir(&services)
+        .unwrap_or_else(|e| panic!("{}: {e}", services.display()))
+        .map(|e| e.expect("a directory entry").path())
+        .collect();
+    entries.sort();
+    for service in entries {
+        let src = service.join("src");
+        if src.is_dir() {
+            roots.push(src);
+        }
+    }
+    roots.push(root.join("proto/src"));
+    roots.push(root.join("crates/nc/src"));
+    roots
+}
+
+fn files_under(dir: &Path, out: &mut Vec<PathBuf>) {
+    let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.expect("a directory entry").path())
+        .collect();
+    entries.sort();
+    for path in entries {
+        if path.is_dir() {
+            files_under(&path, out);
+        } else if path.extension().is_some_and(|x| x == "rs" || x == "tpl") {
+            out.push(path);
+        }
+    }
+}
+
+/// The file (or directory) of module `name` declared in `file`.
+fn module_paths(file: &Path, name: &str) -> [PathBuf; 2] {
+    let dir = file.parent().expect("a file has a directory");
+    let stem = file
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or_default();
+    let base = if matches!(stem, "mod" | "lib" | "main") {
+        dir.to_path_buf()
+    } else {
+        dir.join(stem)
+    };
+    [base.join(format!("{name}.rs")), base.join(name)]
+}
+
+/// `mod NAME;` (any visibility) → NAME.
+fn declared_module(line: &str) -> Option<&str> {
+    let rest = line.trim().strip_suffix(';')?;
+    let name = rest.rsplit_once("mod ")?.1.trim();
+    (!name.is_empty() && name.chars().all(|c| c.is_alphanumeric() || c == '_')).then_some(name)
+}
+
+/// The lines of `text` outside `#[cfg(test)]` items and comment lines, each
+/// with its 1-based number; the test modules declared without a body are
+/// added to `test_files`.
+fn non_test_lines(file: &Path, text: &str, test_files: &mut Vec<PathBuf>) -> Vec<(usize, String)> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut kept = Vec::new();
+    let mut i = 0;
+    while i < lines.len() {
+        let line = lines[i];
+        if line.trim() == "#[cfg(test)]" {
+            // Skip further attributes, then the item: to its `;` (a
+            // declaration) or from its `{` to the closing brace at its indent.
+            let mut j = i + 1;
+            while j < lines.len() && lines[j].trim_start().starts_with("#[") {
+                j += 1;
+            }
+            let Some(item) = lines.get(j) else { break };
+            let indent = &item[..item.len() - item.trim_start().len()];
+            let mut end = j;
+            while end < lines.len()
+                && !lines[end].trim_end().ends_with('{')
+                && !lines[end].trim_end().ends_with(';')
+            {
+                end += 1;
+            }
+            if end < lines.len() && lines[end].trim_end().ends_with(';') {
+                if let Some(name) = declared_module(lines[end]) {
+                    test_files.extend(module_paths(file, name));
+                }
+                i = end + 1;
+                continue;
+            }
+            let close = format!("{indent}}}");
+            while end < lines.len() && lines[end].trim_end() != close {
+                end += 1;
+            }
+            i = end + 1;
+            continue;
+        }
+        if !line.trim_start().starts_with("//") {
+            kept.push((i + 1, line.to_string()));
+        }
+        i += 1;
+    }
+    kept
+}
+
+fn is_code_shaped(s: &str) -> bool {
+    let mut parts = s.split('_');
+    let first = parts.next().unwrap_or_default();
+    let word = |p: &str| {
+        !p.is_empty()
+            && p.chars()
+                .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit())
+    };
+    first.starts_with(|c: char| c.is_ascii_uppercase())
+        && word(first)
+        && s.contains('_')
+        && parts.all(word)
+}
+
+fn is_upper_word(s: &str) -> bool {
+    s.starts_with(|c: char| c.is_ascii_uppercase())
+        && s.chars()
+            .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
+}
+
+/// The quoted upper-case words of a line (`"X"` with X of `A-Z 0-9 _` only).
+fn quoted_words(line: &str) -> Vec<&str> {
+    let mut out = Vec::new();
+    let bytes = line.as_bytes();
+    let mut start = None;
+    for (i, &b) in bytes.iter().enumerate() {
+        if b == b'"' {
+            if let Some(s) = start {
+                let word = &line[s..i];
+                if is_upper_word(word) && (s < 2 || bytes[s - 2] != b'\\') {
+                    out.push(word);
+                }
+            }
+            start = Some(i + 1);
+        } else if !(b.is_ascii_uppercase() || b.is_ascii_digit() || b == b'_') {
+            start = None;
+        }
+    }
+    out
+}
+
+/// The names after `codes::` in `text` (`codes::X`, `codes::{X, Y}`).
+fn constant_uses(text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for (at, _) in text.match_indices("codes::") {
+        let rest = &text[at + "codes::".len()..];
+        if let Some(list) = rest.strip_prefix('{') {
+            let list = list.split('}').next().unwrap_or_default();
+            out.extend(
+                list.split(|c: char| c == ',' || c.is_whitespace())
+                    .filter(|w| is_upper_word(w))
+                    .map(str::to_string),
+            );
+        } else {
+            let name: String = rest
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                .collect();
+            if is_upper_word(&name) {
+                out.push(name);
+            }
+        }
+    }
+    out
+}
+
+/// Every code used in the non-test source, with where (file:line).
+fn codes_in_source() -> BTreeMap<String, Vec<String>> {
+    let root = workspace();
+    let mut files = Vec::new();
+    for dir in source_roots(&root) {
+        files_under(&dir, &mut files);
+    }
+    let rel = |p: &Path| {
+        p.strip_prefix(&root)
+            .unwrap_or(p)
+            .to_string_lossy()
+            .replace('\\', "/")
+    };
+    let not_codes: BTreeSet<&str> = NOT_CODES.iter().map(|(c, _)| *c).collect();
+    // Test modules in their own files are known only once their parent is
+    // read: read every file first, then drop those.
+    let mut test_files: Vec<PathBuf> = Vec::new();
+    let mut uses: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    let mut per_file: Vec<(String, Vec<(usize, String)>)> = Vec::new();
+    for file in &files {
+        if rel(file) == CATALOGUE_FILE {
+            continue;
+        }
+        let text =
+            std::fs::read_to_string(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        let lines = non_test_lines(file, &text, &mut test_files);
+        per_file.push((rel(file), lines));
+    }
+    let test_rel: Vec<String> = test_files.iter().map(|p| rel(p)).collect();
+    for (name, lines) in per_file {
+        if test_rel
+            .iter()
+            .any(|t| name == *t || name.starts_with(&format!("{t}/")))
+        {
+            continue;
+        }
+        let mut record = |code: &str, line: usize| {
+            if !not_codes.contains(code) {
+                uses.entry(code.to_string())
+                    .or_default()
+                    .push(format!("{name}:{line}"));
+            }
+        };
+        for (n, line) in &lines {
+            if line.contains("env!(") || line.contains("env = ") {
+                continue;
+            }
+            for word in quoted_words(line) {
+                let self_named = line.contains(&format!("const {word}:"));
+                if is_code_shaped(word) || self_named {
+                    record(word, *n);
+                }
+            }
+        }
+        let kept: String = lines
+            .iter()
+            .map(|(_, l)| l.as_str())
+            .collect::<Vec<_>>()
+            .join("\n");
+        for code in constant_uses(&kept) {
+            let line = lines
+                .iter()
+                .find(|(_, l)| l.contains(&code))
+                .map_or(0, |(n, _)| *n);
+            record(&code, line);
+        }
+    }
+    uses
+}
+
+#[test]
+fn the_walk_skips_test_code_and_finds_the_codes() {
+    let uses = codes_in_source();
+    // Program names in `mod tests` blocks (render.rs, store.rs, naming.rs):
+    // must not be found.
+    for test_only in ["SP_1001", "SP_1001_REV_B", "GEARBOX_SHAFT_PINION_STA"] {
+        assert!(
+            !uses.contains_key(test_only),
+            "{test_only}: {:?}",
+            uses[test_only]
+        );
+    }
+    // One of each kind of use: a literal, a self-named constant in the model,
+    // a one-word path-check rule, a code raised in proto.
+    for code in [
+        "JOB_FILE_UNKNOWN_KEY",
+        "BASE_PITCH_MISMATCH",
+        "PARSE",
+        "UNKNOWN_SCHEMA_VERSION",
+    ] {
+        assert!(uses.contains_key(code), "{code} not found");
+    }
+    assert!(
+        !uses.contains_key("CARGO_PKG_VERSION"),
+        "an environment variable"
+    );
+}
+
+#[test]
+fn every_code_raised_has_a_catalogue_entry_and_every_entry_is_raised() {
+    let uses = codes_in_source();
+    let catalogue: BTreeSet<&str> = CATALOGUE.iter().map(|c| c.code).collect();
+    let missing: Vec<String> = uses
+        .iter()
+        .filter(|(code, _)| !catalogue.contains(code.as_str()))
+        .map(|(code, at)| format!("  {code} (used at {})", at.join(", ")))
+        .collect();
+    let stale: Vec<&str> = catalogue
+        .iter()
+        .copied()
+        .filter(|code| !uses.contains_key(*code))
+        .collect();
+    let mut problems = Vec::new();
+    if !missing.is_empty() {
+        problems.push(format!(
+            "{} code(s) raised but missing from gearcam_proto::codes::CATALOGUE (add an entry to proto/src/codes.rs, or list a literal that is not a code in NOT_CODES of this test):\n{}",
+            missing.len(),
+            missing.join("\n")
+        ));
+    }
+    if !stale.is_empty() {
+        problems.push(format!(
+            "{} catalogue entr(y/ies) raised nowhere in the source (remove them from proto/src/codes.rs): {}",
+            stale.len(),
+            stale.join(", ")
+        ));
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n\n"));
+}
+
+/// A table cell: no line breaks, `|` escaped.
+fn cell(text: &str) -> String {
+    text.replace('\n', " ").replace('|', "\\|")
+}
+
+/// `docs/errors.md` as generated from the catalogue.
+fn page(catalogue: &[CodeInfo]) -> String {
+    let mut out = String::from(
+        "# Error and warning codes\n\
+         \n\
+         <!-- Generated from gearcam_proto::codes::CATALOGUE (proto/src/codes.rs); do not edit.\n\
+         \x20    Rewrite with: GEARCAM_BLESS=1 cargo test -p gearcam-tests --test error_codes -->\n\
+         \n\
+         Every error a stage reports is a typed error: `stage`, `code`, `field`,\n\
+         `expected`, `got` and `message` (proto/README.md). This page lists every\n\
+         code gearcam raises, the stages that raise it, what it means and what to\n\
+         do. Stage `any` marks the codec's codes, which every stage that decodes a\n\
+         message can raise. A code marked `template (path check)` is a rule of the\n\
+         NC path check (crates/nc/DIALECTS.md): each finding is reported as a\n\
+         `PATH_CHECK_FAILED` error whose `expected` names the rule, and the program\n\
+         is not sent.\n\
+         \n",
+    );
+    out.push_str(&format!("{} codes.\n\n", catalogue.len()));
+    out.push_str("| code | stage | meaning | what to do |\n|---|---|---|---|\n");
+    for c in catalogue {
+        out.push_str(&format!(
+            "| `{}` | {} | {} | {} |\n",
+            c.code,
+            cell(c.stage),
+            cell(c.meaning),
+            cell(c.action)
+        ));
+    }
+    out
+}
+
+/// The codes listed in the first column of a page's table.
+fn codes_on_page(text: &str) -> BTreeSet<String> {
+    text.lines()
+        .filter_map(|l| l.strip_prefix("| `"))
+        .filter_map(|l| l.split('`').next())
+        .map(str::to_string)
+        .collect()
+}
+
+#[test]
+fn docs_errors_md_is_the_page_generated_from_the_catalogue() {
+    let path = workspace().join(PAGE);
+    let want = page(CATALOGUE);
+    if std::env::var_os("GEARCAM_BLESS").is_some() {
+        std::fs::write(&path, &want).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        return;
+    }
+    let got = std::fs::read_to_string(&path).unwrap_or_default();
+    if got == want {
+        return;
+    }
+    let listed = codes_on_page(&got);
+    let catalogue: BTreeSet<String> = CATALOGUE.iter().map(|c| c.code.to_string()).collect();
+    let missing: Vec<&String> = catalogue.difference(&listed).collect();
+    let extra: Vec<&String> = listed.difference(&catalogue).collect();
+    panic!(
+        "{PAGE} differs from the catalogue (missing codes {missing:?}, codes not in the catalogue {extra:?}, or changed text).\n\
+         Rewrite it with `GEARCAM_BLESS=1 cargo test -p gearcam-tests --test error_codes`, or paste this page:\n\n{want}"
+    );
+}

@@ -1,0 +1,261 @@
+//! The shape of the code, checked on the source tree so that it cannot drift:
+//!
+//! - no import loop between the modules of a crate (module A using
+//!   `crate::b` while b uses `crate::a`, directly or through others);
+//! - no source file over 800 lines, tests apart (a file's `#[cfg(test)] mod
+//!   tests` block, and `tests.rs` files, do not count);
+//! - no key expression spelled outside `proto/src/keys.rs`;
+//! - no citation of the old specification outside the repository (`SPEC §`):
+//!   the domain reference is `docs/`.
+//!
+//! Comments do not count as uses: a doc link to another module is not an
+//! import.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+const MAX_LINES: usize = 800;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// Every crate's `src` directory.
+fn crate_sources() -> Vec<PathBuf> {
+    let root = root();
+    let mut dirs = vec![root.join("proto/src")];
+    for group in ["crates", "services"] {
+        let mut found: Vec<PathBuf> = std::fs::read_dir(root.join(group))
+            .unwrap()
+            .map(|e| e.unwrap().path().join("src"))
+            .filter(|p| p.is_dir())
+            .collect();
+        found.sort();
+        dirs.extend(found);
+    }
+    dirs
+}
+
+fn rust_files(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(rust_files(&p));
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The code of a file without its test module and without comments.
+fn code(path: &Path) -> Vec<String> {
+    if path.file_name().is_some_and(|n| n == "tests.rs") {
+        return Vec::new();
+    }
+    let text = std::fs::read_to_string(path).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let end = lines
+        .windows(2)
+        .position(|w| w[0].trim() == "#[cfg(test)]" && w[1].trim_start().starts_with("mod tests"))
+        .unwrap_or(lines.len());
+    lines[..end]
+        .iter()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .map(|l| l.to_string())
+        .collect()
+}
+
+/// The top-level module a file belongs to (`validate/limits.rs` → `validate`),
+/// `None` for the crate root.
+fn top_module(src: &Path, file: &Path) -> Option<String> {
+    let rel = file.strip_prefix(src).unwrap();
+    let first = rel
+        .components()
+        .next()?
+        .as_os_str()
+        .to_string_lossy()
+        .into_owned();
+    let name = first.trim_end_matches(".rs").to_string();
+    (name != "lib" && name != "main").then_some(name)
+}
+
+/// `crate::x` paths in a line of code.
+fn crate_paths(line: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut rest = line;
+    while let Some(i) = rest.find("crate::") {
+        let after = &rest[i + "crate::".len()..];
+        let name: String = after
+            .chars()
+            .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+            .collect();
+        let preceded = rest[..i]
+            .chars()
+            .last()
+            .is_some_and(|c| c.is_ascii_alphanumeric() || c == '_');
+        if !preceded && !name.is_empty() {
+            out.push(name);
+        }
+        rest = after;
+    }
+    out
+}
+
+/// The module graph of a crate: module → the modules it uses.
+fn module_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
+    let files = rust_files(src);
+    let modules: BTreeSet<String> = files.iter().filter_map(|f| top_module(src, f)).collect();
+    let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    for f in &files {
+        let Some(m) = top_module(src, f) else {
+            continue;
+        };
+        let uses = graph.entry(m.clone()).or_default();
+        for line in code(f) {
+            for used in crate_paths(&line) {
+                if used != m && modules.contains(&used) {
+                    uses.insert(used);
+                }
+            }
+        }
+    }
+    graph
+}
+
+/// A cycle of the graph, if it has one.
+fn cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
+    fn visit(
+        g: &BTreeMap<String, BTreeSet<String>>,
+        v: &str,
+        path: &mut Vec<String>,
+        done: &mut BTreeSet<String>,
+    ) -> Option<Vec<String>> {
+        if let Some(i) = path.iter().position(|p| p == v) {
+            let mut c = path[i..].to_vec();
+            c.push(v.to_string());
+            return Some(c);
+        }
+        if done.contains(v) {
+            return None;
+        }
+        path.push(v.to_string());
+        for w in g.get(v).into_iter().flatten() {
+            if let Some(c) = visit(g, w, path, done) {
+                return Some(c);
+            }
+        }
+        path.pop();
+        done.insert(v.to_string());
+        None
+    }
+    let mut done = BTreeSet::new();
+    graph
+        .keys()
+        .find_map(|v| visit(graph, v, &mut Vec::new(), &mut done))
+}
+
+#[test]
+fn no_crate_has_an_import_loop() {
+    let mut loops = Vec::new();
+    for src in crate_sources() {
+        if let Some(c) = cycle(&module_graph(&src)) {
+            loops.push(format!("{}: {}", src.display(), c.join(" → ")));
+        }
+    }
+    assert!(loops.is_empty(), "import loops:\n{}", loops.join("\n"));
+}
+
+#[test]
+fn the_loop_finder_finds_a_loop() {
+    // The check above would pass vacuously if it could not see a loop.
+    let mut g: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    g.entry("render".into()).or_default().insert("expr".into());
+    g.entry("expr".into()).or_default().insert("params".into());
+    g.entry("params".into())
+        .or_default()
+        .insert("render".into());
+    assert_eq!(
+        cycle(&g).unwrap(),
+        ["expr", "params", "render", "expr"].map(String::from)
+    );
+    g.get_mut("params").unwrap().clear();
+    assert_eq!(cycle(&g), None);
+    assert_eq!(
+        crate_paths("use crate::render::format_fixed; x = crate::expr::f(); notcrate::y"),
+        ["render", "expr"].map(String::from)
+    );
+}
+
+#[test]
+fn no_source_file_is_over_800_lines_of_code() {
+    let mut long = Vec::new();
+    for src in crate_sources() {
+        for f in rust_files(&src) {
+            if f.file_name().is_some_and(|n| n == "tests.rs") {
+                continue;
+            }
+            let text = std::fs::read_to_string(&f).unwrap();
+            let lines: Vec<&str> = text.lines().collect();
+            let end = lines
+                .windows(2)
+                .position(|w| {
+                    w[0].trim() == "#[cfg(test)]" && w[1].trim_start().starts_with("mod tests")
+                })
+                .unwrap_or(lines.len());
+            if end > MAX_LINES {
+                long.push(format!("{}: {end} lines", f.display()));
+            }
+        }
+    }
+    assert!(
+        long.is_empty(),
+        "over {MAX_LINES} lines:\n{}",
+        long.join("\n")
+    );
+}
+
+#[test]
+fn key_expressions_are_spelled_only_in_proto_keys() {
+    let keys = root().join("proto/src/keys.rs");
+    let mut found = Vec::new();
+    for src in crate_sources() {
+        for f in rust_files(&src) {
+            if f.canonicalize().unwrap() == keys.canonicalize().unwrap() {
+                continue;
+            }
+            for line in code(&f) {
+                if line.contains("\"gearcam/v1") || line.contains("keys::PREFIX") {
+                    found.push(format!("{}: {}", f.display(), line.trim()));
+                }
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "keys outside proto/src/keys.rs:\n{}",
+        found.join("\n")
+    );
+}
+
+#[test]
+fn the_code_cites_docs_not_the_old_specification() {
+    let mut found = Vec::new();
+    for src in crate_sources() {
+        for f in rust_files(&src) {
+            let text = std::fs::read_to_string(&f).unwrap();
+            for (i, line) in text.lines().enumerate() {
+                if line.contains("SPEC §") || line.contains("shared/SPEC") {
+                    found.push(format!("{}:{}: {}", f.display(), i + 1, line.trim()));
+                }
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "citations of the old SPEC:\n{}",
+        found.join("\n")
+    );
+}
