@@ -10,7 +10,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::job::{GearSpec, JobSpec};
+use crate::job::{GearSpec, UnitSpec};
 
 /// A gear class of the group-technology tree.
 #[derive(
@@ -101,11 +101,11 @@ pub fn unit_class(gear: &GearSpec) -> GearClass {
         .unwrap_or(GearClass::Cylindrical)
 }
 
-/// The class of a job: multi-gear when it has `[[units]]`, else the unit class
-/// of its `[gear]`.
-pub fn classify(spec: &JobSpec) -> GearClass {
-    if spec.units.is_empty() {
-        unit_class(&spec.gear)
+/// The class of a job whose (resolved) gear is `gear`: multi-gear when it has
+/// `[[units]]`, else the unit class of its gear.
+pub fn classify(gear: &GearSpec, units: &[UnitSpec]) -> GearClass {
+    if units.is_empty() {
+        unit_class(gear)
     } else {
         GearClass::MultiGear
     }
@@ -114,6 +114,11 @@ pub fn classify(spec: &JobSpec) -> GearClass {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::job::JobSpec;
+
+    fn class_of(s: &JobSpec) -> GearClass {
+        classify(s.gear.as_ref().expect("a gear"), &s.units)
+    }
 
     /// A job from JSON: a spur gear plus `gear_extra` keys in `[gear]` and
     /// `top_extra` keys at the top level.
@@ -128,7 +133,7 @@ mod tests {
 
     #[test]
     fn a_job_without_markers_is_cylindrical() {
-        assert_eq!(classify(&spec("", "")), GearClass::Cylindrical);
+        assert_eq!(class_of(&spec("", "")), GearClass::Cylindrical);
     }
 
     #[test]
@@ -145,11 +150,11 @@ mod tests {
                 GearClass::CurvedTooth,
             ),
         ] {
-            assert_eq!(classify(&spec(extra, "")), class, "{extra}");
+            assert_eq!(class_of(&spec(extra, "")), class, "{extra}");
         }
         let units = r#", "units": [{"z_offset_mm": 40.0, "gear": {"module_mm": 2.0,
             "teeth": 30, "face_width_mm": 15.0, "fixture_height_mm": 40.0}}]"#;
-        assert_eq!(classify(&spec("", units)), GearClass::MultiGear);
+        assert_eq!(class_of(&spec("", units)), GearClass::MultiGear);
     }
 
     #[test]
@@ -159,10 +164,10 @@ mod tests {
             "",
         );
         assert_eq!(
-            unit_markers(&s.gear),
+            unit_markers(s.gear.as_ref().unwrap()),
             vec![GearClass::CurvedTooth, GearClass::Conical]
         );
-        assert_eq!(classify(&s), GearClass::CurvedTooth);
+        assert_eq!(class_of(&s), GearClass::CurvedTooth);
     }
 
     #[test]

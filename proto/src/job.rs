@@ -3,7 +3,8 @@
 //!
 //! Drawing data is required: in the `[gear]` section, or by a `[job]
 //! part_number` that names a workpiece in the knowledge base's library (the
-//! knowledge service then fills the gear in, see [`JobSpec::has_gear`]).
+//! knowledge service resolves the gear and the plan carries it, see
+//! [`crate::ProcessPlan::gear`]).
 //! Everything else has a decided default that the knowledge service fills in
 //! and records as such. Unknown keys are rejected so a misspelt key never
 //! silently falls back to a default.
@@ -116,43 +117,6 @@ pub struct GearSpec {
     /// `[gear.curved_tooth]`: a gear with a curved tooth trace.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub curved_tooth: Option<CurvedToothSpec>,
-}
-
-impl GearSpec {
-    /// The placeholder of a job without a `[gear]` section: no module, no
-    /// teeth, no face width, every other field at its default. It is never
-    /// a valid gear (the model refuses mn = 0 and z = 0), so it cannot be
-    /// cut by mistake.
-    pub fn absent() -> GearSpec {
-        GearSpec {
-            module_mm: 0.0,
-            teeth: 0,
-            pressure_angle_deg: twenty(),
-            helix_angle_deg: 0.0,
-            helix_hand: None,
-            face_width_mm: 0.0,
-            profile_shift: 0.0,
-            addendum_coef: one_f(),
-            clearance_coef: quarter(),
-            blank_od_mm: None,
-            od_correction_mm: 0.0,
-            material: unspecified(),
-            quality_grade: eight(),
-            fixture_height_mm: 0.0,
-            fixture_diameter_mm: None,
-            ball_diameter_mm: None,
-            mate: None,
-            cone: None,
-            crowning: None,
-            worm_wheel: None,
-            curved_tooth: None,
-        }
-    }
-
-    /// True for [`GearSpec::absent`]: the job gave no `[gear]` section.
-    pub fn is_absent(&self) -> bool {
-        *self == GearSpec::absent()
-    }
 }
 
 /// `[gear.mate]`: the gear this one meshes with.
@@ -470,16 +434,12 @@ pub struct JobSpec {
     /// `[job]`
     pub job: JobHeader,
     /// `[gear]`: the drawing data. A job file may leave the section out when
-    /// its `part_number` names a workpiece in the knowledge base's library;
-    /// the field then holds [`GearSpec::absent`] (and is not written out)
-    /// until the knowledge service fills it from the library. Every plan
-    /// carries the resolved gear in `request.spec.gear`, so the stages after
-    /// the knowledge service read it as it is.
-    #[serde(
-        default = "GearSpec::absent",
-        skip_serializing_if = "GearSpec::is_absent"
-    )]
-    pub gear: GearSpec,
+    /// its `part_number` names a workpiece in the knowledge base's library.
+    /// The request keeps what was asked; the plan carries the resolved gear
+    /// beside it ([`crate::ProcessPlan::gear`]), and every stage after the
+    /// knowledge service reads that one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gear: Option<GearSpec>,
     /// `[hob]`
     #[serde(default)]
     pub hob: HobSpec,
@@ -499,7 +459,7 @@ impl JobSpec {
     /// when it names the part only (`[job] part_number`), for the knowledge
     /// service to fill the gear from the workpiece library.
     pub fn has_gear(&self) -> bool {
-        !self.gear.is_absent()
+        self.gear.is_some()
     }
 }
 
@@ -608,7 +568,7 @@ mod tests {
     fn a_job_may_name_its_part_instead_of_giving_a_gear_section() {
         let req = by_part();
         assert!(!req.spec.has_gear());
-        assert!(req.spec.gear.is_absent());
+        assert!(req.spec.gear.is_none());
         // The absent gear is not written out, on the wire or as JSON.
         let json = serde_json::to_value(&req.spec).unwrap();
         assert!(json.get("gear").is_none(), "{json}");
@@ -620,11 +580,15 @@ mod tests {
     #[test]
     fn a_gear_section_is_kept_and_written_out() {
         let mut req = by_part();
-        req.spec.gear.module_mm = 3.0;
-        req.spec.gear.teeth = 25;
+        req.spec.gear = Some(
+            serde_json::from_value(serde_json::json!({
+                "module_mm": 3.0, "teeth": 25, "face_width_mm": 30.0, "fixture_height_mm": 100.0,
+            }))
+            .unwrap(),
+        );
         assert!(req.spec.has_gear());
         let back: JobRequest = decode(&encode(&req).unwrap()).unwrap();
-        assert_eq!(back.spec.gear.teeth, 25);
+        assert_eq!(back.spec.gear.as_ref().map(|g| g.teeth), Some(25));
         assert!(back.spec.has_gear());
     }
 }

@@ -5,9 +5,10 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+use crate::class::GearClass;
 use crate::codec::Message;
 use crate::ids::{HobId, JobId, MachineId};
-use crate::job::{CutMode, Hand, JobRequest};
+use crate::job::{CutMode, GearSpec, Hand, JobRequest};
 
 /// NC dialect of a controller.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -322,10 +323,15 @@ pub struct CaseRef {
 pub struct ProcessPlan {
     /// The job's id.
     pub job_id: JobId,
-    /// The request as submitted.
+    /// The request as submitted (its `spec.gear` absent when the job named
+    /// a part of the workpiece library instead).
     pub request: JobRequest,
-    /// Group-technology class, e.g. `cylindrical`.
-    pub class: String,
+    /// The gear to cut, resolved: the job's `[gear]`, or the workpiece
+    /// library's record of its part number. Every later stage reads this.
+    pub gear: GearSpec,
+    /// Group-technology class of the job, decided once here (from the resolved
+    /// gear and the job's units).
+    pub class: GearClass,
     /// The machine's profile.
     pub machine: MachineProfile,
     /// The hob.

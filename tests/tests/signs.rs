@@ -250,7 +250,7 @@ fn patent_delta_h(blank_od: f64, hob_od: f64, depth: f64, gamma_deg: f64) -> f64
 /// the face it approaches (B and C, and X along a cone).
 fn approach_at(model: &MachiningModel, over: f64) -> MachiningModel {
     let mut m = model.clone();
-    let gear = &m.plan.request.spec.gear;
+    let gear = &m.plan.gear;
     let (bottom, top) = (
         gear.fixture_height_mm,
         gear.fixture_height_mm + gear.face_width_mm,
@@ -348,7 +348,7 @@ fn conical_clearance_taken_at_the_large_end() {
     }
     .solve()
     .clearance_mm;
-    let gear = &m.plan.request.spec.gear;
+    let gear = &m.plan.gear;
     let (bottom, top) = (
         gear.fixture_height_mm,
         gear.fixture_height_mm + gear.face_width_mm,
@@ -459,7 +459,7 @@ fn nothing_keeps_the_hob_off_the_table_and_fixture() {
     // (model and program alike) takes the hob into the table.
     let m = model_of(&example("spur_840d.toml")).unwrap();
     let mut lowered = m.clone();
-    lowered.plan.request.spec.gear.fixture_height_mm -= 50.0;
+    lowered.plan.gear.fixture_height_mm -= 50.0;
     for c in &mut lowered.model.cuts {
         for p in [
             &mut c.positions.B,
@@ -485,7 +485,7 @@ fn nothing_keeps_the_hob_off_the_table_and_fixture() {
     );
     // A fixture as wide as the gear's root is cut by the hob's run-out.
     let mut wide = m.clone();
-    wide.plan.request.spec.gear.fixture_diameter_mm = Some(70.0);
+    wide.plan.gear.fixture_diameter_mm = Some(70.0);
     let found = findings(&wide);
     assert!(
         found

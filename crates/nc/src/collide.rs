@@ -176,7 +176,7 @@ fn obstacles(model: &MachiningModel) -> Vec<Obstacle> {
     // A unit's gear carries its own lower face: the model replaced its
     // fixture height by the first unit's plus the unit's offset.
     let units: Vec<(&GearSpec, f64)> = if m.units.is_empty() {
-        vec![(&model.plan.request.spec.gear, m.blank_od_mm)]
+        vec![(&model.plan.gear, m.blank_od_mm)]
     } else {
         m.units
             .iter()
@@ -184,7 +184,7 @@ fn obstacles(model: &MachiningModel) -> Vec<Obstacle> {
             .collect()
     };
     let mut out = Vec::new();
-    let base = model.plan.request.spec.gear.fixture_height_mm;
+    let base = model.plan.gear.fixture_height_mm;
     let mut top = f64::NEG_INFINITY;
     let mut bottom = f64::INFINITY;
     for (i, (gear, od)) in units.iter().enumerate() {
@@ -228,8 +228,6 @@ fn obstacles(model: &MachiningModel) -> Vec<Obstacle> {
     });
     let fixture_r = model
         .plan
-        .request
-        .spec
         .gear
         .fixture_diameter_mm
         .map_or(env.fixture_radius_mm, |d| d / 2.0);

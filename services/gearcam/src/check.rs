@@ -151,8 +151,8 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
         part_number: spec.job.part_number.clone(),
         quantity: spec.job.quantity,
     });
-    if spec.has_gear() {
-        report.geometry = Some(gearcam_model::geometry_of(&spec.gear));
+    if let Some(gear) = &spec.gear {
+        report.geometry = Some(gearcam_model::geometry_of(gear));
     }
     let plan = match gearcam_knowledge::plan::plan(conn, req) {
         Ok(p) => p,
@@ -163,9 +163,9 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
     };
     // The plan's gear: the job's, or the workpiece library's for a job that
     // names its part only.
-    report.geometry = Some(gearcam_model::geometry_of(&plan.request.spec.gear));
+    report.geometry = Some(gearcam_model::geometry_of(&plan.gear));
     report.plan = Some(PlanSummary {
-        class: plan.class.clone(),
+        class: plan.class.to_string(),
         machine: MachineSummary {
             id: plan.machine.id.to_string(),
             name: plan.machine.name.clone(),

@@ -155,7 +155,7 @@ fixture_height_mm = 100.0
     #[test]
     fn parses_a_minimal_job_with_defaults() {
         let spec = parse(MINIMAL, "t.toml").unwrap();
-        assert_eq!(spec.gear.pressure_angle_deg, 20.0);
+        assert_eq!(spec.gear.as_ref().unwrap().pressure_angle_deg, 20.0);
         assert_eq!(spec.job.quantity, 1);
         assert!(spec.options.coolant);
         let id = job_id(&spec);

@@ -77,21 +77,29 @@ pub fn load_weights(conn: &Connection) -> Result<Weights, KnowledgeError> {
 /// OD taken at the bottom face); the library holds no crowning, worm-wheel,
 /// curved-tooth or unit data, see [`workpiece_lacks_class_data`].
 pub fn gear_from_workpiece(w: &WorkpieceRecord) -> GearSpec {
-    let mut g = GearSpec::absent();
-    g.module_mm = w.module_mm;
-    g.teeth = w.teeth;
-    g.pressure_angle_deg = w.pressure_angle_deg;
-    g.helix_angle_deg = w.helix_angle_deg;
-    g.helix_hand = w.helix_hand;
-    g.face_width_mm = w.face_width_mm;
-    g.profile_shift = w.profile_shift;
-    g.addendum_coef = w.addendum_coef;
-    g.clearance_coef = w.clearance_coef;
-    g.blank_od_mm = w.blank_od_mm;
-    g.od_correction_mm = w.od_correction_mm;
-    g.material = w.material.clone();
-    g.quality_grade = w.quality_grade;
-    g.fixture_height_mm = w.fixture_height_mm;
+    let mut g = GearSpec {
+        module_mm: w.module_mm,
+        teeth: w.teeth,
+        pressure_angle_deg: w.pressure_angle_deg,
+        helix_angle_deg: w.helix_angle_deg,
+        helix_hand: w.helix_hand,
+        face_width_mm: w.face_width_mm,
+        profile_shift: w.profile_shift,
+        addendum_coef: w.addendum_coef,
+        clearance_coef: w.clearance_coef,
+        blank_od_mm: w.blank_od_mm,
+        od_correction_mm: w.od_correction_mm,
+        material: w.material.clone(),
+        quality_grade: w.quality_grade,
+        fixture_height_mm: w.fixture_height_mm,
+        fixture_diameter_mm: None,
+        ball_diameter_mm: None,
+        mate: None,
+        cone: None,
+        crowning: None,
+        worm_wheel: None,
+        curved_tooth: None,
+    };
     if w.class == GearClass::Conical {
         g.cone = w.cone_angle_deg.map(|angle_deg| ConeSpec {
             angle_deg,

@@ -27,7 +27,7 @@ pub fn record_planned(
             plan.job_id.as_str(),
             plan.request.spec.job.part_number,
             plan.machine.id.as_str(),
-            plan.class,
+            plan.class.as_str(),
             plan.request.spec.job.quantity,
             plan.hob.id,
             plan.confidence,
@@ -122,8 +122,8 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
             ),
         )]);
     }
-    let plan: ProcessPlan = serde_json::from_str(&job.plan_json).map_err(KnowledgeError::from)?;
-    let g = &plan.request.spec.gear;
+    let plan = stored_plan(&job.plan_json)?;
+    let g = &plan.gear;
     let quantity = c.quantity.unwrap_or(plan.request.spec.job.quantity);
     let material = records::material(conn, &g.material)?;
     let lib_hob = if plan.hob.source == Source::Library {
@@ -219,6 +219,23 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
     Ok(Confirmed { case, hob, job })
 }
 
+/// A plan as the jobs library stored it. Plans stored before the plan
+/// carried the resolved gear beside the request (and the class as a name)
+/// had the gear in `request.spec.gear`: it is taken from there.
+fn stored_plan(json: &str) -> Result<ProcessPlan, KnowledgeError> {
+    let mut v: serde_json::Value = serde_json::from_str(json)?;
+    if v.get("gear").is_none() {
+        let gear = v
+            .pointer("/request/spec/gear")
+            .cloned()
+            .unwrap_or(serde_json::Value::Null);
+        if let Some(map) = v.as_object_mut() {
+            map.insert("gear".into(), gear);
+        }
+    }
+    Ok(serde_json::from_value(v)?)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -296,5 +313,24 @@ mod tests {
         assert_eq!(e[0].got, "confirmed");
         let e = confirm(&conn, &confirmation("NOPE")).unwrap_err();
         assert_eq!(e[0].code, "UNKNOWN_JOB");
+    }
+
+    /// A plan the jobs library stored before the plan carried its gear
+    /// beside the request (gear in `request.spec.gear`, class a name) still
+    /// reads, with the same gear.
+    #[test]
+    fn a_plan_stored_in_the_old_shape_still_reads() {
+        let conn = db::open_in_memory().unwrap();
+        let req = plan::tests::request(json!({}), json!({}));
+        let now = plan::plan(&conn, &req).unwrap();
+        let mut old = serde_json::to_value(&now).unwrap();
+        let gear = old.as_object_mut().unwrap().remove("gear").unwrap();
+        old["request"]["spec"]["gear"] = gear;
+        old["class"] = json!("cylindrical");
+        let read = stored_plan(&old.to_string()).unwrap();
+        assert_eq!(read.gear, now.gear);
+        assert_eq!(read.class, now.class);
+        // Without the compatibility step the old shape does not read.
+        assert!(serde_json::from_value::<ProcessPlan>(old).is_err());
     }
 }

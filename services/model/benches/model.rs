@@ -43,7 +43,7 @@ fn bench(c: &mut Criterion) {
     c.bench_function("geometry+model, spur gear, one cut", |b| {
         b.iter(|| gearcam_model::compute(black_box(&spur)).unwrap())
     });
-    let geo_only = spur.request.spec.gear.clone();
+    let geo_only = spur.gear.clone();
     c.bench_function("geometry only", |b| {
         b.iter(|| gearcam_model::geometry_of(black_box(&geo_only)))
     });

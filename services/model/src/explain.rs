@@ -67,7 +67,7 @@ fn gear_origin(plan: &ProcessPlan, name: &str) -> Origin {
 
 /// The gear's drawing data.
 fn drawing(plan: &ProcessPlan, k: &Kinematics) -> Vec<Explained> {
-    let g = &plan.request.spec.gear;
+    let g = &plan.gear;
     let gear_origin = |name: &str| gear_origin(plan, name);
     vec![
         e(
@@ -182,7 +182,7 @@ fn hob(plan: &ProcessPlan) -> Vec<Explained> {
 
 /// The process values, with the rough cuts' and the radial feed when they apply.
 fn process(plan: &ProcessPlan, k: &Kinematics) -> Vec<Explained> {
-    let g = &plan.request.spec.gear;
+    let g = &plan.gear;
     let o = &plan.request.spec.process;
     let from_values = |name: &str| from_values(plan, name);
     let mut out = vec![

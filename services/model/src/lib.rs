@@ -36,9 +36,7 @@ pub mod shift;
 pub mod units;
 pub mod validate;
 
-use gearcam_proto::{
-    classify, GearClass, GearSpec, Geometry, JobError, MachiningModel, ProcessPlan,
-};
+use gearcam_proto::{GearClass, GearSpec, Geometry, JobError, MachiningModel, ProcessPlan};
 
 /// Version of the model code, written into every [`MachiningModel`].
 pub const MODEL_VERSION: &str = concat!("gearcam-model ", env!("CARGO_PKG_VERSION"));
@@ -60,9 +58,9 @@ pub fn compute(plan: &ProcessPlan) -> Result<MachiningModel, Vec<JobError>> {
     if !report.errors.is_empty() {
         return Err(report.errors);
     }
-    let geometry = geometry_of(&plan.request.spec.gear);
+    let geometry = geometry_of(&plan.gear);
     let mut model = hobbing::kinematics(plan, &geometry);
-    if classify(&plan.request.spec) == GearClass::MultiGear {
+    if plan.class == GearClass::MultiGear {
         model = units::kinematics(plan, model);
     }
     model.explain = explain::explain(plan, &geometry, &model);
@@ -136,7 +134,7 @@ pub(crate) mod fixtures {
                     quantity: 10,
                     part_number: "SP-1001".into(),
                 },
-                gear,
+                gear: Some(gear.clone()),
                 hob: HobSpec {
                     id: Some(HobId::new("HOB-M3-80").unwrap()),
                     ..HobSpec::default()
@@ -157,7 +155,8 @@ pub(crate) mod fixtures {
         ProcessPlan {
             job_id,
             request,
-            class: "cylindrical".into(),
+            class: gearcam_proto::classify(&gear, &[]),
+            gear,
             machine,
             hob: hob(),
             process: ProcessData {

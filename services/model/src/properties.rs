@@ -74,7 +74,7 @@ fn plans() -> impl Strategy<Value = ProcessPlan> {
                 // 0: cylindrical, 1: conical, 2: circular crowning, 3: parabolic.
                 match class {
                     1 => {
-                        plan.request.spec.gear.cone = Some(ConeSpec {
+                        plan.gear.cone = Some(ConeSpec {
                             angle_deg: 1.0 + 19.0 * shape_param,
                             large_end: if right {
                                 LargeEnd::Bottom
@@ -84,7 +84,7 @@ fn plans() -> impl Strategy<Value = ProcessPlan> {
                         })
                     }
                     2 | 3 => {
-                        plan.request.spec.gear.crowning = Some(CrowningSpec {
+                        plan.gear.crowning = Some(CrowningSpec {
                             amount_mm: 0.005 + 0.1 * shape_param,
                             shape: if class == 2 {
                                 CrowningShape::Circular
@@ -100,7 +100,7 @@ fn plans() -> impl Strategy<Value = ProcessPlan> {
                         }
                     }
                 }
-                plan.class = gearcam_proto::classify(&plan.request.spec).as_str().into();
+                plan.class = gearcam_proto::classify(&plan.gear, &plan.request.spec.units);
                 // A machine large enough for the positions most of the time.
                 let lim = &mut plan.machine.limits;
                 lim.module_mm = [0.1, 10.0];
@@ -169,13 +169,13 @@ proptest! {
     fn valid_jobs_compute_ordered_finite_models_or_report_limits(plan in plans()) {
         let report = crate::validate::validate(&plan);
         prop_assume!(report.is_ok());
-        let geo = crate::geometry::geometry(&plan.request.spec.gear);
+        let geo = crate::geometry::geometry(&plan.gear);
         let k = crate::hobbing::kinematics(&plan, &geo);
         prop_assert!(finite(&k), "{k:?}");
         prop_assert!(k.hob_rpm > 0.0 && k.index_rpm > 0.0 && k.table_rpm > 0.0);
         prop_assert!(k.clearance_mm > 0.0);
-        let b = plan.request.spec.gear.face_width_mm;
-        let h = plan.request.spec.gear.fixture_height_mm;
+        let b = plan.gear.face_width_mm;
+        let h = plan.gear.fixture_height_mm;
         for c in &k.cuts {
             let p = c.positions;
             prop_assert!(c.axial_feed_mm_min > 0.0 && c.table_rpm > 0.0 && c.time_min > 0.0);
@@ -189,7 +189,7 @@ proptest! {
             if k.class != gearcam_proto::GearClass::Conical {
                 for m in &c.moves {
                     if let Some(x) = m.x_mm {
-                        prop_assert!(x >= c.centre_distance_mm + plan.request.spec.gear.od_correction_mm - crown - 1e-9);
+                        prop_assert!(x >= c.centre_distance_mm + plan.gear.od_correction_mm - crown - 1e-9);
                     }
                 }
             }

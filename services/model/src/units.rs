@@ -20,7 +20,7 @@ use crate::hobbing::{unit_kinematics, Unit};
 /// The unit's gear with its Z position: fixture height H + offset.
 pub fn unit_gear(plan: &ProcessPlan, unit: &UnitSpec) -> GearSpec {
     let mut g = unit.gear.clone();
-    g.fixture_height_mm = plan.request.spec.gear.fixture_height_mm + unit.z_offset_mm;
+    g.fixture_height_mm = plan.gear.fixture_height_mm + unit.z_offset_mm;
     g
 }
 
@@ -112,10 +112,10 @@ pub fn hob_differs(a: &HobData, b: &HobData) -> bool {
 /// further units (used to validate and limit-check each unit like a job).
 pub fn unit_plan(plan: &ProcessPlan, index: usize, unit: &UnitSpec, hob: HobData) -> ProcessPlan {
     let mut p = plan.clone();
-    p.request.spec.gear = unit_gear(plan, unit);
+    p.gear = unit_gear(plan, unit);
     p.request.spec.units.clear();
     p.hob = hob;
-    p.class = unit_class(&p.request.spec.gear).as_str().into();
+    p.class = unit_class(&p.gear);
     let _ = index;
     p
 }
@@ -132,8 +132,8 @@ pub fn kinematics(plan: &ProcessPlan, first: Kinematics) -> Kinematics {
         hob_id: plan.hob.id.clone(),
         hob_change: false,
         hob: plan.hob.clone(),
-        gear: spec.gear.clone(),
-        geometry: geometry(&spec.gear),
+        gear: plan.gear.clone(),
+        geometry: geometry(&plan.gear),
         model: first.clone(),
     }];
     let mut previous = plan.hob.clone();

@@ -26,13 +26,12 @@ fn every_example_runs_or_fails_with_its_named_error() {
     for (name, text) in &all {
         match (expected_code(text), run(name, text)) {
             (None, Ok((model, program))) => {
-                // The plan's spec: a job that names its part only gets the
-                // gear from the workpiece library.
-                assert_eq!(
-                    model.model.class,
-                    classify(&model.plan.request.spec),
-                    "{name}"
-                );
+                // The plan's gear: a job that names its part only gets the
+                // gear from the workpiece library; the plan's class is the
+                // class of that gear, and the model's is the plan's.
+                let class = classify(&model.plan.gear, &model.plan.request.spec.units);
+                assert_eq!(model.plan.class, class, "{name}");
+                assert_eq!(model.model.class, class, "{name}");
                 // The machine names the dialect: H01 840D, H02 FANUC EGB.
                 match model.plan.machine.dialect {
                     gearcam_proto::Dialect::Fanuc => {

@@ -189,7 +189,7 @@ impl Templates {
     pub fn instantiate(&self, model: &MachiningModel) -> Result<NcProgram, Vec<JobError>> {
         let plan = &model.plan;
         let machine = &plan.machine;
-        let Some(template) = self.compiled_for(&plan.class, machine.dialect) else {
+        let Some(template) = self.compiled_for(plan.class.as_str(), machine.dialect) else {
             return Err(vec![self.not_found(model)]);
         };
         check_inputs(model)?;
@@ -291,7 +291,10 @@ impl Templates {
             .values()
             .map(|c| format!("{}/{}", c.class, c.dialect.as_str()))
             .collect();
-        let class_known = self.compiled.values().any(|c| c.class == plan.class);
+        let class_known = self
+            .compiled
+            .values()
+            .any(|c| c.class == plan.class.as_str());
         let (field, advice) = if class_known {
             (
                 "job.machine",
@@ -355,7 +358,7 @@ pub fn unit_inputs(model: &MachiningModel) -> Vec<UnitInput<'_>> {
             name: "",
             z_offset_mm: 0.0,
             hob_change: false,
-            gear: &plan.request.spec.gear,
+            gear: &plan.gear,
             hob: &plan.hob,
             kin: &model.model,
         }];
@@ -463,6 +466,29 @@ mod tests {
         let mut machine = gearcam_knowledge::seed::seed_machine_h01();
         machine.home_x_mm = 300.0;
         machine.home_z_mm = 400.0;
+        let gear = GearSpec {
+            module_mm: 3.0,
+            teeth: 25,
+            pressure_angle_deg: 20.0,
+            helix_angle_deg: 0.0,
+            helix_hand: None,
+            face_width_mm: 30.0,
+            profile_shift: 0.0,
+            addendum_coef: 1.0,
+            clearance_coef: 0.25,
+            blank_od_mm: None,
+            od_correction_mm: 0.0,
+            material: "20CrMnTi".into(),
+            quality_grade: 8,
+            fixture_height_mm: 100.0,
+            fixture_diameter_mm: None,
+            ball_diameter_mm: None,
+            mate: None,
+            cone: None,
+            crowning: None,
+            worm_wheel: None,
+            curved_tooth: None,
+        };
         let spec = JobSpec {
             job: JobHeader {
                 id: Some(job_id.clone()),
@@ -470,29 +496,7 @@ mod tests {
                 quantity: 10,
                 part_number: "SP-1001".into(),
             },
-            gear: GearSpec {
-                module_mm: 3.0,
-                teeth: 25,
-                pressure_angle_deg: 20.0,
-                helix_angle_deg: 0.0,
-                helix_hand: None,
-                face_width_mm: 30.0,
-                profile_shift: 0.0,
-                addendum_coef: 1.0,
-                clearance_coef: 0.25,
-                blank_od_mm: None,
-                od_correction_mm: 0.0,
-                material: "20CrMnTi".into(),
-                quality_grade: 8,
-                fixture_height_mm: 100.0,
-                fixture_diameter_mm: None,
-                ball_diameter_mm: None,
-                mate: None,
-                cone: None,
-                crowning: None,
-                worm_wheel: None,
-                curved_tooth: None,
-            },
+            gear: Some(gear.clone()),
             hob: HobSpec::default(),
             process: ProcessOverrides::default(),
             options: Options::default(),
@@ -517,7 +521,8 @@ mod tests {
                 submitted_by: "station-1".into(),
                 spec,
             },
-            class: "cylindrical".into(),
+            class: GearClass::Cylindrical,
+            gear,
             machine,
             hob,
             process: ProcessData {
@@ -677,8 +682,8 @@ mod tests {
     fn helical_model() -> MachiningModel {
         let mut m = spur_model();
         let beta = 15f64.to_radians();
-        m.plan.request.spec.gear.helix_angle_deg = 15.0;
-        m.plan.request.spec.gear.helix_hand = Some(Hand::Right);
+        m.plan.gear.helix_angle_deg = 15.0;
+        m.plan.gear.helix_hand = Some(Hand::Right);
         m.geometry.lead_mm = Some(std::f64::consts::PI * 3.0 * 25.0 / beta.sin());
         m.model.swivel_deg = 12.8;
         m.model.swivel_axis_deg = 12.8;
@@ -1066,7 +1071,7 @@ mod tests {
     #[test]
     fn unknown_class_is_template_not_found_on_class() {
         let mut model = spur_model();
-        model.plan.class = "curved_tooth".into();
+        model.plan.class = GearClass::CurvedTooth;
         let errors = Templates::builtin().render(&model).unwrap_err();
         assert_eq!(errors.len(), 1);
         let e = &errors[0];
@@ -1186,16 +1191,16 @@ mod tests {
     fn evaluation_is_stopped_by_the_step_budget() {
         // Many steps per record: repeated per move of every cut.
         let templates = with_template(
-            "runaway_840d",
+            "conical_840d",
             "main/unit :: ;\nmain/cut :: ;\nmain/move calc: a = 1 + 1 + 1 + 1 + 1 + 1 + 1 + 1 + 1 + 1 :: {N()}\n",
             20,
         );
         let mut model = spur_model();
-        model.plan.class = "runaway".into();
+        model.plan.class = GearClass::Conical;
         let errors = templates.render(&model).unwrap_err();
         assert_eq!(errors.len(), 1);
         assert_eq!(errors[0].code, "TEMPLATE_FUEL_EXHAUSTED");
-        assert_eq!(errors[0].field, "template.runaway_840d");
+        assert_eq!(errors[0].field, "template.conical_840d");
         assert!(
             errors[0].message.contains("line 7"),
             "{}",
@@ -1210,12 +1215,12 @@ mod tests {
             calc.push_str(&format!("; a{i} = a{} + a{}", i - 1, i - 1));
         }
         let templates = with_template(
-            "huge_840d",
+            "crowned_840d",
             &format!("main calc: {calc} :: {{a17}}\n"),
             DEFAULT_FUEL,
         );
         let mut model = spur_model();
-        model.plan.class = "huge".into();
+        model.plan.class = GearClass::Crowned;
         let errors = templates.render(&model).unwrap_err();
         assert_eq!(errors[0].code, "PROGRAM_TOO_LARGE");
     }
@@ -1260,9 +1265,9 @@ mod tests {
 
     #[test]
     fn a_fraction_written_without_a_number_function_is_a_render_error() {
-        let templates = with_template("raw_840d", "main :: G0 X{kin.depth}\n", DEFAULT_FUEL);
+        let templates = with_template("worm_wheel_840d", "main :: G0 X{kin.depth}\n", DEFAULT_FUEL);
         let mut model = spur_model();
-        model.plan.class = "raw".into();
+        model.plan.class = GearClass::WormWheel;
         let errors = templates.render(&model).unwrap_err();
         assert_eq!(errors[0].code, "TEMPLATE_RENDER_FAILED");
         assert!(errors[0].message.contains("nc()"), "{}", errors[0].message);

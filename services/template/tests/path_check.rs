@@ -247,7 +247,7 @@ fn every_valid_example_passes_on_840d_and_fanuc_and_traces_back_to_its_model() {
 /// radial retract before the axial return to A.
 fn fanuc_program(m: &MachiningModel) -> String {
     let k = &m.model;
-    let gear = &m.plan.request.spec.gear;
+    let gear = &m.plan.gear;
     let cut = &k.cuts[0];
     let (b, e) = (cut.positions.B, cut.positions.E);
     let a = k.positions.A;

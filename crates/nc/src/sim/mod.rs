@@ -105,7 +105,7 @@ fn units(model: &MachiningModel) -> Vec<Unit<'_>> {
     if model.model.units.is_empty() {
         vec![Unit {
             kin: &model.model,
-            gear: &model.plan.request.spec.gear,
+            gear: &model.plan.gear,
             hob: &model.plan.hob,
         }]
     } else {

@@ -26,8 +26,8 @@ use std::collections::BTreeMap;
 
 use gearcam_proto::plan::Proposal;
 use gearcam_proto::{
-    CaseRef, CutMode, GearSpec, HobData, HobSpec, JobError, JobRequest, JobSpec, MachineProfile,
-    ProcessData, ProcessPlan, Source, Sourced, WorkpieceRef,
+    CaseRef, CutMode, GearClass, GearSpec, HobData, HobSpec, JobError, JobRequest, JobSpec,
+    MachineProfile, ProcessData, ProcessPlan, Source, Sourced, WorkpieceRef,
 };
 use rusqlite::Connection;
 
@@ -53,14 +53,6 @@ const CASE_VALUES: [&str; 4] = [
     "cuts",
     "cut_mode_climb",
 ];
-
-/// The group-technology class of a job (docs/knowledge.md#group-technology-classes), by the rule in
-/// [`gearcam_proto::classify`]: `[[units]]` make a multi-gear part, otherwise
-/// the `[gear]` table's class marker (cone, crowning, worm wheel, curved
-/// tooth) or cylindrical.
-pub fn classify(req: &JobRequest) -> &'static str {
-    gearcam_proto::classify(&req.spec).as_str()
-}
 
 /// Builds the process plan for a request, or every reason it cannot be built.
 /// Loads the case base from the database; a service that plans many jobs
@@ -110,19 +102,28 @@ fn plan_inner(
     req: &JobRequest,
 ) -> Result<ProcessPlan, PlanError> {
     let mut proposal = Proposal::default();
-    // The drawing data first: every later step reads the resolved gear, and
-    // the plan carries it in its copy of the request.
-    let (WithGear { req, hardness_hb }, machine) =
+    // The drawing data first: every later step reads the resolved gear; the
+    // plan carries it beside the request as it was asked.
+    let (WithGear { gear, hardness_hb }, machine) =
         resolve_gear_and_machine(conn, req, &mut proposal)?;
-    let hob = choose_hob(conn, &req, &machine, &mut proposal)?;
+    let class = gearcam_proto::classify(&gear, &req.spec.units);
+    let hob = choose_hob(conn, req, &gear, &machine, &mut proposal)?;
     // What retrieval reads of the knowledge base is read before the job's
     // hob errors are reported: a knowledge base that cannot be read is
     // reported first.
-    let material = records::material(conn, &req.spec.gear.material)?;
+    let material = records::material(conn, &gear.material)?;
     let weights = history::load_weights(conn)?;
     let hob = hob.map_err(PlanError::Job)?;
 
-    let problem = retrieval_problem(&req, &machine, &hob, material.as_ref(), hardness_hb);
+    let problem = retrieval_problem(
+        req,
+        &gear,
+        class,
+        &machine,
+        &hob,
+        material.as_ref(),
+        hardness_hb,
+    );
     proposal.weights = weights.to_map();
     let hits = retrieve_cases(
         cases,
@@ -138,19 +139,29 @@ fn plan_inner(
         adapted.as_ref(),
         &machine,
         &hob.data,
-        req.spec.gear.teeth,
+        gear.teeth,
     );
     let values = apply_overrides(&mut proposal, &req.spec);
     let used = cases_used(cases, &hits, &values);
     Ok(assemble(
-        req, machine, hob.data, proposed, values, used, proposal,
+        req.clone(),
+        Resolved {
+            gear,
+            class,
+            machine,
+            hob: hob.data,
+        },
+        proposed,
+        values,
+        used,
+        proposal,
     ))
 }
 
-/// A request with its drawing data resolved.
+/// The drawing data of a request, resolved.
 struct WithGear {
-    /// The request, its `spec.gear` filled.
-    req: JobRequest,
+    /// The job's `[gear]`, or the workpiece library's record of its part.
+    gear: GearSpec,
     /// The part's hardness from the workpiece library, when the record gives
     /// one and the gear is of the record's material.
     hardness_hb: Option<f64>,
@@ -197,9 +208,9 @@ fn resolve_gear(
     let spec = &req.spec;
     let part = spec.job.part_number.trim();
     let Some(record) = records::workpiece(conn, part)? else {
-        if spec.has_gear() {
+        if let Some(gear) = &spec.gear {
             return Ok(Ok(WithGear {
-                req: req.clone(),
+                gear: gear.clone(),
                 hardness_hb: None,
             }));
         }
@@ -237,16 +248,16 @@ fn resolve_gear(
             .hardness_hb
             .filter(|_| g.material.trim() == library_gear.material.trim())
     };
-    if spec.has_gear() {
+    if let Some(gear) = &spec.gear {
         proposal.workpiece = Some(WorkpieceRef {
             part_number: part.to_string(),
             provenance: record.source.clone(),
             supplied_gear: false,
-            differs: gear_differences(&spec.gear, &library_gear),
+            differs: gear_differences(gear, &library_gear),
         });
         return Ok(Ok(WithGear {
-            req: req.clone(),
-            hardness_hb: hardness(&spec.gear),
+            gear: gear.clone(),
+            hardness_hb: hardness(gear),
         }));
     }
     if let Some(missing) = history::workpiece_lacks_class_data(&record, !spec.units.is_empty()) {
@@ -266,9 +277,10 @@ fn resolve_gear(
         differs: Vec::new(),
     });
     let hardness_hb = hardness(&library_gear);
-    let mut req = req.clone();
-    req.spec.gear = library_gear;
-    Ok(Ok(WithGear { req, hardness_hb }))
+    Ok(Ok(WithGear {
+        gear: library_gear,
+        hardness_hb,
+    }))
 }
 
 /// The numeric drawing data of a gear as plan values (`gear.*`), as the
@@ -351,6 +363,7 @@ type JobOutcome<T> = Result<Result<T, Vec<JobError>>, KnowledgeError>;
 fn choose_hob(
     conn: &Connection,
     req: &JobRequest,
+    gear: &GearSpec,
     machine: &MachineProfile,
     proposal: &mut Proposal,
 ) -> JobOutcome<JobHob> {
@@ -377,7 +390,7 @@ fn choose_hob(
             }
         },
         (None, true) => Ok(inline_hob(h).map(JobHob::inline)),
-        (None, false) => match_hob(conn, &req.spec, machine, proposal),
+        (None, false) => match_hob(conn, gear, req.spec.job.quantity, machine, proposal),
     }
 }
 
@@ -429,11 +442,11 @@ fn inline_hob(h: &HobSpec) -> Result<HobData, Vec<JobError>> {
 /// and records the choice explained, or every rejection, in the proposal.
 fn match_hob(
     conn: &Connection,
-    spec: &JobSpec,
+    g: &GearSpec,
+    quantity: u32,
     machine: &MachineProfile,
     proposal: &mut Proposal,
 ) -> JobOutcome<JobHob> {
-    let g = &spec.gear;
     let hobs = records::hobs(conn)?;
     let need = hobmatch::Need {
         module_mm: g.module_mm,
@@ -445,7 +458,7 @@ fn match_hob(
             None
         },
         quality_grade: g.quality_grade,
-        quantity: spec.job.quantity,
+        quantity,
         max_hob_od_mm: machine.limits.max_hob_od_mm,
         max_swivel_deg: machine.limits.max_swivel_deg,
     };
@@ -467,7 +480,7 @@ fn match_hob(
                 "hob",
                 format!(
                     "a library hob with normal base pitch mn0·cos α0 = {pb:.4} mm, class for grade {}, usable length for {} parts",
-                    g.quality_grade, spec.job.quantity
+                    g.quality_grade, quantity
                 ),
                 if got.is_empty() { "an empty tool library".to_string() } else { got },
                 "no library hob fits the gear; add one (gearcam kb add hobs ...) or give the hob inline",
@@ -484,14 +497,15 @@ fn match_hob(
 /// one); finish hobbing unless the job says rough.
 fn retrieval_problem(
     req: &JobRequest,
+    g: &GearSpec,
+    class: GearClass,
     machine: &MachineProfile,
     hob: &JobHob,
     material: Option<&MaterialRecord>,
     hardness_hb: Option<f64>,
 ) -> Problem {
-    let g = &req.spec.gear;
     Problem {
-        class: classify(req).to_string(),
+        class: class.to_string(),
         material: g.material.trim().to_string(),
         // Only read when the material is known: retrieval needs its group.
         material_group: material
@@ -671,7 +685,7 @@ fn apply_overrides(proposal: &mut Proposal, spec: &JobSpec) -> BTreeMap<String, 
         .as_ref()
         .is_some_and(|w| !w.supplied_gear)
     {
-        gear_values(&spec.gear)
+        spec.gear.as_ref().map(gear_values).unwrap_or_default()
     } else {
         Vec::new()
     };
@@ -718,13 +732,21 @@ fn cases_used(
     })
 }
 
+/// What the plan is for, decided once: the gear, its class, the machine
+/// and the hob.
+struct Resolved {
+    gear: GearSpec,
+    class: GearClass,
+    machine: MachineProfile,
+    hob: HobData,
+}
+
 /// Step 6: the plan. Its process data are the decided values (the job's
 /// cutting mode, else the proposed one); its confidence is the proposal's
 /// when cases or defaults gave a value, 1 when the job set them all.
 fn assemble(
     req: JobRequest,
-    machine: MachineProfile,
-    hob: HobData,
+    resolved: Resolved,
     proposed: Proposed,
     values: BTreeMap<String, Sourced>,
     cases: Option<Vec<CaseRef>>,
@@ -747,10 +769,11 @@ fn assemble(
     };
     ProcessPlan {
         job_id: req.job_id.clone(),
-        class: classify(&req).into(),
+        class: resolved.class,
+        gear: resolved.gear,
         request: req,
-        machine,
-        hob,
+        machine: resolved.machine,
+        hob: resolved.hob,
         process,
         values,
         cases: cases.unwrap_or_default(),

@@ -142,7 +142,7 @@ fn record(v: serde_json::Value) -> library::Record {
 fn by_part(part: &str) -> JobRequest {
     let mut req = request(json!({}), json!({}));
     req.spec.job.part_number = part.into();
-    req.spec.gear = GearSpec::absent();
+    req.spec.gear = None;
     req
 }
 
@@ -150,13 +150,14 @@ fn by_part(part: &str) -> JobRequest {
 fn a_job_naming_a_library_part_gets_its_drawing_data_from_the_library() {
     let conn = db::open_in_memory().unwrap();
     let plan = plan(&conn, &by_part("SP-1001")).unwrap();
-    let g = &plan.request.spec.gear;
-    assert!(plan.request.spec.has_gear());
+    // The request stays as it was asked; the plan carries the library's gear.
+    assert!(!plan.request.spec.has_gear());
+    let g = &plan.gear;
     assert_eq!((g.module_mm, g.teeth), (3.0, 25));
     assert_eq!((g.face_width_mm, g.blank_od_mm), (30.0, Some(81.0)));
     assert_eq!((g.material.as_str(), g.quality_grade), ("20CrMnTi", 7));
     assert_eq!(g.fixture_height_mm, 100.0);
-    assert_eq!(plan.class, "cylindrical");
+    assert_eq!(plan.class, GearClass::Cylindrical);
     for name in ["gear.module_mm", "gear.teeth", "gear.blank_od_mm"] {
         assert_eq!(plan.values[name].source, Source::Library, "{name}");
     }
@@ -254,7 +255,7 @@ fn a_library_part_without_its_class_data_needs_the_gear_section() {
     rec.insert("cone_angle_deg".into(), json!(6.5));
     library::add(&conn, &library::WORKPIECES, &rec).unwrap();
     let p = plan(&conn, &by_part("CO-1")).unwrap();
-    assert_eq!(p.class, "conical");
+    assert_eq!(p.class, GearClass::Conical);
     assert_eq!(p.values["gear.cone.angle_deg"].value, 6.5);
 }
 
@@ -452,7 +453,7 @@ fn a_proposal_above_the_machines_hob_speed_is_clamped_to_the_machine() {
 fn an_unknown_material_gets_defaults_and_low_confidence() {
     let conn = db::open_in_memory().unwrap();
     let mut req = request(json!({}), json!({}));
-    req.spec.gear.material = "unobtainium".into();
+    req.spec.gear.as_mut().unwrap().material = "unobtainium".into();
     let plan = plan(&conn, &req).unwrap();
     assert_eq!(plan.values["cutting_speed_m_min"].source, Source::Default);
     assert_eq!(
@@ -466,7 +467,7 @@ fn an_unknown_material_gets_defaults_and_low_confidence() {
 fn no_fitting_hob_names_every_rejection() {
     let conn = db::open_in_memory().unwrap();
     let mut req = request(json!({}), json!({}));
-    req.spec.gear.module_mm = 5.0;
+    req.spec.gear.as_mut().unwrap().module_mm = 5.0;
     let errors = plan(&conn, &req).unwrap_err();
     assert_eq!(errors[0].code, "NO_MATCHING_HOB");
     assert!(

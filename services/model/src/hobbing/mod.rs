@@ -102,13 +102,13 @@ impl<'a> Unit<'a> {
     pub fn of_plan(plan: &'a ProcessPlan) -> Unit<'a> {
         let spec = &plan.request.spec;
         Unit {
-            gear: &spec.gear,
+            gear: &plan.gear,
             hob: &plan.hob,
             process: &plan.process,
             overrides: &spec.process,
             machine: &plan.machine,
             quantity: spec.job.quantity,
-            class: unit_class(&spec.gear),
+            class: unit_class(&plan.gear),
             proposed_allowance_mm: plan.values.get("allowance_mm").map(|v| v.value),
         }
     }

@@ -5,7 +5,7 @@ use approx::assert_relative_eq;
 use gearcam_proto::Hand;
 
 fn kin(plan: &ProcessPlan) -> Kinematics {
-    kinematics(plan, &geometry(&plan.request.spec.gear))
+    kinematics(plan, &geometry(&plan.gear))
 }
 
 #[test]
@@ -192,7 +192,7 @@ fn short_hob_bounds_the_contact_point() {
     plan.hob.length_mm = 4.0;
     let k = kin(&plan);
     assert_relative_eq!(k.clearance_mm, 21.424_671_864, epsilon = 1e-6);
-    let geo = geometry(&plan.request.spec.gear);
+    let geo = geometry(&plan.gear);
     let set = setup(&plan, &geo);
     let s = Clearance {
         blank_od_mm: set.blank_od_mm,
@@ -274,7 +274,7 @@ fn positions_conventional_and_climb() {
 
     let mut climb = fixtures::plan();
     climb.process.cut_mode = CutMode::Climb;
-    climb.request.spec.gear.od_correction_mm = 0.1;
+    climb.gear.od_correction_mm = 0.1;
     let q = kin(&climb).positions;
     assert_relative_eq!(q.B.x_mm, xc + 100.1, epsilon = 1e-9);
     assert_relative_eq!(q.B.z_mm, bottom, epsilon = 1e-6);

@@ -7,7 +7,7 @@ use super::*;
 /// measurement data, mate and the units of a multi-gear part.
 pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
     let spec = &plan.request.spec;
-    let g = &spec.gear;
+    let g = &plan.gear;
     let o = &spec.process;
     let markers = unit_markers(g);
     if markers.len() > 1 {
@@ -20,7 +20,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
             "A gear belongs to exactly one class; keep the one table of [gear.cone], [gear.crowning], [gear.worm_wheel] or [gear.curved_tooth] that describes it.",
         );
     }
-    let class = classify(spec);
+    let class = plan.class;
     if markers.contains(&GearClass::CurvedTooth) {
         r.error(
             codes::CLASS_NOT_PROGRAMMABLE,
@@ -230,7 +230,7 @@ pub(super) fn check_shift(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
     {
         return; // the hob checks report this
     }
-    let g = &plan.request.spec.gear;
+    let g = &plan.gear;
     let depth = plan
         .process
         .depth_mm
@@ -291,7 +291,7 @@ pub(super) fn check_shift(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
 /// unit's field names).
 pub(super) fn check_units(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
     let spec = &plan.request.spec;
-    let mut top = spec.gear.face_width_mm;
+    let mut top = plan.gear.face_width_mm;
     for (i, u) in spec.units.iter().enumerate() {
         let field = format!("units[{i}].z_offset_mm");
         if !(u.z_offset_mm.is_finite() && u.z_offset_mm >= top - cfg.length_tolerance_mm) {

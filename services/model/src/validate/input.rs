@@ -222,7 +222,7 @@ pub(super) fn check_process(r: &mut Report, plan: &ProcessPlan, gear_ok: bool, c
             "The axial feed per workpiece revolution must be positive; set process.feed_mm_per_rev or let the knowledge base propose it.",
         );
     } else if gear_ok {
-        if let Some(pz) = lead_mm(&plan.request.spec.gear) {
+        if let Some(pz) = lead_mm(&plan.gear) {
             if !(p.feed_mm_per_rev < pz) {
                 r.error(
                     codes::FEED_RANGE,

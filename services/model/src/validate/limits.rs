@@ -19,7 +19,7 @@ pub(super) fn run_out(
     cfg: &Config,
     prefix: &str,
 ) {
-    let gear = &plan.request.spec.gear;
+    let gear = &plan.gear;
     let env = &plan.machine.envelope;
     let r = plan.hob.od_mm / 2.0;
     let half = plan.hob.length_mm / 2.0;

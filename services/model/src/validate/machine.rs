@@ -74,7 +74,7 @@ pub(super) fn check_machine_settings(r: &mut Report, plan: &ProcessPlan) -> bool
             );
         }
     }
-    if let Some(d) = plan.request.spec.gear.fixture_diameter_mm {
+    if let Some(d) = plan.gear.fixture_diameter_mm {
         if !(d >= 0.0 && d.is_finite()) {
             r.error(
                 codes::MACHINE_SETTING_RANGE,
@@ -113,7 +113,7 @@ pub(super) fn check_machine_limits(
     geo: &Geometry,
     cfg: &Config,
 ) {
-    let gear = &plan.request.spec.gear;
+    let gear = &plan.gear;
     let lim = &plan.machine.limits;
     let id = &plan.machine.id;
     let [lo, hi] = lim.module_mm;
@@ -199,5 +199,5 @@ pub(super) fn check_blank_window(r: &mut Report, plan: &ProcessPlan, geo: &Geome
 }
 
 pub(super) fn blank_od(plan: &ProcessPlan, geo: &Geometry) -> f64 {
-    plan.request.spec.gear.blank_od_mm.unwrap_or(geo.da_mm)
+    plan.gear.blank_od_mm.unwrap_or(geo.da_mm)
 }

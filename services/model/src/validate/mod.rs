@@ -31,7 +31,7 @@
 
 use gearcam_proto::class::unit_markers;
 use gearcam_proto::{
-    classify, CrowningShape, GearClass, GearSpec, Geometry, HobData, Infeed, JobError, Kinematics,
+    CrowningShape, GearClass, GearSpec, Geometry, HobData, Infeed, JobError, Kinematics,
     MachineProfile, Move, Position, ProcessPlan, Stage, Warning, WormInfeed,
 };
 
@@ -319,7 +319,7 @@ pub fn validate(plan: &ProcessPlan) -> Report {
 /// [`validate`] with explicit tolerances and windows.
 pub fn validate_with(plan: &ProcessPlan, cfg: &Config) -> Report {
     let mut report = Report::default();
-    let gear = &plan.request.spec.gear;
+    let gear = &plan.gear;
     let gear_ok = check_gear(&mut report, gear);
     let hob_ok = check_hob(&mut report, &plan.hob);
     check_process(&mut report, plan, gear_ok, cfg);

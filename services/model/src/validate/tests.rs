@@ -46,7 +46,7 @@ fn hob_module_2_5_for_module_3_gear_is_a_base_pitch_mismatch() {
 #[test]
 fn a_ball_below_the_base_circle_is_refused_with_the_smallest_that_rests() {
     let mut plan = fixtures::plan();
-    let g = &mut plan.request.spec.gear;
+    let g = &mut plan.gear;
     g.ball_diameter_mm = Some(0.5);
     let min = crate::geometry::min_ball_mm(g);
     let e = validate(&plan)
@@ -63,7 +63,7 @@ fn a_ball_below_the_base_circle_is_refused_with_the_smallest_that_rests() {
         )
     );
     assert_eq!(e.got, "0.5 mm");
-    plan.request.spec.gear.ball_diameter_mm = Some(min * 1.01);
+    plan.gear.ball_diameter_mm = Some(min * 1.01);
     assert!(validate(&plan)
         .errors
         .iter()
@@ -78,7 +78,7 @@ fn reports_several_failures_together() {
     plan.process.feed_mm_per_rev = 0.0;
     plan.process.cutting_speed_m_min = f64::NAN;
     plan.request.spec.job.quantity = 0;
-    plan.request.spec.gear.blank_od_mm = Some(70.0);
+    plan.gear.blank_od_mm = Some(70.0);
     plan.hob.lead_angle_deg = 50.0;
     assert_eq!(
         codes_of(&plan),
@@ -141,7 +141,7 @@ fn blank_od_outside_the_window_fails() {
 #[test]
 fn default_depth_sits_exactly_at_the_theoretical_centre_distance() {
     let plan = fixtures::plan();
-    let geo = geometry(&plan.request.spec.gear);
+    let geo = geometry(&plan.gear);
     let set = setup(&plan, &geo);
     assert!(!set.depth_given);
     assert_eq!(set.centre_distance_mm, set.theoretical_centre_distance_mm);
@@ -228,8 +228,8 @@ fn machine_limits_before_computation() {
 fn limits_after_computation() {
     let mut plan = fixtures::plan();
     plan.machine.home_x_mm = 500.0;
-    plan.request.spec.gear.fixture_height_mm = 380.0;
-    let k = kinematics(&plan, &geometry(&plan.request.spec.gear));
+    plan.gear.fixture_height_mm = 380.0;
+    let k = kinematics(&plan, &geometry(&plan.gear));
     let errors = check_limits(&plan, &k);
     let fields: Vec<_> = errors.iter().map(|e| e.field.as_str()).collect();
     // Top = 380 + 30 + 22.2035 + 2 = 434.2 mm > 400 at B and C.
@@ -268,7 +268,7 @@ fn the_machine_profile_new_fields_are_checked_with_their_names() {
     plan.machine.settings.table_sign = 0.5;
     plan.machine.envelope.table_radius_mm = -1.0;
     plan.machine.parameters.r_first = 980;
-    plan.request.spec.gear.fixture_diameter_mm = Some(f64::NAN);
+    plan.gear.fixture_diameter_mm = Some(f64::NAN);
     let fields: Vec<String> = validate(&plan)
         .errors
         .into_iter()
@@ -298,7 +298,7 @@ fn tolerances_and_windows_come_from_the_config() {
     // A blank 1 mm over da fails H01's +0.5 mm window but passes a
     // machine configured for +1.5 mm; the defaults are documented.
     let mut plan = fixtures::plan();
-    plan.request.spec.gear.blank_od_mm = Some(82.0);
+    plan.gear.blank_od_mm = Some(82.0);
     assert_eq!(codes_of(&plan), vec![codes::BLANK_OD_WINDOW]);
     let cfg = Config {
         blank_od_above_mm: 1.5,
@@ -333,7 +333,7 @@ fn tolerances_and_windows_come_from_the_config() {
 #[test]
 fn class_options_and_cut_settings_are_checked() {
     let mut plan = fixtures::plan();
-    plan.request.spec.gear.cone = Some(gearcam_proto::ConeSpec {
+    plan.gear.cone = Some(gearcam_proto::ConeSpec {
         angle_deg: 6.5,
         large_end: gearcam_proto::LargeEnd::Bottom,
     });
@@ -362,6 +362,7 @@ fn unit_errors_name_the_unit() {
         gear: g,
         hob: Default::default(),
     });
+    plan.class = gearcam_proto::GearClass::MultiGear;
     let report = validate(&plan);
     // The unit overlaps unit 1 (30 mm face) and a module-2 gear does not fit
     // the job's module-3 hob.
