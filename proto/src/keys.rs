@@ -114,7 +114,7 @@ pub fn job_of(key: &str) -> Option<JobId> {
 /// journaled (or a [`crate::StationReply::Refused`]).
 pub const STATION_SUBMIT: &str = "gearcam/v1/station/submit";
 
-/// `gearcam/v1/station/jobs`: queryable listing every journaled job ([`crate::JobList`]).
+/// `gearcam/v1/station/jobs`: queryable listing every journaled job ([`crate::StationReply::Jobs`]).
 pub const STATION_JOBS: &str = "gearcam/v1/station/jobs";
 
 /// `gearcam/v1/station/jobs/{job}`: queryable with one job's [`crate::JobStatus`].

@@ -25,7 +25,7 @@ use gearcam_proto::{GearSpec, HobData, MachiningModel, MoveKind, PathFinding};
 use super::{finding, rules, Trace};
 
 /// Penetration ignored, mm.
-pub const PEN_TOL: f64 = 0.002;
+pub(crate) const PEN_TOL: f64 = 0.002;
 
 /// Samples around the hob's circumference.
 const N_THETA: usize = 48;

@@ -599,7 +599,7 @@ const HOB_LIFE: &str = "; accuracy class, shift step 0.5 mm per 2 parts and rema
 /// The seed hobs as the tool library holds them from schema 2 on: TiN-coated
 /// HSS, the usable length 10 mm short of the overall length, at the start of
 /// their usable length, shifted 0.5 mm per 2 parts, with 400 parts of life
-/// (engineering estimates; see [`SEED_HOBS`] for the geometry).
+/// (engineering estimates; see `SEED_HOBS` for the geometry).
 pub fn seed_hobs() -> Vec<HobRecord> {
     SEED_HOBS
         .iter()

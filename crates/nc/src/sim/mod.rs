@@ -48,13 +48,13 @@ mod motion;
 mod tests;
 
 /// Geometric tolerance, mm.
-pub const TOL: f64 = 1e-6;
+pub(crate) const TOL: f64 = 1e-6;
 /// A length, feed or speed printed with 3 decimals lies within this of the model's.
-pub const MM: f64 = 0.0005 + TOL;
+pub(crate) const MM: f64 = 0.0005 + TOL;
 /// An angle printed with 4 decimals lies within this of the model's, degrees.
-pub const DEG: f64 = 0.00005 + 1e-9;
+pub(crate) const DEG: f64 = 0.00005 + 1e-9;
 /// A gearbox factor printed with 6 decimals lies within this of the model's.
-pub const FACTOR: f64 = 0.000_000_5 + 1e-9;
+pub(crate) const FACTOR: f64 = 0.000_000_5 + 1e-9;
 
 /// The shift Y may be reached by an absolute and an incremental word (FANUC),
 /// each rounded: the zone's Y limit allows for both.

@@ -339,7 +339,7 @@ pub const HOBS: Library = Library {
     ],
 };
 
-/// Machines: whole profiles (see [`MachineProfile`]) plus `source`.
+/// Machines: whole profiles (see [`gearcam_proto::MachineProfile`]) plus `source`.
 pub const MACHINES: Library = Library {
     name: "machines",
     table: "machines",

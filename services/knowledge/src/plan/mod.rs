@@ -11,16 +11,16 @@
 //!
 //! # Steps
 //!
-//! 1. [`resolve_gear_and_machine`]: the drawing data (the job's `[gear]`, or
+//! 1. `resolve_gear_and_machine`: the drawing data (the job's `[gear]`, or
 //!    the workpiece library's part) and the machine profile;
-//! 2. [`choose_hob`]: the named library hob, the job's inline hob, or the
+//! 2. `choose_hob`: the named library hob, the job's inline hob, or the
 //!    library hob matched to the gear ([`crate::hobmatch`]);
-//! 3. [`retrieval_problem`] and [`retrieve_cases`]: the job as a retrieval
+//! 3. `retrieval_problem` and `retrieve_cases`: the job as a retrieval
 //!    problem and the cases most similar to it;
-//! 4. [`propose_values`]: the adapted cases' values, else the defaults,
-//!    within the machine's limits ([`within_machine_limits`]);
-//! 5. [`apply_overrides`]: the job's own values on top;
-//! 6. [`cases_used`] and [`assemble`]: the plan with its cases and confidence.
+//! 4. `propose_values`: the adapted cases' values, else the defaults,
+//!    within the machine's limits (`within_machine_limits`);
+//! 5. `apply_overrides`: the job's own values on top;
+//! 6. `cases_used` and `assemble`: the plan with its cases and confidence.
 
 use std::collections::BTreeMap;
 

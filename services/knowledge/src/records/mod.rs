@@ -6,7 +6,7 @@
 //! CLI), which writes every record these types read.
 //!
 //! A flat library's reader selects exactly its table's columns (the
-//! library's field table, [`Library::fields`]), and its type reads each of
+//! library's field table, [`crate::library::Library::fields`]), and its type reads each of
 //! them by name. A value the type cannot hold (NULL in a required field, a
 //! value of another type or outside the type's range, a text that is not
 //! one of the field's choices) is a [`KnowledgeError::Record`] naming the
