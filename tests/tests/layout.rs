@@ -6,10 +6,14 @@
 //!   tests` block, and `tests.rs` files, do not count);
 //! - no key expression spelled outside `proto/src/keys.rs`;
 //! - no citation of the old specification outside the repository (`SPEC §`):
-//!   the domain reference is `docs/`.
+//!   the domain reference is `docs/`;
+//! - the demo and the tests resolve the same features of every dependency
+//!   they share, so the README's two commands share one build.
 //!
 //! Comments do not count as uses: a doc link to another module is not an
 //! import.
+// Test code: `CARGO` (set by cargo) names the cargo that runs the tests.
+#![allow(clippy::disallowed_methods)]
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -257,5 +261,61 @@ fn the_code_cites_docs_not_the_old_specification() {
         found.is_empty(),
         "citations of the old SPEC:\n{}",
         found.join("\n")
+    );
+}
+
+/// `{package version} → features` of the resolved dependency graph.
+fn features(args: &[&str]) -> BTreeMap<String, BTreeSet<String>> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let run = |offline: bool| {
+        let mut cmd = std::process::Command::new(&cargo);
+        cmd.current_dir(root()).arg("tree").args(args);
+        cmd.args(["--prefix", "none", "-f", "{p} {f}"]);
+        if offline {
+            cmd.arg("--offline");
+        }
+        cmd.output().expect("cargo tree runs")
+    };
+    let out = Some(run(true))
+        .filter(|o| o.status.success())
+        .unwrap_or_else(|| run(false));
+    assert!(
+        out.status.success(),
+        "cargo tree: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut map: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        let parts: Vec<&str> = line.split(' ').collect();
+        if parts.len() < 2 || parts[1].starts_with('(') {
+            continue;
+        }
+        let feats = parts[2..].join(" ").replace("(*)", "").trim().to_string();
+        map.entry(format!("{} {}", parts[0], parts[1]))
+            .or_default()
+            .insert(feats);
+    }
+    map
+}
+
+#[test]
+fn the_demo_and_the_tests_share_one_build() {
+    // `cargo run -- demo` builds the gearcam binary's normal dependencies;
+    // `cargo test --workspace` resolves every package with its dev-
+    // dependencies. Where a dependency of the demo gets other features in the
+    // tests, cargo builds it (and everything above it) twice.
+    let demo = features(&["-p", "gearcam", "-e", "normal,build"]);
+    let tests = features(&["--workspace"]);
+    let differ: Vec<String> = demo
+        .iter()
+        .filter_map(|(k, f)| {
+            let t = tests.get(k)?;
+            (t != f).then(|| format!("{k}: demo {f:?}, tests {t:?}"))
+        })
+        .collect();
+    assert!(
+        differ.is_empty(),
+        "features differ (add them to the feature unification in services/bus/Cargo.toml):\n{}",
+        differ.join("\n")
     );
 }
