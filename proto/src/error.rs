@@ -115,6 +115,21 @@ pub struct JobError {
     pub message: String,
 }
 
+impl Stage {
+    /// A typed error found by this stage: what was wrong (`code`, `field`),
+    /// what was expected, what was given, and what to do (`message`).
+    pub fn error(
+        self,
+        code: &str,
+        field: &str,
+        expected: impl Into<String>,
+        got: impl Into<String>,
+        message: impl Into<String>,
+    ) -> JobError {
+        JobError::new(self, code, field, expected, got, message)
+    }
+}
+
 impl JobError {
     /// A typed error of `stage`.
     pub fn new(

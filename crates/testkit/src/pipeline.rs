@@ -3,7 +3,8 @@
 //! seeded machines, read from the seed itself.
 
 use gearcam_proto::{
-    JobError, JobId, JobRequest, JobSpec, MachineProfile, MachiningModel, NcProgram, ProcessPlan,
+    GearSpec, Hand, JobError, JobId, JobRequest, JobSpec, MachineProfile, MachiningModel,
+    NcProgram, ProcessPlan,
 };
 
 /// The request of a job file's text, under job id `job`.
@@ -41,4 +42,34 @@ pub fn h01() -> MachineProfile {
 /// The seeded FANUC machine `H02`.
 pub fn h02() -> MachineProfile {
     gearcam_knowledge::seed::seed_machine_h02()
+}
+
+/// A gear for unit tests: normal module `module_mm`, `teeth` teeth, helix
+/// `helix_angle_deg` (right hand when not 0), αn 20°, face width 30 mm, no
+/// profile shift, ha* 1, c* 0.25, blank at the tip diameter, 42CrMo4, grade 8,
+/// 100 mm above the table.
+pub fn gear(module_mm: f64, teeth: u32, helix_angle_deg: f64) -> GearSpec {
+    GearSpec {
+        module_mm,
+        teeth,
+        pressure_angle_deg: 20.0,
+        helix_angle_deg,
+        helix_hand: (helix_angle_deg != 0.0).then_some(Hand::Right),
+        face_width_mm: 30.0,
+        profile_shift: 0.0,
+        addendum_coef: 1.0,
+        clearance_coef: 0.25,
+        blank_od_mm: None,
+        od_correction_mm: 0.0,
+        material: "42CrMo4".into(),
+        quality_grade: 8,
+        fixture_height_mm: 100.0,
+        fixture_diameter_mm: None,
+        ball_diameter_mm: None,
+        mate: None,
+        cone: None,
+        crowning: None,
+        worm_wheel: None,
+        curved_tooth: None,
+    }
 }

@@ -49,16 +49,6 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
     hex::encode(Sha256::digest(bytes))
 }
 
-fn refuse(
-    code: &str,
-    field: &str,
-    expected: impl Into<String>,
-    got: impl Into<String>,
-    message: impl Into<String>,
-) -> JobError {
-    JobError::new(Stage::Agent, code, field, expected, got, message)
-}
-
 impl Store {
     /// Opens (creating if needed) the store.
     pub fn open(config: StoreConfig) -> Result<Store, AgentError> {
@@ -179,7 +169,7 @@ impl Store {
     /// Checks a program and decides whether it must be written.
     fn prepare(&self, p: &NcProgram) -> Result<Prepared, JobError> {
         if p.machine != self.config.machine {
-            return Err(refuse(
+            return Err(Stage::Agent.error(
                 "WRONG_MACHINE",
                 "machine",
                 self.config.machine.to_string(),
@@ -188,7 +178,7 @@ impl Store {
             ));
         }
         if p.dialect != self.config.dialect {
-            return Err(refuse(
+            return Err(Stage::Agent.error(
                 "WRONG_DIALECT",
                 "dialect",
                 self.config.dialect.as_str(),
@@ -197,7 +187,7 @@ impl Store {
             ));
         }
         let file_name = naming::file_name(p.dialect, &p.name).map_err(|rule| {
-            refuse(
+            Stage::Agent.error(
                 "BAD_PROGRAM_NAME",
                 "name",
                 rule.clone(),
@@ -206,7 +196,7 @@ impl Store {
             )
         })?;
         if p.text.len() > MAX_PROGRAM_BYTES {
-            return Err(refuse(
+            return Err(Stage::Agent.error(
                 "PROGRAM_TOO_LARGE",
                 "text",
                 format!("at most {MAX_PROGRAM_BYTES} bytes"),
@@ -216,7 +206,7 @@ impl Store {
         }
         let hash = sha256_hex(p.text.as_bytes());
         if hash != p.sha256 {
-            return Err(refuse(
+            return Err(Stage::Agent.error(
                 "HASH_MISMATCH",
                 "sha256",
                 hash,
@@ -243,7 +233,7 @@ impl Store {
             if stored_hash == hash {
                 return Ok(Prepared::Stored(receipt));
             }
-            return Err(refuse(
+            return Err(Stage::Agent.error(
                 "REVISION_CONFLICT",
                 "revision",
                 format!("content with sha256 {stored_hash}"),
@@ -268,7 +258,7 @@ impl Store {
         }
         let dir = self.config.program_dir.clone();
         let io_error = |file_name: &str, e: std::io::Error| {
-            refuse(
+            Stage::Agent.error(
                 "STORE_IO_ERROR",
                 "-",
                 "a writable program directory",
@@ -343,7 +333,7 @@ impl Store {
         for q in renamed {
             let p = &programs[q.index];
             results[q.index] = Some(match &committed {
-                Err(e) => Err(refuse(
+                Err(e) => Err(Stage::Agent.error(
                     "STORE_INDEX_ERROR",
                     "-",
                     "a writable index",
@@ -396,7 +386,7 @@ impl Store {
             return Ok(());
         }
         let on_disk = fs::read(&path).map_err(|e| {
-            refuse(
+            Stage::Agent.error(
                 "STORE_IO_ERROR",
                 "-",
                 "a readable file",
@@ -418,7 +408,7 @@ impl Store {
             .optional()
             .map_err(index_error)?;
         if indexed.as_deref() != Some(disk_hash.as_str()) {
-            return Err(refuse(
+            return Err(Stage::Agent.error(
                 "PROGRAM_CHANGED_AT_MACHINE",
                 "name",
                 format!("{file_name} unchanged since gearcam stored it"),
@@ -501,7 +491,7 @@ impl Store {
         let v = self
             .version(name, seq)
             .map_err(|e| {
-                refuse(
+                Stage::Agent.error(
                     "STORE_INDEX_ERROR",
                     "-",
                     "a readable index",
@@ -510,7 +500,7 @@ impl Store {
                 )
             })?
             .ok_or_else(|| {
-                refuse(
+                Stage::Agent.error(
                     "UNKNOWN_VERSION",
                     "seq",
                     format!("a stored version of {name} (gearcam program history)"),
@@ -522,7 +512,7 @@ impl Store {
         self.check_unchanged_at_machine(&file_name, &v.version.sha256)?;
         let path = self.config.program_dir.join(&file_name);
         write_atomically(&self.config.program_dir, &file_name, v.text.as_bytes()).map_err(|e| {
-            refuse(
+            Stage::Agent.error(
                 "STORE_IO_ERROR",
                 "-",
                 "a writable program directory",
@@ -550,7 +540,7 @@ impl Store {
             .map_err(index_error)?;
         Ok(DeliveryReceipt {
             job_id: gearcam_proto::JobId::new(v.version.job.clone()).map_err(|e| {
-                refuse(
+                Stage::Agent.error(
                     "STORE_INDEX_ERROR",
                     "job",
                     "a valid job id",
@@ -572,7 +562,7 @@ impl Store {
 }
 
 fn index_error(e: rusqlite::Error) -> JobError {
-    refuse(
+    Stage::Agent.error(
         "STORE_INDEX_ERROR",
         "-",
         "a writable index",

@@ -404,39 +404,19 @@ pub fn first_stage(r: &CheckReport) -> Option<Stage> {
 mod tests {
     use super::*;
 
-    /// Every valid example of `examples/` with `machine = "H02"`.
+    /// Every valid example of `examples/` moved to machine H02 (FANUC).
     fn examples_on_h02() -> Vec<(String, String)> {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
-        let mut files: Vec<_> = std::fs::read_dir(&dir)
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-            .collect();
-        files.sort();
-        files
+        gearcam_testkit::examples::valid()
             .into_iter()
-            .map(|p| {
-                let text = std::fs::read_to_string(&p).unwrap();
-                (p.display().to_string(), text)
-            })
-            .filter(|(_, text)| !text.contains("# expect:"))
             .map(|(name, text)| {
-                assert!(
-                    text.contains("machine = \"H01\"") || text.contains("machine = \"H02\""),
-                    "{name}"
-                );
-                (
-                    name,
-                    text.replacen("machine = \"H01\"", "machine = \"H02\"", 1),
-                )
+                let text = gearcam_testkit::examples::on_machine(&text, "H02");
+                (name, text)
             })
             .collect()
     }
 
     fn check_example(name: &str) -> CheckReport {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../examples")
-            .join(name);
+        let path = gearcam_testkit::examples::dir().join(name);
         let spec = crate::jobfile::load(&path).unwrap();
         let conn = gearcam_knowledge::db::open_in_memory().unwrap();
         check(&conn, &Templates::builtin(), &crate::jobfile::request(spec))

@@ -98,3 +98,31 @@ pub fn expected_code(text: &str) -> Option<&str> {
         .find_map(|l| l.trim().strip_prefix("# expect:"))
         .map(str::trim)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The bundled lists hold every file of `examples/`, each in the right
+    /// list, with the text of the file.
+    #[test]
+    fn the_bundle_is_the_examples_directory() {
+        let bundled: Vec<(String, String)> = VALID
+            .iter()
+            .chain(INVALID)
+            .map(|(path, text)| {
+                let name = path.trim_start_matches("examples/").to_string();
+                (name, text.to_string())
+            })
+            .collect();
+        let mut sorted = bundled.clone();
+        sorted.sort();
+        assert_eq!(sorted, gearcam_testkit::examples::all());
+        for (_, text) in VALID {
+            assert_eq!(expected_code(text), None);
+        }
+        for (path, text) in INVALID {
+            assert!(expected_code(text).is_some(), "{path}");
+        }
+    }
+}

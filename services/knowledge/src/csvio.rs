@@ -9,11 +9,11 @@
 
 use std::io::{Read, Write};
 
-use gearcam_proto::JobError;
+use gearcam_proto::{JobError, Stage};
 use rusqlite::Connection;
 use serde_json::Value;
 
-use crate::library::{self, kb_err, Library, Outcome, Record};
+use crate::library::{self, Library, Outcome, Record};
 use crate::KnowledgeError;
 
 /// What an import did.
@@ -34,7 +34,7 @@ fn csv_lib(lib: &Library) -> Result<(), JobError> {
         .filter(|l| l.csv)
         .map(|l| l.name)
         .collect();
-    Err(kb_err(
+    Err(Stage::Knowledge.error(
         "NO_CSV",
         "library",
         format!("one of {}", with.join(", ")),
@@ -72,7 +72,7 @@ pub fn import(conn: &Connection, lib: &Library, input: impl Read) -> Outcome<Imp
     let mut errors = Vec::new();
     for h in headers.iter() {
         if !lib.fields.iter().any(|f| f.name == h) {
-            errors.push(kb_err(
+            errors.push(Stage::Knowledge.error(
                 "UNKNOWN_FIELD",
                 h,
                 format!(
@@ -98,7 +98,7 @@ pub fn import(conn: &Connection, lib: &Library, input: impl Read) -> Outcome<Imp
         let row = match row {
             Ok(r) => r,
             Err(e) => {
-                errors.push(kb_err(
+                errors.push(Stage::Knowledge.error(
                     "CSV_ROW",
                     &format!("row {line}"),
                     format!("{} cells", headers.len()),

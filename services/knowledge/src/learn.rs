@@ -3,12 +3,12 @@
 //! with the values actually used and the outcome, and the job becomes a case.
 //! The hob's shift position and remaining life move on by the quantity cut.
 
-use gearcam_proto::{DeliveryReceipt, ProcessPlan, Source};
+use gearcam_proto::{DeliveryReceipt, ProcessPlan, Source, Stage};
 use rusqlite::Connection;
 use serde_json::{json, Value};
 
 use crate::hobmatch;
-use crate::library::{self, kb_err, Outcome, Record};
+use crate::library::{self, Outcome, Record};
 use crate::records::{self, JobState};
 use crate::KnowledgeError;
 
@@ -94,7 +94,7 @@ pub struct Confirmed {
 /// remaining life move on, the job is marked confirmed; all in one transaction.
 pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
     let Some(job) = records::job(conn, &c.job_id)? else {
-        return Err(vec![kb_err(
+        return Err(vec![Stage::Knowledge.error(
             "UNKNOWN_JOB",
             "job",
             "a job the knowledge service planned (gearcam kb list jobs)",
@@ -106,7 +106,7 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
     let ok_state =
         state == JobState::Delivered || (c.allow_undelivered && state == JobState::Planned);
     if !ok_state {
-        return Err(vec![kb_err(
+        return Err(vec![Stage::Knowledge.error(
             "JOB_STATE",
             "state",
             if c.allow_undelivered {

@@ -21,7 +21,7 @@ use rusqlite::Connection;
 use serde_json::Value;
 
 use crate::cbr::CaseBase;
-use crate::library::{self, kb_err, Record};
+use crate::library::{self, Record};
 use crate::{db, history, learn, plan, KnowledgeError};
 
 /// Configuration of the knowledge service.
@@ -265,7 +265,7 @@ fn answer_inner(
     library_name: &mut String,
 ) -> Result<Vec<Record>, Vec<JobError>> {
     let Some((lib, id)) = keys::kb_of(key) else {
-        return Err(vec![kb_err(
+        return Err(vec![Stage::Knowledge.error(
             "BAD_KEY",
             "key",
             keys::KB_KEY_FORMS,
@@ -283,7 +283,7 @@ fn answer_inner(
         }
     } else {
         decode::<KbRequest>(payload).map_err(|e| {
-            vec![kb_err(
+            vec![Stage::Knowledge.error(
                 e.code(),
                 "payload",
                 format!(
@@ -298,7 +298,7 @@ fn answer_inner(
     };
     let need_id = |op: &str| {
         id.clone().ok_or_else(|| {
-            vec![kb_err(
+            vec![Stage::Knowledge.error(
                 "MISSING_ID",
                 "key",
                 keys::kb_record_form(lib.name),
@@ -313,7 +313,7 @@ fn answer_inner(
             let id = need_id("get")?;
             match library::get(conn, &lib, &id)? {
                 Some(r) => Ok(vec![r]),
-                None => Err(vec![kb_err(
+                None => Err(vec![Stage::Knowledge.error(
                     "NOT_FOUND",
                     lib.key,
                     format!("an existing {} id", lib.name),
@@ -324,7 +324,7 @@ fn answer_inner(
         }
         KbOp::Add => {
             let Some(rec) = req.record.as_ref() else {
-                return Err(vec![kb_err(
+                return Err(vec![Stage::Knowledge.error(
                     "FIELD_MISSING",
                     "record",
                     "the record to add",
@@ -340,7 +340,7 @@ fn answer_inner(
                     }
                     Some(v) if v.as_str() == Some(id.as_str()) => {}
                     Some(v) => {
-                        return Err(vec![kb_err(
+                        return Err(vec![Stage::Knowledge.error(
                             "ID_MISMATCH",
                             lib.key,
                             id.as_str(),

@@ -301,33 +301,10 @@ pub fn geometry(gear: &GearSpec) -> Geometry {
 pub(crate) mod tests {
     use super::*;
     use approx::assert_relative_eq;
-    use gearcam_proto::Hand;
 
     /// A gear with the given module, teeth and helix angle and standard defaults otherwise.
     pub(crate) fn gear(module_mm: f64, teeth: u32, helix_angle_deg: f64) -> GearSpec {
-        GearSpec {
-            module_mm,
-            teeth,
-            pressure_angle_deg: 20.0,
-            helix_angle_deg,
-            helix_hand: (helix_angle_deg != 0.0).then_some(Hand::Right),
-            face_width_mm: 30.0,
-            profile_shift: 0.0,
-            addendum_coef: 1.0,
-            clearance_coef: 0.25,
-            blank_od_mm: None,
-            od_correction_mm: 0.0,
-            material: "42CrMo4".into(),
-            quality_grade: 8,
-            fixture_height_mm: 100.0,
-            fixture_diameter_mm: None,
-            ball_diameter_mm: None,
-            mate: None,
-            cone: None,
-            crowning: None,
-            worm_wheel: None,
-            curved_tooth: None,
-        }
+        gearcam_testkit::pipeline::gear(module_mm, teeth, helix_angle_deg)
     }
 
     #[test]

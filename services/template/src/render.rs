@@ -447,10 +447,9 @@ mod tests {
     use std::collections::BTreeMap;
 
     use gearcam_proto::{
-        AxisNames, CaseRef, CouplingFactors, Cut, CutMode, GearClass, GearSpec, Geometry, Hand,
-        HobData, HobSpec, Infeed, JobHeader, JobId, JobRequest, JobSpec, Kinematics, Move,
-        MoveKind, Options, Position, Positions, ProcessData, ProcessOverrides, ProcessPlan, Ratio,
-        Source,
+        AxisNames, CaseRef, CouplingFactors, Cut, CutMode, GearClass, Geometry, Hand, HobData,
+        HobSpec, Infeed, JobHeader, JobId, JobRequest, JobSpec, Kinematics, Move, MoveKind,
+        Options, Position, Positions, ProcessData, ProcessOverrides, ProcessPlan, Ratio, Source,
     };
 
     use super::*;
@@ -466,29 +465,8 @@ mod tests {
         let mut machine = gearcam_knowledge::seed::seed_machine_h01();
         machine.home_x_mm = 300.0;
         machine.home_z_mm = 400.0;
-        let gear = GearSpec {
-            module_mm: 3.0,
-            teeth: 25,
-            pressure_angle_deg: 20.0,
-            helix_angle_deg: 0.0,
-            helix_hand: None,
-            face_width_mm: 30.0,
-            profile_shift: 0.0,
-            addendum_coef: 1.0,
-            clearance_coef: 0.25,
-            blank_od_mm: None,
-            od_correction_mm: 0.0,
-            material: "20CrMnTi".into(),
-            quality_grade: 8,
-            fixture_height_mm: 100.0,
-            fixture_diameter_mm: None,
-            ball_diameter_mm: None,
-            mate: None,
-            cone: None,
-            crowning: None,
-            worm_wheel: None,
-            curved_tooth: None,
-        };
+        let mut gear = gearcam_testkit::pipeline::gear(3.0, 25, 0.0);
+        gear.material = "20CrMnTi".into();
         let spec = JobSpec {
             job: JobHeader {
                 id: Some(job_id.clone()),

@@ -12,6 +12,9 @@ use clap::{Args, Subcommand};
 use gearcam_knowledge::library::{self, Library, Record};
 use gearcam_knowledge::{csvio, db, learn};
 use gearcam_proto::JobError;
+
+use super::refused;
+use gearcam_proto::Stage;
 use serde_json::Value;
 
 /// `gearcam kb`: list, show, add, edit, remove, import and export library records.
@@ -144,22 +147,13 @@ fn open(data: &Path) -> Result<rusqlite::Connection, ExitCode> {
     })
 }
 
-fn refused(errors: &[JobError]) -> ExitCode {
-    eprintln!(
-        "gearcam: refused with {} error(s):\n{}",
-        errors.len(),
-        crate::check::format_errors(errors)
-    );
-    ExitCode::FAILURE
-}
-
 /// Parses `--set field=value` pairs by the library's field types.
 pub fn parse_sets(lib: &Library, sets: &[String]) -> Result<Record, Vec<JobError>> {
     let mut rec = Record::new();
     let mut errors = Vec::new();
     for s in sets {
         let Some((k, v)) = s.split_once('=') else {
-            errors.push(library::kb_err(
+            errors.push(Stage::Knowledge.error(
                 "BAD_ARGUMENT",
                 "--set",
                 "FIELD=VALUE",
@@ -349,7 +343,7 @@ pub fn run(args: KbArgs) -> ExitCode {
                 match library::get(&conn, &lib, id).map_err(|e| refused(&Vec::from(e)))? {
                     Some(r) => print_record(&r, args.json),
                     None => {
-                        return Err(refused(&[library::kb_err(
+                        return Err(refused(&[Stage::Knowledge.error(
                             "NOT_FOUND",
                             lib.key,
                             format!("an existing {} id (gearcam kb list {})", lib.name, lib.name),
@@ -374,7 +368,7 @@ pub fn run(args: KbArgs) -> ExitCode {
                         match serde_json::from_str::<Record>(&text) {
                             Ok(r) => r,
                             Err(e) => {
-                                return Err(refused(&[library::kb_err(
+                                return Err(refused(&[Stage::Knowledge.error(
                                     "BAD_JSON",
                                     &path.display().to_string(),
                                     "a JSON object of the record's fields",

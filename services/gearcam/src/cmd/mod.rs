@@ -39,8 +39,13 @@ pub async fn join_bus(bus_args: &BusArgs) -> anyhow::Result<Bus> {
         .context("joining the bus")
 }
 
-/// Prints a service's typed refusal; exit code 1.
+/// Prints a typed refusal (a service's, or the local knowledge base's);
+/// exit code 1.
 pub fn refused(errors: &[gearcam_proto::JobError]) -> ExitCode {
-    eprint!("{}", report::format_errors(errors));
+    eprintln!(
+        "gearcam: refused with {} error(s):\n{}",
+        errors.len(),
+        report::format_errors(errors)
+    );
     ExitCode::FAILURE
 }

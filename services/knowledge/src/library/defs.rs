@@ -1,8 +1,9 @@
 //! The library definitions: every library's table, key and fields.
 
 use gearcam_proto::JobError;
+use gearcam_proto::Stage;
 
-use super::fields::{kb_err, Check, Def, Field, Kind, Library, Need};
+use super::fields::{Check, Def, Field, Kind, Library, Need};
 
 const fn f(name: &'static str, kind: Kind, need: Need, check: Check, doc: &'static str) -> Field {
     Field {
@@ -697,7 +698,7 @@ pub fn library(name: &str) -> Result<Library, JobError> {
         .find(|l| l.name == name)
         .copied()
         .ok_or_else(|| {
-            kb_err(
+            Stage::Knowledge.error(
                 "UNKNOWN_LIBRARY",
                 "library",
                 format!("one of {}", names().join(", ")),

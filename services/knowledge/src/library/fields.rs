@@ -110,22 +110,11 @@ impl Library {
     }
 }
 
-/// A typed knowledge-base error.
-pub fn kb_err(
-    code: &str,
-    field: &str,
-    expected: impl Into<String>,
-    got: impl Into<String>,
-    message: impl Into<String>,
-) -> JobError {
-    JobError::new(Stage::Knowledge, code, field, expected, got, message)
-}
-
 /// The outcome of a library operation: the records, or every error.
 pub type Outcome<T> = Result<T, Vec<JobError>>;
 
 fn internal(e: KnowledgeError) -> Vec<JobError> {
-    vec![kb_err(
+    vec![Stage::Knowledge.error(
         "KNOWLEDGE_BASE_ERROR",
         "-",
         "a readable, writable knowledge base",
@@ -168,7 +157,7 @@ pub fn parse_value(lib: &Library, name: &str, text: &str) -> Result<Value, JobEr
         return Ok(serde_json::from_str(t).unwrap_or_else(|_| Value::from(t)));
     };
     let bad = || {
-        kb_err(
+        Stage::Knowledge.error(
             "FIELD_INVALID",
             name,
             expected_of(field),

@@ -19,7 +19,7 @@
 //! # Layout
 //!
 //! - `fields`: the machinery: [`Record`], [`Field`] and its [`Kind`],
-//!   [`Check`], [`Need`] and [`Def`], [`Library`], [`kb_err`], text values
+//!   [`Check`], [`Need`] and [`Def`], [`Library`], text values
 //!   ([`parse_value`], [`cell`]).
 //! - `defs`: the library definitions ([`LIBRARIES`]) and [`library`] by name.
 //! - `validate`: [`validate`], field by field and across fields, and whole
@@ -35,8 +35,6 @@ mod validate;
 pub use defs::{
     library, CASES, CLASSES_LIB, HOBS, JOBS, LIBRARIES, MACHINES, MATERIALS, WEIGHTS, WORKPIECES,
 };
-pub use fields::{
-    cell, kb_err, parse_value, Check, Def, Field, Kind, Library, Need, Outcome, Record,
-};
+pub use fields::{cell, parse_value, Check, Def, Field, Kind, Library, Need, Outcome, Record};
 pub use store::{add, edit, get, keys, list, remove};
 pub use validate::validate;

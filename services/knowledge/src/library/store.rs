@@ -1,14 +1,14 @@
 //! The SQL reads and writes of the libraries' records: list, get, add,
 //! edit, remove.
 
-use gearcam_proto::{JobError, MachineProfile};
+use gearcam_proto::{JobError, MachineProfile, Stage};
 use rusqlite::types::Value as SqlValue;
 use rusqlite::{params_from_iter, Connection, OptionalExtension};
 use serde_json::Value;
 
 use super::defs::MACHINES;
 use super::fields::Kind::{Bool, Int, Real};
-use super::fields::{kb_err, Field, Library, Outcome, Record};
+use super::fields::{Field, Library, Outcome, Record};
 use super::validate::{show, validate};
 use crate::KnowledgeError;
 
@@ -122,7 +122,7 @@ fn not_found(lib: &Library, id: &str, conn: &Connection) -> Vec<JobError> {
                 .collect()
         })
         .unwrap_or_default();
-    vec![kb_err(
+    vec![Stage::Knowledge.error(
         "NOT_FOUND",
         lib.key,
         if known.is_empty() {
@@ -180,7 +180,7 @@ pub fn add(conn: &Connection, lib: &Library, rec: &Record) -> Outcome<Record> {
     let rec = validate(lib, rec)?;
     let id = key_of(lib, &rec);
     if get(conn, lib, &id)?.is_some() {
-        return Err(vec![kb_err(
+        return Err(vec![Stage::Knowledge.error(
             "DUPLICATE_ID",
             lib.key,
             format!("an id not yet in {}", lib.name),
@@ -204,7 +204,7 @@ fn set_path(rec: &mut Record, path: &str, v: Value) -> Result<(), JobError> {
         cur = match cur.get_mut(p) {
             Some(Value::Object(m)) => m,
             _ => {
-                return Err(kb_err(
+                return Err(Stage::Knowledge.error(
                     "UNKNOWN_FIELD",
                     path,
                     "a path into the record's nested fields",
@@ -226,7 +226,7 @@ pub fn edit(conn: &Connection, lib: &Library, id: &str, set: &Record) -> Outcome
     let mut errors = Vec::new();
     for (path, v) in set {
         if path == lib.key {
-            errors.push(kb_err(
+            errors.push(Stage::Knowledge.error(
                 "KEY_IMMUTABLE",
                 lib.key,
                 id,

@@ -1,13 +1,13 @@
 //! Validation of a record before it is written: field by field, the
 //! library's cross-field rules, and whole machine profiles.
 
-use gearcam_proto::{JobError, MachineProfile};
+use gearcam_proto::{JobError, MachineProfile, Stage};
 use serde_json::Value;
 
 use super::defs::MACHINES;
 use super::fields::Check::{Id, OneOf, Positive, Range};
 use super::fields::Kind::{Bool, Int, Real, Text};
-use super::fields::{expected_of, kb_err, Def, Field, Library, Need, Outcome, Record};
+use super::fields::{expected_of, Def, Field, Library, Need, Outcome, Record};
 
 fn is_id(s: &str) -> bool {
     !s.is_empty()
@@ -29,7 +29,7 @@ fn check_field(field: &Field, v: Option<&Value>, errors: &mut Vec<JobError>) -> 
     let v = match v {
         None | Some(Value::Null) => match field.need {
             Need::Required => {
-                errors.push(kb_err(
+                errors.push(Stage::Knowledge.error(
                     "FIELD_MISSING",
                     field.name,
                     expected_of(field),
@@ -49,7 +49,7 @@ fn check_field(field: &Field, v: Option<&Value>, errors: &mut Vec<JobError>) -> 
         Some(v) => v.clone(),
     };
     let bad = |errors: &mut Vec<JobError>| {
-        errors.push(kb_err(
+        errors.push(Stage::Knowledge.error(
             "FIELD_INVALID",
             field.name,
             expected_of(field),
@@ -107,7 +107,7 @@ pub fn validate(lib: &Library, rec: &Record) -> Outcome<Record> {
     let mut errors = Vec::new();
     for k in rec.keys() {
         if !lib.fields.iter().any(|f| f.name == k) {
-            errors.push(kb_err(
+            errors.push(Stage::Knowledge.error(
                 "UNKNOWN_FIELD",
                 k,
                 format!(
@@ -145,7 +145,7 @@ fn cross_checks(lib: &Library, r: &Record, errors: &mut Vec<JobError>) {
         "hobs" => {
             if let (Some(u), Some(l)) = (num(r, "usable_length_mm"), num(r, "length_mm")) {
                 if u > l {
-                    errors.push(kb_err(
+                    errors.push(Stage::Knowledge.error(
                         "FIELD_INVALID",
                         "usable_length_mm",
                         format!("≤ length_mm = {l}"),
@@ -155,7 +155,7 @@ fn cross_checks(lib: &Library, r: &Record, errors: &mut Vec<JobError>) {
                 }
                 if let Some(s) = num(r, "shift_position_mm") {
                     if s > u {
-                        errors.push(kb_err(
+                        errors.push(Stage::Knowledge.error(
                             "FIELD_INVALID",
                             "shift_position_mm",
                             format!("≤ usable_length_mm = {u}"),
@@ -169,7 +169,7 @@ fn cross_checks(lib: &Library, r: &Record, errors: &mut Vec<JobError>) {
         "workpieces" => {
             let beta = num(r, "helix_angle_deg").unwrap_or(0.0);
             if beta != 0.0 && r.get("helix_hand").is_none_or(Value::is_null) {
-                errors.push(kb_err(
+                errors.push(Stage::Knowledge.error(
                     "FIELD_MISSING",
                     "helix_hand",
                     "right or left (the helix angle is not zero)",
@@ -188,7 +188,7 @@ fn validate_machine(rec: &Record) -> Outcome<(MachineProfile, Record)> {
         None | Some(Value::Null) => "user".to_string(),
         Some(Value::String(s)) => s,
         Some(other) => {
-            return Err(vec![kb_err(
+            return Err(vec![Stage::Knowledge.error(
                 "FIELD_INVALID",
                 "source",
                 "a string",
@@ -199,7 +199,7 @@ fn validate_machine(rec: &Record) -> Outcome<(MachineProfile, Record)> {
     };
     let value = Value::Object(rec);
     let profile: MachineProfile = serde_path_to_error::deserialize(&value).map_err(|e| {
-        vec![kb_err(
+        vec![Stage::Knowledge.error(
             "FIELD_INVALID",
             &e.path().to_string(),
             "a complete machine profile (see `gearcam kb show machines H01` for one)",
@@ -215,7 +215,7 @@ fn validate_machine(rec: &Record) -> Outcome<(MachineProfile, Record)> {
         ("limits.z_mm", l.z_mm),
     ] {
         if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-            errors.push(kb_err(
+            errors.push(Stage::Knowledge.error(
                 "FIELD_INVALID",
                 name,
                 "[min, max] with min < max",
@@ -233,7 +233,7 @@ fn validate_machine(rec: &Record) -> Outcome<(MachineProfile, Record)> {
         ("limits.max_swivel_deg", l.max_swivel_deg),
     ] {
         if !(v.is_finite() && v > 0.0) {
-            errors.push(kb_err(
+            errors.push(Stage::Knowledge.error(
                 "FIELD_INVALID",
                 name,
                 "a number > 0",
@@ -244,7 +244,7 @@ fn validate_machine(rec: &Record) -> Outcome<(MachineProfile, Record)> {
     }
     let s = profile.settings.swivel_sign;
     if s != 1.0 && s != -1.0 {
-        errors.push(kb_err(
+        errors.push(Stage::Knowledge.error(
             "FIELD_INVALID",
             "settings.swivel_sign",
             "1 or -1",
@@ -264,7 +264,7 @@ fn validate_machine(rec: &Record) -> Outcome<(MachineProfile, Record)> {
             || axis.len() > 8
             || !axis.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
         {
-            errors.push(kb_err(
+            errors.push(Stage::Knowledge.error(
                 "FIELD_INVALID",
                 name,
                 "an axis name of 1–8 letters, digits or _",

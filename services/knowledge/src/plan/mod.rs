@@ -27,14 +27,14 @@ use std::collections::BTreeMap;
 use gearcam_proto::plan::Proposal;
 use gearcam_proto::{
     CaseRef, CutMode, GearClass, GearSpec, HobData, HobSpec, JobError, JobRequest, JobSpec,
-    MachineProfile, ProcessData, ProcessPlan, Source, Sourced, WorkpieceRef,
+    MachineProfile, ProcessData, ProcessPlan, Source, Sourced, Stage, WorkpieceRef,
 };
 use rusqlite::Connection;
 
 use crate::cbr::{self, Adapted, CaseBase, Hit, Limits, Problem, Weights};
 use crate::history;
 use crate::hobmatch;
-use crate::library::{self, kb_err as err};
+use crate::library;
 use crate::records::{self, HobRecord, MaterialRecord};
 use crate::KnowledgeError;
 
@@ -75,7 +75,7 @@ pub fn plan_with(
 }
 
 fn kb_error(e: KnowledgeError) -> Vec<JobError> {
-    vec![err(
+    vec![Stage::Knowledge.error(
         "KNOWLEDGE_BASE_ERROR",
         "-",
         "a readable knowledge base",
@@ -183,7 +183,7 @@ fn resolve_gear_and_machine(
             let mut errors: Vec<JobError> = resolved.err().into_iter().collect();
             if machine.is_none() {
                 let known = library::keys(conn, &library::MACHINES)?;
-                errors.push(err(
+                errors.push(Stage::Knowledge.error(
                     "UNKNOWN_MACHINE",
                     "job.machine",
                     format!("one of {}", known.join(", ")),
@@ -218,7 +218,7 @@ fn resolve_gear(
             .into_iter()
             .take(20)
             .collect();
-        return Ok(Err(err(
+        return Ok(Err(Stage::Knowledge.error(
             "GEAR_MISSING",
             "gear",
             format!(
@@ -262,7 +262,7 @@ fn resolve_gear(
     }
     if let Some(missing) = history::workpiece_lacks_class_data(&record, !spec.units.is_empty()) {
         let class = record.class.as_str();
-        return Ok(Err(err(
+        return Ok(Err(Stage::Knowledge.error(
             "WORKPIECE_INCOMPLETE",
             "gear",
             format!("a [gear] section with {missing}"),
@@ -369,7 +369,7 @@ fn choose_hob(
 ) -> JobOutcome<JobHob> {
     let h = &req.spec.hob;
     match (&h.id, h.has_inline_data()) {
-        (Some(id), true) => Ok(Err(vec![err(
+        (Some(id), true) => Ok(Err(vec![Stage::Knowledge.error(
             "HOB_AMBIGUOUS",
             "hob",
             "either hob.id or inline hob data",
@@ -380,7 +380,7 @@ fn choose_hob(
             Some(r) => Ok(Ok(JobHob::library(r))),
             None => {
                 let known = library::keys(conn, &library::HOBS)?;
-                Ok(Err(vec![err(
+                Ok(Err(vec![Stage::Knowledge.error(
                     "UNKNOWN_HOB",
                     "hob.id",
                     format!("one of {}", known.join(", ")),
@@ -398,7 +398,7 @@ fn choose_hob(
 fn inline_hob(h: &HobSpec) -> Result<HobData, Vec<JobError>> {
     fn need<T>(v: Option<T>, field: &str, errors: &mut Vec<JobError>) -> Option<T> {
         if v.is_none() {
-            errors.push(err(
+            errors.push(Stage::Knowledge.error(
                 "HOB_FIELD_MISSING",
                 &format!("hob.{field}"),
                 "a value (inline hob data needs starts, od_mm, module_mm, lead_angle_deg, hand, length_mm)",
@@ -475,7 +475,7 @@ fn match_hob(
                 .map(|r| format!("{}: {}", r.id, r.reasons.join("; ")))
                 .collect::<Vec<_>>()
                 .join(" | ");
-            let e = err(
+            let e = Stage::Knowledge.error(
                 "NO_MATCHING_HOB",
                 "hob",
                 format!(

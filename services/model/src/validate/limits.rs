@@ -60,7 +60,7 @@ pub(super) fn run_out(
     let lowest = low - below;
     if lowest < -cfg.length_tolerance_mm && x_low - r < env.table_radius_mm {
         let need = gear.fixture_height_mm - lowest;
-        errors.push(job_error(
+        errors.push(Stage::Model.error(
             codes::ENVELOPE_COLLISION,
             &format!("{prefix}gear.fixture_height_mm"),
             format!("≥ {} mm", num(need)),
@@ -86,7 +86,7 @@ pub(super) fn run_out(
         && low < gear.fixture_height_mm
         && fixture_r >= nearest - cfg.length_tolerance_mm
     {
-        errors.push(job_error(
+        errors.push(Stage::Model.error(
             codes::ENVELOPE_COLLISION,
             &format!("{prefix}gear.fixture_diameter_mm"),
             format!("< {} mm", num(2.0 * nearest)),
@@ -160,7 +160,7 @@ pub(super) fn check_unit_collisions(errors: &mut Vec<JobError>, k: &Kinematics, 
                 continue; // overlapping units are reported by validation
             };
             if bad {
-                errors.push(job_error(
+                errors.push(Stage::Model.error(
                     codes::UNIT_COLLISION,
                     &format!("units[{i}].model.positions"),
                     limit,
@@ -188,7 +188,7 @@ pub(super) fn unit_limits(
     let id = &plan.machine.id;
     let mut over = |code: &str, field: &str, v: f64, max: f64, unit: &str, todo: &str| {
         if !(v.abs() <= max + cfg.length_tolerance_mm) {
-            errors.push(job_error(
+            errors.push(Stage::Model.error(
                 code,
                 &format!("{prefix}{field}"),
                 format!("≤ {} {unit}", num(max)),
@@ -351,7 +351,7 @@ pub(super) fn check_travel(
         {
             continue;
         }
-        errors.push(job_error(
+        errors.push(Stage::Model.error(
             codes::POSITION_TRAVEL_LIMIT,
             &format!("{field}.{axis}_mm"),
             format!("{} to {} mm", num(lo), num(hi)),

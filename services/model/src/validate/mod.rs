@@ -258,18 +258,8 @@ impl Report {
         message: impl Into<String>,
     ) {
         self.errors
-            .push(job_error(code, field, expected, got, message));
+            .push(Stage::Model.error(code, field, expected, got, message));
     }
-}
-
-fn job_error(
-    code: &str,
-    field: &str,
-    expected: impl Into<String>,
-    got: impl Into<String>,
-    message: impl Into<String>,
-) -> JobError {
-    JobError::new(Stage::Model, code, field, expected, got, message)
 }
 
 /// A number as text: up to six decimals, trailing zeros removed.
