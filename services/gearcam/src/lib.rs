@@ -6,6 +6,7 @@
 //! - [`cli`]: the arguments and the dispatch; [`cmd`]: one module per command.
 //! - [`bus_config`]: the one place that decides how a command joins the bus.
 //! - [`examples`]: the example jobs bundled into the binary.
+//! - [`output`]: standard output that survives a closed pipe.
 //! - [`jobfile`]: TOML job files to [`gearcam_proto::JobSpec`], errors naming the key.
 //! - [`check`]: the local pipeline (`gearcam check`) and its JSON contract.
 //! - [`station`]: the client side: submitting a job to the station and following it.
@@ -20,6 +21,7 @@ pub mod cmd;
 pub mod embedded;
 pub mod examples;
 pub mod jobfile;
+pub mod output;
 pub mod station;
 pub mod store;
 

@@ -47,14 +47,14 @@ pub fn check(job: &Path, json: bool, data: &Path) -> ExitCode {
     };
     if json {
         match serde_json::to_string_pretty(&report) {
-            Ok(s) => println!("{s}"),
+            Ok(s) => crate::outln!("{s}"),
             Err(e) => {
                 eprintln!("gearcam: cannot write JSON: {e}");
                 return ExitCode::from(2);
             }
         }
     } else {
-        print!("{}", check::format_human(&report));
+        crate::out!("{}", check::format_human(&report));
     }
     if report.ok {
         ExitCode::SUCCESS

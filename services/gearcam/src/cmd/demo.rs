@@ -21,7 +21,7 @@ use crate::station::{self, Outcome, SubmitOptions};
 pub async fn demo(data: &Path) -> anyhow::Result<ExitCode> {
     let config = bus_config::embedded(&BusArgs::default(), "tcp/127.0.0.1:0");
     let services = Embedded::start(&config, data, template_library(data)?).await?;
-    println!(
+    crate::outln!(
         "gearcam demo: services up on a loopback session; data in {}\n",
         data.display()
     );
@@ -34,26 +34,28 @@ pub async fn demo(data: &Path) -> anyhow::Result<ExitCode> {
     for (origin, text) in VALID {
         let spec = jobfile::parse(text, origin).map_err(|e| anyhow::anyhow!("{e}"))?;
         let req = jobfile::request(spec);
-        println!("── {origin}: job {}", req.job_id);
+        crate::outln!("── {origin}: job {}", req.job_id);
         let pb = progress(false);
         let outcome = station::submit(&services.bus, &req, &opts, |ev| {
-            pb.suspend(|| println!("   {}", station::describe(ev)));
+            pb.suspend(|| crate::outln!("   {}", station::describe(ev)));
         })
         .await?;
         pb.finish_and_clear();
         match outcome {
             Outcome::Delivered(r) => {
-                println!(
+                crate::outln!(
                     "   delivered to {} as {} (sha256 {})\n",
-                    r.machine, r.path, r.sha256
+                    r.machine,
+                    r.path,
+                    r.sha256
                 );
                 let text = std::fs::read_to_string(&r.path)
                     .with_context(|| format!("reading back {}", r.path))?;
-                println!("{text}");
+                crate::outln!("{text}");
             }
             other => {
                 all_ok = false;
-                println!("   NOT delivered: {other:?}\n");
+                crate::outln!("   NOT delivered: {other:?}\n");
             }
         }
     }
@@ -62,7 +64,7 @@ pub async fn demo(data: &Path) -> anyhow::Result<ExitCode> {
         let spec = match jobfile::parse(text, origin) {
             Ok(spec) => spec,
             Err(e) => {
-                print!(
+                crate::out!(
                     "── {origin}: refused at the station\n{}",
                     check::format_errors(&[e])
                 );
@@ -70,26 +72,26 @@ pub async fn demo(data: &Path) -> anyhow::Result<ExitCode> {
             }
         };
         let req = jobfile::request(spec);
-        println!(
+        crate::outln!(
             "── {origin}: job {} (invalid on purpose: expect {code})",
             req.job_id
         );
         match station::submit(&services.bus, &req, &opts, |_| {}).await? {
             Outcome::Failed(errors) => {
-                print!("{}", check::format_errors(&errors));
+                crate::out!("{}", check::format_errors(&errors));
                 if !errors.iter().any(|e| e.code == code) {
                     all_ok = false;
-                    println!("   expected the refusal to name {code}");
+                    crate::outln!("   expected the refusal to name {code}");
                 }
             }
             other => {
                 all_ok = false;
-                println!("   expected a refusal, got {other:?}");
+                crate::outln!("   expected a refusal, got {other:?}");
             }
         }
     }
     services.stop().await;
-    println!(
+    crate::outln!(
         "\ngearcam demo: {}",
         if all_ok {
             "every example delivered, every invalid one refused with its named error"

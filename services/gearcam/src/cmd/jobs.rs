@@ -19,12 +19,12 @@ pub async fn jobs(bus_args: &BusArgs, json: bool) -> anyhow::Result<ExitCode> {
         Err(errors) => return Ok(refused(&errors)),
     };
     if json {
-        println!("{}", serde_json::to_string_pretty(&jobs)?);
+        crate::outln!("{}", serde_json::to_string_pretty(&jobs)?);
     } else {
         for s in &jobs {
-            println!("{}", station::describe_status(s));
+            crate::outln!("{}", station::describe_status(s));
         }
-        println!("{} job(s)", jobs.len());
+        crate::outln!("{} job(s)", jobs.len());
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -38,10 +38,10 @@ pub async fn status(job: &JobId, bus_args: &BusArgs, json: bool) -> anyhow::Resu
         Err(errors) => return Ok(refused(&errors)),
     };
     if json {
-        println!("{}", serde_json::to_string_pretty(&status)?);
+        crate::outln!("{}", serde_json::to_string_pretty(&status)?);
     } else {
-        println!("{}", station::describe_status(&status));
-        print!("{}", check::format_errors(&status.errors));
+        crate::outln!("{}", station::describe_status(&status));
+        crate::out!("{}", check::format_errors(&status.errors));
     }
     Ok(ExitCode::SUCCESS)
 }

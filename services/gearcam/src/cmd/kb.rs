@@ -284,7 +284,7 @@ fn table(lib: &Library, records: &[Record]) -> String {
 
 fn print_record(r: &Record, json: bool) {
     if json {
-        println!(
+        crate::outln!(
             "{}",
             serde_json::to_string_pretty(r).unwrap_or_else(|e| e.to_string())
         );
@@ -292,11 +292,11 @@ fn print_record(r: &Record, json: bool) {
     }
     for (k, v) in r {
         match v {
-            Value::Object(_) | Value::Array(_) => println!(
+            Value::Object(_) | Value::Array(_) => crate::outln!(
                 "{k}: {}",
                 serde_json::to_string(v).unwrap_or_else(|e| e.to_string())
             ),
-            other => println!("{k}: {}", library::cell(other)),
+            other => crate::outln!("{k}: {}", library::cell(other)),
         }
     }
 }
@@ -305,7 +305,7 @@ fn print_record(r: &Record, json: bool) {
 pub fn run(args: KbArgs) -> ExitCode {
     if let KbCommand::Libraries = args.command {
         for lib in library::LIBRARIES {
-            println!(
+            crate::outln!(
                 "{} (key {}{}): {}",
                 lib.name,
                 lib.key,
@@ -313,7 +313,7 @@ pub fn run(args: KbArgs) -> ExitCode {
                 lib.doc
             );
             for f in lib.fields {
-                println!("    {:<22} {:?} {:?}  {}", f.name, f.kind, f.need, f.doc);
+                crate::outln!("    {:<22} {:?} {:?}  {}", f.name, f.kind, f.need, f.doc);
             }
         }
         return ExitCode::SUCCESS;
@@ -330,12 +330,12 @@ pub fn run(args: KbArgs) -> ExitCode {
                 let lib = lib_of(l)?;
                 let records = library::list(&conn, &lib).map_err(|e| refused(&Vec::from(e)))?;
                 if args.json {
-                    println!(
+                    crate::outln!(
                         "{}",
                         serde_json::to_string_pretty(&records).unwrap_or_default()
                     );
                 } else {
-                    print!("{}", table(&lib, &records));
+                    crate::out!("{}", table(&lib, &records));
                 }
             }
             KbCommand::Show { library: l, id } => {
@@ -382,7 +382,7 @@ pub fn run(args: KbArgs) -> ExitCode {
                 };
                 rec.extend(parse_sets(&lib, set).map_err(|e| refused(&e))?);
                 let r = library::add(&conn, &lib, &rec).map_err(|e| refused(&e))?;
-                println!(
+                crate::outln!(
                     "added {} {}",
                     lib.name,
                     library::cell(r.get(lib.key).unwrap_or(&Value::Null))
@@ -397,13 +397,13 @@ pub fn run(args: KbArgs) -> ExitCode {
                 let lib = lib_of(l)?;
                 let set = parse_sets(&lib, set).map_err(|e| refused(&e))?;
                 let r = library::edit(&conn, &lib, id, &set).map_err(|e| refused(&e))?;
-                println!("changed {} {id}", lib.name);
+                crate::outln!("changed {} {id}", lib.name);
                 print_record(&r, args.json);
             }
             KbCommand::Remove { library: l, id } => {
                 let lib = lib_of(l)?;
                 library::remove(&conn, &lib, id).map_err(|e| refused(&e))?;
-                println!("removed {} {id}", lib.name);
+                crate::outln!("removed {} {id}", lib.name);
             }
             KbCommand::Import { library: l, file } => {
                 let lib = lib_of(l)?;
@@ -412,7 +412,7 @@ pub fn run(args: KbArgs) -> ExitCode {
                     ExitCode::from(2)
                 })?;
                 let r = csvio::import(&conn, &lib, f).map_err(|e| refused(&e))?;
-                println!(
+                crate::outln!(
                     "imported {} into {}: {} added, {} replaced",
                     file.display(),
                     lib.name,
@@ -429,7 +429,7 @@ pub fn run(args: KbArgs) -> ExitCode {
                             ExitCode::from(2)
                         })?;
                         let n = csvio::export(&conn, &lib, f).map_err(|e| refused(&e))?;
-                        println!("exported {n} {} to {}", lib.name, path.display());
+                        crate::outln!("exported {n} {} to {}", lib.name, path.display());
                     }
                     None => {
                         csvio::export(&conn, &lib, std::io::stdout().lock())
@@ -471,7 +471,7 @@ pub fn confirm(args: ConfirmArgs) -> ExitCode {
             if args.json {
                 print_record(&done.case, true);
             } else {
-                println!(
+                crate::outln!(
                     "job {} confirmed: case {} (vc {} m/min, fa {} mm/rev, outcome {})",
                     args.job,
                     library::cell(&done.case["id"]),
@@ -480,7 +480,7 @@ pub fn confirm(args: ConfirmArgs) -> ExitCode {
                     library::cell(&done.case["outcome"]),
                 );
                 if let Some(h) = &done.hob {
-                    println!(
+                    crate::outln!(
                         "hob {}: shift position {} mm, remaining life {} parts",
                         library::cell(&h["id"]),
                         short(&h["shift_position_mm"]),

@@ -68,10 +68,10 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
                 Err(error) => return Ok(refused(&[error])),
             };
             if json {
-                println!("{}", serde_json::to_string_pretty(&h)?);
+                crate::outln!("{}", serde_json::to_string_pretty(&h)?);
             } else {
                 for v in &h.versions {
-                    println!(
+                    crate::outln!(
                         "{:>6} {} {:<24} {:<10} job {} rev {} sha256 {} {} bytes",
                         v.seq,
                         if v.current { "*" } else { " " },
@@ -97,7 +97,7 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             bus.close().await;
             match t.context(format!("asking the agent of {machine}"))? {
                 Ok(t) => {
-                    print!("{}", t.text);
+                    crate::out!("{}", t.text);
                     Ok(ExitCode::SUCCESS)
                 }
                 Err(error) => Ok(refused(&[error])),
@@ -114,9 +114,11 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             bus.close().await;
             match r.context(format!("asking the agent of {machine}"))? {
                 Ok(receipt) => {
-                    println!(
+                    crate::outln!(
                         "{} is version {seq} again: {} (sha256 {})",
-                        name, receipt.path, receipt.sha256
+                        name,
+                        receipt.path,
+                        receipt.sha256
                     );
                     Ok(ExitCode::SUCCESS)
                 }

@@ -10,7 +10,7 @@ use crate::bus_config;
 pub async fn router(bus_args: &BusArgs) -> anyhow::Result<ExitCode> {
     let config = bus_config::router(bus_args);
     let bus = Bus::open(&config).await.context("starting the router")?;
-    println!("gearcam router: listening on {}", config.listen.join(", "));
+    crate::outln!("gearcam router: listening on {}", config.listen.join(", "));
     cancel_on_signal().cancelled().await;
     bus.close().await;
     Ok(ExitCode::SUCCESS)

@@ -25,7 +25,7 @@ pub async fn submit(
         Ok(s) => s,
         Err(e) => {
             if json {
-                println!(
+                crate::outln!(
                     "{}",
                     json!({"job": null, "state": "rejected", "errors": [e]})
                 );
@@ -45,7 +45,7 @@ pub async fn submit(
                 config.connect.join(", ")
             );
             if json {
-                println!(
+                crate::outln!(
                     "{}",
                     json!({"job": req.job_id, "state": "unreachable", "message": message})
                 );
@@ -74,7 +74,7 @@ pub async fn submit(
         Ok(o) => o,
         Err(e) => {
             if json {
-                println!(
+                crate::outln!(
                     "{}",
                     json!({"job": req.job_id, "state": "unreachable", "message": e.to_string()})
                 );
@@ -97,11 +97,11 @@ pub async fn submit(
         Outcome::TimedOut(s) => (serde_json::to_value(s)?, ExitCode::from(2)),
     };
     if json {
-        println!("{value}");
+        crate::outln!("{value}");
     } else {
         match &outcome {
-            Outcome::Submitted(s) => println!("job {} journaled by the station ({})", s.job, s.state.as_str()),
-            Outcome::Delivered(r) => println!("job {} delivered: {} (sha256 {})", r.job_id, r.path, r.sha256),
+            Outcome::Submitted(s) => crate::outln!("job {} journaled by the station ({})", s.job, s.state.as_str()),
+            Outcome::Delivered(r) => crate::outln!("job {} delivered: {} (sha256 {})", r.job_id, r.path, r.sha256),
             Outcome::Failed(errors) => {
                 eprintln!("job {} refused with {} error(s):\n{}", req.job_id, errors.len(), check::format_errors(errors))
             }

@@ -16,20 +16,20 @@ pub async fn up(data: &Path, bus: &BusArgs) -> anyhow::Result<ExitCode> {
     let mut services = Embedded::start(&config, data, template_library(data)?)
         .await
         .with_context(|| format!("starting the services (listening on {:?})", config.listen))?;
-    println!(
+    crate::outln!(
         "gearcam up: all services running; listening on {}",
         config.listen.join(", ")
     );
-    println!("  knowledge base {}", data.join("knowledge.db").display());
+    crate::outln!("  knowledge base {}", data.join("knowledge.db").display());
     for (m, dir) in &services.machines {
-        println!(
+        crate::outln!(
             "  agent {} ({}) stores programs in {}",
             m.id,
             m.dialect.as_str(),
             dir.display()
         );
     }
-    println!("submit with: gearcam submit examples/spur_840d.toml --wait   (Ctrl-C stops)");
+    crate::outln!("submit with: gearcam submit examples/spur_840d.toml --wait   (Ctrl-C stops)");
     let stop = cancel_on_signal();
     let result = services.serve_until(stop).await;
     services.stop().await;
