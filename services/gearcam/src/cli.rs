@@ -13,7 +13,7 @@ use crate::cmd::{self, kb, templates};
 
 /// gearcam: from a gear drawing to a proven NC program in the machine's program store.
 #[derive(Debug, Parser)]
-#[command(version, about)]
+#[command(version, about, after_help = crate::exit::HELP)]
 pub struct Cli {
     /// The command.
     #[command(subcommand)]

@@ -5,6 +5,7 @@
 //!
 //! - [`cli`]: the arguments and the dispatch; [`cmd`]: one module per command.
 //! - [`bus_config`]: the one place that decides how a command joins the bus.
+//! - [`exit`]: the exit codes, one meaning each.
 //! - [`examples`]: the example jobs bundled into the binary.
 //! - [`output`]: standard output that survives a closed pipe.
 //! - [`jobfile`]: TOML job files to [`gearcam_proto::JobSpec`], errors naming the key.
@@ -20,6 +21,7 @@ pub mod cli;
 pub mod cmd;
 pub mod embedded;
 pub mod examples;
+pub mod exit;
 pub mod jobfile;
 pub mod output;
 pub mod station;

@@ -128,12 +128,13 @@ fn kb_lists_adds_edits_refuses_and_round_trips_csv() {
     let o = gearcam(&data, &["kb", "remove", "hobs", "HOB-M2-63"]);
     assert!(o.status.success());
     let o = gearcam(&data, &["kb", "show", "hobs", "HOB-M2-63"]);
-    assert_eq!(o.status.code(), Some(1));
+    // Not found: exit 3 (issue 12 point 7).
+    assert_eq!(o.status.code(), Some(3));
     assert!(stderr(&o).contains("NOT_FOUND"));
 
     // Confirm names the job it cannot find.
     let o = gearcam(&data, &["confirm", "NO-SUCH-JOB"]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(3));
     assert!(stderr(&o).contains("UNKNOWN_JOB"), "{}", stderr(&o));
 }
 

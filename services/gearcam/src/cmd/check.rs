@@ -40,7 +40,7 @@ pub fn check(job: &Path, json: bool, data: &Path) -> ExitCode {
                         "gearcam: cannot open the knowledge base in {}: {e}",
                         data.display()
                     );
-                    return ExitCode::from(2);
+                    return crate::exit::code(crate::exit::UNREACHABLE);
                 }
             }
         }
@@ -50,7 +50,7 @@ pub fn check(job: &Path, json: bool, data: &Path) -> ExitCode {
             Ok(s) => crate::outln!("{s}"),
             Err(e) => {
                 eprintln!("gearcam: cannot write JSON: {e}");
-                return ExitCode::from(2);
+                return crate::exit::code(crate::exit::UNREACHABLE);
             }
         }
     } else {

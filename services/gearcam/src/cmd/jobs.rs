@@ -43,5 +43,10 @@ pub async fn status(job: &JobId, bus_args: &BusArgs, json: bool) -> anyhow::Resu
         crate::outln!("{}", station::describe_status(&status));
         crate::out!("{}", check::format_errors(&status.errors));
     }
-    Ok(ExitCode::SUCCESS)
+    // A failed job's status is its refusal.
+    Ok(if status.state == gearcam_proto::JobState::Failed {
+        crate::exit::code(crate::exit::REFUSED)
+    } else {
+        ExitCode::SUCCESS
+    })
 }

@@ -143,7 +143,7 @@ fn open(data: &Path) -> Result<rusqlite::Connection, ExitCode> {
             "gearcam: cannot open the knowledge base in {}: {e}",
             data.display()
         );
-        ExitCode::from(2)
+        crate::exit::code(crate::exit::UNREACHABLE)
     })
 }
 
@@ -363,7 +363,7 @@ pub fn run(args: KbArgs) -> ExitCode {
                     Some(path) => {
                         let text = std::fs::read_to_string(path).map_err(|e| {
                             eprintln!("gearcam: cannot read {}: {e}", path.display());
-                            ExitCode::from(2)
+                            crate::exit::code(crate::exit::UNREACHABLE)
                         })?;
                         match serde_json::from_str::<Record>(&text) {
                             Ok(r) => r,
@@ -409,7 +409,7 @@ pub fn run(args: KbArgs) -> ExitCode {
                 let lib = lib_of(l)?;
                 let f = std::fs::File::open(file).map_err(|e| {
                     eprintln!("gearcam: cannot open {}: {e}", file.display());
-                    ExitCode::from(2)
+                    crate::exit::code(crate::exit::UNREACHABLE)
                 })?;
                 let r = csvio::import(&conn, &lib, f).map_err(|e| refused(&e))?;
                 crate::outln!(
@@ -426,7 +426,7 @@ pub fn run(args: KbArgs) -> ExitCode {
                     Some(path) => {
                         let f = std::fs::File::create(path).map_err(|e| {
                             eprintln!("gearcam: cannot create {}: {e}", path.display());
-                            ExitCode::from(2)
+                            crate::exit::code(crate::exit::UNREACHABLE)
                         })?;
                         let n = csvio::export(&conn, &lib, f).map_err(|e| refused(&e))?;
                         crate::outln!("exported {n} {} to {}", lib.name, path.display());

@@ -40,12 +40,12 @@ pub async fn join_bus(bus_args: &BusArgs) -> anyhow::Result<Bus> {
 }
 
 /// Prints a typed refusal (a service's, or the local knowledge base's);
-/// exit code 1.
+/// exit code 3 when what was asked for does not exist, else 1 ([`crate::exit`]).
 pub fn refused(errors: &[gearcam_proto::JobError]) -> ExitCode {
     eprintln!(
         "gearcam: refused with {} error(s):\n{}",
         errors.len(),
         report::format_errors(errors)
     );
-    ExitCode::FAILURE
+    crate::exit::for_errors(errors)
 }

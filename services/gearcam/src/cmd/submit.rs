@@ -52,7 +52,7 @@ pub async fn submit(
             } else {
                 eprintln!("gearcam: {message}");
             }
-            return Ok(ExitCode::from(2));
+            return Ok(crate::exit::code(crate::exit::UNREACHABLE));
         }
     };
     let opts = SubmitOptions {
@@ -81,7 +81,7 @@ pub async fn submit(
             } else {
                 eprintln!("gearcam: {e}");
             }
-            return Ok(ExitCode::from(2));
+            return Ok(crate::exit::code(crate::exit::UNREACHABLE));
         }
     };
     let (value, code) = match &outcome {
@@ -94,7 +94,10 @@ pub async fn submit(
             json!({"job": req.job_id, "state": "failed", "errors": errors}),
             ExitCode::FAILURE,
         ),
-        Outcome::TimedOut(s) => (serde_json::to_value(s)?, ExitCode::from(2)),
+        Outcome::TimedOut(s) => (
+            serde_json::to_value(s)?,
+            crate::exit::code(crate::exit::UNFINISHED),
+        ),
     };
     if json {
         crate::outln!("{value}");

@@ -1,0 +1,53 @@
+//! The `gearcam` command's exit codes: one meaning each.
+//!
+//! | code | meaning |
+//! |---|---|
+//! | 0 | done (delivered, journaled, printed) |
+//! | 1 | refused: a stage or the local knowledge base answered with typed errors (a failed job's status too) |
+//! | 2 | unreachable: the bus, a service, or the local data directory |
+//! | 3 | not found: an unknown job, program, version or record |
+//! | 4 | not finished in time (`submit --wait`): the job stays journaled and the station keeps driving it |
+//! | 64 | usage: the command line itself is wrong |
+
+use std::process::ExitCode;
+
+use gearcam_proto::JobError;
+
+/// Typed errors: a stage or the knowledge base refused.
+pub const REFUSED: u8 = 1;
+/// The bus, a service or the local data directory cannot be reached.
+pub const UNREACHABLE: u8 = 2;
+/// An unknown job, program, version or record.
+pub const NOT_FOUND: u8 = 3;
+/// `submit --wait` ended before the job did.
+pub const UNFINISHED: u8 = 4;
+/// The command line is wrong (as `EX_USAGE` of sysexits).
+pub const USAGE: u8 = 64;
+
+/// The codes as `--help` shows them.
+pub const HELP: &str = "Exit codes: 0 done; 1 refused with typed errors (also the status of a \
+failed job); 2 bus, services or data directory unreachable; 3 not found (unknown job, program, \
+version or record); 4 not finished in time (submit --wait; the job stays journaled); 64 usage error.";
+
+/// The exit code `code`.
+pub fn code(code: u8) -> ExitCode {
+    ExitCode::from(code)
+}
+
+/// The error codes that mean "no such thing".
+const NOT_FOUND_CODES: [&str; 4] = [
+    "UNKNOWN_JOB",
+    "UNKNOWN_PROGRAM",
+    "UNKNOWN_VERSION",
+    "NOT_FOUND",
+];
+
+/// [`NOT_FOUND`] when every error says the thing asked for does not exist,
+/// else [`REFUSED`].
+pub fn for_errors(errors: &[JobError]) -> ExitCode {
+    let not_found = !errors.is_empty()
+        && errors
+            .iter()
+            .all(|e| NOT_FOUND_CODES.contains(&e.code.as_str()));
+    code(if not_found { NOT_FOUND } else { REFUSED })
+}
