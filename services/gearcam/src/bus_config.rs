@@ -4,6 +4,8 @@
 //! up` unless told otherwise, and the router. A Zenoh configuration file
 //! (`--config`) is always taken as it is.
 
+use std::path::PathBuf;
+
 use gearcam_bus::{BusArgs, BusConfig, Mode};
 
 use crate::DEFAULT_ENDPOINT;
@@ -56,4 +58,28 @@ pub fn router(bus_args: &BusArgs) -> BusConfig {
         config.multicast_scouting.get_or_insert(false);
     }
     config
+}
+
+/// The bus options of a client command (`submit`, `jobs`, `status`,
+/// `program`): where the router or `gearcam up` is, or a configuration file.
+/// Only what a client uses: no `--listen`, no `--mode`.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct ClientArgs {
+    /// Zenoh JSON5 configuration file (see deploy/, e.g. TLS and a user).
+    #[arg(long = "config", value_name = "FILE", env = "GEARCAM_ZENOH_CONFIG")]
+    pub config: Option<PathBuf>,
+    /// The router or `gearcam up` to connect to (repeatable; default tcp/127.0.0.1:7447).
+    #[arg(short = 'e', long = "connect", value_name = "ENDPOINT")]
+    pub connect: Vec<String>,
+}
+
+impl ClientArgs {
+    /// As the shared bus arguments (client mode is decided by [`client`]).
+    pub fn bus_args(&self) -> BusArgs {
+        BusArgs {
+            config: self.config.clone(),
+            connect: self.connect.clone(),
+            ..BusArgs::default()
+        }
+    }
 }

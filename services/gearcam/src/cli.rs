@@ -6,6 +6,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use gearcam_bus::BusArgs;
+
+use crate::bus_config::ClientArgs;
 use gearcam_proto::JobId;
 
 use crate::cmd::program::ProgramAction;
@@ -41,7 +43,7 @@ pub enum Command {
         /// The job file (TOML; see examples/).
         job: PathBuf,
         #[command(flatten)]
-        bus: BusArgs,
+        bus: ClientArgs,
         /// Follow the job until the program is delivered (exit 0) or refused (exit 1).
         #[arg(long)]
         wait: bool,
@@ -77,7 +79,7 @@ pub enum Command {
     /// List every job in the station's journal.
     Jobs {
         #[command(flatten)]
-        bus: BusArgs,
+        bus: ClientArgs,
         /// Print JSON.
         #[arg(long)]
         json: bool,
@@ -87,7 +89,7 @@ pub enum Command {
         /// The job id.
         job: JobId,
         #[command(flatten)]
-        bus: BusArgs,
+        bus: ClientArgs,
         /// Print JSON.
         #[arg(long)]
         json: bool,
@@ -121,7 +123,7 @@ pub async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             wait,
             json,
             timeout,
-        } => cmd::submit::submit(&job, &bus, wait, json, timeout).await,
+        } => cmd::submit::submit(&job, &bus.bus_args(), wait, json, timeout).await,
         Command::Check { job, json, data } => Ok(cmd::check::check(&job, json, &data)),
         Command::Router { bus } => cmd::router::router(&bus).await,
         Command::Kb(args) => Ok(kb::run(args)),
@@ -132,8 +134,8 @@ pub async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             redrive_ms,
             bus,
         } => cmd::station::station(journal, redrive_ms, &bus).await,
-        Command::Jobs { bus, json } => cmd::jobs::jobs(&bus, json).await,
-        Command::Status { job, bus, json } => cmd::jobs::status(&job, &bus, json).await,
+        Command::Jobs { bus, json } => cmd::jobs::jobs(&bus.bus_args(), json).await,
+        Command::Status { job, bus, json } => cmd::jobs::status(&job, &bus.bus_args(), json).await,
         Command::Program { action } => cmd::program::program(action).await,
     }
 }

@@ -51,3 +51,28 @@ fn submit_refuses_an_unreadable_job_file_before_touching_the_bus() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["errors"][0]["code"], "JOB_FILE_UNREADABLE");
 }
+
+/// Issue 12, point 11: the client commands offer only what a client uses:
+/// where to connect, or a configuration file; never `--listen` or a mode
+/// (`--mode router`).
+#[test]
+fn point_11_client_commands_offer_only_client_options() {
+    for args in [
+        vec!["submit", "--help"],
+        vec!["jobs", "--help"],
+        vec!["status", "--help"],
+        vec!["program", "history", "--help"],
+        vec!["program", "rollback", "--help"],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_gearcam"))
+            .args(&args)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{args:?}");
+        let help = String::from_utf8_lossy(&out.stdout);
+        assert!(help.contains("--connect"), "{args:?}: {help}");
+        for absent in ["--listen", "--mode", "multicast"] {
+            assert!(!help.contains(absent), "{args:?} offers {absent}: {help}");
+        }
+    }
+}

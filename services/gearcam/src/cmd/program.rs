@@ -2,9 +2,9 @@
 
 use std::process::ExitCode;
 
+use crate::bus_config::ClientArgs;
 use anyhow::Context;
 use clap::Subcommand;
-use gearcam_bus::BusArgs;
 use gearcam_proto::MachineId;
 
 use crate::cmd::{join_bus, refused};
@@ -21,7 +21,7 @@ pub enum ProgramAction {
         /// Program name, e.g. SP_1001.
         name: Option<String>,
         #[command(flatten)]
-        bus: BusArgs,
+        bus: ClientArgs,
         /// Print JSON.
         #[arg(long)]
         json: bool,
@@ -36,7 +36,7 @@ pub enum ProgramAction {
         /// Version number (from `history`).
         seq: u64,
         #[command(flatten)]
-        bus: BusArgs,
+        bus: ClientArgs,
     },
     /// Make a stored version current again in the machine's program directory.
     Rollback {
@@ -48,7 +48,7 @@ pub enum ProgramAction {
         /// Version number (from `history`).
         seq: u64,
         #[command(flatten)]
-        bus: BusArgs,
+        bus: ClientArgs,
     },
 }
 
@@ -60,7 +60,7 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             bus,
             json,
         } => {
-            let bus = join_bus(&bus).await?;
+            let bus = join_bus(&bus.bus_args()).await?;
             let h = store::history(&bus, &machine, name.as_deref()).await;
             bus.close().await;
             let h = match h.context(format!("asking the agent of {machine}"))? {
@@ -92,7 +92,7 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             seq,
             bus,
         } => {
-            let bus = join_bus(&bus).await?;
+            let bus = join_bus(&bus.bus_args()).await?;
             let t = store::version(&bus, &machine, &name, seq).await;
             bus.close().await;
             match t.context(format!("asking the agent of {machine}"))? {
@@ -109,7 +109,7 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             seq,
             bus,
         } => {
-            let bus = join_bus(&bus).await?;
+            let bus = join_bus(&bus.bus_args()).await?;
             let r = store::rollback(&bus, &machine, &name, seq).await;
             bus.close().await;
             match r.context(format!("asking the agent of {machine}"))? {
