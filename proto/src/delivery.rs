@@ -103,6 +103,9 @@ pub struct JobStatus {
     /// The errors, when failed.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub errors: Vec<JobError>,
+    /// The model's warnings (what to check before cutting), once modelled.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<crate::model::Warning>,
 }
 
 impl Message for JobStatus {

@@ -121,8 +121,8 @@ pub enum EventKind {
     },
     /// The model service validated and computed the model.
     Modelled {
-        /// Warnings found.
-        warnings: usize,
+        /// Every warning found (code, field, what to check), for the planner.
+        warnings: Vec<crate::model::Warning>,
     },
     /// The template service produced the program.
     Programmed {

@@ -27,8 +27,9 @@ pub struct SubmitOptions {
 pub enum Outcome {
     /// Journaled by the station; not followed.
     Submitted(Box<JobStatus>),
-    /// The agent stored the program.
-    Delivered(Box<DeliveryReceipt>),
+    /// The agent stored the program; the model's warnings (what to check
+    /// before cutting).
+    Delivered(Box<DeliveryReceipt>, Vec<gearcam_proto::Warning>),
     /// The station or a stage refused the job.
     Failed(Vec<JobError>),
     /// Not finished within the timeout; the job stays journaled and the station
@@ -113,7 +114,10 @@ pub async fn submit(
 
 fn final_outcome(s: &JobStatus) -> Option<Outcome> {
     match s.state {
-        JobState::Delivered => s.receipt.clone().map(|r| Outcome::Delivered(Box::new(r))),
+        JobState::Delivered => s
+            .receipt
+            .clone()
+            .map(|r| Outcome::Delivered(Box::new(r), s.warnings.clone())),
         JobState::Failed => Some(Outcome::Failed(s.errors.clone())),
         _ => None,
     }
@@ -163,7 +167,12 @@ pub fn describe(ev: &JobEvent) -> String {
             format!("knowledge: planned with hob {hob_id} (confidence {confidence:.2})")
         }
         EventKind::Modelled { warnings } => {
-            format!("model: validated and computed ({warnings} warning(s))")
+            let mut line = format!(
+                "model: validated and computed ({} warning(s))",
+                warnings.len()
+            );
+            line.push_str(&format_warnings(warnings));
+            line
         }
         EventKind::Programmed { name, sha256 } => {
             format!(
@@ -191,7 +200,17 @@ pub fn describe(ev: &JobEvent) -> String {
     }
 }
 
-/// A status line for `gearcam jobs` / `gearcam status`.
+/// The warnings, one line each (`  ! CODE field: what to check`), each
+/// line starting with a newline; empty for none.
+pub fn format_warnings(warnings: &[gearcam_proto::Warning]) -> String {
+    warnings
+        .iter()
+        .map(|w| format!("\n  ! {} {}: {}", w.code, w.field, w.message))
+        .collect()
+}
+
+/// A status line for `gearcam jobs` / `gearcam status` (the model's warnings
+/// on the lines after).
 pub fn describe_status(s: &JobStatus) -> String {
     let mut line = format!(
         "{:<40} {:<10} {:<6} {:<16} attempts {}",
@@ -214,5 +233,6 @@ pub fn describe_status(s: &JobStatus) -> String {
     if let Some(e) = s.errors.first() {
         line.push_str(&format!("  {} {}", e.code, e.field));
     }
+    line.push_str(&format_warnings(&s.warnings));
     line
 }

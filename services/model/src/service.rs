@@ -33,7 +33,7 @@ pub async fn run(bus: Bus, shutdown: CancellationToken) -> Result<(), BusError> 
                 encode(&model).map_err(|e| vec![codec_error::<ProcessPlan>(Stage::Model, &e)])?;
             Ok(Handled {
                 events: vec![EventKind::Modelled {
-                    warnings: model.warnings.len(),
+                    warnings: model.warnings.clone(),
                 }],
                 outputs: vec![Output {
                     key: keys::job_model(&model.job_id),

@@ -9,7 +9,7 @@ use std::path::Path;
 
 use gearcam_proto::{
     decode, encode, DeliveryReceipt, EventKind, JobError, JobEvent, JobId, JobRequest, JobState,
-    JobStatus, MachineId, ProgramRef, Stage,
+    JobStatus, MachineId, ProgramRef, Stage, Warning,
 };
 use rusqlite::{params, Connection, OptionalExtension};
 use sha2::{Digest, Sha256};
@@ -98,6 +98,14 @@ impl Journal {
              );
              CREATE INDEX IF NOT EXISTS jobs_due ON jobs (next_attempt_ms) WHERE state NOT IN ('delivered', 'failed');",
         )?;
+        // The model's warnings, kept since issue 12: a journal from before
+        // gains the column (its jobs have none recorded).
+        let has_warnings: bool = conn
+            .prepare("SELECT 1 FROM pragma_table_info('jobs') WHERE name = 'warnings_json'")?
+            .exists([])?;
+        if !has_warnings {
+            conn.execute_batch("ALTER TABLE jobs ADD COLUMN warnings_json TEXT")?;
+        }
         Ok(Journal { conn })
     }
 
@@ -181,7 +189,13 @@ impl Journal {
         let n = match &ev.event {
             EventKind::Accepted { .. } => 0,
             EventKind::Planned { .. } => self.set_state(job, JobState::Planned, now, next)?,
-            EventKind::Modelled { .. } => self.set_state(job, JobState::Modelled, now, next)?,
+            EventKind::Modelled { warnings } => {
+                self.conn.execute(
+                    "UPDATE jobs SET warnings_json = ?2 WHERE job = ?1",
+                    params![job, serde_json::to_string(warnings).unwrap_or_default()],
+                )?;
+                self.set_state(job, JobState::Modelled, now, next)?
+            }
             EventKind::Programmed { .. } => self.set_state(job, JobState::Programmed, now, next)?,
             EventKind::Waiting { reason } => self.conn.execute(
                 "UPDATE jobs SET state = 'waiting', waiting_for = ?2, updated_at_ms = ?3, next_attempt_ms = ?4 WHERE job = ?1",
@@ -326,7 +340,7 @@ impl Journal {
     }
 }
 
-const SELECT_STATUS: &str = "SELECT job, machine, part_number, state, attempts, accepted_at_ms, updated_at_ms, waiting_for, receipt_json, errors_json FROM jobs";
+const SELECT_STATUS: &str = "SELECT job, machine, part_number, state, attempts, accepted_at_ms, updated_at_ms, waiting_for, receipt_json, errors_json, warnings_json FROM jobs";
 
 type Parts = (
     String,
@@ -336,6 +350,7 @@ type Parts = (
     u32,
     i64,
     i64,
+    Option<String>,
     Option<String>,
     Option<String>,
     Option<String>,
@@ -353,6 +368,7 @@ fn row_parts(r: &rusqlite::Row<'_>) -> rusqlite::Result<Parts> {
         r.get(7)?,
         r.get(8)?,
         r.get(9)?,
+        r.get(10)?,
     ))
 }
 
@@ -368,12 +384,17 @@ fn status_from(p: Parts) -> Result<JobStatus, JournalError> {
         waiting_for,
         receipt,
         errors,
+        warnings,
     ) = p;
     let receipt: Option<DeliveryReceipt> = receipt
         .map(|j| serde_json::from_str(&j).map_err(|e| corrupt("receipt", e)))
         .transpose()?;
     let errors: Vec<JobError> = errors
         .map(|j| serde_json::from_str(&j).map_err(|e| corrupt("errors", e)))
+        .transpose()?
+        .unwrap_or_default();
+    let warnings: Vec<Warning> = warnings
+        .map(|j| serde_json::from_str(&j).map_err(|e| corrupt("warnings", e)))
         .transpose()?
         .unwrap_or_default();
     Ok(JobStatus {
@@ -392,6 +413,7 @@ fn status_from(p: Parts) -> Result<JobStatus, JournalError> {
         }),
         receipt,
         errors,
+        warnings,
     })
 }
 
@@ -414,4 +436,42 @@ fn station_error(code: &str, field: &str, expected: &str, got: &str) -> JobError
 
 fn db_error(e: rusqlite::Error) -> JobError {
     station_error("JOURNAL_ERROR", "-", "a writable journal", &e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A journal written before the model's warnings were kept opens, gains
+    /// the column, and its jobs read with no warnings.
+    #[test]
+    fn a_journal_from_before_the_warnings_column_opens_and_reads() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("station.db");
+        let conn = Connection::open(&path).unwrap();
+        conn.execute_batch(
+            "CREATE TABLE jobs (
+                 seq INTEGER PRIMARY KEY AUTOINCREMENT, job TEXT NOT NULL UNIQUE,
+                 machine TEXT NOT NULL, part_number TEXT NOT NULL, request BLOB NOT NULL,
+                 request_sha256 TEXT NOT NULL, state TEXT NOT NULL,
+                 attempts INTEGER NOT NULL DEFAULT 0, accepted_at_ms INTEGER NOT NULL,
+                 updated_at_ms INTEGER NOT NULL, next_attempt_ms INTEGER NOT NULL,
+                 waiting_for TEXT, receipt_json TEXT, errors_json TEXT);
+             INSERT INTO jobs (job, machine, part_number, request, request_sha256, state,
+                               accepted_at_ms, updated_at_ms, next_attempt_ms)
+             VALUES ('OLD-1', 'H01', 'SP-1001', x'00', '-', 'accepted', 1, 1, 1);",
+        )
+        .unwrap();
+        drop(conn);
+        let journal = Journal::open(&path).unwrap();
+        let s = journal
+            .status(&JobId::new("OLD-1").unwrap())
+            .unwrap()
+            .unwrap();
+        assert_eq!(s.state, JobState::Accepted);
+        assert!(s.warnings.is_empty());
+        // Opening again does not add the column twice.
+        drop(journal);
+        Journal::open(&path).unwrap();
+    }
 }

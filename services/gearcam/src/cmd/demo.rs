@@ -42,7 +42,7 @@ pub async fn demo(data: &Path) -> anyhow::Result<ExitCode> {
         .await?;
         pb.finish_and_clear();
         match outcome {
-            Outcome::Delivered(r) => {
+            Outcome::Delivered(r, _) => {
                 crate::outln!(
                     "   delivered to {} as {} (sha256 {})\n",
                     r.machine,

@@ -86,8 +86,8 @@ pub async fn submit(
     };
     let (value, code) = match &outcome {
         Outcome::Submitted(s) => (serde_json::to_value(s)?, ExitCode::SUCCESS),
-        Outcome::Delivered(r) => (
-            json!({"job": r.job_id, "state": "delivered", "program": {"name": r.name, "sha256": r.sha256, "path": r.path}, "receipt": r}),
+        Outcome::Delivered(r, warnings) => (
+            json!({"job": r.job_id, "state": "delivered", "program": {"name": r.name, "sha256": r.sha256, "path": r.path}, "receipt": r, "warnings": warnings}),
             ExitCode::SUCCESS,
         ),
         Outcome::Failed(errors) => (
@@ -104,7 +104,13 @@ pub async fn submit(
     } else {
         match &outcome {
             Outcome::Submitted(s) => crate::outln!("job {} journaled by the station ({})", s.job, s.state.as_str()),
-            Outcome::Delivered(r) => crate::outln!("job {} delivered: {} (sha256 {})", r.job_id, r.path, r.sha256),
+            Outcome::Delivered(r, warnings) => crate::outln!(
+                "job {} delivered: {} (sha256 {}){}",
+                r.job_id,
+                r.path,
+                r.sha256,
+                station::format_warnings(warnings)
+            ),
             Outcome::Failed(errors) => {
                 eprintln!("job {} refused with {} error(s):\n{}", req.job_id, errors.len(), check::format_errors(errors))
             }
