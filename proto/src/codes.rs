@@ -127,6 +127,9 @@ catalogue! {
     CONE_ANGLE_RANGE: "model",
         "The cone angle is outside (0°, 45°), or so large that the root cone reaches the axis within the face width.",
         "Correct `gear.cone.angle_deg` or `gear.face_width_mm`.";
+    CONFIRM_VALUES_MISSING: "knowledge",
+        "`gearcam confirm --undelivered`: gearcam did not hear the job's delivery, so the plan's values may not be what ran, and the values that ran were not given.",
+        "Give the cutting speed and feed that really ran (`--cutting-speed`, `--feed`).";
     COUPLING_RATIO: "template (path check)",
         "Path check finding: a gearbox coupling differs from the model's ratio or factors, or a unit is coupled again in another way.",
         "The program was not sent; report it with the job file, since the template and the model disagree.";
@@ -275,8 +278,8 @@ catalogue! {
         "A message's job id differs from the job id in its key.",
         "Fix the sender so that key and message name the same job.";
     JOB_STATE: "knowledge",
-        "The job cannot be confirmed in its state: it is not delivered yet, or already confirmed.",
-        "Confirm a job once, after delivery; pass `--undelivered` for a job cut from a program delivered another way.";
+        "The job cannot be confirmed in its state: it is not delivered yet, already confirmed, or refused by a later stage (no program was delivered for it).",
+        "Confirm a job once, after delivery; pass `--undelivered` with the values that ran for a job cut from a program delivered another way; a refused job is fixed and submitted again.";
     JOURNAL_ERROR: "station",
         "The station could not read or write its job journal.",
         "See the station's log; check the journal's database file and disk.";

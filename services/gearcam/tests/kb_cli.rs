@@ -133,7 +133,7 @@ fn kb_lists_adds_edits_refuses_and_round_trips_csv() {
     assert!(stderr(&o).contains("NOT_FOUND"));
 
     // Confirm names the job it cannot find.
-    let o = gearcam(&data, &["confirm", "NO-SUCH-JOB"]);
+    let o = gearcam(&data, &["confirm", "NO-SUCH-JOB", "--outcome", "ok"]);
     assert_eq!(o.status.code(), Some(3));
     assert!(stderr(&o).contains("UNKNOWN_JOB"), "{}", stderr(&o));
 }

@@ -159,6 +159,33 @@ DROP TABLE cutting_data;
     // and the parameter block (docs/hobbing.md), and the example workpieces
     // a fixture tall enough for the hob's run-out.
     "",
+    // Version 5: a job a later stage refused is `refused`, never left
+    // `planned` (issue 12): the state's check gains the value; SQLite changes
+    // a check by copying the table.
+    r#"
+CREATE TABLE jobs_v5 (
+    job_id              TEXT PRIMARY KEY,
+    part_number         TEXT NOT NULL,
+    machine             TEXT NOT NULL,
+    class               TEXT NOT NULL,
+    quantity            INTEGER NOT NULL,
+    hob_id              TEXT NOT NULL,
+    state               TEXT NOT NULL CHECK (state IN ('planned', 'delivered', 'confirmed', 'refused')),
+    confidence          REAL NOT NULL,
+    plan_json           TEXT NOT NULL,
+    program_name        TEXT,
+    planned_at_ms       INTEGER NOT NULL,
+    delivered_at_ms     INTEGER,
+    confirmed_at_ms     INTEGER,
+    delivered_quantity  INTEGER,
+    case_id             TEXT
+);
+INSERT INTO jobs_v5 SELECT job_id, part_number, machine, class, quantity, hob_id, state, confidence,
+    plan_json, program_name, planned_at_ms, delivered_at_ms, confirmed_at_ms, delivered_quantity,
+    case_id FROM jobs;
+DROP TABLE jobs;
+ALTER TABLE jobs_v5 RENAME TO jobs;
+"#,
 ];
 
 /// Opens (creating and seeding if new) the knowledge base at `path`.
@@ -295,7 +322,7 @@ mod tests {
         conn.pragma_update(None, "user_version", 2).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
-        assert_eq!(schema_version(&conn).unwrap(), 4);
+        assert_eq!(schema_version(&conn).unwrap(), 5);
         let id = MachineId::new("H02").unwrap();
         assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h02()));
         // The version-2 seed record of HG-3003-L gains its profile shift.
@@ -348,7 +375,7 @@ mod tests {
         conn.pragma_update(None, "user_version", 3).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
-        assert_eq!(schema_version(&conn).unwrap(), 4);
+        assert_eq!(schema_version(&conn).unwrap(), 5);
         assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h01()));
         let sp = library::get(&conn, &library::WORKPIECES, "SP-1001")
             .unwrap()

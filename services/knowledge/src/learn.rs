@@ -49,6 +49,17 @@ pub fn record_delivered(conn: &Connection, r: &DeliveryReceipt) -> Result<bool, 
     Ok(n == 1)
 }
 
+/// Marks a planned job refused (from a later stage's `failed` event): it was
+/// never cut from gearcam's program and never becomes a case. Returns false
+/// when the job is unknown or no longer planned.
+pub fn record_refused(conn: &Connection, job_id: &str) -> Result<bool, KnowledgeError> {
+    let n = conn.execute(
+        "UPDATE jobs SET state = 'refused' WHERE job_id = ?1 AND state = 'planned'",
+        [job_id],
+    )?;
+    Ok(n == 1)
+}
+
 /// What the planner confirms about a delivered job.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Confirmation {
@@ -103,6 +114,38 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
         )]);
     };
     let state = job.state;
+    if state == JobState::Refused {
+        return Err(vec![Stage::Knowledge.error(
+            "JOB_STATE",
+            "state",
+            "a delivered job",
+            state.as_str(),
+            format!(
+                "job {} was refused by a later stage: gearcam delivered no program for it, so it cannot become a case; fix the job and submit it again",
+                c.job_id
+            ),
+        )]);
+    }
+    // A job whose delivery was not heard becomes a case only with the values
+    // that really ran, given by the planner.
+    if c.allow_undelivered && state == JobState::Planned {
+        let missing: Vec<&str> = [
+            ("--cutting-speed", c.cutting_speed_m_min.is_none()),
+            ("--feed", c.feed_mm_per_rev.is_none()),
+        ]
+        .into_iter()
+        .filter_map(|(name, missing)| missing.then_some(name))
+        .collect();
+        if !missing.is_empty() {
+            return Err(vec![Stage::Knowledge.error(
+                "CONFIRM_VALUES_MISSING",
+                "undelivered",
+                "the cutting speed and feed that really ran (--cutting-speed, --feed)",
+                format!("no {}", missing.join(", no ")),
+                "gearcam did not hear this job's delivery, so the plan's values may not be what ran; give the values that ran",
+            )]);
+        }
+    }
     let ok_state =
         state == JobState::Delivered || (c.allow_undelivered && state == JobState::Planned);
     if !ok_state {

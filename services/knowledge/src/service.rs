@@ -151,6 +151,17 @@ pub async fn run(
                     }
                 }
             }
+            // A later stage's refusal: the job is never left `planned`. The
+            // knowledge service's own refusals come before a job is planned.
+            if matches!(ev.event, EventKind::Failed { .. }) && ev.stage != Stage::Knowledge {
+                match learn::record_refused(&events_conn, ev.job_id.as_str()) {
+                    Ok(true) => tracing::info!(job = %ev.job_id, "job refused by a later stage"),
+                    Ok(false) => {}
+                    Err(e) => {
+                        tracing::warn!(job = %ev.job_id, error = %e, "cannot record the refusal")
+                    }
+                }
+            }
         }
     });
 

@@ -114,8 +114,8 @@ pub struct ConfirmArgs {
     /// Cuts actually made (default: the plan's).
     #[arg(long)]
     pub cuts: Option<u32>,
-    /// Outcome: ok, rework, scrap or unknown.
-    #[arg(long, default_value = "ok")]
+    /// Outcome of the cut (required): ok, rework, scrap or unknown.
+    #[arg(long)]
     pub outcome: String,
     /// Accuracy grade measured.
     #[arg(long)]

@@ -32,7 +32,7 @@ const ACCURACY: &[&str] = &["AA", "A", "B", "C"];
 const OPERATIONS: &[&str] = &["rough", "finish"];
 const OUTCOMES: &[&str] = &["ok", "rework", "scrap", "unknown"];
 const CUT_MODES: &[&str] = &["conventional", "climb"];
-const JOB_STATES: &[&str] = &["planned", "delivered", "confirmed"];
+const JOB_STATES: &[&str] = &["planned", "delivered", "confirmed", "refused"];
 
 /// The group-technology class tree (docs/knowledge.md#group-technology-classes).
 pub const CLASSES_LIB: Library = Library {
@@ -565,7 +565,7 @@ pub const JOBS: Library = Library {
             Text,
             Need::Default(Def::Text("planned")),
             OneOf(JOB_STATES),
-            "planned, delivered or confirmed",
+            "planned, delivered, confirmed or refused (a later stage refused it)",
         ),
         f(
             "confidence",

@@ -85,6 +85,9 @@ pub enum JobState {
     Delivered,
     /// Confirmed by the planner; it became a case.
     Confirmed,
+    /// A later stage (model, template, agent) refused it: never cut from
+    /// gearcam's program, never a case.
+    Refused,
 }
 
 impl JobState {
@@ -94,14 +97,20 @@ impl JobState {
             JobState::Planned => "planned",
             JobState::Delivered => "delivered",
             JobState::Confirmed => "confirmed",
+            JobState::Refused => "refused",
         }
     }
 
     /// From the library's text.
     pub fn parse(text: &str) -> Option<JobState> {
-        [JobState::Planned, JobState::Delivered, JobState::Confirmed]
-            .into_iter()
-            .find(|s| s.as_str() == text)
+        [
+            JobState::Planned,
+            JobState::Delivered,
+            JobState::Confirmed,
+            JobState::Refused,
+        ]
+        .into_iter()
+        .find(|s| s.as_str() == text)
     }
 }
 
