@@ -376,4 +376,23 @@ mod tests {
         // Without the compatibility step the old shape does not read.
         assert!(serde_json::from_value::<ProcessPlan>(old).is_err());
     }
+
+    /// A job whose delivery was not heard becomes a case only with the
+    /// values that really ran (issue 12 point 3).
+    #[test]
+    fn an_undelivered_job_needs_the_values_that_ran() {
+        let conn = db::open_in_memory().unwrap();
+        let req = plan::tests::request(json!({}), json!({}));
+        let p = plan::plan(&conn, &req).unwrap();
+        record_planned(&conn, &p, 1).unwrap();
+        let mut c = confirmation("J1");
+        c.allow_undelivered = true;
+        c.cutting_speed_m_min = None;
+        let e = confirm(&conn, &c).unwrap_err();
+        assert_eq!(e[0].code, "CONFIRM_VALUES_MISSING");
+        assert_eq!(e[0].got, "no --cutting-speed, no --feed");
+        c.cutting_speed_m_min = Some(95.0);
+        c.feed_mm_per_rev = Some(2.1);
+        assert!(confirm(&conn, &c).is_ok());
+    }
 }
