@@ -17,6 +17,10 @@ use crate::cmd::{self, kb, templates};
 #[derive(Debug, Parser)]
 #[command(version, about, after_help = crate::exit::HELP)]
 pub struct Cli {
+    /// Show the bus's own log lines too (-v warnings, -vv information,
+    /// -vvv debugging; `RUST_LOG` overrides).
+    #[arg(short, long, global = true, action = clap::ArgAction::Count)]
+    pub verbose: u8,
     /// The command.
     #[command(subcommand)]
     pub command: Command,
@@ -137,5 +141,23 @@ pub async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Jobs { bus, json } => cmd::jobs::jobs(&bus.bus_args(), json).await,
         Command::Status { job, bus, json } => cmd::jobs::status(&job, &bus.bus_args(), json).await,
         Command::Program { action } => cmd::program::program(action).await,
+    }
+}
+
+impl Cli {
+    /// The log filter: the long-running commands (`up`, `station`,
+    /// `router`) log warnings; a client command says what a person needs on
+    /// its own, so the bus's log lines are shown only when asked (`-v`).
+    pub fn log_filter(&self) -> &'static str {
+        let serving = matches!(
+            self.command,
+            Command::Up { .. } | Command::Station { .. } | Command::Router { .. }
+        );
+        match (self.verbose, serving) {
+            (0, false) => "off",
+            (0, true) | (1, _) => "warn",
+            (2, _) => "info",
+            _ => "debug",
+        }
     }
 }

@@ -10,7 +10,6 @@ use gearcam::exit;
 use gearcam_bus::init_tracing;
 
 fn main() -> ExitCode {
-    init_tracing("warn");
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {
@@ -24,6 +23,7 @@ fn main() -> ExitCode {
             };
         }
     };
+    init_tracing(cli.log_filter());
     let rt = match tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()
@@ -37,8 +37,40 @@ fn main() -> ExitCode {
     match rt.block_on(run(cli)) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("gearcam: {e:#}; is `gearcam up` (or the router) running?");
+            eprintln!(
+                "gearcam: {}; is `gearcam up` (or the router) running?",
+                without_source_paths(&format!("{e:#}"))
+            );
             exit::code(exit::UNREACHABLE)
         }
     }
+}
+
+/// A message without the library's source locations (` at /…/src/x.rs:42.`)
+/// that the bus's errors carry: they mean nothing to a person at the machine.
+fn without_source_paths(message: &str) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    while let Some(i) = rest.find(" at /") {
+        out.push_str(&rest[..i]);
+        let tail = &rest[i + 1..];
+        // The location ends after `.rs:LINE` (and an optional `.`).
+        match tail.find(".rs:") {
+            Some(j) => {
+                let after = &tail[j + 4..];
+                let digits = after.chars().take_while(char::is_ascii_digit).count();
+                let mut end = j + 4 + digits;
+                if tail[end..].starts_with('.') {
+                    end += 1;
+                }
+                rest = &tail[end..];
+            }
+            None => {
+                rest = tail;
+                out.push(' ');
+            }
+        }
+    }
+    out.push_str(rest);
+    out.trim_end().to_string()
 }

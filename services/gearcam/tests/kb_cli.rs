@@ -249,3 +249,19 @@ fn kb_shows_the_fanuc_machine_h02_and_check_plans_for_it() {
         );
     }
 }
+
+/// Issue 12, point 9 (in part): `gearcam kb libraries` speaks to a person:
+/// each field's type and whether it is required or its default, no Rust
+/// `Debug` text.
+#[test]
+fn point_9_kb_libraries_prints_no_rust_debug_text() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = gearcam(dir.path(), &["kb", "libraries"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    for debug in ["Default(", "Bool(", "Text(", "Real(", "Some("] {
+        assert!(!text.contains(debug), "{debug} in:\n{text}");
+    }
+    assert!(text.contains("true/false default false"), "{text}");
+    assert!(text.contains("required"), "{text}");
+}

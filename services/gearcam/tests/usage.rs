@@ -76,3 +76,37 @@ fn point_11_client_commands_offer_only_client_options() {
         }
     }
 }
+
+/// Issue 12, point 9 (in part): a bus failure says what to do, without the
+/// bus's own log lines, source paths or colour codes; `-v` shows the log.
+#[test]
+fn point_9_a_bus_failure_says_what_to_do_without_log_noise() {
+    let run = |verbose: bool| {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_gearcam"));
+        if verbose {
+            cmd.arg("-v");
+        }
+        let out = cmd
+            .args(["status", "SOME-JOB", "--connect", "tcp/127.0.0.1:1"])
+            .env_remove("RUST_LOG")
+            .output()
+            .unwrap();
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    let (code, err) = run(false);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("is `gearcam up` (or the router) running?"),
+        "{err}"
+    );
+    for noise in ["WARN", ".rs:", "\u{1b}[", "registry"] {
+        assert!(!err.contains(noise), "{noise:?} in: {err}");
+    }
+    let (code, err) = run(true);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("WARN"), "-v shows the bus's log: {err}");
+    assert!(!err.contains("\u{1b}["), "no colour into a pipe: {err}");
+}

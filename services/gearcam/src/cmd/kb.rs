@@ -313,7 +313,8 @@ pub fn run(args: KbArgs) -> ExitCode {
                 lib.doc
             );
             for f in lib.fields {
-                crate::outln!("    {:<22} {:?} {:?}  {}", f.name, f.kind, f.need, f.doc);
+                let (kind, need) = (f.kind.to_string(), f.need.to_string());
+                crate::outln!("    {:<22} {:<10} {:<18} {}", f.name, kind, need, f.doc);
             }
         }
         return ExitCode::SUCCESS;

@@ -26,6 +26,17 @@ pub enum Kind {
     Bool,
 }
 
+impl std::fmt::Display for Kind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Kind::Real => "number",
+            Kind::Int => "integer",
+            Kind::Text => "text",
+            Kind::Bool => "true/false",
+        })
+    }
+}
+
 /// What values a field accepts beyond its type.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Check {
@@ -51,6 +62,19 @@ pub enum Need {
     Optional,
     /// Takes this value when absent.
     Default(Def),
+}
+
+impl std::fmt::Display for Need {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Need::Required => f.write_str("required"),
+            Need::Optional => f.write_str("optional"),
+            Need::Default(Def::Real(v)) => write!(f, "default {v}"),
+            Need::Default(Def::Int(v)) => write!(f, "default {v}"),
+            Need::Default(Def::Text(v)) => write!(f, "default {v:?}"),
+            Need::Default(Def::Bool(v)) => write!(f, "default {v}"),
+        }
+    }
 }
 
 /// A default value.
