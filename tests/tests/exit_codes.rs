@@ -70,6 +70,46 @@ fn point_7_status_exit_codes_say_failed_unknown_and_unreachable() {
     let (code, _, err) = gearcam(&["status", &id, "--connect", e]);
     assert_eq!(code, Some(0), "{err}");
     let name = v["program"]["name"].as_str().unwrap().to_string();
+    // Issue 12 point 9: the history is a table with a header and dates;
+    // point 8: `program show --json` prints the version and its text.
+    let (code, out, err) = gearcam(&[
+        "program",
+        "history",
+        "--machine",
+        "H01",
+        &name,
+        "--connect",
+        e,
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let header = out.lines().next().unwrap_or_default();
+    for column in ["SEQ", "CUR", "NAME", "STATE", "STORED", "JOB", "SHA256"] {
+        assert!(header.contains(column), "{out}");
+    }
+    assert!(
+        out.lines()
+            .nth(1)
+            .is_some_and(|l| l.contains(" UTC ") && l.contains(&name)),
+        "{out}"
+    );
+    let (code, out, err) = gearcam(&[
+        "program",
+        "show",
+        "--machine",
+        "H01",
+        &name,
+        "1",
+        "--connect",
+        e,
+        "--json",
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let shown: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    assert!(
+        shown["text"].as_str().is_some_and(|t| t.contains(&name)),
+        "{shown}"
+    );
+    assert_eq!(shown["version"]["name"], name.as_str());
     let (code, _, err) = gearcam(&[
         "program",
         "show",

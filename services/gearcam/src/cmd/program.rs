@@ -37,6 +37,9 @@ pub enum ProgramAction {
         seq: u64,
         #[command(flatten)]
         bus: ClientArgs,
+        /// Print the version and its text as JSON.
+        #[arg(long)]
+        json: bool,
     },
     /// Make a stored version current again in the machine's program directory.
     Rollback {
@@ -70,19 +73,7 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             if json {
                 crate::outln!("{}", serde_json::to_string_pretty(&h)?);
             } else {
-                for v in &h.versions {
-                    crate::outln!(
-                        "{:>6} {} {:<24} {:<10} job {} rev {} sha256 {} {} bytes",
-                        v.seq,
-                        if v.current { "*" } else { " " },
-                        v.name,
-                        v.state,
-                        v.job,
-                        v.revision,
-                        &v.sha256[..12.min(v.sha256.len())],
-                        v.size_bytes
-                    );
-                }
+                crate::out!("{}", history_table(&h));
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -91,11 +82,16 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             name,
             seq,
             bus,
+            json,
         } => {
             let bus = join_bus(&bus.bus_args()).await?;
             let t = store::version(&bus, &machine, &name, seq).await;
             bus.close().await;
             match t.context(format!("asking the agent of {machine}"))? {
+                Ok(t) if json => {
+                    crate::outln!("{}", serde_json::to_string_pretty(&t)?);
+                    Ok(ExitCode::SUCCESS)
+                }
                 Ok(t) => {
                     crate::out!("{}", t.text);
                     Ok(ExitCode::SUCCESS)
@@ -126,4 +122,31 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             }
         }
     }
+}
+
+/// A machine's program history as a table for a person: a header, one line
+/// per version (newest first), the current one marked `*`, dates in UTC.
+pub fn history_table(h: &gearcam_proto::ProgramHistory) -> String {
+    let mut out = format!(
+        "{:>6}  {:<3} {:<24} {:<10} {:<23} {:<36} {:>3}  {:<12} {:>8}\n",
+        "SEQ", "CUR", "NAME", "STATE", "STORED", "JOB", "REV", "SHA256", "BYTES"
+    );
+    for v in &h.versions {
+        out.push_str(&format!(
+            "{:>6}  {:<3} {:<24} {:<10} {:<23} {:<36} {:>3}  {:<12} {:>8}\n",
+            v.seq,
+            if v.current { "*" } else { "" },
+            v.name,
+            v.state,
+            crate::output::utc(v.stored_at_ms),
+            v.job,
+            v.revision,
+            &v.sha256[..12.min(v.sha256.len())],
+            v.size_bytes
+        ));
+    }
+    if h.versions.is_empty() {
+        out.push_str(&format!("(no programs stored for {})\n", h.machine));
+    }
+    out
 }
