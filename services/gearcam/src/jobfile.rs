@@ -13,7 +13,7 @@ fn station_error(code: &str, field: &str, expected: &str, got: &str, message: St
 /// Parses a job file's text. `origin` names it in messages.
 pub fn parse(text: &str, origin: &str) -> Result<JobSpec, JobError> {
     let de = toml::Deserializer::new(text);
-    serde_path_to_error::deserialize::<_, JobSpec>(de).map_err(|e| {
+    let spec = serde_path_to_error::deserialize::<_, JobSpec>(de).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.into_inner();
         let detail = inner.message().to_string();
@@ -24,43 +24,174 @@ pub fn parse(text: &str, origin: &str) -> Result<JobSpec, JobError> {
                 format!(" (line {line})")
             })
             .unwrap_or_default();
-        // serde names an unknown key in its message; put it in the field path.
-        let (code, field, expected) = if let Some(rest) = detail.strip_prefix("unknown field `") {
-            let key = rest.split('`').next().unwrap_or_default();
-            let expected = rest
-                .split_once("expected ")
-                .map(|(_, e)| e.to_string())
-                .unwrap_or_else(|| "a known key".into());
-            ("JOB_FILE_UNKNOWN_KEY", join_path(&path, key), expected)
-        } else if let Some(rest) = detail.strip_prefix("missing field `") {
-            let key = rest.split('`').next().unwrap_or_default();
-            (
-                "JOB_FILE_MISSING_KEY",
-                join_path(&path, key),
-                "a value".to_string(),
-            )
-        } else {
-            ("JOB_FILE_INVALID", path.clone(), "see message".to_string())
+        file_error(&path, &detail, &format!("{origin}{location}"))
+    })?;
+    check_part_number(&spec)?;
+    Ok(spec)
+}
+
+/// The typed error of a job file serde refused, in a planner's words: the
+/// key, what it takes, what was given, and for an unknown key the nearest
+/// known one.
+fn file_error(path: &str, detail: &str, place: &str) -> JobError {
+    if let Some(rest) = detail.strip_prefix("unknown field `") {
+        let key = rest.split('`').next().unwrap_or_default();
+        let known: Vec<&str> = rest
+            .split_once("expected ")
+            .map(|(_, e)| e.split('`').skip(1).step_by(2).collect())
+            .unwrap_or_default();
+        let field = join_path(path, key);
+        let (expected, hint) = match nearest(key, &known) {
+            Some(near) => (
+                format!("`{near}` (the known keys here: {})", known.join(", ")),
+                format!("; did you mean `{near}`?"),
+            ),
+            None => (format!("one of {}", known.join(", ")), String::new()),
         };
+        return station_error(
+            "JOB_FILE_UNKNOWN_KEY",
+            &field,
+            &expected,
+            key,
+            format!("{place}: unknown key `{key}`{hint}"),
+        );
+    }
+    if let Some(rest) = detail.strip_prefix("missing field `") {
+        let key = rest.split('`').next().unwrap_or_default();
+        let field = join_path(path, key);
         // A [gear] section is complete drawing data or absent: a part number
         // from the workpiece library stands for the whole section.
-        let hint = if code == "JOB_FILE_MISSING_KEY" && field.starts_with("gear.") {
+        let hint = if field.starts_with("gear.") {
             "; or leave out the whole [gear] section to take the drawing data of the part number from the workpiece library"
         } else {
             ""
         };
-        station_error(
-            code,
+        return station_error(
+            "JOB_FILE_MISSING_KEY",
             &field,
-            &expected,
-            if code == "JOB_FILE_MISSING_KEY" {
-                "nothing"
+            "a value",
+            "nothing",
+            format!("{place}: {key} is missing{hint}"),
+        );
+    }
+    // serde: `invalid type: floating point `2.5`, expected u32`; an id:
+    // `invalid machine id "H/01": it contains '/'; expected 1 to 32 …`.
+    let split = detail
+        .split_once(", expected ")
+        .or_else(|| detail.split_once("; expected "));
+    match split {
+        Some((head, wanted)) => {
+            let got = head
+                .split('`')
+                .nth(1)
+                .or_else(|| head.split('"').nth(1))
+                .unwrap_or(head)
+                .to_string();
+            let expected = plain_type(wanted);
+            station_error(
+                "JOB_FILE_INVALID",
+                path,
+                &expected,
+                &got,
+                format!("{place}: {path} takes {expected}, got {got} ({head})"),
+            )
+        }
+        None => station_error(
+            "JOB_FILE_INVALID",
+            path,
+            "see message",
+            "see message",
+            format!("{place}: {path}: {detail}"),
+        ),
+    }
+}
+
+/// A Rust type name as a planner says it.
+fn plain_type(rust: &str) -> String {
+    match rust.trim() {
+        "u8" => "a whole number from 0 to 255".into(),
+        "u16" => "a whole number from 0 to 65535".into(),
+        "u32" => "a whole number from 0 to 4294967295".into(),
+        "u64" => "a whole number ≥ 0".into(),
+        "i32" | "i64" => "a whole number".into(),
+        "f32" | "f64" => "a number".into(),
+        "a boolean" | "bool" => "true or false".into(),
+        other => other.to_string(),
+    }
+}
+
+/// The known key nearest to `key` (at most 2 edits away, and closer than
+/// half its length), if any.
+fn nearest<'a>(key: &str, known: &[&'a str]) -> Option<&'a str> {
+    known
+        .iter()
+        .map(|k| (edit_distance(key, k), *k))
+        .filter(|(d, _)| *d <= 2 && *d * 2 < key.len().max(1))
+        .min()
+        .map(|(_, k)| k)
+}
+
+/// The number of single-character insertions, deletions, substitutions and
+/// transpositions of neighbours that turn `a` into `b`.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
+    }
+    for (j, cell) in d[0].iter_mut().enumerate() {
+        *cell = j;
+    }
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            let mut v = (d[i - 1][j] + 1)
+                .min(d[i][j - 1] + 1)
+                .min(d[i - 1][j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                v = v.min(d[i - 2][j - 2] + 1);
+            }
+            d[i][j] = v;
+        }
+    }
+    d[a.len()][b.len()]
+}
+
+/// Longest part number accepted, characters: it goes into program headers,
+/// names and the store's index.
+pub const MAX_PART_NUMBER: usize = 64;
+
+/// The part number names the part: not empty, not over [`MAX_PART_NUMBER`]
+/// characters, one line.
+fn check_part_number(spec: &JobSpec) -> Result<(), JobError> {
+    let p = &spec.job.part_number;
+    let n = p.chars().count();
+    let bad = if p.trim().is_empty() {
+        Some("it is empty".to_string())
+    } else if n > MAX_PART_NUMBER {
+        Some(format!("it has {n} characters"))
+    } else if p.chars().any(char::is_control) {
+        Some("it contains a control character (a line break?)".to_string())
+    } else {
+        None
+    };
+    match bad {
+        None => Ok(()),
+        Some(reason) => Err(station_error(
+            "JOB_FILE_INVALID",
+            "job.part_number",
+            &format!("the part (drawing) number: 1 to {MAX_PART_NUMBER} characters on one line"),
+            &if n > 40 {
+                format!(
+                    "{}… ({n} characters)",
+                    p.chars().take(40).collect::<String>()
+                )
             } else {
-                "see message"
+                p.clone()
             },
-            format!("{origin}{location}: {detail}{hint}"),
-        )
-    })
+            format!("the part number is not usable: {reason}"),
+        )),
+    }
 }
 
 /// The dotted path of `key` under `path`; the path may already end with it

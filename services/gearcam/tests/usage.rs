@@ -110,3 +110,57 @@ fn point_9_a_bus_failure_says_what_to_do_without_log_noise() {
     assert!(err.contains("WARN"), "-v shows the bus's log: {err}");
     assert!(!err.contains("\u{1b}["), "no colour into a pipe: {err}");
 }
+
+/// Issue 12, point 10: job-file errors speak a planner's language: an
+/// unknown key names the nearest known one, a type error says what the key
+/// takes and what was given, an oversize part number is refused on its field.
+#[test]
+fn point_10_job_file_errors_name_the_key_and_suggest() {
+    let dir = tempfile::tempdir().unwrap();
+    let spur = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/spur_840d.toml"),
+    )
+    .unwrap();
+    let first_error = |name: &str, text: &str| {
+        assert_ne!(
+            text, spur,
+            "{name}: the example changed; the test's edit did not apply"
+        );
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_gearcam"))
+            .args(["check", &path.display().to_string(), "--json", "--data"])
+            .arg(dir.path())
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1), "{name}");
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        v["errors"][0].clone()
+    };
+    let e = first_error("typo.toml", &spur.replacen("teeth =", "teeht =", 1));
+    assert_eq!(e["code"], "JOB_FILE_UNKNOWN_KEY", "{e}");
+    assert_eq!(e["field"], "gear.teeht", "{e}");
+    assert!(
+        e["message"]
+            .as_str()
+            .unwrap()
+            .contains("did you mean `teeth`?"),
+        "{e}"
+    );
+
+    let e = first_error(
+        "negative.toml",
+        &spur.replacen("quantity = 20", "quantity = -5", 1),
+    );
+    assert_eq!(e["field"], "job.quantity", "{e}");
+    assert_eq!(e["expected"], "a whole number from 0 to 4294967295", "{e}");
+    assert_eq!(e["got"], "-5", "{e}");
+
+    let long = format!("part_number = \"{}\"", "P".repeat(200));
+    let e = first_error(
+        "long.toml",
+        &spur.replacen("part_number = \"SP-1001\"", &long, 1),
+    );
+    assert_eq!(e["field"], "job.part_number", "{e}");
+    assert!(e["got"].as_str().unwrap().contains("200 characters"), "{e}");
+}
