@@ -6,22 +6,7 @@
 // Test code: a clock for the wait.
 #![allow(clippy::disallowed_methods)]
 
-use std::process::{Command, Stdio};
-
-use gearcam_testkit::{bin, Cluster};
-
-fn gearcam(args: &[&str]) -> (Option<i32>, String, String) {
-    let out = Command::new(bin("gearcam"))
-        .args(args)
-        .stdin(Stdio::null())
-        .output()
-        .expect("gearcam runs");
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use gearcam_testkit::{gearcam, Cluster};
 
 #[test]
 fn point_3_a_refused_job_never_becomes_a_case() {

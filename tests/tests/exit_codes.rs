@@ -3,22 +3,7 @@
 //! refused (a failed job's status too), 2 unreachable, 3 not found, 64 usage.
 //! Through the real binary and real services on loopback.
 
-use std::process::{Command, Stdio};
-
-use gearcam_testkit::{bin, Cluster};
-
-fn gearcam(args: &[&str]) -> (Option<i32>, String, String) {
-    let out = Command::new(bin("gearcam"))
-        .args(args)
-        .stdin(Stdio::null())
-        .output()
-        .expect("gearcam runs");
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use gearcam_testkit::{gearcam, Cluster};
 
 #[test]
 fn point_7_usage_errors_are_64_not_2_and_help_is_0() {

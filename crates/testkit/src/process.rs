@@ -59,6 +59,21 @@ pub fn wait_for_port(port: u16, timeout: Duration) {
     }
 }
 
+/// Runs the built `gearcam` binary with `args` (stdin closed); its exit
+/// code, standard output and standard error.
+pub fn gearcam(args: &[&str]) -> (Option<i32>, String, String) {
+    let out = Command::new(bin("gearcam"))
+        .args(args)
+        .stdin(Stdio::null())
+        .output()
+        .expect("gearcam runs");
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
 /// A child process killed when dropped; its stderr goes to a log file.
 #[derive(Debug)]
 pub struct Proc {
