@@ -265,3 +265,33 @@ fn point_9_kb_libraries_prints_no_rust_debug_text() {
     assert!(text.contains("true/false default false"), "{text}");
     assert!(text.contains("required"), "{text}");
 }
+
+/// Issue 12, point 8 (in part): `--json` means JSON for `kb libraries` and
+/// `kb export` too (they printed text and CSV).
+#[test]
+fn point_8_kb_libraries_and_export_print_json_with_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = gearcam(dir.path(), &["kb", "libraries", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let libs: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON");
+    let hobs = libs
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|l| l["name"] == "hobs")
+        .expect("the hobs library");
+    assert_eq!(hobs["key"], "id");
+    assert!(hobs["fields"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|f| f["name"] == "usable_length_mm"));
+    let o = gearcam(dir.path(), &["kb", "export", "hobs", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let records: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON, not CSV");
+    assert!(records
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|r| r["id"] == "HOB-M3-80"));
+}

@@ -304,6 +304,37 @@ fn print_record(r: &Record, json: bool) {
 /// Runs `gearcam kb ...`.
 pub fn run(args: KbArgs) -> ExitCode {
     if let KbCommand::Libraries = args.command {
+        if args.json {
+            let libs: Vec<serde_json::Value> = library::LIBRARIES
+                .iter()
+                .map(|lib| {
+                    let fields: Vec<serde_json::Value> = lib
+                        .fields
+                        .iter()
+                        .map(|f| {
+                            serde_json::json!({
+                                "name": f.name,
+                                "type": f.kind.to_string(),
+                                "need": f.need.to_string(),
+                                "meaning": f.doc,
+                            })
+                        })
+                        .collect();
+                    serde_json::json!({
+                        "name": lib.name,
+                        "key": lib.key,
+                        "csv": lib.csv,
+                        "meaning": lib.doc,
+                        "fields": fields,
+                    })
+                })
+                .collect();
+            crate::outln!(
+                "{}",
+                serde_json::to_string_pretty(&libs).unwrap_or_default()
+            );
+            return ExitCode::SUCCESS;
+        }
         for lib in library::LIBRARIES {
             crate::outln!(
                 "{} (key {}{}): {}",
@@ -431,6 +462,15 @@ pub fn run(args: KbArgs) -> ExitCode {
                         })?;
                         let n = csvio::export(&conn, &lib, f).map_err(|e| refused(&e))?;
                         crate::outln!("exported {n} {} to {}", lib.name, path.display());
+                    }
+                    None if args.json => {
+                        // `--json`: the records as JSON, as `kb list --json`.
+                        let records =
+                            library::list(&conn, &lib).map_err(|e| refused(&Vec::from(e)))?;
+                        crate::outln!(
+                            "{}",
+                            serde_json::to_string_pretty(&records).unwrap_or_default()
+                        );
                     }
                     None => {
                         csvio::export(&conn, &lib, std::io::stdout().lock())
