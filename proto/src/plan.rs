@@ -283,8 +283,21 @@ pub struct HobData {
     pub hand: Hand,
     /// Overall length, mm.
     pub length_mm: f64,
+    /// Length of the hob whose teeth may cut, mm, centred on the hob: the
+    /// shift travels inside it (the tool library's usable length). Absent for
+    /// a hob the job gave inline: its overall length.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub usable_length_mm: Option<f64>,
     /// Where the data came from.
     pub source: Source,
+}
+
+impl HobData {
+    /// The length the shift may travel in: the usable length, or the overall
+    /// length when the usable one is not known.
+    pub fn usable_mm(&self) -> f64 {
+        self.usable_length_mm.unwrap_or(self.length_mm)
+    }
 }
 
 /// The process data decided for the job.

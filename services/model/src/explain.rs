@@ -175,7 +175,22 @@ fn hob(plan: &ProcessPlan) -> Vec<Explained> {
             hob.length_mm,
             "mm",
             hob_origin,
-            "usable hob length",
+            "overall hob length",
+        ),
+        e(
+            "hob.usable_length_mm",
+            hob.usable_mm(),
+            "mm",
+            if hob.usable_length_mm.is_some() {
+                hob_origin
+            } else {
+                Origin::Default
+            },
+            if hob.usable_length_mm.is_some() {
+                "usable hob length: the shift travels in it"
+            } else {
+                "usable hob length: the overall length (the job gave the hob inline)"
+            },
         ),
     ]
 }

@@ -110,6 +110,7 @@ pub(crate) mod fixtures {
             lead_angle_deg: 2.3716,
             hand: Hand::Right,
             length_mm: 100.0,
+            usable_length_mm: None,
             source: Source::Library,
         }
     }

@@ -7,7 +7,9 @@
 //! flanks, plus one axial pitch px0 = π·mn0 / cos γ0). Shift positions are
 //! measured along the hob axis from the hob centre; a position p uses the hob
 //! from p − La/2 to p + La/2, so the usable positions are
-//! |p| ≤ (length − La)/2.
+//! |p| ≤ (U − La)/2, with U the usable length the tool library gives (the
+//! part of the hob whose teeth may cut, centred; the overall length for a hob
+//! given inline).
 
 use std::f64::consts::PI;
 
@@ -27,10 +29,11 @@ pub fn active_length_mm(hob: &HobData, depth_mm: f64) -> f64 {
     2.0 * depth_mm / hob.pressure_angle_deg.to_radians().tan() + hob_axial_pitch_mm(hob)
 }
 
-/// Usable shift range [−u, u] with u = (length − La)/2, mm; u < 0 means the
-/// hob is too short to shift at all.
+/// Usable shift range [−u, u] with u = (U − La)/2, mm, U the hob's usable
+/// length ([`HobData::usable_mm`]); u < 0 means the hob is too short to shift
+/// at all.
 pub fn usable_range_mm(hob: &HobData, depth_mm: f64) -> [f64; 2] {
-    let u = (hob.length_mm - active_length_mm(hob, depth_mm)) / 2.0;
+    let u = (hob.usable_mm() - active_length_mm(hob, depth_mm)) / 2.0;
     [-u, u]
 }
 
@@ -151,6 +154,7 @@ mod tests {
             lead_angle_deg: 2.3716,
             hand: Hand::Right,
             length_mm: 100.0,
+            usable_length_mm: None,
             source: Source::Library,
         }
     }

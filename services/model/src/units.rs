@@ -90,6 +90,7 @@ pub fn unit_hob(
                 lead_angle_deg: lead,
                 hand,
                 length_mm,
+                usable_length_mm: None,
                 source: Source::Job,
             })
         }

@@ -261,3 +261,46 @@ fn explain_names_the_fixture_heights_own_origin() {
     );
     assert_eq!(origin("gear.module_mm"), gearcam_proto::Origin::Library);
 }
+
+/// Issue 12, point 4: the hob shifts inside the usable length the tool
+/// library gives (HOB-M3-80: 100 mm overall, 90 mm usable), not the overall
+/// length: at the extreme positions the active length ends at the usable
+/// length's ends, and the old range (on the overall length) was 5 mm wider
+/// on each side.
+#[test]
+fn point_4_the_shift_travels_in_the_usable_length() {
+    let (m, _) = example("multi_cut_shift_840d.toml");
+    assert_eq!(m.plan.hob.length_mm, 100.0);
+    assert_eq!(m.plan.hob.usable_length_mm, Some(90.0));
+    let shift = m.model.shift.as_ref().expect("a shift plan");
+    let half_active = shift.active_length_mm / 2.0;
+    assert!(
+        (shift.usable_mm[1] + half_active - 45.0).abs() < 1e-9,
+        "{shift:?}"
+    );
+    assert!(
+        (shift.usable_mm[0] - half_active + 45.0).abs() < 1e-9,
+        "{shift:?}"
+    );
+    assert!(
+        shift.start_mm.abs() + half_active <= 45.0 + 1e-9,
+        "{shift:?}"
+    );
+    assert!(shift.end_mm.abs() + half_active <= 45.0 + 1e-9, "{shift:?}");
+    // The explanation shows both lengths.
+    let row = |name: &str| {
+        m.model
+            .explain
+            .iter()
+            .find(|e| e.name == name)
+            .map(|e| e.value)
+    };
+    assert_eq!(row("hob.length_mm"), Some(100.0));
+    assert_eq!(row("hob.usable_length_mm"), Some(90.0));
+    // On the overall length (the defect) the range is 5 mm wider each side.
+    let mut plan = m.plan.clone();
+    plan.hob.usable_length_mm = None;
+    let wide = gearcam_model::compute(&plan).expect("a model");
+    let wide = wide.model.shift.expect("a shift plan");
+    assert!((wide.usable_mm[1] - shift.usable_mm[1] - 5.0).abs() < 1e-9);
+}

@@ -489,6 +489,7 @@ mod tests {
             lead_angle_deg: 2.2,
             hand: Hand::Right,
             length_mm: 100.0,
+            usable_length_mm: None,
             source: Source::Library,
         };
         let plan = ProcessPlan {

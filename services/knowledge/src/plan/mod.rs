@@ -432,6 +432,7 @@ fn inline_hob(h: &HobSpec) -> Result<HobData, Vec<JobError>> {
             lead_angle_deg,
             hand,
             length_mm,
+            usable_length_mm: None,
             source: Source::Job,
         }),
         _ => Err(errors),

@@ -278,6 +278,7 @@ impl HobRecord {
             lead_angle_deg: self.lead_angle_deg,
             hand: self.hand,
             length_mm: self.length_mm,
+            usable_length_mm: Some(self.usable_length_mm),
             source: Source::Library,
         }
     }

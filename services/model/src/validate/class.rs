@@ -240,9 +240,13 @@ pub(super) fn check_shift(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
     if hi < 0.0 {
         r.error(
             codes::HOB_TOO_SHORT_FOR_SHIFT,
-            "hob.length_mm",
+            if hob.usable_length_mm.is_some() {
+                "hob.usable_length_mm"
+            } else {
+                "hob.length_mm"
+            },
             format!("≥ {} mm (the active length)", num(res.active_length_mm)),
-            format!("{} mm", num(hob.length_mm)),
+            format!("{} mm", num(hob.usable_mm())),
             format!("Hob {} is shorter than its active length, so it cannot shift; leave [process.shift] out or use a longer hob.", hob.id),
         );
         return;
@@ -277,8 +281,9 @@ pub(super) fn check_shift(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
                 format!("{} to {} mm (usable hob length)", num(lo), num(hi)),
                 format!("{} mm", num(v)),
                 format!(
-                    "Shift positions must keep the active length {} mm on the hob's {} mm; correct {field} or leave it out.",
+                    "Shift positions must keep the active length {} mm within the hob's usable {} mm (overall {} mm); correct {field} or leave it out.",
                     num(res.active_length_mm),
+                    num(hob.usable_mm()),
                     num(hob.length_mm)
                 ),
             );
