@@ -377,7 +377,7 @@ catalogue! {
         "The computed table speed of the job or of a rough cut is above the machine's limit.",
         "Lower `process.cutting_speed_m_min` or use a hob with fewer starts.";
     TEETH_RANGE: "model",
-        "The gear has fewer than one tooth.",
+        "The gear has fewer than one tooth, or more than any hobbed gear (10,000).",
         "Correct `gear.teeth`.";
     TEMPLATE_FUEL_EXHAUSTED: "template",
         "The template used up its budget of expression steps while rendering.",

@@ -156,6 +156,25 @@ fn point_10_job_file_errors_name_the_key_and_suggest() {
     assert_eq!(e["expected"], "a whole number from 0 to 4294967295", "{e}");
     assert_eq!(e["got"], "-5", "{e}");
 
+    // An absurd number of teeth is refused on that field, not later on the
+    // blank or the depth it throws off.
+    let path = dir.path().join("teeth.toml");
+    std::fs::write(&path, spur.replacen("teeth = 25", "teeth = 4000000000", 1)).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_gearcam"))
+        .args(["check", &path.display().to_string(), "--json", "--data"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let fields: Vec<&str> = v["errors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["field"].as_str().unwrap())
+        .collect();
+    assert_eq!(fields, ["gear.teeth"], "{v}");
+    assert_eq!(v["errors"][0]["code"], "TEETH_RANGE", "{v}");
+
     let long = format!("part_number = \"{}\"", "P".repeat(200));
     let e = first_error(
         "long.toml",

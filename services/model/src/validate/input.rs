@@ -4,13 +4,13 @@
 use super::*;
 
 pub(super) fn check_gear(r: &mut Report, g: &GearSpec) -> bool {
-    if g.teeth < 1 {
+    if g.teeth < 1 || g.teeth > MAX_TEETH {
         r.error(
             codes::TEETH_RANGE,
             "gear.teeth",
-            "≥ 1",
+            format!("1 to {MAX_TEETH}"),
             g.teeth.to_string(),
-            "The gear needs at least one tooth; correct the number of teeth in the job.",
+            "The number of teeth is not a gear's; correct the number of teeth in the job.",
         );
     }
     if !(g.module_mm > 0.0 && g.module_mm.is_finite()) {
@@ -93,6 +93,7 @@ pub(super) fn check_gear(r: &mut Report, g: &GearSpec) -> bool {
     // The geometry needs these inputs; the face width, hand, OD correction and
     // fixture height only matter to the kinematics, which errors stop anyway.
     g.teeth >= 1
+        && g.teeth <= MAX_TEETH
         && g.module_mm > 0.0
         && g.module_mm.is_finite()
         && open(g.pressure_angle_deg, 0.0, 45.0)

@@ -64,6 +64,11 @@ pub const EDGE_FRACTION: f64 = 0.1;
 /// Most cuts a job may ask for.
 pub const MAX_CUTS: u32 = 6;
 
+/// Most teeth a gear may have: far beyond any hobbed gear (10,000 teeth of
+/// module 0.5 make a 5 m wheel), so that an absurd count is refused on
+/// `gear.teeth` itself, not later on the blank or the depth it throws off.
+pub const MAX_TEETH: u32 = 10_000;
+
 /// Tolerances and windows of validation for one machine (docs/reference.md#validation-checks).
 ///
 /// The windows come from the machine profile's settings
