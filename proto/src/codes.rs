@@ -256,6 +256,9 @@ catalogue! {
     INVALID_COUPLING: "template",
         "The model's gearbox ratio z0/z has a zero term; the model stage should have refused the job.",
         "Report it as a bug, with the job file.";
+    INVALID_PART_NUMBER: "station",
+        "The job's part number is empty, longer than 64 characters or has a line break; it names the program and its history at the machine.",
+        "Give the part (drawing) number as on the drawing, on one line.";
     INVALID_PROGRAM_NAME: "template",
         "The 840D program name made from the part number is not valid on the controller.",
         "Change `job.part_number` so that it makes a valid 840D program name.";
@@ -319,6 +322,9 @@ catalogue! {
     NOT_FOUND: "knowledge",
         "The library has no record with this id.",
         "Use an existing id; `gearcam kb list LIBRARY` lists them.";
+    NO_CONFLICT: "agent",
+        "A resolution was asked for a program that has no edit at the machine to resolve (the file is gearcam's current version, or it was deleted and --adopt was asked).",
+        "Look at `gearcam program history`; --replace writes gearcam's version back over a deleted file.";
     NO_CSV: "knowledge",
         "This library cannot be imported or exported as CSV.",
         "Use workpieces, hobs, cases or materials, which have CSV.";
@@ -338,8 +344,11 @@ catalogue! {
         "The gear's normal pressure angle is not between 0° and 45°.",
         "Correct `gear.pressure_angle_deg` (usually 20°).";
     PROGRAM_CHANGED_AT_MACHINE: "agent",
-        "The program file at the machine was changed or created there since gearcam stored it; the agent kept the file.",
-        "Resolve the conflict at the machine, then deliver or roll back again.";
+        "The program file at the machine was changed or created there since gearcam stored it; the agent kept the file, and the job waits.",
+        "Review the edit, then `gearcam program resolve NAME --machine M --adopt` (the edit becomes the current version) or `--replace` (gearcam's version goes back, the edit is kept in the history); the waiting job is then delivered.";
+    PROGRAM_NAME_TAKEN: "agent",
+        "The program name is held at the machine by a program of another part; the agent does not replace it. The error names both parts and a free name.",
+        "Give the job its own name (`program_name` in `[job]`), e.g. the free one the error offers.";
     PROGRAM_TOO_LARGE: "template, agent",
         "The program is larger than the size limit (when rendered, or when stored).",
         "Check the template for runaway repetition.";

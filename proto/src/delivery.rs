@@ -176,6 +176,18 @@ pub enum StoreRequest {
         /// The version.
         seq: u64,
     },
+    /// Take the program as it now is at the machine (an operator's edit) as
+    /// the current version, recorded with who and when.
+    Adopt {
+        /// Who reviewed and adopted the edit.
+        by: String,
+    },
+    /// Write gearcam's current version back over an edit at the machine; the
+    /// edit is kept in the history as a `machine-edit` version.
+    Replace {
+        /// Who reviewed and replaced the edit.
+        by: String,
+    },
 }
 
 impl Message for StoreRequest {
@@ -232,10 +244,22 @@ pub struct ProgramVersion {
     pub size_bytes: u64,
     /// When stored, ms since the epoch.
     pub stored_at_ms: u64,
-    /// `stored`, `rollback`, or `superseded`.
+    /// How the version came: `stored` (delivered by a job), `rollback` (an
+    /// older version made current again), `adopted` (an edit at the machine
+    /// taken as the current version), `machine-edit` (an edit at the machine
+    /// kept in the history but not current) or `restored` (gearcam's version
+    /// written back over an edit).
     pub state: String,
     /// True for the version now in the program directory.
     pub current: bool,
+    /// The part (drawing) number the program belongs to; one program name
+    /// belongs to one part. Empty for versions stored before it was recorded.
+    #[serde(default)]
+    pub part_number: String,
+    /// Who resolved an edit at the machine (`adopted`, `machine-edit`,
+    /// `restored`); empty otherwise.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub by: String,
 }
 
 /// Versions of the programs in an agent's store.

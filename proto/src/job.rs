@@ -48,8 +48,32 @@ pub struct JobHeader {
     /// Number of parts.
     #[serde(default = "one")]
     pub quantity: u32,
-    /// Part (drawing) number, e.g. `SP-1001`.
+    /// Part (drawing) number, e.g. `SP-1001`: 1 to [`MAX_PART_NUMBER`]
+    /// characters on one line ([`part_number_problem`]).
     pub part_number: String,
+    /// Program name at the machine; by default made from the part number by
+    /// the controller's rule (docs/programs.md#program-names-and-files).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub program_name: Option<String>,
+}
+
+/// Longest part number accepted, characters: it goes into program headers,
+/// names and the store's index.
+pub const MAX_PART_NUMBER: usize = 64;
+
+/// What makes a part number unusable (empty, over [`MAX_PART_NUMBER`]
+/// characters, a control character such as a line break), or `None`.
+pub fn part_number_problem(part: &str) -> Option<String> {
+    let n = part.chars().count();
+    if part.trim().is_empty() {
+        Some("it is empty".to_string())
+    } else if n > MAX_PART_NUMBER {
+        Some(format!("it has {n} characters"))
+    } else if part.chars().any(char::is_control) {
+        Some("it contains a control character (a line break?)".to_string())
+    } else {
+        None
+    }
 }
 
 /// `[gear]`: drawing data of the gear (patent step 1, workpiece parameters).

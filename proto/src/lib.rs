@@ -40,9 +40,9 @@ pub use delivery::{
 pub use error::{CodecError, IdError, JobError, Stage};
 pub use ids::{HobId, JobId, MachineId};
 pub use job::{
-    ConeSpec, CrowningShape, CrowningSpec, CurvedToothSpec, CutMode, GearSpec, Hand, HobSpec,
-    Infeed, JobHeader, JobRequest, JobSpec, LargeEnd, MateSpec, Operation, Options,
-    ProcessOverrides, ShiftMode, ShiftSpec, UnitSpec, WormInfeed, WormWheelSpec,
+    part_number_problem, ConeSpec, CrowningShape, CrowningSpec, CurvedToothSpec, CutMode, GearSpec,
+    Hand, HobSpec, Infeed, JobHeader, JobRequest, JobSpec, LargeEnd, MateSpec, Operation, Options,
+    ProcessOverrides, ShiftMode, ShiftSpec, UnitSpec, WormInfeed, WormWheelSpec, MAX_PART_NUMBER,
 };
 pub use model::{
     ConeModel, CouplingFactors, CrowningModel, Cut, Explained, Geometry, Kinematics,

@@ -75,11 +75,18 @@ fn check_plain(name: &str, max: usize) -> Result<(), String> {
 
 /// The 840D program name for a part number (docs/programs.md#program-names-and-files).
 ///
-/// Letters and digits are kept and upper-cased; every other character (`-`, `.`,
-/// spaces, ...) becomes `_`, runs of `_` collapse to one and leading and trailing
-/// `_` are dropped, so a generated name always starts with a letter. A name that
-/// would not start with two letters gets the prefix `GC_`; an empty one becomes
-/// `GC_PART`. The result is cut to [`MAX_840D_NAME`] characters.
+/// Letters and digits are kept and upper-cased; every other ASCII character
+/// (`-`, `.`, spaces, ...) becomes `_`, runs of `_` collapse to one and leading
+/// and trailing `_` are dropped, so a generated name always starts with a
+/// letter. A name that would not start with two letters gets the prefix `GC_`.
+///
+/// When that would lose what tells two parts apart (the name is over
+/// [`MAX_840D_NAME`] characters, the part number has characters outside ASCII,
+/// or nothing usable is left), the name is cut to 18 characters and ends in `_`
+/// and a five-character tag of the whole part number ([`part_tag`]), so
+/// `GEARBOX-OUTPUT-SHAFT-PINION-STAGE2-A` and `…-B` get different names. The
+/// agent's store keeps the part of every name and refuses a name held by
+/// another part, so a collision the rule still allows is refused, never merged.
 ///
 /// `SP-1001` → `SP_1001`; `123` → `GC_123`; `a1.b` → `GC_A1_B`.
 pub fn program_name_840d(part: &str) -> String {
@@ -100,8 +107,38 @@ pub fn program_name_840d(part: &str) -> String {
     } else if !starts_840d(&name) {
         name.insert_str(0, "GC_");
     }
-    name.truncate(MAX_840D_NAME);
+    let lossy = !part.is_ascii()
+        || name.len() > MAX_840D_NAME
+        || !part.chars().any(|c| c.is_ascii_alphanumeric());
+    if lossy {
+        name.truncate(MAX_840D_NAME - 6);
+        let name = name.trim_end_matches('_');
+        return format!("{name}_{}", part_tag(part));
+    }
     name
+}
+
+/// A five-character tag (`A–Z`, `0–9`) of a part number: 25 bits of its FNV-1a
+/// hash, written in base 32 (Crockford's alphabet, no I, L, O, U). The same part
+/// number always gets the same tag.
+pub fn part_tag(part: &str) -> String {
+    const ALPHABET: &[u8; 32] = b"0123456789ABCDEFGHJKMNPQRSTVWXYZ";
+    let mut h = fnv1a(part) >> 39;
+    let mut tag = [0u8; 5];
+    for t in tag.iter_mut().rev() {
+        *t = ALPHABET[(h & 31) as usize];
+        h >>= 5;
+    }
+    String::from_utf8(tag.to_vec()).expect("ASCII")
+}
+
+fn fnv1a(s: &str) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in s.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    h
 }
 
 /// The FANUC program name (`O` and four digits, O0001–O7999) for a part number.
@@ -109,8 +146,11 @@ pub fn program_name_840d(part: &str) -> String {
 /// The last run of digits in the part number, when it is 1–7999, is the program
 /// number (`SP-2002` → `O2002`), so the operator finds the part by its number.
 /// Otherwise the number is 1000 + (FNV-1a hash of the part number mod 7000): a
-/// stable number in O1000–O7999. Two parts can share a number; the agent keeps
-/// every version, so nothing is lost, and the program header names the part.
+/// stable number in O1000–O7999. Four digits cannot tell every part apart:
+/// two parts can get the same number (`HG-2107` and `XX-9-2107`). The agent's
+/// store keeps the part of every name and refuses a number held by another
+/// part, naming both and a free number; the job then gives its own
+/// (`[job] program_name`).
 pub fn program_name_fanuc(part: &str) -> String {
     let digits: String = {
         let rev: Vec<char> = part
@@ -126,14 +166,7 @@ pub fn program_name_fanuc(part: &str) -> String {
         .parse::<u32>()
         .ok()
         .filter(|n| (1..=7999).contains(n) && digits.len() <= 4);
-    let number = from_digits.unwrap_or_else(|| {
-        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-        for b in part.bytes() {
-            h ^= u64::from(b);
-            h = h.wrapping_mul(0x0100_0000_01b3);
-        }
-        1000 + (h % 7000) as u32
-    });
+    let number = from_digits.unwrap_or_else(|| 1000 + (fnv1a(part) % 7000) as u32);
     format!("O{number:04}")
 }
 
@@ -188,7 +221,35 @@ mod tests {
         assert_eq!(program_name_840d("sp-1001"), "SP_1001");
         assert_eq!(program_name_840d("1001"), "GC_1001");
         assert_eq!(program_name_840d(&"X".repeat(40)).len(), 24);
+        assert_eq!(program_name_840d(&"X".repeat(24)), "X".repeat(24));
         assert!(check_name_840d(&program_name_840d("../../etc/passwd")).is_ok());
+    }
+
+    /// Issue 12 point 1: the 840D rule cut long part numbers to 24 characters
+    /// and dropped what is not ASCII, so different parts got one name.
+    #[test]
+    fn point_1_lossy_840d_names_keep_parts_apart() {
+        let a = program_name_840d("GEARBOX-OUTPUT-SHAFT-PINION-STAGE2-A");
+        let b = program_name_840d("GEARBOX-OUTPUT-SHAFT-PINION-STAGE2-B");
+        assert_ne!(a, b);
+        assert!(a.starts_with("GEARBOX_OUTPUT_SHA_"), "{a}");
+        let (u, v) = (
+            program_name_840d("Zahnrad-Ä"),
+            program_name_840d("Zahnrad-Ö"),
+        );
+        assert_ne!(u, v);
+        assert_ne!(program_name_840d("---"), program_name_840d("..."));
+        for name in [a, b, u, v, program_name_840d(""), program_name_840d("Ä")] {
+            assert!(check_name_840d(&name).is_ok(), "{name}");
+        }
+        // A name the rule keeps whole has no tag.
+        assert_eq!(program_name_840d("SP-1001"), "SP_1001");
+        // Tags of 10,000 part numbers: distinct but for the birthday rate of
+        // 2^25 values (about 1.5 expected), so a collision is rare and the
+        // store refuses it.
+        let tags: std::collections::HashSet<String> =
+            (0..10_000).map(|i| part_tag(&format!("P-{i}"))).collect();
+        assert!(tags.len() >= 9_990, "{}", tags.len());
     }
 
     #[test]

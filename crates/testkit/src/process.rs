@@ -310,9 +310,16 @@ impl Cluster {
 
     /// Starts the agent of machine H01 (a separate process).
     pub fn start_agent(&mut self) {
+        self.start_agent_for("H01");
+    }
+
+    /// Starts the agent of `machine` (a separate process, labelled `agent`
+    /// for H01 and `agent-{machine}` otherwise), its store under `{machine}/`;
+    /// H02 is the seeded FANUC machine, every other an 840D.
+    pub fn start_agent_for(&mut self, machine: &str) {
         let d = self.dir.path();
-        let programs = d.join("H01/programs").display().to_string();
-        let index = d.join("H01/index.db").display().to_string();
+        let programs = d.join(machine).join("programs").display().to_string();
+        let index = d.join(machine).join("index.db").display().to_string();
         let mut args: Vec<String> = [
             "--mode",
             "client",
@@ -326,7 +333,13 @@ impl Cluster {
         args.extend(
             [
                 "--machine",
-                "H01",
+                machine,
+                "--dialect",
+                if machine == "H02" {
+                    "fanuc"
+                } else {
+                    "sinumerik840d"
+                },
                 "--program-dir",
                 &programs,
                 "--index",
@@ -335,7 +348,12 @@ impl Cluster {
             .iter()
             .map(|s| s.to_string()),
         );
-        let agent = Proc::start(d, "agent", "gearcam-agent", &args);
+        let label = if machine == "H01" {
+            "agent".to_string()
+        } else {
+            format!("agent-{machine}")
+        };
+        let agent = Proc::start(d, &label, "gearcam-agent", &args);
         self.procs.push(agent);
     }
 

@@ -9,11 +9,11 @@ use gearcam_bus::stage::codec_error;
 use gearcam_bus::{Bus, CancellationToken};
 use gearcam_proto::keys::AgentKey;
 use gearcam_proto::{
-    decode, keys, DeliveryReply, EventKind, JobError, JobId, NcProgram, ProgramHistory, Stage,
-    StoreReply, StoreRequest,
+    codes, decode, keys, DeliveryReply, EventKind, JobError, JobId, NcProgram, ProgramHistory,
+    Stage, StoreReply, StoreRequest,
 };
 
-use crate::store::{Store, StoreConfig};
+use crate::store::{Resolution, Store, StoreConfig};
 use crate::AgentError;
 
 /// Runs the agent for one machine until `shutdown` is cancelled.
@@ -135,14 +135,22 @@ fn answer_store_query(store: &mut Store, key: &str, payload: &[u8]) -> Answer {
             if let Err(error) = known(store, name) {
                 return refuse(error);
             }
-            match request {
-                StoreRequest::Rollback { seq } => match store.rollback(name, seq) {
-                    Ok(receipt) => {
-                        tracing::info!(program = name, seq, "rolled back");
-                        Answer::message(&StoreReply::Changed { receipt })
-                    }
-                    Err(error) => refuse(error),
-                },
+            let result = match &request {
+                StoreRequest::Rollback { seq } => store.rollback(name, *seq),
+                StoreRequest::Adopt { by } => store.resolve(name, Resolution::Adopt, by),
+                StoreRequest::Replace { by } => store.resolve(name, Resolution::Replace, by),
+            };
+            match result {
+                Ok(receipt) => {
+                    tracing::info!(
+                        program = name,
+                        ?request,
+                        sha256 = receipt.sha256,
+                        "current program changed"
+                    );
+                    Answer::message(&StoreReply::Changed { receipt })
+                }
+                Err(error) => refuse(error),
             }
         }
         AgentKey::Delivery(_) => unreachable!("deliveries are answered first"),
@@ -216,17 +224,25 @@ fn index_error(e: AgentError) -> JobError {
     )
 }
 
+/// The refusal of a delivery, with the job's event: `failed`, except for a
+/// program changed at the machine, where the job waits for a person to
+/// resolve the edit (`gearcam program resolve`) and is delivered at a later
+/// re-drive.
 fn refused(job: Option<JobId>, error: JobError) -> Answer {
     let mut a = Answer::message(&DeliveryReply::Refused {
         error: error.clone(),
     });
     if let Some(job) = job {
-        a.events.push((
-            job,
+        let event = if error.code == codes::PROGRAM_CHANGED_AT_MACHINE {
+            EventKind::Waiting {
+                reason: format!("{}: {}", error.code, error.message),
+            }
+        } else {
             EventKind::Failed {
                 errors: vec![error],
-            },
-        ));
+            }
+        };
+        a.events.push((job, event));
     }
     a
 }

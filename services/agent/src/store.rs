@@ -21,6 +21,11 @@ use sha2::{Digest, Sha256};
 
 use crate::AgentError;
 
+mod owner;
+mod resolve;
+
+pub use resolve::Resolution;
+
 /// Largest program the store accepts, bytes.
 pub const MAX_PROGRAM_BYTES: usize = 1024 * 1024;
 
@@ -81,6 +86,19 @@ impl Store {
              CREATE UNIQUE INDEX IF NOT EXISTS programs_by_job ON programs (job, revision) WHERE state = 'stored';
              CREATE INDEX IF NOT EXISTS programs_by_file ON programs (file_name, seq);",
         )?;
+        // Columns added after the first release: the part a program name
+        // belongs to, and who resolved an edit at the machine.
+        for (column, decl) in [
+            ("part", "TEXT NOT NULL DEFAULT ''"),
+            ("by_user", "TEXT NOT NULL DEFAULT ''"),
+        ] {
+            let has: bool = conn
+                .prepare("SELECT 1 FROM pragma_table_info('programs') WHERE name = ?1")?
+                .exists([column])?;
+            if !has {
+                conn.execute_batch(&format!("ALTER TABLE programs ADD COLUMN {column} {decl}"))?;
+            }
+        }
         remove_stale_temporaries(&config.program_dir);
         Ok(Store { config, conn })
     }
@@ -241,6 +259,8 @@ impl Store {
                 "this job revision was already stored with different content; send a new revision",
             ));
         }
+        // A program name belongs to one part.
+        self.check_owner(p, &file_name)?;
         // A program changed at the machine is never overwritten silently.
         self.check_unchanged_at_machine(&file_name, &hash)?;
         Ok(Prepared::Write { file_name, hash })
@@ -310,8 +330,8 @@ impl Store {
             let tx = self.conn.transaction()?;
             {
                 let mut insert = tx.prepare_cached(
-                    "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text)
-                     VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'stored', ?9)",
+                    "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text, part)
+                     VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'stored', ?9, ?10)",
                 )?;
                 for q in &renamed {
                     let p = &programs[q.index];
@@ -324,7 +344,8 @@ impl Store {
                         p.text.len() as i64,
                         p.dialect.as_str(),
                         stored_at as i64,
-                        p.text
+                        p.text,
+                        p.part_number
                     ])?;
                 }
             }
@@ -408,12 +429,28 @@ impl Store {
             .optional()
             .map_err(index_error)?;
         if indexed.as_deref() != Some(disk_hash.as_str()) {
+            let machine = &self.config.machine;
+            let name = self
+                .conn
+                .query_row(
+                    "SELECT name FROM programs WHERE file_name = ?1 ORDER BY seq DESC LIMIT 1",
+                    [file_name],
+                    |r| r.get::<_, String>(0),
+                )
+                .optional()
+                .map_err(index_error)?;
+            let how = match name {
+                Some(name) => format!(
+                    "after review, `gearcam program resolve {name} --machine {machine} --adopt` keeps the edit as the current version, `--replace` writes gearcam's version back (the edit stays in the history)"
+                ),
+                None => "the file was created at the machine, not by gearcam: rename or remove it there".to_string(),
+            };
             return Err(Stage::Agent.error(
                 "PROGRAM_CHANGED_AT_MACHINE",
                 "name",
                 format!("{file_name} unchanged since gearcam stored it"),
                 format!("a file with sha256 {disk_hash}"),
-                "the program on the machine was changed or created there; it was kept; resolve the conflict at the machine",
+                format!("{file_name} at {machine} was changed at the machine; it was kept and nothing was overwritten; {how}"),
             ));
         }
         Ok(())
@@ -436,7 +473,8 @@ impl Store {
     pub fn history(&self, name: Option<&str>) -> Result<Vec<ProgramVersion>, AgentError> {
         let mut stmt = self.conn.prepare(
             "SELECT seq, name, file_name, job, revision, sha256, size_bytes, stored_at_ms, state,
-                    seq = (SELECT MAX(seq) FROM programs p2 WHERE p2.file_name = programs.file_name) AS current
+                    seq = (SELECT MAX(seq) FROM programs p2 WHERE p2.file_name = programs.file_name) AS current,
+                    part, by_user
              FROM programs WHERE ?1 IS NULL OR name = ?1 ORDER BY seq DESC",
         )?;
         let rows = stmt.query_map([name], |r| {
@@ -451,6 +489,8 @@ impl Store {
                 stored_at_ms: r.get::<_, i64>(7)? as u64,
                 state: r.get(8)?,
                 current: r.get(9)?,
+                part_number: r.get(10)?,
+                by: r.get(11)?,
             })
         })?;
         Ok(rows.collect::<Result<_, _>>()?)
@@ -523,8 +563,8 @@ impl Store {
         let stored_at = now_ms();
         self.conn
             .execute(
-                "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text)
-                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'rollback', ?9)",
+                "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text, part)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'rollback', ?9, ?10)",
                 params![
                     v.version.name,
                     file_name,
@@ -534,7 +574,8 @@ impl Store {
                     v.text.len() as i64,
                     self.config.dialect.as_str(),
                     stored_at as i64,
-                    v.text
+                    v.text,
+                    v.version.part_number
                 ],
             )
             .map_err(index_error)?;
@@ -618,7 +659,7 @@ mod tests {
     use super::*;
     use gearcam_proto::{JobId, TemplateRef};
 
-    fn store(dir: &Path) -> Store {
+    pub(super) fn store(dir: &Path) -> Store {
         Store::open(StoreConfig {
             machine: MachineId::new("H01").unwrap(),
             dialect: Dialect::Sinumerik840d,
@@ -628,7 +669,7 @@ mod tests {
         .unwrap()
     }
 
-    fn program(job: &str, name: &str, text: &str) -> NcProgram {
+    pub(super) fn program(job: &str, name: &str, text: &str) -> NcProgram {
         NcProgram {
             job_id: JobId::new(job).unwrap(),
             machine: MachineId::new("H01").unwrap(),

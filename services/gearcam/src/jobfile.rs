@@ -4,7 +4,9 @@
 use std::path::Path;
 use std::sync::atomic::{AtomicU32, Ordering};
 
-use gearcam_proto::{now_ms, JobError, JobId, JobRequest, JobSpec, Stage};
+use gearcam_proto::{
+    now_ms, part_number_problem, JobError, JobId, JobRequest, JobSpec, Stage, MAX_PART_NUMBER,
+};
 
 fn station_error(code: &str, field: &str, expected: &str, got: &str, message: String) -> JobError {
     JobError::new(Stage::Station, code, field, expected, got, message)
@@ -157,25 +159,12 @@ fn edit_distance(a: &str, b: &str) -> usize {
     d[a.len()][b.len()]
 }
 
-/// Longest part number accepted, characters: it goes into program headers,
-/// names and the store's index.
-pub const MAX_PART_NUMBER: usize = 64;
-
 /// The part number names the part: not empty, not over [`MAX_PART_NUMBER`]
 /// characters, one line.
 fn check_part_number(spec: &JobSpec) -> Result<(), JobError> {
     let p = &spec.job.part_number;
     let n = p.chars().count();
-    let bad = if p.trim().is_empty() {
-        Some("it is empty".to_string())
-    } else if n > MAX_PART_NUMBER {
-        Some(format!("it has {n} characters"))
-    } else if p.chars().any(char::is_control) {
-        Some("it contains a control character (a line break?)".to_string())
-    } else {
-        None
-    };
-    match bad {
+    match part_number_problem(p) {
         None => Ok(()),
         Some(reason) => Err(station_error(
             "JOB_FILE_INVALID",

@@ -43,16 +43,16 @@ pub async fn version(
     )
 }
 
-/// Makes version `seq` of program `name` the machine's current program again.
-pub async fn rollback(
+/// Changes the machine's current program `name`: a rollback to a stored
+/// version, or the resolution of an edit at the machine.
+pub async fn change(
     bus: &Bus,
     machine: &MachineId,
     name: &str,
-    seq: u64,
+    request: &StoreRequest,
 ) -> Result<Answer<DeliveryReceipt>, CallError> {
-    let request = StoreRequest::Rollback { seq };
     Ok(
-        match ask(bus, &keys::store_change(machine, name), Some(&request)).await? {
+        match ask(bus, &keys::store_change(machine, name), Some(request)).await? {
             StoreReply::Changed { receipt } => Ok(receipt),
             other => Err(refusal(other)),
         },

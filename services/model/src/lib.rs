@@ -134,6 +134,7 @@ pub(crate) mod fixtures {
                     machine: machine.id.clone(),
                     quantity: 10,
                     part_number: "SP-1001".into(),
+                    program_name: None,
                 },
                 gear: Some(gear.clone()),
                 hob: HobSpec {

@@ -27,8 +27,8 @@ use gearcam_bus::query::Retry;
 use gearcam_bus::{Bus, BusError, CancellationToken};
 use gearcam_proto::plan::{KbReply, KbRequest, KbValue};
 use gearcam_proto::{
-    decode, encode, keys, now_ms, DeliveryReply, EventKind, JobError, JobEvent, JobId, JobRequest,
-    MachineId, Stage, StationReply,
+    codes, decode, encode, keys, now_ms, part_number_problem, DeliveryReply, EventKind, JobError,
+    JobEvent, JobId, JobRequest, MachineId, Stage, StationReply, MAX_PART_NUMBER,
 };
 use zenoh::query::Query;
 use zenoh::sample::SampleKind;
@@ -175,9 +175,19 @@ pub async fn run(
                         Err(errors)
                     }
                     Ok(req) => {
-                        match known_machine(&bus, &mut machines, &req.spec.job.machine).await {
-                            Ok(()) => Ok(req),
-                            Err(e) => Err(vec![e]),
+                        if let Some(reason) = part_number_problem(&req.spec.job.part_number) {
+                            Err(vec![Stage::Station.error(
+                                codes::INVALID_PART_NUMBER,
+                                "spec.job.part_number",
+                                format!("the part (drawing) number: 1 to {MAX_PART_NUMBER} characters on one line"),
+                                req.spec.job.part_number.chars().take(80).collect::<String>(),
+                                format!("the part number is not usable: {reason}; it names the program and its history at the machine"),
+                            )])
+                        } else {
+                            match known_machine(&bus, &mut machines, &req.spec.job.machine).await {
+                                Ok(()) => Ok(req),
+                                Err(e) => Err(vec![e]),
+                            }
                         }
                     }
                 };

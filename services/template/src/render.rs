@@ -13,7 +13,9 @@
 
 use std::collections::BTreeMap;
 
-use gearcam_proto::{Dialect, JobError, MachiningModel, NcProgram, Stage, TemplateRef};
+use gearcam_proto::{
+    naming, Dialect, JobError, JobHeader, MachiningModel, NcProgram, Stage, TemplateRef,
+};
 use sha2::{Digest, Sha256};
 
 use crate::engine::{Compiled, RunFailure};
@@ -195,26 +197,7 @@ impl Templates {
         check_inputs(model)?;
 
         let part_number = &plan.request.spec.job.part_number;
-        let (name, file) = match machine.dialect {
-            Dialect::Fanuc => {
-                let name = program_name_fanuc(part_number);
-                (name.clone(), name)
-            }
-            _ => {
-                let name = program_name_840d(part_number);
-                if let Err(reason) = check_name_840d(&name) {
-                    return Err(vec![template_error(
-                        "INVALID_PROGRAM_NAME",
-                        "job.part_number",
-                        "a part number that maps to an 840D program name",
-                        &name,
-                        format!("the program name {name:?} made from part number {part_number:?} is not valid on 840D: {reason}"),
-                    )]);
-                }
-                let file = format!("_N_{name}_MPF");
-                (name, file)
-            }
-        };
+        let (name, file) = program_name(machine.dialect, &plan.request.spec.job)?;
         let case_ids: Vec<String> = plan.cases.iter().map(|c| c.id.clone()).collect();
         let cases = if case_ids.is_empty() {
             "NONE".to_string()
@@ -442,6 +425,41 @@ fn template_error(code: &str, field: &str, expected: &str, got: &str, message: S
     JobError::new(Stage::Template, code, field, expected, got, message)
 }
 
+/// The program's name and file at the machine: the job's own
+/// (`[job] program_name`) or the one the controller's rule makes from the part
+/// number; either checked against the controller's naming rule.
+fn program_name(dialect: Dialect, job: &JobHeader) -> Result<(String, String), Vec<JobError>> {
+    let part_number = &job.part_number;
+    let (name, field, expected) = match &job.program_name {
+        Some(name) => (
+            name.clone(),
+            "job.program_name",
+            "a program name the controller accepts",
+        ),
+        None => (
+            match dialect {
+                Dialect::Fanuc => program_name_fanuc(part_number),
+                _ => program_name_840d(part_number),
+            },
+            "job.part_number",
+            "a part number that maps to a program name the controller accepts",
+        ),
+    };
+    match naming::file_name(dialect, &name) {
+        Ok(file) => Ok((name, file)),
+        Err(reason) => Err(vec![template_error(
+            "INVALID_PROGRAM_NAME",
+            field,
+            expected,
+            &name,
+            format!(
+                "the program name {name:?} (part number {part_number:?}) is not valid on {}: {reason}",
+                dialect.as_str()
+            ),
+        )]),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use std::collections::BTreeMap;
@@ -473,6 +491,7 @@ mod tests {
                 machine: machine.id.clone(),
                 quantity: 10,
                 part_number: "SP-1001".into(),
+                program_name: None,
             },
             gear: Some(gear.clone()),
             hob: HobSpec::default(),
@@ -1094,13 +1113,17 @@ mod tests {
         assert_eq!(program_name_840d("_AB"), "AB");
         assert_eq!(program_name_840d(" 7-b"), "GC_7_B");
         assert_eq!(program_name_840d("SP--1001.."), "SP_1001");
-        assert_eq!(program_name_840d(""), "GC_PART");
-        assert_eq!(program_name_840d("---"), "GC_PART");
-        let long = program_name_840d("GEARBOX-SHAFT-PINION-STAGE-2-REV-C");
-        assert_eq!(long, "GEARBOX_SHAFT_PINION_STA");
+        // Nothing usable left, or too long: a tag of the whole part number.
+        let tag = gearcam_proto::naming::part_tag;
+        assert_eq!(program_name_840d(""), format!("GC_PART_{}", tag("")));
+        assert_eq!(program_name_840d("---"), format!("GC_PART_{}", tag("---")));
+        let part = "GEARBOX-SHAFT-PINION-STAGE-2-REV-C";
+        let long = program_name_840d(part);
+        assert_eq!(long, format!("GEARBOX_SHAFT_PINI_{}", tag(part)));
         assert_eq!(long.len(), MAX_NAME_840D);
-        let long_digits = program_name_840d("1234567890123456789012345");
-        assert_eq!(long_digits, "GC_123456789012345678901");
+        let part = "1234567890123456789012345";
+        let long_digits = program_name_840d(part);
+        assert_eq!(long_digits, format!("GC_123456789012345_{}", tag(part)));
         for part in [
             "SP-1001",
             "123",

@@ -1,11 +1,11 @@
-//! `gearcam program history|show|rollback`: a machine's program store.
+//! `gearcam program history|show|rollback|resolve`: a machine's program store.
 
 use std::process::ExitCode;
 
 use crate::bus_config::ClientArgs;
 use anyhow::Context;
 use clap::Subcommand;
-use gearcam_proto::MachineId;
+use gearcam_proto::{MachineId, StoreRequest};
 
 use crate::cmd::{join_bus, refused};
 use crate::store;
@@ -50,6 +50,28 @@ pub enum ProgramAction {
         name: String,
         /// Version number (from `history`).
         seq: u64,
+        #[command(flatten)]
+        bus: ClientArgs,
+    },
+    /// Resolve a program changed at the machine (PROGRAM_CHANGED_AT_MACHINE)
+    /// after review: adopt the edit, or replace it with gearcam's version.
+    /// Either way the edit is kept in the history with who and when, and the
+    /// jobs waiting on the conflict are delivered at their next re-drive.
+    Resolve {
+        /// The machine, e.g. H01.
+        #[arg(long)]
+        machine: MachineId,
+        /// Program name, e.g. SP_1001.
+        name: String,
+        /// The edit at the machine becomes the current version.
+        #[arg(long, conflicts_with = "replace", required_unless_present = "replace")]
+        adopt: bool,
+        /// gearcam's current version is written back; the edit stays in the history.
+        #[arg(long)]
+        replace: bool,
+        /// Who reviewed the edit (default: the login name).
+        #[arg(long)]
+        by: Option<String>,
         #[command(flatten)]
         bus: ClientArgs,
     },
@@ -106,7 +128,7 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             bus,
         } => {
             let bus = join_bus(&bus.bus_args()).await?;
-            let r = store::rollback(&bus, &machine, &name, seq).await;
+            let r = store::change(&bus, &machine, &name, &StoreRequest::Rollback { seq }).await;
             bus.close().await;
             match r.context(format!("asking the agent of {machine}"))? {
                 Ok(receipt) => {
@@ -121,6 +143,41 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
                 Err(error) => Ok(refused(&[error])),
             }
         }
+        ProgramAction::Resolve {
+            machine,
+            name,
+            adopt,
+            replace: _,
+            by,
+            bus,
+        } => {
+            let by = by.unwrap_or_else(crate::jobfile::user);
+            let request = if adopt {
+                StoreRequest::Adopt { by }
+            } else {
+                StoreRequest::Replace { by }
+            };
+            let bus = join_bus(&bus.bus_args()).await?;
+            let r = store::change(&bus, &machine, &name, &request).await;
+            bus.close().await;
+            match r.context(format!("asking the agent of {machine}"))? {
+                Ok(receipt) => {
+                    let what = if adopt {
+                        "the edit at the machine is now the current version"
+                    } else {
+                        "gearcam's version is back at the machine; the edit is kept in the history"
+                    };
+                    crate::outln!(
+                        "{name} at {machine}: {what}: {} (sha256 {})",
+                        receipt.path,
+                        receipt.sha256
+                    );
+                    crate::outln!("jobs waiting on this program are delivered at their next re-drive (gearcam jobs)");
+                    Ok(ExitCode::SUCCESS)
+                }
+                Err(error) => Ok(refused(&[error])),
+            }
+        }
     }
 }
 
@@ -128,21 +185,23 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
 /// per version (newest first), the current one marked `*`, dates in UTC.
 pub fn history_table(h: &gearcam_proto::ProgramHistory) -> String {
     let mut out = format!(
-        "{:>6}  {:<3} {:<24} {:<10} {:<23} {:<36} {:>3}  {:<12} {:>8}\n",
-        "SEQ", "CUR", "NAME", "STATE", "STORED", "JOB", "REV", "SHA256", "BYTES"
+        "{:>6}  {:<3} {:<24} {:<20} {:<12} {:<23} {:<36} {:>3}  {:<12} {:>8}  {}\n",
+        "SEQ", "CUR", "NAME", "PART", "STATE", "STORED", "JOB", "REV", "SHA256", "BYTES", "BY"
     );
     for v in &h.versions {
         out.push_str(&format!(
-            "{:>6}  {:<3} {:<24} {:<10} {:<23} {:<36} {:>3}  {:<12} {:>8}\n",
+            "{:>6}  {:<3} {:<24} {:<20} {:<12} {:<23} {:<36} {:>3}  {:<12} {:>8}  {}\n",
             v.seq,
             if v.current { "*" } else { "" },
             v.name,
+            v.part_number,
             v.state,
             crate::output::utc(v.stored_at_ms),
             v.job,
             v.revision,
             &v.sha256[..12.min(v.sha256.len())],
-            v.size_bytes
+            v.size_bytes,
+            v.by
         ));
     }
     if h.versions.is_empty() {

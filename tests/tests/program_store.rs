@@ -1,0 +1,329 @@
+//! Issue 12, points 1 and 2, through the real binary and services on
+//! loopback: a program name belongs to one part, and an operator's edit at
+//! the machine has a way forward that keeps the edit in the history.
+// Test code: a clock for the waits.
+#![allow(clippy::disallowed_methods)]
+
+use std::time::{Duration, Instant};
+
+use gearcam_proto::{decode, encode, keys, JobId, JobRequest, JobSpec, StationReply};
+use gearcam_testkit::{gearcam, Cluster};
+
+/// The example job `file` with its part number (and program name, if given).
+fn job_text(file: &str, part: &str, program_name: Option<&str>) -> String {
+    let text = gearcam_testkit::examples::example(file);
+    let mut doc: toml::Table = toml::from_str(&text).unwrap();
+    let job = doc["job"].as_table_mut().unwrap();
+    job.insert("part_number".into(), part.into());
+    if let Some(name) = program_name {
+        job.insert("program_name".into(), name.into());
+    }
+    toml::to_string(&doc).unwrap()
+}
+
+fn history(c: &Cluster, machine: &str) -> Vec<serde_json::Value> {
+    let (code, out, err) = gearcam(&[
+        "program",
+        "history",
+        "--machine",
+        machine,
+        "--connect",
+        &c.endpoint,
+        "--json",
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let h: serde_json::Value = serde_json::from_str(&out).unwrap();
+    h["versions"].as_array().unwrap().clone()
+}
+
+/// Point 1: long 840D part numbers were cut to one name, and the FANUC
+/// rule gave `XX-9-2107` the current `O2107` of part `HG-2107`.
+#[test]
+fn point_1_a_program_name_belongs_to_one_part() {
+    let mut c = Cluster::start();
+    c.start_agent_for("H02");
+
+    // 840D: two parts whose numbers differ after the 24th character.
+    let mut names = Vec::new();
+    for (i, part) in [
+        "GEARBOX-OUTPUT-SHAFT-PINION-STAGE2-A",
+        "GEARBOX-OUTPUT-SHAFT-PINION-STAGE2-B",
+    ]
+    .iter()
+    .enumerate()
+    {
+        let f = c.job_file(
+            &format!("long{i}.toml"),
+            &job_text("spur_840d.toml", part, None),
+        );
+        let (_, v) = c.submit_wait(&f);
+        assert_eq!(v["state"], "delivered", "{v}");
+        names.push(v["program"]["name"].as_str().unwrap().to_string());
+    }
+    assert_ne!(names[0], names[1]);
+    let h = history(&c, "H01");
+    for (name, part) in names.iter().zip(["-A", "-B"]) {
+        let v = h.iter().find(|v| v["name"] == name.as_str()).unwrap();
+        assert!(v["part_number"].as_str().unwrap().ends_with(part), "{v}");
+    }
+
+    // FANUC: the digit rule gives both parts O2107; the second is refused,
+    // naming both parts, and the first part's program is untouched.
+    let f = c.job_file(
+        "hg.toml",
+        &job_text("helical_shift_fanuc.toml", "HG-2107", None),
+    );
+    let (_, v) = c.submit_wait(&f);
+    assert_eq!(v["program"]["name"], "O2107", "{v}");
+    let o2107 = c.dir.path().join("H02/programs/O2107");
+    let before = std::fs::read(&o2107).unwrap();
+    let f = c.job_file(
+        "xx.toml",
+        &job_text("helical_shift_fanuc.toml", "XX-9-2107", None),
+    );
+    let (out, v) = c.submit_wait(&f);
+    assert_eq!(v["state"], "failed", "{v}");
+    assert_eq!(out.status.code(), Some(1));
+    let e = &v["errors"][0];
+    assert_eq!(e["code"], "PROGRAM_NAME_TAKEN", "{v}");
+    let message = e["message"].as_str().unwrap();
+    assert!(
+        message.contains("HG-2107") && message.contains("XX-9-2107"),
+        "{message}"
+    );
+    assert!(
+        message.contains("O2108"),
+        "a free name is offered: {message}"
+    );
+    assert_eq!(std::fs::read(&o2107).unwrap(), before);
+
+    // The job names its own program, as the refusal says.
+    let f = c.job_file(
+        "xx2.toml",
+        &job_text("helical_shift_fanuc.toml", "XX-9-2107", Some("O2108")),
+    );
+    let (_, v) = c.submit_wait(&f);
+    assert_eq!(
+        (v["state"].as_str(), v["program"]["name"].as_str()),
+        (Some("delivered"), Some("O2108")),
+        "{v}"
+    );
+    let h = history(&c, "H02");
+    let parts: Vec<(&str, &str)> = h
+        .iter()
+        .map(|v| {
+            (
+                v["name"].as_str().unwrap(),
+                v["part_number"].as_str().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(parts, [("O2108", "XX-9-2107"), ("O2107", "HG-2107")]);
+    // The table shows the part beside the name.
+    let (_, table, _) = gearcam(&[
+        "program",
+        "history",
+        "--machine",
+        "H02",
+        "--connect",
+        &c.endpoint,
+    ]);
+    assert!(table.lines().next().unwrap().contains("PART"), "{table}");
+    assert!(
+        table
+            .lines()
+            .any(|l| l.contains("O2107") && l.contains("HG-2107")),
+        "{table}"
+    );
+
+    // An empty part number at the wire (a client other than the CLI) is
+    // refused on its field; it was every job's `GC_PART`.
+    let mut spec: JobSpec =
+        toml::from_str(&gearcam_testkit::examples::example("spur_840d.toml")).unwrap();
+    spec.job.part_number = " ".into();
+    let reply = submit_raw(&c.endpoint, spec);
+    let StationReply::Refused { errors } = reply else {
+        panic!("accepted: {reply:?}")
+    };
+    assert_eq!(
+        (errors[0].code.as_str(), errors[0].field.as_str()),
+        ("INVALID_PART_NUMBER", "spec.job.part_number")
+    );
+}
+
+/// Submits a job over a Zenoh session of its own, as a foreign client would.
+fn submit_raw(endpoint: &str, spec: JobSpec) -> StationReply {
+    let request = JobRequest {
+        job_id: JobId::new("RAW-EMPTY-PART").unwrap(),
+        submitted_at_ms: 1,
+        submitted_by: "test".into(),
+        spec,
+    };
+    tokio::runtime::Runtime::new().unwrap().block_on(async {
+        let mut config = zenoh::Config::default();
+        config.insert_json5("mode", "\"client\"").unwrap();
+        config
+            .insert_json5("connect/endpoints", &format!("[\"{endpoint}\"]"))
+            .unwrap();
+        config
+            .insert_json5("scouting/multicast/enabled", "false")
+            .unwrap();
+        let session = zenoh::open(config).await.unwrap();
+        let deadline = Instant::now() + Duration::from_secs(20);
+        loop {
+            let replies = session
+                .get(keys::STATION_SUBMIT)
+                .payload(encode(&request).unwrap())
+                .timeout(Duration::from_secs(5))
+                .await
+                .unwrap();
+            if let Ok(reply) = replies.recv_async().await {
+                let bytes = reply.result().expect("a reply").payload().to_bytes();
+                return decode::<StationReply>(&bytes).unwrap();
+            }
+            // No station queryable yet: retry.
+            assert!(Instant::now() < deadline, "the station never answered");
+            tokio::time::sleep(Duration::from_millis(200)).await;
+        }
+    })
+}
+
+/// Waits until job `id`'s status satisfies `done`; returns it.
+fn wait_status(
+    c: &Cluster,
+    id: &str,
+    done: impl Fn(&serde_json::Value) -> bool,
+) -> serde_json::Value {
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        let (_, out, _) = gearcam(&["status", id, "--connect", &c.endpoint, "--json"]);
+        if let Ok(v) = serde_json::from_str::<serde_json::Value>(&out) {
+            if done(&v) {
+                return v;
+            }
+            assert!(
+                Instant::now() < deadline,
+                "job {id} stuck: {v}\n{}",
+                c.logs()
+            );
+        }
+        std::thread::sleep(Duration::from_millis(200));
+    }
+}
+
+/// Point 2: an edit at the machine was detected but the job failed for
+/// good, later jobs of the program were refused, and the edit never
+/// reached the history.
+#[test]
+fn point_2_an_edit_at_the_machine_is_resolved_and_kept() {
+    let c = Cluster::start();
+    let text = gearcam_testkit::examples::example("spur_840d.toml");
+    let (_, v) = c.submit_wait(&c.job_file("first.toml", &text));
+    assert_eq!(v["state"], "delivered", "{v}");
+    let path = c.program_dir().join("_N_SP_1001_MPF");
+    let edited = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("; PART", "; EDITED BY THE OPERATOR\n; PART");
+    std::fs::write(&path, &edited).unwrap();
+
+    // A new program for the part waits on the conflict, and says so.
+    let second = text.replace("quantity = 20", "quantity = 21");
+    let v = c.submit(&c.job_file("second.toml", &second));
+    let id = v["job"].as_str().unwrap().to_string();
+    let v = wait_status(&c, &id, |v| {
+        v["waiting_for"]
+            .as_str()
+            .is_some_and(|w| w.contains("PROGRAM_CHANGED_AT_MACHINE"))
+    });
+    assert_eq!(v["state"], "waiting");
+    assert!(
+        v["waiting_for"]
+            .as_str()
+            .unwrap()
+            .contains("gearcam program resolve SP_1001 --machine H01"),
+        "{v}"
+    );
+    let (_, jobs, _) = gearcam(&["jobs", "--connect", &c.endpoint]);
+    assert!(jobs.contains("PROGRAM_CHANGED_AT_MACHINE"), "{jobs}");
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap(),
+        edited,
+        "the edit was overwritten"
+    );
+
+    // Adopt the edit: it becomes a version, with who; the job goes through.
+    let (code, out, err) = gearcam(&[
+        "program",
+        "resolve",
+        "SP_1001",
+        "--machine",
+        "H01",
+        "--adopt",
+        "--by",
+        "operator Li",
+        "--connect",
+        &c.endpoint,
+    ]);
+    assert_eq!(code, Some(0), "{out}{err}");
+    let v = wait_status(&c, &id, |v| v["state"] == "delivered");
+    assert_eq!(v["program"]["name"], "SP_1001");
+    let h = history(&c, "H01");
+    let states: Vec<(&str, &str)> = h
+        .iter()
+        .map(|v| (v["state"].as_str().unwrap(), v["by"].as_str().unwrap_or("")))
+        .collect();
+    assert_eq!(
+        states,
+        [("stored", ""), ("adopted", "operator Li"), ("stored", "")]
+    );
+    let adopted = h[1]["seq"].as_u64().unwrap().to_string();
+    let (_, text, _) = gearcam(&[
+        "program",
+        "show",
+        "SP_1001",
+        &adopted,
+        "--machine",
+        "H01",
+        "--connect",
+        &c.endpoint,
+    ]);
+    assert_eq!(text, edited);
+
+    // Replace: gearcam's version goes back, the edit stays in the history.
+    std::fs::write(&path, "; a second edit\n").unwrap();
+    let (code, out, err) = gearcam(&[
+        "program",
+        "resolve",
+        "SP_1001",
+        "--machine",
+        "H01",
+        "--replace",
+        "--by",
+        "planner Wang",
+        "--connect",
+        &c.endpoint,
+    ]);
+    assert_eq!(code, Some(0), "{out}{err}");
+    let h = history(&c, "H01");
+    assert_eq!(
+        (h[0]["state"].as_str(), h[1]["state"].as_str()),
+        (Some("restored"), Some("machine-edit"))
+    );
+    assert_eq!(
+        std::fs::read(&path).unwrap().len() as u64,
+        h[0]["size_bytes"].as_u64().unwrap()
+    );
+    // Nothing left to resolve: a typed refusal, exit 1.
+    let (code, _, err) = gearcam(&[
+        "program",
+        "resolve",
+        "SP_1001",
+        "--machine",
+        "H01",
+        "--adopt",
+        "--connect",
+        &c.endpoint,
+    ]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("NO_CONFLICT"), "{err}");
+}
