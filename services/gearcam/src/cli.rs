@@ -145,6 +145,24 @@ pub async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
 }
 
 impl Cli {
+    /// True when the command prints JSON (`--json`): its failures are JSON too.
+    pub fn json(&self) -> bool {
+        match &self.command {
+            Command::Submit { json, .. }
+            | Command::Check { json, .. }
+            | Command::Jobs { json, .. }
+            | Command::Status { json, .. } => *json,
+            Command::Program { action } => action.json(),
+            Command::Kb(args) => args.json,
+            Command::Confirm(args) => args.json,
+            Command::Templates(args) => args.json,
+            Command::Up { .. }
+            | Command::Demo { .. }
+            | Command::Station { .. }
+            | Command::Router { .. } => false,
+        }
+    }
+
     /// The log filter: the long-running commands (`up`, `station`,
     /// `router`) log warnings; a client command says what a person needs on
     /// its own, so the bus's log lines are shown only when asked (`-v`).

@@ -44,10 +44,14 @@ const NOT_FOUND_CODES: [&str; 4] = [
 
 /// [`NOT_FOUND`] when every error says the thing asked for does not exist,
 /// else [`REFUSED`].
-pub fn for_errors(errors: &[JobError]) -> ExitCode {
+pub fn for_errors(errors: &[JobError]) -> u8 {
     let not_found = !errors.is_empty()
         && errors
             .iter()
             .all(|e| NOT_FOUND_CODES.contains(&e.code.as_str()));
-    code(if not_found { NOT_FOUND } else { REFUSED })
+    if not_found {
+        NOT_FOUND
+    } else {
+        REFUSED
+    }
 }

@@ -6,23 +6,25 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use gearcam::cli::{run, Cli};
-use gearcam::exit;
+use gearcam::{exit, output};
 use gearcam_bus::init_tracing;
 
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
+        Err(e) if e.use_stderr() => {
+            // A wrong command line is a usage error (64), never confused
+            // with an unreachable bus (2); JSON too when `--json` was asked.
+            output::set_json(asked_for_json());
+            return output::fail(exit::USAGE, &[], e.render().to_string().trim_end());
+        }
         Err(e) => {
-            // Help and version are answers, not errors; a wrong command line
-            // is a usage error (64), never confused with an unreachable bus (2).
+            // Help and version are answers, not errors.
             let _ = e.print();
-            return if e.use_stderr() {
-                exit::code(exit::USAGE)
-            } else {
-                ExitCode::SUCCESS
-            };
+            return ExitCode::SUCCESS;
         }
     };
+    output::set_json(cli.json());
     init_tracing(cli.log_filter());
     let rt = match tokio::runtime::Builder::new_multi_thread()
         .enable_all()
@@ -36,14 +38,21 @@ fn main() -> ExitCode {
     };
     match rt.block_on(run(cli)) {
         Ok(code) => code,
-        Err(e) => {
-            eprintln!(
+        Err(e) => output::fail(
+            exit::UNREACHABLE,
+            &[],
+            &format!(
                 "gearcam: {}; is `gearcam up` (or the router) running?",
                 without_source_paths(&format!("{e:#}"))
-            );
-            exit::code(exit::UNREACHABLE)
-        }
+            ),
+        ),
     }
+}
+
+/// True when the command line has `--json` (read before it parses).
+#[allow(clippy::disallowed_methods)]
+fn asked_for_json() -> bool {
+    std::env::args_os().any(|a| a == "--json")
 }
 
 /// A message without the library's source locations (` at /…/src/x.rs:42.`)

@@ -4,6 +4,8 @@
 //! standard error.
 
 use std::io::{ErrorKind, Write};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Writes `text` to standard output.
 pub fn emit(text: &str) {
@@ -12,6 +14,49 @@ pub fn emit(text: &str) {
         if e.kind() != ErrorKind::BrokenPipe {
             eprintln!("gearcam: cannot write to standard output: {e}");
         }
+    }
+}
+
+/// Whether the command runs with `--json`: then a failure is also a JSON
+/// object on standard output ([`fail`]).
+static JSON: AtomicBool = AtomicBool::new(false);
+
+/// Says that the command runs with `--json` (set once, before it runs).
+pub fn set_json(on: bool) {
+    JSON.store(on, Ordering::Relaxed);
+}
+
+/// Says a failure and gives its exit code. A person reads `text` on standard
+/// error; under `--json` a program also reads, on standard output,
+/// `{"ok": false, "exit": N, "errors": [...]}`: the typed errors, or for a
+/// failure without them (a bus that cannot be reached, a file that cannot be
+/// read) one error with `code` (`REFUSED`, `UNREACHABLE`, `NOT_FOUND`,
+/// `UNFINISHED` or `USAGE`, after the exit code) and `message`.
+pub fn fail(exit: u8, errors: &[gearcam_proto::JobError], text: &str) -> ExitCode {
+    eprintln!("{text}");
+    if JSON.load(Ordering::Relaxed) {
+        let errors = if errors.is_empty() {
+            serde_json::json!([{"code": exit_name(exit), "message": text.trim_start_matches("gearcam: ")}])
+        } else {
+            serde_json::json!(errors)
+        };
+        emit(&format!(
+            "{}\n",
+            serde_json::json!({"ok": false, "exit": exit, "errors": errors})
+        ));
+    }
+    crate::exit::code(exit)
+}
+
+/// The name of an exit code in a JSON failure.
+fn exit_name(exit: u8) -> &'static str {
+    match exit {
+        crate::exit::REFUSED => "REFUSED",
+        crate::exit::UNREACHABLE => "UNREACHABLE",
+        crate::exit::NOT_FOUND => "NOT_FOUND",
+        crate::exit::UNFINISHED => "UNFINISHED",
+        crate::exit::USAGE => "USAGE",
+        _ => "FAILED",
     }
 }
 

@@ -157,6 +157,21 @@ fn analyze_import_list_show_and_versions() {
     assert_eq!(list[1]["id"], "cylindrical_840d");
     assert_eq!(list[1]["version"], 2);
     assert_eq!(list[1]["versions"], serde_json::json!([1, 2]));
+    // Issue 12 point 9: the table shows versions as versions (`v1 v2`), not
+    // as a count or a decimal number (`1,2`).
+    let o = gearcam(&data, &["list"]);
+    let out = stdout(&o);
+    let header = out.lines().next().unwrap();
+    assert!(
+        header.contains("current") && header.contains("stored versions"),
+        "{out}"
+    );
+    let row = out
+        .lines()
+        .find(|l| l.starts_with("cylindrical_840d"))
+        .unwrap();
+    assert!(row.contains(" v2 ") && row.contains("v1 v2"), "{row}");
+    assert!(!row.contains("1,2"), "{row}");
     let o = gearcam(&data, &["show", "cylindrical_840d", "--version", "1"]);
     assert!(stdout(&o).contains("G1 G90"), "{}", stdout(&o));
     let o = gearcam(&data, &["show", "cylindrical_840d"]);

@@ -36,11 +36,14 @@ pub fn check(job: &Path, json: bool, data: &Path) -> ExitCode {
                     }]),
                 },
                 Err(e) => {
-                    eprintln!(
-                        "gearcam: cannot open the knowledge base in {}: {e}",
-                        data.display()
+                    return crate::output::fail(
+                        crate::exit::UNREACHABLE,
+                        &[],
+                        &format!(
+                            "gearcam: cannot open the knowledge base in {}: {e}",
+                            data.display()
+                        ),
                     );
-                    return crate::exit::code(crate::exit::UNREACHABLE);
                 }
             }
         }

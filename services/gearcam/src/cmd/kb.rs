@@ -139,11 +139,14 @@ pub struct ConfirmArgs {
 
 fn open(data: &Path) -> Result<rusqlite::Connection, ExitCode> {
     db::open(&data.join("knowledge.db")).map_err(|e| {
-        eprintln!(
-            "gearcam: cannot open the knowledge base in {}: {e}",
-            data.display()
-        );
-        crate::exit::code(crate::exit::UNREACHABLE)
+        crate::output::fail(
+            crate::exit::UNREACHABLE,
+            &[],
+            &format!(
+                "gearcam: cannot open the knowledge base in {}: {e}",
+                data.display()
+            ),
+        )
     })
 }
 
@@ -394,8 +397,11 @@ pub fn run(args: KbArgs) -> ExitCode {
                 let mut rec = match from_json {
                     Some(path) => {
                         let text = std::fs::read_to_string(path).map_err(|e| {
-                            eprintln!("gearcam: cannot read {}: {e}", path.display());
-                            crate::exit::code(crate::exit::UNREACHABLE)
+                            crate::output::fail(
+                                crate::exit::UNREACHABLE,
+                                &[],
+                                &format!("gearcam: cannot read {}: {e}", path.display()),
+                            )
                         })?;
                         match serde_json::from_str::<Record>(&text) {
                             Ok(r) => r,
@@ -435,30 +441,50 @@ pub fn run(args: KbArgs) -> ExitCode {
             KbCommand::Remove { library: l, id } => {
                 let lib = lib_of(l)?;
                 library::remove(&conn, &lib, id).map_err(|e| refused(&e))?;
-                crate::outln!("removed {} {id}", lib.name);
+                if args.json {
+                    crate::outln!(
+                        "{}",
+                        serde_json::json!({"removed": {"library": lib.name, "id": id}})
+                    );
+                } else {
+                    crate::outln!("removed {} {id}", lib.name);
+                }
             }
             KbCommand::Import { library: l, file } => {
                 let lib = lib_of(l)?;
                 let f = std::fs::File::open(file).map_err(|e| {
-                    eprintln!("gearcam: cannot open {}: {e}", file.display());
-                    crate::exit::code(crate::exit::UNREACHABLE)
+                    crate::output::fail(
+                        crate::exit::UNREACHABLE,
+                        &[],
+                        &format!("gearcam: cannot open {}: {e}", file.display()),
+                    )
                 })?;
                 let r = csvio::import(&conn, &lib, f).map_err(|e| refused(&e))?;
-                crate::outln!(
-                    "imported {} into {}: {} added, {} replaced",
-                    file.display(),
-                    lib.name,
-                    r.added,
-                    r.replaced
-                );
+                if args.json {
+                    crate::outln!(
+                        "{}",
+                        serde_json::json!({"imported": {"file": file.display().to_string(), "library": lib.name, "added": r.added, "replaced": r.replaced}})
+                    );
+                } else {
+                    crate::outln!(
+                        "imported {} into {}: {} added, {} replaced",
+                        file.display(),
+                        lib.name,
+                        r.added,
+                        r.replaced
+                    );
+                }
             }
             KbCommand::Export { library: l, file } => {
                 let lib = lib_of(l)?;
                 match file {
                     Some(path) => {
                         let f = std::fs::File::create(path).map_err(|e| {
-                            eprintln!("gearcam: cannot create {}: {e}", path.display());
-                            crate::exit::code(crate::exit::UNREACHABLE)
+                            crate::output::fail(
+                                crate::exit::UNREACHABLE,
+                                &[],
+                                &format!("gearcam: cannot create {}: {e}", path.display()),
+                            )
                         })?;
                         let n = csvio::export(&conn, &lib, f).map_err(|e| refused(&e))?;
                         crate::outln!("exported {n} {} to {}", lib.name, path.display());

@@ -42,10 +42,13 @@ pub async fn join_bus(bus_args: &BusArgs) -> anyhow::Result<Bus> {
 /// Prints a typed refusal (a service's, or the local knowledge base's);
 /// exit code 3 when what was asked for does not exist, else 1 ([`crate::exit`]).
 pub fn refused(errors: &[gearcam_proto::JobError]) -> ExitCode {
-    eprintln!(
-        "gearcam: refused with {} error(s):\n{}",
-        errors.len(),
-        report::format_errors(errors)
-    );
-    crate::exit::for_errors(errors)
+    crate::output::fail(
+        crate::exit::for_errors(errors),
+        errors,
+        &format!(
+            "gearcam: refused with {} error(s):\n{}",
+            errors.len(),
+            report::format_errors(errors)
+        ),
+    )
 }

@@ -52,6 +52,9 @@ pub enum ProgramAction {
         seq: u64,
         #[command(flatten)]
         bus: ClientArgs,
+        /// Print the receipt of the version now current as JSON.
+        #[arg(long)]
+        json: bool,
     },
     /// Resolve a program changed at the machine (PROGRAM_CHANGED_AT_MACHINE)
     /// after review: adopt the edit, or replace it with gearcam's version.
@@ -74,7 +77,22 @@ pub enum ProgramAction {
         by: Option<String>,
         #[command(flatten)]
         bus: ClientArgs,
+        /// Print the receipt of the version now current as JSON.
+        #[arg(long)]
+        json: bool,
     },
+}
+
+impl ProgramAction {
+    /// True with `--json`.
+    pub fn json(&self) -> bool {
+        match self {
+            ProgramAction::History { json, .. }
+            | ProgramAction::Show { json, .. }
+            | ProgramAction::Rollback { json, .. }
+            | ProgramAction::Resolve { json, .. } => *json,
+        }
+    }
 }
 
 pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
@@ -126,11 +144,16 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             name,
             seq,
             bus,
+            json,
         } => {
             let bus = join_bus(&bus.bus_args()).await?;
             let r = store::change(&bus, &machine, &name, &StoreRequest::Rollback { seq }).await;
             bus.close().await;
             match r.context(format!("asking the agent of {machine}"))? {
+                Ok(receipt) if json => {
+                    crate::outln!("{}", serde_json::to_string_pretty(&receipt)?);
+                    Ok(ExitCode::SUCCESS)
+                }
                 Ok(receipt) => {
                     crate::outln!(
                         "{} is version {seq} again: {} (sha256 {})",
@@ -150,6 +173,7 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             replace: _,
             by,
             bus,
+            json,
         } => {
             let by = by.unwrap_or_else(crate::jobfile::user);
             let request = if adopt {
@@ -161,6 +185,10 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             let r = store::change(&bus, &machine, &name, &request).await;
             bus.close().await;
             match r.context(format!("asking the agent of {machine}"))? {
+                Ok(receipt) if json => {
+                    crate::outln!("{}", serde_json::to_string_pretty(&receipt)?);
+                    Ok(ExitCode::SUCCESS)
+                }
                 Ok(receipt) => {
                     let what = if adopt {
                         "the edit at the machine is now the current version"

@@ -84,8 +84,7 @@ pub fn run(args: TemplatesArgs) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure { code, message }) => {
-            eprintln!("gearcam: {message}");
-            ExitCode::from(code)
+            crate::output::fail(code, &[], &format!("gearcam: {message}"))
         }
     }
 }
@@ -263,19 +262,26 @@ fn list_table(list: &[TemplateSummary]) -> String {
             .to_string();
     }
     let head = [
-        "template", "class", "dialect", "version", "versions", "records", "similar", "own",
+        "template",
+        "class",
+        "dialect",
+        "current",
+        "stored versions",
+        "records",
+        "similar",
+        "own",
         "imported",
     ];
     let rows: Vec<[String; 9]> = list
         .iter()
         .map(|t| {
-            let versions: Vec<String> = t.versions.iter().map(u32::to_string).collect();
+            let versions: Vec<String> = t.versions.iter().map(|v| format!("v{v}")).collect();
             [
                 t.id.clone(),
                 t.class.clone(),
                 t.dialect.as_str().to_string(),
-                t.version.to_string(),
-                versions.join(","),
+                format!("v{}", t.version),
+                versions.join(" "),
                 t.records.to_string(),
                 t.similar.to_string(),
                 t.non_similar.to_string(),
@@ -292,7 +298,7 @@ fn list_table(list: &[TemplateSummary]) -> String {
     let line = |cells: &[String]| {
         let mut s = String::new();
         for (i, (c, w)) in cells.iter().zip(&widths).enumerate() {
-            if (3..8).contains(&i) {
+            if (5..8).contains(&i) {
                 s.push_str(&format!("{c:>w$}  "));
             } else {
                 s.push_str(&format!("{c:<w$}  "));
