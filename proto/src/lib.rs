@@ -55,5 +55,6 @@ pub use plan::{
     WorkpieceRef,
 };
 pub use program::{
-    now_ms, DeliveryReceipt, EventKind, JobEvent, NcProgram, PathCheck, PathFinding, TemplateRef,
+    now_ms, utc_text, DeliveryReceipt, EventKind, JobEvent, NcProgram, PathCheck, PathFinding,
+    TemplateRef,
 };

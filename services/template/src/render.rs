@@ -728,22 +728,27 @@ mod tests {
         assert_eq!(lines[2], "; GEARCAM HOBBING PROGRAM SP_1001");
         assert_eq!(lines[3], "; JOB J-0001");
         assert_eq!(lines[4], "; PART SP-1001");
-        assert_eq!(lines[5], "; CLASS cylindrical");
+        // Issue 12 point 12: quantity, material, quality grade, and when the
+        // job was submitted (the request's time, so a re-drive renders the
+        // same bytes).
+        assert_eq!(lines[5], "; ORDER QTY=10 MATERIAL 20CrMnTi QUALITY GRADE 8");
+        assert_eq!(lines[6], "; SUBMITTED 2023-11-14 22:13:20 UTC BY station-1");
+        assert_eq!(lines[7], "; CLASS cylindrical");
         assert_eq!(
-            lines[6],
+            lines[8],
             "; MACHINE H01 six-axis CNC hobbing machine, SINUMERIK 840D sl"
         );
-        assert_eq!(lines[7], "; TEMPLATE cylindrical_840d VERSION 6");
-        assert_eq!(lines[8], "; CASES CD-STEEL-HSS-1 CASE-0042");
-        assert_eq!(lines[9], "; MODEL gearcam-model 0.1.0");
-        assert_eq!(lines[10], format!("; GENERATOR {GENERATOR}"));
-        assert_eq!(lines[11], "; GEAR MN=3.0 Z=25 BETA=0.0 B=30.0 DA1=81.0");
+        assert_eq!(lines[9], "; TEMPLATE cylindrical_840d VERSION 7");
+        assert_eq!(lines[10], "; CASES CD-STEEL-HSS-1 CASE-0042");
+        assert_eq!(lines[11], "; MODEL gearcam-model 0.1.0");
+        assert_eq!(lines[12], format!("; GENERATOR {GENERATOR}"));
+        assert_eq!(lines[13], "; GEAR MN=3.0 Z=25 BETA=0.0 B=30.0 DA1=81.0");
         assert_eq!(
-            lines[12],
+            lines[14],
             "; HOB HOB-M3-80 Z0=1 DA0=80.0 MN0=3.0 GAMMA0=2.2 RIGHT"
         );
         assert_eq!(
-            lines[13],
+            lines[15],
             "; CUT CONVENTIONAL VC=100.0 FA=2.0 H=6.75 L=73.75"
         );
     }
@@ -762,7 +767,7 @@ mod tests {
             program.template,
             TemplateRef {
                 id: "cylindrical_840d".into(),
-                version: 6
+                version: 7
             }
         );
         assert_eq!(program.cases, vec!["CD-STEEL-HSS-1", "CASE-0042"]);
@@ -1299,7 +1304,7 @@ mod tests {
         }));
         assert!(list.contains(&TemplateRef {
             id: "conical_840d".into(),
-            version: 6
+            version: 7
         }));
     }
 
@@ -1363,7 +1368,7 @@ mod tests {
             .unwrap()
             .1;
         let own = shipped
-            .replace("@version 6", "@version 9")
+            .replace("@version 7", "@version 9")
             .replace("; GEARCAM HOBBING PROGRAM", "; SHOP HOBBING PROGRAM");
         let file = crate::stdcode::parse("own.tpl", &own).unwrap();
         crate::library::Library::open(&path)
@@ -1371,7 +1376,7 @@ mod tests {
             .import(&[file], &[own.as_str()], 2)
             .unwrap();
         // At the next start the service compiles the shop's version, and the
-        // shipped version 6 is not imported over it.
+        // shipped version 7 is not imported over it.
         let next = Templates::from_library(&path, DEFAULT_FUEL, 3).unwrap();
         let t = next.find("cylindrical", Dialect::Sinumerik840d).unwrap();
         assert_eq!(t.version, 9);

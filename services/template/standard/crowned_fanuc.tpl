@@ -9,13 +9,15 @@
 @template crowned_fanuc
 @class crowned
 @dialect fanuc
-@version 4
+@version 5
 
 main :: %
 main :: {program.name} ({upper(comment(part_number))} HOBBING)
 main :: (GEARCAM HOBBING PROGRAM {program.name})
 main :: (JOB {upper(comment(job_id))})
 main :: (PART {upper(comment(part_number))})
+main :: (ORDER QTY={quantity} MATERIAL {upper(comment(gear.material))} QUALITY GRADE {gear.quality})
+main :: (SUBMITTED {upper(comment(submitted))} BY {upper(comment(submitted_by))})
 main :: (CLASS {upper(comment(class))})
 main :: (MACHINE {upper(comment(machine.id))} {upper(comment(machine.name))})
 main :: (TEMPLATE {upper(template.id)} VERSION {template.version})

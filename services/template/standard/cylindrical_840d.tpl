@@ -2,7 +2,7 @@
 # infeed; one or several cuts; hob shifting per part or per cut) on a
 # SINUMERIK 840D hobbing machine.
 #
-# Block order follows the patent's 840D program (CN1838008 step 4, SPEC §4.5):
+# Block order follows the patent's 840D program (CN1838008 step 4; docs/hobbing.md):
 # A -> B with the swivel, machine functions on, R parameters, electronic gearbox
 # on, hob on, the cuts, hob off, E -> A, gearbox off, functions off, end.
 # The model computes every move of every cut; this file writes them. Several
@@ -18,13 +18,15 @@
 @template cylindrical_840d
 @class cylindrical
 @dialect sinumerik840d
-@version 6
+@version 7
 
 main :: %{program.file}
 main :: ;$PATH=/_N_MPF_DIR
 main :: ; GEARCAM HOBBING PROGRAM {program.name}
 main :: ; JOB {comment(job_id)}
 main :: ; PART {comment(part_number)}
+main :: ; ORDER QTY={quantity} MATERIAL {comment(gear.material)} QUALITY GRADE {gear.quality}
+main :: ; SUBMITTED {comment(submitted)} BY {comment(submitted_by)}
 main :: ; CLASS {comment(class)}
 main :: ; MACHINE {comment(machine.id)} {comment(machine.name)}
 main :: ; TEMPLATE {template.id} VERSION {template.version}

@@ -2,7 +2,7 @@
 # infeed; one or several cuts; hob shifting per part or per cut) on a FANUC
 # hobbing machine with the electronic gear box (EGB), M series (0i-MF Plus / 30i-B), G-code system M.
 #
-# The block order is the 840D program's (SPEC §4.5); the dialect is FANUC's
+# The block order is the 840D program's (docs/hobbing.md); the dialect is FANUC's
 # (services/template/DIALECTS.md): `%` framing and an O number, comments in
 # parentheses, address words without `=`, macro variables #5nn where the 840D
 # program has R parameters (retained common variables: #525 counts the parts
@@ -25,13 +25,15 @@
 @template cylindrical_fanuc
 @class cylindrical
 @dialect fanuc
-@version 4
+@version 5
 
 main :: %
 main :: {program.name} ({upper(comment(part_number))} HOBBING)
 main :: (GEARCAM HOBBING PROGRAM {program.name})
 main :: (JOB {upper(comment(job_id))})
 main :: (PART {upper(comment(part_number))})
+main :: (ORDER QTY={quantity} MATERIAL {upper(comment(gear.material))} QUALITY GRADE {gear.quality})
+main :: (SUBMITTED {upper(comment(submitted))} BY {upper(comment(submitted_by))})
 main :: (CLASS {upper(comment(class))})
 main :: (MACHINE {upper(comment(machine.id))} {upper(comment(machine.name))})
 main :: (TEMPLATE {upper(template.id)} VERSION {template.version})

@@ -10,13 +10,15 @@
 @template worm_wheel_840d
 @class worm_wheel
 @dialect sinumerik840d
-@version 6
+@version 7
 
 main :: %{program.file}
 main :: ;$PATH=/_N_MPF_DIR
 main :: ; GEARCAM HOBBING PROGRAM {program.name}
 main :: ; JOB {comment(job_id)}
 main :: ; PART {comment(part_number)}
+main :: ; ORDER QTY={quantity} MATERIAL {comment(gear.material)} QUALITY GRADE {gear.quality}
+main :: ; SUBMITTED {comment(submitted)} BY {comment(submitted_by)}
 main :: ; CLASS {comment(class)}
 main :: ; MACHINE {comment(machine.id)} {comment(machine.name)}
 main :: ; TEMPLATE {template.id} VERSION {template.version}
