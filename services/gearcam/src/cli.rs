@@ -98,7 +98,7 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// A machine's stored programs: history, show a version, roll back.
+    /// A machine's stored programs: history, show a version, roll back, resolve an edit at the machine.
     Program {
         #[command(subcommand)]
         action: ProgramAction,

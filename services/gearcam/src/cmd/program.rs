@@ -56,10 +56,12 @@ pub enum ProgramAction {
         #[arg(long)]
         json: bool,
     },
-    /// Resolve a program changed at the machine (PROGRAM_CHANGED_AT_MACHINE)
-    /// after review: adopt the edit, or replace it with gearcam's version.
-    /// Either way the edit is kept in the history with who and when, and the
-    /// jobs waiting on the conflict are delivered at their next re-drive.
+    /// Resolve a program changed at the machine, after review: adopt the edit or replace it.
+    ///
+    /// A delivery to a program changed at the machine is refused
+    /// (PROGRAM_CHANGED_AT_MACHINE) and its job waits. Either way the edit is
+    /// kept in the history with who and when, and the waiting jobs are
+    /// delivered at their next re-drive.
     Resolve {
         /// The machine, e.g. H01.
         #[arg(long)]
