@@ -409,15 +409,9 @@ fn a_repeated_request_is_stored_once_and_answered_with_the_original_receipt() {
 
 /// A client session to the cluster's router, once every service is alive.
 async fn session_with_services(endpoint: &str) -> zenoh::Session {
-    let mut config = zenoh::Config::default();
-    config.insert_json5("mode", "\"client\"").unwrap();
-    config
-        .insert_json5("connect/endpoints", &format!("[\"{endpoint}\"]"))
+    let session = zenoh::open(gearcam_testkit::client_config(endpoint))
+        .await
         .unwrap();
-    config
-        .insert_json5("scouting/multicast/enabled", "false")
-        .unwrap();
-    let session = zenoh::open(config).await.unwrap();
     for service in ["station", "knowledge", "model", "template", "agent/H01"] {
         let key = format!("gearcam/v1/alive/{service}");
         let deadline = std::time::Instant::now() + Duration::from_secs(30);

@@ -160,15 +160,9 @@ fn submit_raw(endpoint: &str, spec: JobSpec) -> StationReply {
         spec,
     };
     tokio::runtime::Runtime::new().unwrap().block_on(async {
-        let mut config = zenoh::Config::default();
-        config.insert_json5("mode", "\"client\"").unwrap();
-        config
-            .insert_json5("connect/endpoints", &format!("[\"{endpoint}\"]"))
+        let session = zenoh::open(gearcam_testkit::client_config(endpoint))
+            .await
             .unwrap();
-        config
-            .insert_json5("scouting/multicast/enabled", "false")
-            .unwrap();
-        let session = zenoh::open(config).await.unwrap();
         let deadline = Instant::now() + Duration::from_secs(20);
         loop {
             let replies = session

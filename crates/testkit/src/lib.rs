@@ -17,4 +17,4 @@ pub mod examples;
 pub mod pipeline;
 pub mod process;
 
-pub use process::{bin, gearcam, wait_for_port, Cluster, Proc};
+pub use process::{bin, client_config, gearcam, wait_for_port, Cluster, Proc};

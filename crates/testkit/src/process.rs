@@ -498,3 +498,20 @@ impl Cluster {
         assert!(dead.is_empty(), "processes died: {dead:?}\n{}", self.logs());
     }
 }
+
+/// The configuration of a plain Zenoh client session to `endpoint` (a test's
+/// own client, as a foreign program would connect): client mode, that
+/// endpoint only, no multicast scouting.
+pub fn client_config(endpoint: &str) -> zenoh::Config {
+    let mut config = zenoh::Config::default();
+    config
+        .insert_json5("mode", "\"client\"")
+        .expect("mode is a setting");
+    config
+        .insert_json5("connect/endpoints", &format!("[\"{endpoint}\"]"))
+        .expect("connect/endpoints is a setting");
+    config
+        .insert_json5("scouting/multicast/enabled", "false")
+        .expect("scouting/multicast/enabled is a setting");
+    config
+}

@@ -113,10 +113,9 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
                 Err(error) => return Ok(refused(&[error])),
             };
             if json {
-                crate::outln!("{}", serde_json::to_string_pretty(&h)?);
-            } else {
-                crate::out!("{}", history_table(&h));
+                return print_json(&h);
             }
+            crate::out!("{}", history_table(&h));
             Ok(ExitCode::SUCCESS)
         }
         ProgramAction::Show {
@@ -130,10 +129,7 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             let t = store::version(&bus, &machine, &name, seq).await;
             bus.close().await;
             match t.context(format!("asking the agent of {machine}"))? {
-                Ok(t) if json => {
-                    crate::outln!("{}", serde_json::to_string_pretty(&t)?);
-                    Ok(ExitCode::SUCCESS)
-                }
+                Ok(t) if json => print_json(&t),
                 Ok(t) => {
                     crate::out!("{}", t.text);
                     Ok(ExitCode::SUCCESS)
@@ -152,10 +148,7 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             let r = store::change(&bus, &machine, &name, &StoreRequest::Rollback { seq }).await;
             bus.close().await;
             match r.context(format!("asking the agent of {machine}"))? {
-                Ok(receipt) if json => {
-                    crate::outln!("{}", serde_json::to_string_pretty(&receipt)?);
-                    Ok(ExitCode::SUCCESS)
-                }
+                Ok(receipt) if json => print_json(&receipt),
                 Ok(receipt) => {
                     crate::outln!(
                         "{} is version {seq} again: {} (sha256 {})",
@@ -187,10 +180,7 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             let r = store::change(&bus, &machine, &name, &request).await;
             bus.close().await;
             match r.context(format!("asking the agent of {machine}"))? {
-                Ok(receipt) if json => {
-                    crate::outln!("{}", serde_json::to_string_pretty(&receipt)?);
-                    Ok(ExitCode::SUCCESS)
-                }
+                Ok(receipt) if json => print_json(&receipt),
                 Ok(receipt) => {
                     let what = if adopt {
                         "the edit at the machine is now the current version"
@@ -238,4 +228,10 @@ pub fn history_table(h: &gearcam_proto::ProgramHistory) -> String {
         out.push_str(&format!("(no programs stored for {})\n", h.machine));
     }
     out
+}
+
+/// Prints `value` as JSON; done.
+fn print_json<T: serde::Serialize>(value: &T) -> anyhow::Result<ExitCode> {
+    crate::outln!("{}", serde_json::to_string_pretty(value)?);
+    Ok(ExitCode::SUCCESS)
 }
