@@ -35,6 +35,10 @@ struct Args {
     /// SQLite program index (default: index.db beside the program directory).
     #[arg(long)]
     index: Option<PathBuf>,
+    /// Fault injection for the fault tests: abort after renaming a program
+    /// into place, before the index commit.
+    #[arg(long, hide = true)]
+    fault_crash_after_rename: bool,
 }
 
 #[tokio::main(flavor = "multi_thread")]
@@ -59,6 +63,7 @@ async fn main() -> anyhow::Result<()> {
         dialect,
         program_dir: args.program_dir,
         index_path,
+        crash_after_rename: args.fault_crash_after_rename,
     };
     run(bus, config, cancel_on_signal()).await?;
     Ok(())

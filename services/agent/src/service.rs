@@ -224,16 +224,22 @@ fn index_error(e: AgentError) -> JobError {
     )
 }
 
-/// The refusal of a delivery, with the job's event: `failed`, except for a
-/// program changed at the machine, where the job waits for a person to
-/// resolve the edit (`gearcam program resolve`) and is delivered at a later
-/// re-drive.
+/// The refusal of a delivery, with the job's event: `failed` when retrying
+/// cannot change the answer; `waiting` when it can: a program changed at the
+/// machine (a person resolves the edit with `gearcam program resolve`), or a
+/// store that cannot write or index now (a full disk). The station re-drives
+/// a waiting job until it is delivered.
 fn refused(job: Option<JobId>, error: JobError) -> Answer {
     let mut a = Answer::message(&DeliveryReply::Refused {
         error: error.clone(),
     });
     if let Some(job) = job {
-        let event = if error.code == codes::PROGRAM_CHANGED_AT_MACHINE {
+        let waits = [
+            codes::PROGRAM_CHANGED_AT_MACHINE,
+            codes::STORE_IO_ERROR,
+            codes::STORE_INDEX_ERROR,
+        ];
+        let event = if waits.contains(&error.code.as_str()) {
             EventKind::Waiting {
                 reason: format!("{}: {}", error.code, error.message),
             }

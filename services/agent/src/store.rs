@@ -8,8 +8,7 @@
 //! hash is answered with the original receipt; a program changed at the
 //! machine (file hash differs from the index) is never overwritten.
 
-use std::fs::{self, File};
-use std::io::Write;
+use std::fs;
 use std::path::{Path, PathBuf};
 
 use gearcam_proto::{
@@ -23,6 +22,9 @@ use crate::AgentError;
 
 mod owner;
 mod resolve;
+mod write;
+
+use write::{remove_stale_temporaries, write_atomically, Pending, Prepared};
 
 pub use resolve::Resolution;
 
@@ -40,6 +42,10 @@ pub struct StoreConfig {
     pub program_dir: PathBuf,
     /// SQLite index file.
     pub index_path: PathBuf,
+    /// Fault injection for the fault tests: abort the process right after
+    /// the renames of a group commit, before the index says `stored` (the
+    /// crash the intent record is for). Never set in service.
+    pub crash_after_rename: bool,
 }
 
 /// A machine's program store.
@@ -100,7 +106,9 @@ impl Store {
             }
         }
         remove_stale_temporaries(&config.program_dir);
-        Ok(Store { config, conn })
+        let mut store = Store { config, conn };
+        store.recover()?;
+        Ok(store)
     }
 
     /// The store's configuration.
@@ -169,11 +177,7 @@ impl Store {
             }
             match self.prepare(p) {
                 Ok(Prepared::Stored(receipt)) => results[i] = Some(Ok(receipt)),
-                Ok(Prepared::Write { file_name, hash }) => pending.push(Pending {
-                    index: i,
-                    file_name,
-                    hash,
-                }),
+                Ok(Prepared::Write(q)) => pending.push(Pending { index: i, ..q }),
                 Err(e) => results[i] = Some(Err(e)),
             }
         }
@@ -249,6 +253,9 @@ impl Store {
             .map_err(index_error)?;
         if let Some((stored_hash, receipt)) = existing {
             if stored_hash == hash {
+                // A repeat: the original receipt, once the machine is seen
+                // to hold it (or a later version superseded it).
+                self.check_still_held(&file_name, &hash)?;
                 return Ok(Prepared::Stored(receipt));
             }
             return Err(Stage::Agent.error(
@@ -262,220 +269,139 @@ impl Store {
         // A program name belongs to one part.
         self.check_owner(p, &file_name)?;
         // A program changed at the machine is never overwritten silently.
-        self.check_unchanged_at_machine(&file_name, &hash)?;
-        Ok(Prepared::Write { file_name, hash })
+        let seen = self.check_unchanged_at_machine(&file_name, &hash)?;
+        Ok(Prepared::Write(Pending {
+            index: 0,
+            file_name,
+            hash,
+            seen,
+        }))
     }
-
-    /// Writes the pending programs durably and records them in one transaction.
-    fn flush(
-        &mut self,
-        programs: &[NcProgram],
-        pending: Vec<Pending>,
-        results: &mut [Option<Result<DeliveryReceipt, JobError>>],
-    ) {
-        if pending.is_empty() {
-            return;
-        }
-        let dir = self.config.program_dir.clone();
-        let io_error = |file_name: &str, e: std::io::Error| {
-            Stage::Agent.error(
-                "STORE_IO_ERROR",
-                "-",
-                "a writable program directory",
-                e.to_string(),
-                format!("cannot write {}", dir.join(file_name).display()),
-            )
-        };
-        // Temporary files written and fsynced in parallel: concurrent fsyncs
-        // share the file system's journal commits.
-        let written: Vec<std::io::Result<PathBuf>> = std::thread::scope(|scope| {
-            let handles: Vec<_> = pending
-                .chunks(pending.len().div_ceil(8))
-                .map(|chunk| {
-                    let dir = &dir;
-                    scope.spawn(move || {
-                        chunk
-                            .iter()
-                            .map(|q| {
-                                write_temp(dir, &q.file_name, programs[q.index].text.as_bytes())
-                            })
-                            .collect::<Vec<_>>()
-                    })
-                })
-                .collect();
-            handles
-                .into_iter()
-                .flat_map(|h| {
-                    h.join().unwrap_or_else(|_| {
-                        vec![Err(std::io::Error::other("writer thread panicked"))]
-                    })
-                })
-                .collect()
-        });
-        let mut renamed = Vec::new();
-        for (q, tmp) in pending.into_iter().zip(written) {
-            match tmp.and_then(|tmp| fs::rename(&tmp, dir.join(&q.file_name))) {
-                Ok(()) => renamed.push(q),
-                Err(e) => results[q.index] = Some(Err(io_error(&q.file_name, e))),
-            }
-        }
-        if let Err(e) = File::open(&dir).and_then(|d| d.sync_all()) {
-            for q in renamed {
-                results[q.index] = Some(Err(io_error(&q.file_name, e.kind().into())));
-            }
-            return;
-        }
-        let stored_at = now_ms();
-        let committed = (|| -> rusqlite::Result<()> {
-            let tx = self.conn.transaction()?;
-            {
-                let mut insert = tx.prepare_cached(
-                    "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text, part)
-                     VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'stored', ?9, ?10)",
-                )?;
-                for q in &renamed {
-                    let p = &programs[q.index];
-                    insert.execute(params![
-                        p.name,
-                        q.file_name,
-                        p.job_id.as_str(),
-                        p.revision,
-                        q.hash,
-                        p.text.len() as i64,
-                        p.dialect.as_str(),
-                        stored_at as i64,
-                        p.text,
-                        p.part_number
-                    ])?;
-                }
-            }
-            tx.commit()
-        })();
-        for q in renamed {
-            let p = &programs[q.index];
-            results[q.index] = Some(match &committed {
-                Err(e) => Err(Stage::Agent.error(
-                    "STORE_INDEX_ERROR",
-                    "-",
-                    "a writable index",
-                    e.to_string(),
-                    "the program index could not be written",
-                )),
-                Ok(()) => Ok(DeliveryReceipt {
-                    job_id: p.job_id.clone(),
-                    machine: self.config.machine.clone(),
-                    name: p.name.clone(),
-                    path: dir.join(&q.file_name).display().to_string(),
-                    file_name: q.file_name,
-                    revision: p.revision,
-                    sha256: q.hash,
-                    size_bytes: p.text.len() as u64,
-                    stored_at_ms: stored_at,
-                    duplicate: false,
-                }),
-            });
-        }
-    }
-}
-
-/// A program of a batch that must be written.
-#[derive(Debug)]
-struct Pending {
-    index: usize,
-    file_name: String,
-    hash: String,
-}
-
-/// What storing a program needs.
-#[derive(Debug)]
-enum Prepared {
-    /// Already stored: the original receipt.
-    Stored(DeliveryReceipt),
-    /// To be written under this file name.
-    Write { file_name: String, hash: String },
 }
 
 impl Store {
-    /// Refuses when the file in the program directory differs from the last
-    /// version the index knows (changed or created at the machine). A file
-    /// holding exactly the program being delivered is this delivery's own
-    /// write that a crash cut off between the rename and the index commit:
-    /// writing the same bytes again and committing the row loses nothing.
-    fn check_unchanged_at_machine(&self, file_name: &str, incoming: &str) -> Result<(), JobError> {
+    /// The SHA-256 of the file `file_name` at the machine, `None` when there
+    /// is no such file.
+    pub(super) fn disk_hash(&self, file_name: &str) -> Result<Option<String>, JobError> {
         let path = self.config.program_dir.join(file_name);
-        if !path.exists() {
-            return Ok(());
-        }
-        let on_disk = fs::read(&path).map_err(|e| {
-            Stage::Agent.error(
+        match fs::read(&path) {
+            Ok(bytes) => Ok(Some(sha256_hex(&bytes))),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+            Err(e) => Err(Stage::Agent.error(
                 "STORE_IO_ERROR",
                 "-",
                 "a readable file",
                 e.to_string(),
                 format!("cannot read {}", path.display()),
-            )
-        })?;
-        let disk_hash = sha256_hex(&on_disk);
-        if disk_hash == incoming {
-            return Ok(());
+            )),
         }
-        let indexed: Option<String> = self
-            .conn
+    }
+
+    /// The hash of the newest version the index knows for `file_name`.
+    fn indexed_hash(&self, file_name: &str) -> Result<Option<String>, JobError> {
+        self.conn
             .query_row(
-                "SELECT sha256 FROM programs WHERE file_name = ?1 ORDER BY seq DESC LIMIT 1",
+                "SELECT sha256 FROM programs WHERE file_name = ?1 AND state != 'pending' ORDER BY seq DESC LIMIT 1",
                 [file_name],
                 |r| r.get(0),
             )
             .optional()
-            .map_err(index_error)?;
-        if indexed.as_deref() != Some(disk_hash.as_str()) {
-            let machine = &self.config.machine;
-            let name = self
-                .conn
-                .query_row(
-                    "SELECT name FROM programs WHERE file_name = ?1 ORDER BY seq DESC LIMIT 1",
-                    [file_name],
-                    |r| r.get::<_, String>(0),
-                )
-                .optional()
-                .map_err(index_error)?;
-            let how = match name {
-                Some(name) => format!(
-                    "after review, `gearcam program resolve {name} --machine {machine} --adopt` keeps the edit as the current version, `--replace` writes gearcam's version back (the edit stays in the history)"
-                ),
-                None => "the file was created at the machine, not by gearcam: rename or remove it there".to_string(),
-            };
-            return Err(Stage::Agent.error(
-                "PROGRAM_CHANGED_AT_MACHINE",
-                "name",
-                format!("{file_name} unchanged since gearcam stored it"),
-                format!("a file with sha256 {disk_hash}"),
-                format!("{file_name} at {machine} was changed at the machine; it was kept and nothing was overwritten; {how}"),
-            ));
+            .map_err(index_error)
+    }
+
+    /// Refuses when the file in the program directory differs from the last
+    /// version the index knows (changed or created at the machine); returns
+    /// the file's hash as seen (`None`: no file), to be compared again right
+    /// before the rename. A file holding exactly the program being delivered
+    /// is this delivery's own write that a crash cut off between the rename
+    /// and the index commit: writing the same bytes again loses nothing.
+    fn check_unchanged_at_machine(
+        &self,
+        file_name: &str,
+        incoming: &str,
+    ) -> Result<Option<String>, JobError> {
+        let Some(disk_hash) = self.disk_hash(file_name)? else {
+            return Ok(None);
+        };
+        if disk_hash == incoming {
+            return Ok(Some(disk_hash));
         }
-        Ok(())
+        if self.indexed_hash(file_name)?.as_deref() != Some(disk_hash.as_str()) {
+            return Err(
+                self.changed_at_machine(file_name, &format!("a file with sha256 {disk_hash}"))
+            );
+        }
+        Ok(Some(disk_hash))
+    }
+
+    /// A repeated delivery of a version the index holds: the machine must
+    /// still hold it, unless a later version superseded it. An edit or a
+    /// deletion at the machine since is a conflict (the job waits), never
+    /// "delivered, duplicate" with a hash the machine no longer holds.
+    fn check_still_held(&self, file_name: &str, hash: &str) -> Result<(), JobError> {
+        if self.indexed_hash(file_name)?.as_deref() != Some(hash) {
+            return Ok(()); // superseded by a later version: the receipt stands
+        }
+        match self.disk_hash(file_name)? {
+            Some(h) if h == hash => Ok(()),
+            Some(h) => Err(self.changed_at_machine(file_name, &format!("a file with sha256 {h}"))),
+            None => Err(self.changed_at_machine(file_name, "no file (deleted at the machine)")),
+        }
+    }
+
+    /// `PROGRAM_CHANGED_AT_MACHINE` for `file_name`, with what to run.
+    pub(super) fn changed_at_machine(&self, file_name: &str, got: &str) -> JobError {
+        let machine = &self.config.machine;
+        let name = self
+            .conn
+            .query_row(
+                "SELECT name FROM programs WHERE file_name = ?1 AND state != 'pending' ORDER BY seq DESC LIMIT 1",
+                [file_name],
+                |r| r.get::<_, String>(0),
+            )
+            .optional()
+            .ok()
+            .flatten();
+        let how = match name {
+            Some(name) => format!(
+                "after review, `gearcam program resolve {name} --machine {machine} --adopt` keeps the edit as the current version, `--replace` writes gearcam's version back (the edit stays in the history)"
+            ),
+            None => "the file was created at the machine, not by gearcam: rename or remove it there".to_string(),
+        };
+        Stage::Agent.error(
+            "PROGRAM_CHANGED_AT_MACHINE",
+            "name",
+            format!("{file_name} unchanged since gearcam stored it"),
+            got.to_string(),
+            format!("{file_name} at {machine} was changed at the machine; it was kept and nothing was overwritten; {how}"),
+        )
     }
 
     /// The receipt of a job already stored (latest revision), for a station
     /// whose receipt was lost.
+    ///
+    /// A receipt the machine no longer bears out (the file was edited or
+    /// deleted since, and no later version superseded it) is not given: the
+    /// station then delivers again and meets the conflict.
     pub fn stored_receipt(&self, job: &str) -> Result<Option<DeliveryReceipt>, AgentError> {
-        Ok(self
+        let receipt = self
             .conn
             .query_row(
                 "SELECT * FROM programs WHERE job = ?1 AND state = 'stored' ORDER BY revision DESC LIMIT 1",
                 [job],
                 |r| self.receipt_from_row(r, true),
             )
-            .optional()?)
+            .optional()?;
+        Ok(receipt.filter(|r| self.check_still_held(&r.file_name, &r.sha256).is_ok()))
     }
 
     /// Every stored version, newest first; only those of program `name` if given.
     pub fn history(&self, name: Option<&str>) -> Result<Vec<ProgramVersion>, AgentError> {
         let mut stmt = self.conn.prepare(
             "SELECT seq, name, file_name, job, revision, sha256, size_bytes, stored_at_ms, state,
-                    seq = (SELECT MAX(seq) FROM programs p2 WHERE p2.file_name = programs.file_name) AS current,
+                    seq = (SELECT MAX(seq) FROM programs p2 WHERE p2.file_name = programs.file_name AND p2.state != 'pending') AS current,
                     part, by_user
-             FROM programs WHERE ?1 IS NULL OR name = ?1 ORDER BY seq DESC",
+             FROM programs WHERE (?1 IS NULL OR name = ?1) AND state != 'pending' ORDER BY seq DESC",
         )?;
         let rows = stmt.query_map([name], |r| {
             Ok(ProgramVersion {
@@ -501,7 +427,7 @@ impl Store {
         Ok(self
             .conn
             .query_row(
-                "SELECT 1 FROM programs WHERE name = ?1 LIMIT 1",
+                "SELECT 1 FROM programs WHERE name = ?1 AND state != 'pending' LIMIT 1",
                 [name],
                 |_| Ok(()),
             )
@@ -515,7 +441,7 @@ impl Store {
         let text: Option<String> = self
             .conn
             .query_row(
-                "SELECT text FROM programs WHERE seq = ?1 AND name = ?2",
+                "SELECT text FROM programs WHERE seq = ?1 AND name = ?2 AND state != 'pending'",
                 params![seq as i64, name],
                 |r| r.get(0),
             )
@@ -602,7 +528,7 @@ impl Store {
     }
 }
 
-fn index_error(e: rusqlite::Error) -> JobError {
+fn index_error(e: impl std::fmt::Display) -> JobError {
     Stage::Agent.error(
         "STORE_INDEX_ERROR",
         "-",
@@ -610,48 +536,6 @@ fn index_error(e: rusqlite::Error) -> JobError {
         e.to_string(),
         "the program index could not be read or written",
     )
-}
-
-/// Removes temporary files a killed agent left behind (`.{name}.tmp-{pid}`):
-/// they never became programs, since a program exists only once renamed.
-fn remove_stale_temporaries(dir: &Path) {
-    let Ok(entries) = fs::read_dir(dir) else {
-        return;
-    };
-    for entry in entries.flatten() {
-        let name = entry.file_name();
-        let name = name.to_string_lossy();
-        if name.starts_with('.') && name.contains(".tmp-") {
-            match fs::remove_file(entry.path()) {
-                Ok(()) => tracing::info!(file = %name, "removed an unfinished temporary file"),
-                Err(e) => {
-                    tracing::warn!(file = %name, error = %e, "cannot remove an unfinished temporary file")
-                }
-            }
-        }
-    }
-}
-
-/// Writes `bytes` to a temporary file beside `dir/file_name` and fsyncs it.
-fn write_temp(dir: &Path, file_name: &str, bytes: &[u8]) -> std::io::Result<PathBuf> {
-    let tmp = dir.join(format!(".{file_name}.tmp-{}", std::process::id()));
-    let mut f = File::create(&tmp)?;
-    f.write_all(bytes)?;
-    f.sync_all()?;
-    Ok(tmp)
-}
-
-/// Writes `bytes` to `dir/file_name` atomically and durably.
-fn write_atomically(dir: &Path, file_name: &str, bytes: &[u8]) -> std::io::Result<()> {
-    let tmp = dir.join(format!(".{file_name}.tmp-{}", std::process::id()));
-    {
-        let mut f = File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-    }
-    fs::rename(&tmp, dir.join(file_name))?;
-    File::open(dir)?.sync_all()?;
-    Ok(())
 }
 
 #[cfg(test)]
@@ -665,6 +549,7 @@ mod tests {
             dialect: Dialect::Sinumerik840d,
             program_dir: dir.join("programs"),
             index_path: dir.join("index.db"),
+            crash_after_rename: false,
         })
         .unwrap()
     }

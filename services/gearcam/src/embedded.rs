@@ -129,6 +129,7 @@ impl Embedded {
                 dialect: m.dialect,
                 program_dir: layout.program_dir(&m),
                 index_path: layout.index_db(&m),
+                crash_after_rename: false,
             };
             served.push((m.clone(), cfg.program_dir.clone()));
             services.push(keys::agent_service(&m.id));

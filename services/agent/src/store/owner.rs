@@ -13,7 +13,7 @@ impl Store {
         let owner: Option<String> = self
             .conn
             .query_row(
-                "SELECT part FROM programs WHERE file_name = ?1 AND part != '' ORDER BY seq DESC LIMIT 1",
+                "SELECT part FROM programs WHERE file_name = ?1 AND part != '' AND state != 'pending' ORDER BY seq DESC LIMIT 1",
                 [file_name],
                 |r| r.get(0),
             )

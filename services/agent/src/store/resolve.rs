@@ -56,7 +56,7 @@ impl Store {
             .conn
             .query_row(
                 "SELECT file_name, job, revision, sha256, text, part FROM programs
-                 WHERE name = ?1 ORDER BY seq DESC LIMIT 1",
+                 WHERE name = ?1 AND state != 'pending' ORDER BY seq DESC LIMIT 1",
                 [name],
                 |r| {
                     Ok(Latest {

@@ -1,0 +1,381 @@
+//! Writing programs durably, with an intent record so that a crash at any
+//! point leaves a store the agent can finish or undo at its next start.
+//!
+//! Order of one group commit:
+//!
+//! 1. every file written to a temporary file beside its final name and
+//!    fsynced (in parallel); a failed write's temporary file is removed at once;
+//! 2. one transaction inserts a `pending` row per program (the intent: job,
+//!    revision, hash, text) — committed before any file is renamed;
+//! 3. per program, the file at the machine is compared again with what the
+//!    checks saw (an operator's edit during the write is kept: the program is
+//!    refused as changed at the machine), then the temporary file is renamed
+//!    over the final name; the directory is fsynced;
+//! 4. one transaction turns the renamed programs' rows to `stored` and
+//!    deletes the rows of those not renamed.
+//!
+//! A crash between 2 and 4 leaves `pending` rows: [`Store::recover`] (at
+//! open) makes each `stored` when its file holds exactly its hash (the rename
+//! happened) and deletes it otherwise (the old file is still there). So the
+//! machine never holds a program the history does not show as current.
+
+use std::fs::{self, File};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use gearcam_proto::{now_ms, DeliveryReceipt, JobError, NcProgram, Stage};
+use rusqlite::params;
+
+use super::{index_error, sha256_hex, Store};
+
+/// A program of a batch that must be written.
+#[derive(Debug)]
+pub(super) struct Pending {
+    pub(super) index: usize,
+    pub(super) file_name: String,
+    pub(super) hash: String,
+    /// The hash of the file at the machine when the checks ran (`None`: no
+    /// file); compared again right before the rename.
+    pub(super) seen: Option<String>,
+}
+
+/// What storing a program needs.
+#[derive(Debug)]
+pub(super) enum Prepared {
+    /// Already stored: the original receipt.
+    Stored(DeliveryReceipt),
+    /// To be written.
+    Write(Pending),
+}
+
+fn io_error(dir: &Path, file_name: &str, e: &std::io::Error) -> JobError {
+    Stage::Agent.error(
+        "STORE_IO_ERROR",
+        "-",
+        "a writable program directory",
+        e.to_string(),
+        format!(
+            "cannot write {} (disk full?); the job waits and is delivered once the store can write again",
+            dir.join(file_name).display()
+        ),
+    )
+}
+
+impl Store {
+    /// Writes the pending programs durably and records them (module docs).
+    pub(super) fn flush(
+        &mut self,
+        programs: &[NcProgram],
+        pending: Vec<Pending>,
+        results: &mut [Option<Result<DeliveryReceipt, JobError>>],
+    ) {
+        if pending.is_empty() {
+            return;
+        }
+        let dir = self.config.program_dir.clone();
+        // 1. Temporary files, written and fsynced in parallel: concurrent
+        // fsyncs share the file system's journal commits.
+        let written: Vec<std::io::Result<PathBuf>> = std::thread::scope(|scope| {
+            let handles: Vec<_> = pending
+                .chunks(pending.len().div_ceil(8))
+                .map(|chunk| {
+                    let dir = &dir;
+                    scope.spawn(move || {
+                        chunk
+                            .iter()
+                            .map(|q| {
+                                write_temp(dir, &q.file_name, programs[q.index].text.as_bytes())
+                            })
+                            .collect::<Vec<_>>()
+                    })
+                })
+                .collect();
+            handles
+                .into_iter()
+                .flat_map(|h| {
+                    h.join().unwrap_or_else(|_| {
+                        vec![Err(std::io::Error::other("writer thread panicked"))]
+                    })
+                })
+                .collect()
+        });
+        let mut ready: Vec<(Pending, PathBuf)> = Vec::new();
+        for (q, tmp) in pending.into_iter().zip(written) {
+            match tmp {
+                Ok(tmp) => ready.push((q, tmp)),
+                Err(e) => results[q.index] = Some(Err(io_error(&dir, &q.file_name, &e))),
+            }
+        }
+        // 2. The intent, durable before any rename.
+        let stored_at = now_ms();
+        let intents = (|| -> rusqlite::Result<Vec<i64>> {
+            let tx = self.conn.transaction()?;
+            let mut seqs = Vec::with_capacity(ready.len());
+            {
+                let mut insert = tx.prepare_cached(
+                    "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text, part)
+                     VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'pending', ?9, ?10)",
+                )?;
+                for (q, _) in &ready {
+                    let p = &programs[q.index];
+                    insert.execute(params![
+                        p.name,
+                        q.file_name,
+                        p.job_id.as_str(),
+                        p.revision,
+                        q.hash,
+                        p.text.len() as i64,
+                        p.dialect.as_str(),
+                        stored_at as i64,
+                        p.text,
+                        p.part_number
+                    ])?;
+                    seqs.push(tx.last_insert_rowid());
+                }
+            }
+            tx.commit()?;
+            Ok(seqs)
+        })();
+        let seqs = match intents {
+            Ok(seqs) => seqs,
+            Err(e) => {
+                for (q, tmp) in ready {
+                    let _ = fs::remove_file(&tmp);
+                    results[q.index] = Some(Err(index_error(e.to_string())));
+                }
+                return;
+            }
+        };
+        // 3. Compare again, then rename.
+        let mut renamed = Vec::new();
+        let mut undone = Vec::new();
+        for ((q, tmp), seq) in ready.into_iter().zip(seqs) {
+            let outcome = match self.disk_hash(&q.file_name) {
+                Err(e) => Err(e),
+                Ok(now) if now != q.seen => Err(self.changed_at_machine(
+                    &q.file_name,
+                    now.as_deref().unwrap_or("no file (deleted)"),
+                )),
+                Ok(_) => fs::rename(&tmp, dir.join(&q.file_name))
+                    .map_err(|e| io_error(&dir, &q.file_name, &e)),
+            };
+            match outcome {
+                Ok(()) => renamed.push((q, seq)),
+                Err(e) => {
+                    let _ = fs::remove_file(&tmp);
+                    results[q.index] = Some(Err(e));
+                    undone.push(seq);
+                }
+            }
+        }
+        let synced = File::open(&dir).and_then(|d| d.sync_all());
+        if self.config.crash_after_rename && !renamed.is_empty() {
+            tracing::error!("fault injection: aborting after the rename, before the index commit");
+            std::process::abort();
+        }
+        // 4. Stored (or undone) in the index.
+        let committed = (|| -> rusqlite::Result<()> {
+            let tx = self.conn.transaction()?;
+            for (_, seq) in &renamed {
+                tx.execute("UPDATE programs SET state = 'stored' WHERE seq = ?1", [seq])?;
+            }
+            for seq in &undone {
+                tx.execute("DELETE FROM programs WHERE seq = ?1", [seq])?;
+            }
+            tx.commit()
+        })();
+        for (q, _) in renamed {
+            let p = &programs[q.index];
+            results[q.index] = Some(match (&synced, &committed) {
+                (Err(e), _) => Err(io_error(&dir, &q.file_name, e)),
+                (_, Err(e)) => Err(index_error(e.to_string())),
+                (Ok(()), Ok(())) => Ok(DeliveryReceipt {
+                    job_id: p.job_id.clone(),
+                    machine: self.config.machine.clone(),
+                    name: p.name.clone(),
+                    path: dir.join(&q.file_name).display().to_string(),
+                    file_name: q.file_name,
+                    revision: p.revision,
+                    sha256: q.hash,
+                    size_bytes: p.text.len() as u64,
+                    stored_at_ms: stored_at,
+                    duplicate: false,
+                }),
+            });
+        }
+    }
+
+    /// Finishes or undoes the writes a crash cut off (module docs): a
+    /// `pending` row whose file holds exactly its hash was renamed and becomes
+    /// `stored`; any other is deleted. Returns (finished, undone).
+    pub(super) fn recover(&mut self) -> Result<(usize, usize), crate::AgentError> {
+        let pending: Vec<(i64, String, String)> = self
+            .conn
+            .prepare("SELECT seq, file_name, sha256 FROM programs WHERE state = 'pending'")?
+            .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))?
+            .collect::<Result<_, _>>()?;
+        let (mut finished, mut undone) = (0, 0);
+        for (seq, file_name, hash) in pending {
+            let path = self.config.program_dir.join(&file_name);
+            let on_disk = match fs::read(&path) {
+                Ok(bytes) => Some(sha256_hex(&bytes)),
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+                Err(e) => {
+                    return Err(crate::AgentError::Io {
+                        path: path.display().to_string(),
+                        source: e,
+                    })
+                }
+            };
+            if on_disk.as_deref() == Some(hash.as_str()) {
+                self.conn
+                    .execute("UPDATE programs SET state = 'stored' WHERE seq = ?1", [seq])?;
+                finished += 1;
+                tracing::info!(file = %file_name, seq, "finished a write a crash cut off after the rename");
+            } else {
+                self.conn
+                    .execute("DELETE FROM programs WHERE seq = ?1", [seq])?;
+                undone += 1;
+                tracing::info!(file = %file_name, seq, "undid a write a crash cut off before the rename");
+            }
+        }
+        Ok((finished, undone))
+    }
+}
+
+/// Removes temporary files a killed agent left behind (`.{name}.tmp-{pid}`):
+/// they never became programs, since a program exists only once renamed.
+pub(super) fn remove_stale_temporaries(dir: &Path) {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        if name.starts_with('.') && name.contains(".tmp-") {
+            match fs::remove_file(entry.path()) {
+                Ok(()) => tracing::info!(file = %name, "removed an unfinished temporary file"),
+                Err(e) => {
+                    tracing::warn!(file = %name, error = %e, "cannot remove an unfinished temporary file")
+                }
+            }
+        }
+    }
+}
+
+/// Writes `bytes` to a temporary file beside `dir/file_name` and fsyncs it;
+/// on failure the temporary file is removed at once.
+fn write_temp(dir: &Path, file_name: &str, bytes: &[u8]) -> std::io::Result<PathBuf> {
+    let tmp = dir.join(format!(".{file_name}.tmp-{}", std::process::id()));
+    let written = File::create(&tmp).and_then(|mut f| {
+        f.write_all(bytes)?;
+        f.sync_all()
+    });
+    match written {
+        Ok(()) => Ok(tmp),
+        Err(e) => {
+            let _ = fs::remove_file(&tmp);
+            Err(e)
+        }
+    }
+}
+
+/// Writes `bytes` to `dir/file_name` atomically and durably.
+pub(super) fn write_atomically(dir: &Path, file_name: &str, bytes: &[u8]) -> std::io::Result<()> {
+    let tmp = write_temp(dir, file_name, bytes)?;
+    if let Err(e) = fs::rename(&tmp, dir.join(file_name)) {
+        let _ = fs::remove_file(&tmp);
+        return Err(e);
+    }
+    File::open(dir)?.sync_all()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::{program, store};
+    use super::*;
+
+    /// Issue 13 point 7: an operator's edit made while the program was being
+    /// written (after the checks, before the rename) was overwritten.
+    #[test]
+    fn point_7_an_edit_during_the_write_is_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = store(dir.path());
+        s.store(&program("J1", "SP_1", "first\n")).unwrap();
+        let second = program("J2", "SP_1", "second\n");
+        let Prepared::Write(q) = s.prepare(&second).unwrap() else {
+            panic!("a new version is written")
+        };
+        // The operator saves an edit now, between the checks and the rename.
+        let path = dir.path().join("programs/_N_SP_1_MPF");
+        fs::write(&path, "operator edit\n").unwrap();
+        let mut results = vec![None];
+        s.flush(std::slice::from_ref(&second), vec![q], &mut results);
+        let e = results[0].take().unwrap().unwrap_err();
+        assert_eq!(e.code, "PROGRAM_CHANGED_AT_MACHINE");
+        assert_eq!(fs::read_to_string(&path).unwrap(), "operator edit\n");
+        // No row for the refused write, no temporary file left.
+        assert_eq!(s.history(Some("SP_1")).unwrap().len(), 1);
+        assert_eq!(
+            fs::read_dir(dir.path().join("programs")).unwrap().count(),
+            1
+        );
+    }
+
+    /// Issue 13 point 1: a crash between the rename and the index commit
+    /// left the machine holding a program the history did not show; the
+    /// intent row is finished (renamed) or undone (not renamed) at open.
+    #[test]
+    fn point_1_recovery_finishes_or_undoes_each_intent() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = store(dir.path());
+        s.store(&program("J1", "SP_1", "first\n")).unwrap();
+        s.store(&program("J9", "SP_2", "other\n")).unwrap();
+        let intent = |s: &Store, job: &str, name: &str, text: &str| {
+            s.conn
+                .execute(
+                    "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text, part)
+                     VALUES (?1, ?2, ?3, 1, ?4, ?5, 'sinumerik840d', 1, 'pending', ?6, 'P')",
+                    params![name, format!("_N_{name}_MPF"), job, sha256_hex(text.as_bytes()), text.len() as i64, text],
+                )
+                .unwrap();
+        };
+        // J2 was renamed into place, J3 was not, when the agent died.
+        intent(&s, "J2", "SP_1", "second\n");
+        fs::write(dir.path().join("programs/_N_SP_1_MPF"), "second\n").unwrap();
+        intent(&s, "J3", "SP_2", "never renamed\n");
+        drop(s);
+        let s = store(dir.path());
+        let h = s.history(Some("SP_1")).unwrap();
+        assert_eq!(
+            (h[0].job.as_str(), h[0].state.as_str(), h[0].current),
+            ("J2", "stored", true)
+        );
+        let h = s.history(Some("SP_2")).unwrap();
+        assert_eq!((h.len(), h[0].job.as_str()), (1, "J9"));
+        let pending: i64 = s
+            .conn
+            .query_row(
+                "SELECT COUNT(*) FROM programs WHERE state = 'pending'",
+                [],
+                |r| r.get(0),
+            )
+            .unwrap();
+        assert_eq!(pending, 0);
+    }
+
+    /// Issue 13 point 2: a failed write left its temporary file until restart.
+    #[test]
+    fn point_2_a_failed_write_leaves_no_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        // A directory where the file should be: the write fails, even as root.
+        let target = dir.path().join("_N_X_MPF");
+        fs::create_dir(&target).unwrap();
+        assert!(write_atomically(dir.path(), "_N_X_MPF", b"x\n").is_err());
+        let names: Vec<_> = fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names, vec![std::ffi::OsString::from("_N_X_MPF")]);
+    }
+}
