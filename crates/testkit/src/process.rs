@@ -157,6 +157,11 @@ impl Proc {
         endpoint
     }
 
+    /// The process id.
+    pub fn pid(&self) -> u32 {
+        self.child.id()
+    }
+
     /// True while the process runs.
     pub fn running(&mut self) -> bool {
         matches!(self.child.try_wait(), Ok(None))
@@ -317,6 +322,17 @@ impl Cluster {
     /// for H01 and `agent-{machine}` otherwise), its store under `{machine}/`;
     /// H02 is the seeded FANUC machine, every other an 840D.
     pub fn start_agent_for(&mut self, machine: &str) {
+        let label = if machine == "H01" {
+            "agent".to_string()
+        } else {
+            format!("agent-{machine}")
+        };
+        self.start_agent_with(&label, machine, &[]);
+    }
+
+    /// Starts an agent of `machine` labelled `label`, with `extra` arguments
+    /// (e.g. a fault to inject), on the same store as [`Cluster::start_agent_for`].
+    pub fn start_agent_with(&mut self, label: &str, machine: &str, extra: &[&str]) {
         let d = self.dir.path();
         let programs = d.join(machine).join("programs").display().to_string();
         let index = d.join(machine).join("index.db").display().to_string();
@@ -348,12 +364,8 @@ impl Cluster {
             .iter()
             .map(|s| s.to_string()),
         );
-        let label = if machine == "H01" {
-            "agent".to_string()
-        } else {
-            format!("agent-{machine}")
-        };
-        let agent = Proc::start(d, &label, "gearcam-agent", &args);
+        args.extend(extra.iter().map(|s| s.to_string()));
+        let agent = Proc::start(d, label, "gearcam-agent", &args);
         self.procs.push(agent);
     }
 

@@ -1,0 +1,249 @@
+//! Issue 13, points 1, 2 and 6: the program store under faults, through real
+//! processes on loopback (router, station, services, agent).
+// Test code: clocks for the waits.
+#![allow(clippy::disallowed_methods)]
+
+use std::time::{Duration, Instant};
+
+use gearcam_proto::{
+    decode, encode, keys, DeliveryReply, Dialect, JobId, MachineId, NcProgram, TemplateRef,
+};
+use gearcam_testkit::{gearcam, Cluster};
+use sha2::{Digest, Sha256};
+
+fn sha(bytes: &[u8]) -> String {
+    hex::encode(Sha256::digest(bytes))
+}
+
+/// The spur example with `quantity` (a new program text for the same part).
+fn spur(c: &Cluster, quantity: u32) -> std::path::PathBuf {
+    let text = gearcam_testkit::examples::example("spur_840d.toml")
+        .replace("quantity = 20", &format!("quantity = {quantity}"));
+    c.job_file(&format!("spur-{quantity}.toml"), &text)
+}
+
+/// Waits until `gearcam status JOB --json` satisfies `done`.
+fn wait_status(
+    c: &Cluster,
+    id: &str,
+    done: impl Fn(&serde_json::Value) -> bool,
+) -> serde_json::Value {
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        let (_, out, _) = gearcam(&["status", id, "--connect", &c.endpoint, "--json"]);
+        if let Ok(v) = serde_json::from_str::<serde_json::Value>(&out) {
+            if done(&v) {
+                return v;
+            }
+            assert!(
+                Instant::now() < deadline,
+                "job {id} stuck: {v}\n{}",
+                c.logs()
+            );
+        }
+        std::thread::sleep(Duration::from_millis(200));
+    }
+}
+
+fn current_version(c: &Cluster) -> serde_json::Value {
+    let (code, out, err) = gearcam(&[
+        "program",
+        "history",
+        "SP_1001",
+        "--machine",
+        "H01",
+        "--connect",
+        &c.endpoint,
+        "--json",
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let h: serde_json::Value = serde_json::from_str(&out).unwrap();
+    h["versions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|v| v["current"] == true)
+        .unwrap()
+        .clone()
+}
+
+/// Point 1: the agent killed between the rename and the index commit left
+/// the machine holding a program the history did not show as current, and
+/// the next program for the name was taken for an operator's edit.
+#[test]
+fn point_1_a_crash_between_rename_and_commit_is_finished_at_restart() {
+    let mut c = Cluster::start();
+    let (_, v) = c.submit_wait(&spur(&c, 20));
+    assert_eq!(v["state"], "delivered", "{v}");
+
+    // The agent that dies right after renaming the next program into place.
+    c.proc("agent").kill();
+    c.start_agent_with("agent-crashing", "H01", &["--fault-crash-after-rename"]);
+    let second = c.submit(&spur(&c, 21));
+    let second = second["job"].as_str().unwrap().to_string();
+    let deadline = Instant::now() + Duration::from_secs(30);
+    while c.proc("agent-crashing").running() {
+        assert!(
+            Instant::now() < deadline,
+            "the fault was not hit\n{}",
+            c.logs()
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    // No re-drive may tidy up behind the store's back: the station is down
+    // while the agent starts again.
+    c.proc("station").kill();
+    c.start_agent_with("agent-again", "H01", &[]);
+    let file = std::fs::read(c.program_dir().join("_N_SP_1001_MPF")).unwrap();
+    let deadline = Instant::now() + Duration::from_secs(30);
+    let current = loop {
+        let (code, out, _) = gearcam(&[
+            "program",
+            "history",
+            "SP_1001",
+            "--machine",
+            "H01",
+            "--connect",
+            &c.endpoint,
+            "--json",
+        ]);
+        if code == Some(0) {
+            let _ = out;
+            break current_version(&c);
+        }
+        assert!(
+            Instant::now() < deadline,
+            "the agent did not come back\n{}",
+            c.logs()
+        );
+        std::thread::sleep(Duration::from_millis(200));
+    };
+    assert_eq!(
+        current["sha256"],
+        sha(&file),
+        "the machine holds a program the history does not show as current: {current}"
+    );
+    assert_eq!(current["job"], second.as_str());
+
+    // The station comes back: the job is delivered, and the next program
+    // for the name is stored, not refused as an edit.
+    c.proc("station").restart();
+    wait_status(&c, &second, |v| v["state"] == "delivered");
+    let (_, v) = c.submit_wait(&spur(&c, 22));
+    assert_eq!(v["state"], "delivered", "{v}");
+}
+
+/// Point 2: a store that could not write (disk full) failed the accepted
+/// job for good; now it waits, says why, and is delivered once the store
+/// can write again.
+#[test]
+fn point_2_a_store_that_cannot_write_makes_the_job_wait_not_fail() {
+    let mut c = Cluster::start();
+    // A directory where the agent's temporary file goes: every write fails
+    // (EISDIR, even for root), as on a full disk.
+    let pid = c.proc("agent").pid();
+    let blocker = c.program_dir().join(format!("._N_SP_1001_MPF.tmp-{pid}"));
+    std::fs::create_dir_all(&blocker).unwrap();
+    let job = c.submit(&spur(&c, 20));
+    let id = job["job"].as_str().unwrap().to_string();
+    let v = wait_status(&c, &id, |v| {
+        v["waiting_for"]
+            .as_str()
+            .is_some_and(|w| w.contains("STORE_IO_ERROR"))
+    });
+    assert_eq!(v["state"], "waiting", "{v}");
+    // Space freed: the station's re-drive delivers it.
+    std::fs::remove_dir(&blocker).unwrap();
+    let v = wait_status(&c, &id, |v| {
+        v["state"] == "delivered" || v["state"] == "failed"
+    });
+    assert_eq!(v["state"], "delivered", "{v}");
+    let names: Vec<String> = std::fs::read_dir(c.program_dir())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["_N_SP_1001_MPF"], "no temporary file is left");
+}
+
+/// Point 6: a repeated delivery answered the original receipt without
+/// looking at the file, after the file was deleted at the machine.
+#[test]
+fn point_6_a_repeated_delivery_checks_the_file() {
+    let c = Cluster::start();
+    let text = "%_N_PT_6_MPF\n;$PATH=/_N_MPF_DIR\nN10 M2\n".to_string();
+    let program = NcProgram {
+        job_id: JobId::new("PT6-1").unwrap(),
+        machine: MachineId::new("H01").unwrap(),
+        name: "PT_6".into(),
+        revision: 1,
+        dialect: Dialect::Sinumerik840d,
+        sha256: sha(text.as_bytes()),
+        text,
+        template: TemplateRef {
+            id: "test".into(),
+            version: 1,
+        },
+        part_number: "PT-6".into(),
+        cases: vec![],
+        model_version: "-".into(),
+        generator: "-".into(),
+        path_check: Default::default(),
+    };
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    rt.block_on(async {
+        let session = zenoh::open(gearcam_testkit::client_config(&c.endpoint))
+            .await
+            .unwrap();
+        let ask = |key: String, payload: Option<Vec<u8>>| {
+            let session = session.clone();
+            async move {
+                let deadline = Instant::now() + Duration::from_secs(30);
+                loop {
+                    let mut get = session.get(&key).timeout(Duration::from_secs(5));
+                    if let Some(p) = payload.clone() {
+                        get = get.payload(p);
+                    }
+                    let replies = get.await.unwrap();
+                    if let Ok(reply) = replies.recv_async().await {
+                        let bytes = reply.result().expect("a reply").payload().to_bytes();
+                        return decode::<DeliveryReply>(&bytes).unwrap();
+                    }
+                    assert!(Instant::now() < deadline, "the agent never answered");
+                    tokio::time::sleep(Duration::from_millis(200)).await;
+                }
+            }
+        };
+        let machine = program.machine.clone();
+        let deliver = || {
+            ask(
+                keys::machine_program(&machine, &program.job_id),
+                Some(encode(&program).unwrap()),
+            )
+        };
+        let DeliveryReply::Stored { receipt } = deliver().await else {
+            panic!("not stored")
+        };
+        assert!(!receipt.duplicate);
+        let DeliveryReply::Stored { receipt } = deliver().await else {
+            panic!("not stored")
+        };
+        assert!(
+            receipt.duplicate,
+            "a repeat of a held program is a duplicate"
+        );
+
+        std::fs::remove_file(c.program_dir().join("_N_PT_6_MPF")).unwrap();
+        match deliver().await {
+            DeliveryReply::Refused { error } => {
+                assert_eq!(error.code, "PROGRAM_CHANGED_AT_MACHINE")
+            }
+            other => panic!("answered {other:?} for a program the machine no longer holds"),
+        }
+        let lost = ask(keys::store_job(&machine, &program.job_id), None).await;
+        assert_eq!(
+            lost,
+            DeliveryReply::NotStored,
+            "the lost-receipt query says what the machine holds"
+        );
+    });
+}
