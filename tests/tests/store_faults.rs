@@ -247,3 +247,104 @@ fn point_6_a_repeated_delivery_checks_the_file() {
         );
     });
 }
+
+/// Truncates an SQLite file to 0 bytes and removes its WAL, as a fault or a
+/// careless hand would leave it.
+fn empty(db: &std::path::Path) {
+    std::fs::write(db, b"").unwrap();
+    for suffix in ["-wal", "-shm"] {
+        let mut side = db.as_os_str().to_owned();
+        side.push(suffix);
+        let _ = std::fs::remove_file(side);
+    }
+}
+
+/// Waits for `label` to exit; its log.
+fn exits(c: &mut Cluster, label: &str) -> String {
+    let deadline = Instant::now() + Duration::from_secs(30);
+    while c.proc(label).running() {
+        assert!(
+            Instant::now() < deadline,
+            "{label} kept running on a lost file\n{}",
+            c.logs()
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    std::fs::read_to_string(&c.proc(label).log).unwrap()
+}
+
+/// Point 4: an emptied index or journal was taken as a fresh one: the agent
+/// forgot its whole history, the station its unfinished jobs, silently.
+#[test]
+fn point_4_an_emptied_index_or_journal_is_refused_with_a_recovery() {
+    let mut c = Cluster::start();
+    let (_, v) = c.submit_wait(&spur(&c, 20));
+    assert_eq!(v["state"], "delivered", "{v}");
+    let job = v["job"].as_str().unwrap().to_string();
+
+    // The agent's index.
+    c.proc("agent").kill();
+    empty(&c.index_db());
+    c.start_agent_with("agent-on-empty", "H01", &[]);
+    let log = exits(&mut c, "agent-on-empty");
+    assert!(
+        log.contains("is empty") && log.contains("--rebuild-index"),
+        "{log}"
+    );
+    // The recovery the message names: rebuild from the files' headers.
+    let out = std::process::Command::new(gearcam_testkit::bin("gearcam-agent"))
+        .args(["--machine", "H01", "--program-dir"])
+        .arg(c.program_dir())
+        .arg("--index")
+        .arg(c.index_db())
+        .arg("--rebuild-index")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains("1 program(s)"),
+        "{out:?}"
+    );
+    c.start_agent_with("agent-rebuilt", "H01", &[]);
+    let deadline = Instant::now() + Duration::from_secs(30);
+    let current = loop {
+        let (code, _, _) = gearcam(&[
+            "program",
+            "history",
+            "SP_1001",
+            "--machine",
+            "H01",
+            "--connect",
+            &c.endpoint,
+            "--json",
+        ]);
+        if code == Some(0) {
+            break current_version(&c);
+        }
+        assert!(
+            Instant::now() < deadline,
+            "the rebuilt agent did not answer\n{}",
+            c.logs()
+        );
+        std::thread::sleep(Duration::from_millis(200));
+    };
+    assert_eq!(
+        (current["job"].as_str(), current["state"].as_str()),
+        (Some(job.as_str()), Some("rebuilt"))
+    );
+    assert_eq!(current["part_number"], "SP-1001");
+
+    // The station's journal.
+    c.proc("station").kill();
+    empty(&c.dir.path().join("station.db"));
+    c.proc("station").restart();
+    let log = exits(&mut c, "station");
+    assert!(
+        log.contains("job journal") && log.contains("is empty"),
+        "{log}"
+    );
+}

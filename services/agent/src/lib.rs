@@ -30,6 +30,11 @@ pub enum AgentError {
         #[source]
         source: std::io::Error,
     },
+    /// The index held data before and is now missing or empty: the agent
+    /// refuses to start rather than forget every version (the message says
+    /// how to recover).
+    #[error("{0}")]
+    Lost(String),
     /// The bus failed.
     #[error(transparent)]
     Bus(#[from] gearcam_bus::BusError),

@@ -35,6 +35,10 @@ struct Args {
     /// SQLite program index (default: index.db beside the program directory).
     #[arg(long)]
     index: Option<PathBuf>,
+    /// Rebuild a lost (missing or emptied) program index from the program
+    /// files and their headers, then exit; the lost index is kept beside.
+    #[arg(long)]
+    rebuild_index: bool,
     /// Fault injection for the fault tests: abort after renaming a program
     /// into place, before the index commit.
     #[arg(long, hide = true)]
@@ -57,7 +61,6 @@ async fn main() -> anyhow::Result<()> {
         DialectArg::Linuxcnc => Dialect::Linuxcnc,
         DialectArg::Wire3b => Dialect::Wire3b,
     };
-    let bus = Bus::open(&args.bus.to_config()).await?;
     let config = StoreConfig {
         machine: args.machine,
         dialect,
@@ -65,6 +68,23 @@ async fn main() -> anyhow::Result<()> {
         index_path,
         crash_after_rename: args.fault_crash_after_rename,
     };
+    if args.rebuild_index {
+        let r = gearcam_agent::store::Store::rebuild(config)?;
+        println!(
+            "rebuilt the program index: {} program(s) indexed from their headers{}{}",
+            r.programs,
+            if r.skipped.is_empty() {
+                String::new()
+            } else {
+                format!("; not programs, left alone: {}", r.skipped.join(", "))
+            },
+            r.moved_to
+                .map(|p| format!("; the lost index is kept as {p}"))
+                .unwrap_or_default()
+        );
+        return Ok(());
+    }
+    let bus = Bus::open(&args.bus.to_config()).await?;
     run(bus, config, cancel_on_signal()).await?;
     Ok(())
 }

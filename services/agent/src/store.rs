@@ -21,11 +21,13 @@ use sha2::{Digest, Sha256};
 use crate::AgentError;
 
 mod owner;
+mod rebuild;
 mod resolve;
 mod write;
 
 use write::{remove_stale_temporaries, write_atomically, Pending, Prepared};
 
+pub use rebuild::Rebuilt;
 pub use resolve::Resolution;
 
 /// Largest program the store accepts, bytes.
@@ -71,6 +73,18 @@ impl Store {
         if let Some(dir) = config.index_path.parent() {
             fs::create_dir_all(dir).map_err(io(dir))?;
         }
+        gearcam_bus::durable::refuse_if_lost(
+            &config.index_path,
+            &format!("the program index of {}", config.machine),
+            &format!(
+                "Restore it from a backup, or rebuild it from the program files and their headers: \
+                 gearcam-agent --machine {} --program-dir {} --index {} --rebuild-index.",
+                config.machine,
+                config.program_dir.display(),
+                config.index_path.display()
+            ),
+        )
+        .map_err(AgentError::Lost)?;
         let conn = Connection::open(&config.index_path)?;
         conn.pragma_update(None, "journal_mode", "WAL")?;
         conn.pragma_update(None, "synchronous", "FULL")?;
@@ -105,6 +119,7 @@ impl Store {
                 conn.execute_batch(&format!("ALTER TABLE programs ADD COLUMN {column} {decl}"))?;
             }
         }
+        gearcam_bus::durable::mark(&config.index_path).map_err(io(&config.index_path))?;
         remove_stale_temporaries(&config.program_dir);
         let mut store = Store { config, conn };
         store.recover()?;

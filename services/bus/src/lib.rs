@@ -14,6 +14,7 @@
 #![forbid(unsafe_code)]
 
 pub mod config;
+pub mod durable;
 pub mod query;
 pub mod shutdown;
 pub mod stage;

@@ -28,6 +28,10 @@ pub enum JournalError {
         /// Why.
         detail: String,
     },
+    /// The journal held jobs before and is now missing or empty: the
+    /// station refuses to start rather than forget unfinished jobs.
+    #[error("{0}")]
+    Lost(String),
     /// The journal's directory cannot be created.
     #[error("{path}: {source}")]
     Io {
@@ -75,6 +79,14 @@ impl Journal {
                 source: e,
             })?;
         }
+        gearcam_bus::durable::refuse_if_lost(
+            path,
+            "the station's job journal",
+            "Restore it from a backup (the station keeps nothing else of the unfinished jobs); \
+             without one, the jobs not yet delivered must be submitted again \
+             (`gearcam program history` at each machine shows what was delivered).",
+        )
+        .map_err(JournalError::Lost)?;
         let conn = Connection::open(path)?;
         conn.pragma_update(None, "journal_mode", "WAL")?;
         conn.pragma_update(None, "synchronous", "FULL")?;
@@ -106,6 +118,10 @@ impl Journal {
         if !has_warnings {
             conn.execute_batch("ALTER TABLE jobs ADD COLUMN warnings_json TEXT")?;
         }
+        gearcam_bus::durable::mark(path).map_err(|e| JournalError::Io {
+            path: path.display().to_string(),
+            source: e,
+        })?;
         Ok(Journal { conn })
     }
 
