@@ -220,7 +220,28 @@ pub fn alive_of(key: &str) -> Option<&str> {
 
 /// The machine of an agent's liveliness name (`agent/{machine}`).
 pub fn agent_machine_of(service: &str) -> Option<&str> {
-    service.strip_prefix("agent/")
+    service.strip_prefix("agent/").filter(|m| !m.contains('/'))
+}
+
+/// Liveliness token of one running agent process of a machine:
+/// `gearcam/v1/alive/agent/{machine}/instance/{instance}`, where the instance
+/// id (`{start ms, 13 digits}-{zenoh id}`) orders agents by start. A machine
+/// has exactly one agent; the later of two refuses to serve.
+pub fn agent_instance(machine: &MachineId, instance: &str) -> String {
+    format!("{PREFIX}/alive/agent/{machine}/instance/{instance}")
+}
+
+/// Every agent instance token of a machine (a liveliness subscription).
+pub fn agent_instances(machine: &MachineId) -> String {
+    format!("{PREFIX}/alive/agent/{machine}/instance/*")
+}
+
+/// The instance id of an agent instance token.
+pub fn agent_instance_of<'a>(machine: &MachineId, key: &'a str) -> Option<&'a str> {
+    key.strip_prefix(PREFIX)?
+        .strip_prefix("/alive/agent/")?
+        .strip_prefix(machine.as_str())?
+        .strip_prefix("/instance/")
 }
 
 /// The raw job id of a station status key (`gearcam/v1/station/jobs/{job}`).

@@ -265,7 +265,7 @@ fn exits(c: &mut Cluster, label: &str) -> String {
     while c.proc(label).running() {
         assert!(
             Instant::now() < deadline,
-            "{label} kept running on a lost file\n{}",
+            "{label} kept running\n{}",
             c.logs()
         );
         std::thread::sleep(Duration::from_millis(100));
@@ -347,4 +347,38 @@ fn point_4_an_emptied_index_or_journal_is_refused_with_a_recovery() {
         log.contains("job journal") && log.contains("is empty"),
         "{log}"
     );
+}
+
+/// Point 5: a second agent for one machine (a misconfiguration) served too:
+/// deliveries reached both, receipts split, jobs failed though stored once.
+#[test]
+fn point_5_a_second_agent_for_a_machine_refuses_to_serve() {
+    let mut c = Cluster::start();
+    let (_, v) = c.submit_wait(&spur(&c, 20));
+    assert_eq!(v["state"], "delivered", "{v}");
+    c.start_agent_with("agent-second", "H01", &[]);
+    let log = exits(&mut c, "agent-second");
+    assert!(
+        log.contains("another agent already serves machine H01"),
+        "{log}"
+    );
+    let first = std::fs::read_to_string(&c.proc("agent").log).unwrap();
+    assert!(
+        first.contains("a second agent for machine H01 started"),
+        "the serving agent reports it: {first}"
+    );
+    // The first one still serves, alone.
+    for q in 21..24 {
+        let (_, v) = c.submit_wait(&spur(&c, q));
+        assert_eq!(v["state"], "delivered", "{v}");
+    }
+    let rows: i64 = rusqlite::Connection::open(c.index_db())
+        .unwrap()
+        .query_row(
+            "SELECT COUNT(*) FROM programs WHERE state = 'stored'",
+            [],
+            |r| r.get(0),
+        )
+        .unwrap();
+    assert_eq!(rows, 4);
 }

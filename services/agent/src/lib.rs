@@ -35,6 +35,9 @@ pub enum AgentError {
     /// how to recover).
     #[error("{0}")]
     Lost(String),
+    /// Another agent already serves this machine: this one does not.
+    #[error("{0}")]
+    Duplicate(String),
     /// The bus failed.
     #[error(transparent)]
     Bus(#[from] gearcam_bus::BusError),

@@ -25,13 +25,19 @@ pub async fn run(
     let machine = config.machine.clone();
     let mut store = Store::open(config)?;
     tracing::info!(%machine, dir = %store.config().program_dir.display(), "program store open");
+    // One machine, one agent: the later of two refuses to serve.
+    let serving = shutdown.child_token();
+    let single = single_agent(&bus, &machine, serving.clone()).await?;
+    if let Some(earlier) = single.refused() {
+        return Err(AgentError::Duplicate(duplicate_message(&machine, &earlier)));
+    }
     let pattern = keys::agent_any(&machine);
     run_queryable_batched(
         &bus,
         &pattern,
         Some(&keys::agent_service(&machine)),
         Stage::Agent,
-        shutdown,
+        serving,
         MAX_BATCH,
         |batch| {
             // Deliveries are stored together (one group commit); every other
@@ -62,7 +68,96 @@ pub async fn run(
         },
     )
     .await?;
+    if let Some(earlier) = single.refused() {
+        return Err(AgentError::Duplicate(duplicate_message(&machine, &earlier)));
+    }
     Ok(())
+}
+
+fn duplicate_message(machine: &gearcam_proto::MachineId, earlier: &str) -> String {
+    format!(
+        "another agent already serves machine {machine} (instance {earlier}); a machine has exactly \
+         one agent, so this one does not serve: stop one of them, or give this one the right --machine"
+    )
+}
+
+/// The watch that keeps a machine to one agent.
+struct SingleAgent {
+    /// The earlier instance seen, once one is: this agent must not serve.
+    earlier: std::sync::Arc<std::sync::Mutex<Option<String>>>,
+    _token: zenoh::liveliness::LivelinessToken,
+    _watch: tokio::task::JoinHandle<()>,
+}
+
+impl SingleAgent {
+    fn refused(&self) -> Option<String> {
+        self.earlier.lock().map(|e| e.clone()).unwrap_or(None)
+    }
+}
+
+/// Declares this agent's instance token and watches the machine's others
+/// (history included): an earlier instance cancels `serving` (this agent
+/// stops, or never starts, serving); a later one is reported, and refuses
+/// itself. The first look waits briefly for the tokens already declared.
+async fn single_agent(
+    bus: &Bus,
+    machine: &gearcam_proto::MachineId,
+    serving: CancellationToken,
+) -> Result<SingleAgent, AgentError> {
+    let me = format!("{:013}-{}", gearcam_proto::now_ms(), bus.session().zid());
+    let zerr = |op: &'static str| {
+        move |e: zenoh::Error| {
+            AgentError::Bus(gearcam_bus::BusError::Zenoh {
+                op,
+                detail: e.to_string(),
+            })
+        }
+    };
+    let token = bus
+        .session()
+        .liveliness()
+        .declare_token(keys::agent_instance(machine, &me))
+        .await
+        .map_err(zerr("liveliness token"))?;
+    let others = bus
+        .session()
+        .liveliness()
+        .declare_subscriber(keys::agent_instances(machine))
+        .history(true)
+        .await
+        .map_err(zerr("liveliness subscriber"))?;
+    let earlier = std::sync::Arc::new(std::sync::Mutex::new(None));
+    let seen = earlier.clone();
+    let machine = machine.clone();
+    let watch = tokio::spawn(async move {
+        while let Ok(s) = others.recv_async().await {
+            if s.kind() != zenoh::sample::SampleKind::Put {
+                continue;
+            }
+            let Some(other) = keys::agent_instance_of(&machine, s.key_expr().as_str()) else {
+                continue;
+            };
+            if other == me {
+                continue;
+            }
+            if other < me.as_str() {
+                tracing::error!(%machine, other, "{}", duplicate_message(&machine, other));
+                if let Ok(mut e) = seen.lock() {
+                    *e = Some(other.to_string());
+                }
+                serving.cancel();
+            } else {
+                tracing::error!(%machine, other, "a second agent for machine {machine} started (instance {other}); it must not serve, and does not: a machine has exactly one agent");
+            }
+        }
+    });
+    // The tokens already declared arrive as history.
+    tokio::time::sleep(std::time::Duration::from_millis(300)).await;
+    Ok(SingleAgent {
+        earlier,
+        _token: token,
+        _watch: watch,
+    })
 }
 
 /// Largest group of deliveries committed together.
