@@ -103,6 +103,9 @@ pub async fn run(
     tracing::info!(journal = %config.journal.display(), unfinished = woken, "station serving");
     let mut tick = tokio::time::interval(Duration::from_millis(100));
     tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    // Jobs being driven: each in its own task (a re-drive may wait on a
+    // frozen agent's store), at most MAX_IN_FLIGHT; the loop never awaits one.
+    let mut drives = Drives::default();
     loop {
         let mut new_submits: Vec<Query> = Vec::new();
         let mut new_events: Vec<JobEvent> = Vec::new();
@@ -133,6 +136,14 @@ pub async fn run(
                 } else {
                     alive.remove(&name);
                 }
+            },
+            Some(done) = drives.tasks.join_next_with_id(), if !drives.tasks.is_empty() => {
+                let mut updates = Vec::new();
+                drives.finished(done, &mut updates);
+                while let Some(done) = drives.tasks.try_join_next_with_id() {
+                    drives.finished(done, &mut updates);
+                }
+                journal.batch(|j| apply_updates(j, updates))??;
             },
             _ = tick.tick() => drive_now = true,
         }
@@ -244,21 +255,87 @@ pub async fn run(
                     tracing::warn!(job = %d.job, error = %e, "cannot publish the accepted event");
                 }
             }
-            if !to_send.is_empty() {
-                let updates = drive(&bus, &alive, redrive_ms, to_send).await?;
-                journal.batch(|j| apply_updates(j, updates))??;
-            }
+            drives.start(&bus, &alive, redrive_ms, to_send);
         }
-        if drive_now {
+        if drive_now && drives.has_room() {
             let due = journal.due(now_ms(), 2048)?;
-            if !due.is_empty() {
-                let updates = drive(&bus, &alive, redrive_ms, due).await?;
-                journal.batch(|j| apply_updates(j, updates))??;
-            }
+            drives.start(&bus, &alive, redrive_ms, due);
         }
     }
+    // Prompt: the drives in flight are dropped; their jobs stay due in the
+    // journal and are driven again at the next start.
+    drives.tasks.abort_all();
     tracing::info!("station stopped");
     Ok(())
+}
+
+/// Jobs driven at most at once: each may wait up to the store query's
+/// timeout on an agent that does not answer.
+const MAX_IN_FLIGHT: usize = 64;
+
+/// The drives in flight.
+#[derive(Default)]
+struct Drives {
+    tasks: tokio::task::JoinSet<Option<Update>>,
+    /// The job of each running task.
+    jobs: std::collections::HashMap<tokio::task::Id, JobId>,
+    in_flight: HashSet<JobId>,
+}
+
+impl Drives {
+    fn has_room(&self) -> bool {
+        self.tasks.len() < MAX_IN_FLIGHT
+    }
+
+    /// Starts a drive for each job not already in flight, while there is room;
+    /// the others stay due in the journal for a later tick.
+    fn start(&mut self, bus: &Bus, alive: &HashSet<String>, redrive_ms: u64, due: Vec<Due>) {
+        for d in due {
+            if !self.has_room() {
+                break;
+            }
+            if self.in_flight.contains(&d.job) {
+                continue;
+            }
+            let agent = keys::agent_service(&d.machine);
+            let missing: Vec<String> = PIPELINE
+                .iter()
+                .copied()
+                .chain(std::iter::once(agent.as_str()))
+                .filter(|s| !alive.contains(*s))
+                .map(str::to_string)
+                .collect();
+            self.in_flight.insert(d.job.clone());
+            let job = d.job.clone();
+            let bus = bus.clone();
+            let task = self
+                .tasks
+                .spawn(async move { drive(&bus, missing, redrive_ms, d).await });
+            self.jobs.insert(task.id(), job);
+        }
+    }
+
+    /// Takes a finished drive's journal change.
+    fn finished(
+        &mut self,
+        done: Result<(tokio::task::Id, Option<Update>), tokio::task::JoinError>,
+        updates: &mut Vec<Update>,
+    ) {
+        let id = match done {
+            Ok((id, update)) => {
+                updates.extend(update);
+                id
+            }
+            Err(e) => {
+                // A panicked drive (a bug): its job stays due in the journal.
+                tracing::error!(error = %e, "a drive failed");
+                e.id()
+            }
+        };
+        if let Some(job) = self.jobs.remove(&id) {
+            self.in_flight.remove(&job);
+        }
+    }
 }
 
 /// A journal change decided while driving jobs.
@@ -283,62 +360,48 @@ fn apply_updates(j: &Journal, updates: Vec<Update>) -> Result<(), JournalError> 
     Ok(())
 }
 
-/// Sends (or re-drives) jobs; returns the journal changes to commit.
-async fn drive(
-    bus: &Bus,
-    alive: &HashSet<String>,
-    redrive_ms: u64,
-    due: Vec<Due>,
-) -> Result<Vec<Update>, StationError> {
+/// Sends (or re-drives) one job; returns the journal change to commit, or
+/// nothing when the bus failed (the job stays due and is driven again).
+async fn drive(bus: &Bus, missing: Vec<String>, redrive_ms: u64, d: Due) -> Option<Update> {
     let now = now_ms();
-    let mut updates = Vec::with_capacity(due.len());
-    for d in due {
-        let agent = keys::agent_service(&d.machine);
-        let missing: Vec<&str> = PIPELINE
-            .iter()
-            .copied()
-            .chain(std::iter::once(agent.as_str()))
-            .filter(|s| !alive.contains(*s))
-            .collect();
-        if !missing.is_empty() {
-            let reason = format!("offline: {}", missing.join(", "));
-            if d.waiting_for.as_deref() != Some(reason.as_str()) {
-                let waiting = EventKind::Waiting {
-                    reason: reason.clone(),
-                };
-                bus.event(&d.job, Stage::Station, waiting).await?;
-            }
-            updates.push(Update::Waiting(d.job, reason, now + 1000));
-            continue;
-        }
-        if d.attempts > 0 {
-            // A re-drive: the receipt may have been lost; ask the agent's store first.
-            let retry = Retry {
-                timeout: Duration::from_secs(2),
-                attempts: 1,
-                pause: Duration::ZERO,
+    if !missing.is_empty() {
+        let reason = format!("offline: {}", missing.join(", "));
+        if d.waiting_for.as_deref() != Some(reason.as_str()) {
+            let waiting = EventKind::Waiting {
+                reason: reason.clone(),
             };
-            let asked = bus
-                .call::<JobRequest, DeliveryReply>(
-                    &keys::store_job(&d.machine, &d.job),
-                    None,
-                    retry,
-                )
-                .await;
-            if let Ok(DeliveryReply::Stored { receipt }) = asked {
-                tracing::info!(job = %d.job, "receipt recovered from the agent's store");
-                updates.push(Update::Delivered(Box::new(receipt)));
-                continue;
+            if let Err(e) = bus.event(&d.job, Stage::Station, waiting).await {
+                tracing::warn!(job = %d.job, error = %e, "cannot publish the waiting event");
             }
-            tracing::info!(job = %d.job, attempt = d.attempts + 1, state = d.state.as_str(), "job re-driven");
         }
-        let backoff = redrive_ms
-            .saturating_mul(1 << d.attempts.min(4))
-            .min(60_000);
-        bus.put_bytes(&keys::job_request(&d.job), d.request).await?;
-        updates.push(Update::Sent(d.job, now + backoff));
+        return Some(Update::Waiting(d.job, reason, now + 1000));
     }
-    Ok(updates)
+    if d.attempts > 0 {
+        // A re-drive: the receipt may have been lost; ask the agent's store first.
+        let retry = Retry {
+            timeout: Duration::from_secs(2),
+            attempts: 1,
+            pause: Duration::ZERO,
+        };
+        let asked = bus
+            .call::<JobRequest, DeliveryReply>(&keys::store_job(&d.machine, &d.job), None, retry)
+            .await;
+        if let Ok(DeliveryReply::Stored { receipt }) = asked {
+            tracing::info!(job = %d.job, "receipt recovered from the agent's store");
+            return Some(Update::Delivered(Box::new(receipt)));
+        }
+        tracing::info!(job = %d.job, attempt = d.attempts + 1, state = d.state.as_str(), "job re-driven");
+    }
+    let backoff = redrive_ms
+        .saturating_mul(1 << d.attempts.min(4))
+        .min(60_000);
+    match bus.put_bytes(&keys::job_request(&d.job), d.request).await {
+        Ok(()) => Some(Update::Sent(d.job, now + backoff)),
+        Err(e) => {
+            tracing::warn!(job = %d.job, error = %e, "cannot send the job; it stays due");
+            None
+        }
+    }
 }
 
 async fn reply_message<T: gearcam_proto::Message>(q: Query, msg: &T) {
