@@ -45,8 +45,8 @@ fn point_3_the_station_answers_and_stops_while_an_agent_is_frozen() {
     c.proc("station").kill();
     c.proc("station").restart();
     std::thread::sleep(Duration::from_millis(1500));
-    for round in 0..3 {
-        let (code, _, err) = gearcam(&["status", &ids[round], "--connect", &c.endpoint, "--json"]);
+    for (round, id) in ids.iter().take(3).enumerate() {
+        let (code, _, err) = gearcam(&["status", id, "--connect", &c.endpoint, "--json"]);
         assert_eq!(
             code,
             Some(0),
