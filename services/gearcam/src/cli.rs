@@ -57,6 +57,13 @@ pub enum Command {
         /// Seconds to wait for the outcome (with --wait) and for the services.
         #[arg(long, default_value_t = 60)]
         timeout: u64,
+        /// The job's id (default: the file's `[job] id`, or a new one). The
+        /// same id with the same job file is a resubmission: the station
+        /// reports the job's real state and never makes a second job, so a
+        /// submit that ended unreachable (exit 2) is retried safely with the
+        /// id it printed.
+        #[arg(long)]
+        id: Option<gearcam_proto::JobId>,
     },
     /// Compute the job locally (no bus) and print the result and the program.
     Check {
@@ -127,7 +134,8 @@ pub async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             wait,
             json,
             timeout,
-        } => cmd::submit::submit(&job, &bus.bus_args(), wait, json, timeout).await,
+            id,
+        } => cmd::submit::submit(&job, &bus.bus_args(), wait, json, timeout, id).await,
         Command::Check { job, json, data } => Ok(cmd::check::check(&job, json, &data)),
         Command::Router { bus } => cmd::router::router(&bus).await,
         Command::Kb(args) => Ok(kb::run(args)),

@@ -63,14 +63,32 @@ pub async fn submit(
         .await
         .map_err(|e| StationClientError::Unreachable(e.to_string()))?;
     let retry = Retry {
-        timeout: Duration::from_secs(10),
+        timeout: opts
+            .timeout
+            .clamp(Duration::from_secs(1), Duration::from_secs(10)),
         attempts: 3,
         pause: Duration::from_millis(300),
     };
-    let reply: StationReply = bus
-        .call(keys::STATION_SUBMIT, Some(req), retry)
+    // Every try is the same request: a resubmission if an earlier one was
+    // journaled. When no answer came, the journal may still hold the job.
+    let reply: StationReply = match bus.call(keys::STATION_SUBMIT, Some(req), retry).await {
+        Ok(reply) => reply,
+        Err(e) => match status_with(
+            bus,
+            &req.job_id,
+            Retry {
+                attempts: 1,
+                ..retry
+            },
+        )
         .await
-        .map_err(|e| StationClientError::Unreachable(e.to_string()))?;
+        {
+            Ok(Ok(status)) => StationReply::Accepted {
+                status: Box::new(status),
+            },
+            _ => return Err(StationClientError::Unreachable(e.to_string())),
+        },
+    };
     let accepted = match reply {
         StationReply::Refused { errors } => return Ok(Outcome::Failed(errors)),
         StationReply::Accepted { status } => *status,
@@ -126,8 +144,16 @@ fn final_outcome(s: &JobStatus) -> Option<Outcome> {
 /// One job's status from the station's journal, or the station's typed
 /// refusal (`UNKNOWN_JOB`, `BAD_JOB_ID`).
 pub async fn status(bus: &Bus, job: &JobId) -> Result<Result<JobStatus, Vec<JobError>>, CallError> {
+    status_with(bus, job, Retry::default()).await
+}
+
+async fn status_with(
+    bus: &Bus,
+    job: &JobId,
+    retry: Retry,
+) -> Result<Result<JobStatus, Vec<JobError>>, CallError> {
     let reply = bus
-        .call::<JobRequest, StationReply>(&keys::station_job(job), None, Retry::default())
+        .call::<JobRequest, StationReply>(&keys::station_job(job), None, retry)
         .await?;
     Ok(match reply {
         StationReply::Status { status } => Ok(*status),

@@ -153,7 +153,16 @@ impl Journal {
             // A resubmission is the same job id with the same spec; who sent
             // it and when may differ (a client's retry).
             Some(stored) => {
-                let same = decode::<JobRequest>(&stored).is_ok_and(|s| s.spec == req.spec);
+                // The id is the request's; whether the spec carried it (a
+                // file's `[job] id`, `submit --id`) or the client made it up
+                // does not make another job.
+                let without_id = |spec: &gearcam_proto::JobSpec| {
+                    let mut spec = spec.clone();
+                    spec.job.id = None;
+                    spec
+                };
+                let same = decode::<JobRequest>(&stored)
+                    .is_ok_and(|s| without_id(&s.spec) == without_id(&req.spec));
                 if !same {
                     return Err(station_error(
                         "JOB_ID_EXISTS",

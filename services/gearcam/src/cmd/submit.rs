@@ -20,8 +20,9 @@ pub async fn submit(
     wait: bool,
     json: bool,
     timeout: u64,
+    id: Option<gearcam_proto::JobId>,
 ) -> anyhow::Result<ExitCode> {
-    let spec = match jobfile::load(job) {
+    let mut spec = match jobfile::load(job) {
         Ok(s) => s,
         Err(e) => {
             if json {
@@ -35,7 +36,24 @@ pub async fn submit(
             return Ok(ExitCode::FAILURE);
         }
     };
+    if let Some(id) = id {
+        if let Some(file_id) = spec.job.id.as_ref().filter(|f| **f != id) {
+            return Ok(crate::output::fail(
+                crate::exit::USAGE,
+                &[],
+                &format!(
+                    "gearcam: --id {id} differs from the job file's [job] id = \"{file_id}\"; give one of them"
+                ),
+            ));
+        }
+        spec.job.id = Some(id);
+    }
     let req = jobfile::request(spec);
+    let retry_hint = format!(
+        "the station may have journaled job {id} before the answer was lost; submit again with `--id {id}`: \
+         the same id and job file is a resubmission, answered with the job's real state, never a second job",
+        id = req.job_id
+    );
     let config = bus_config::client(bus_args);
     let bus = match Bus::open(&config).await {
         Ok(bus) => bus,
@@ -76,10 +94,10 @@ pub async fn submit(
             if json {
                 crate::outln!(
                     "{}",
-                    json!({"job": req.job_id, "state": "unreachable", "message": e.to_string()})
+                    json!({"job": req.job_id, "state": "unreachable", "message": e.to_string(), "retry": retry_hint})
                 );
             } else {
-                eprintln!("gearcam: {e}");
+                eprintln!("gearcam: {e}\n{retry_hint}");
             }
             return Ok(crate::exit::code(crate::exit::UNREACHABLE));
         }
