@@ -382,3 +382,44 @@ fn point_5_a_second_agent_for_a_machine_refuses_to_serve() {
         .unwrap();
     assert_eq!(rows, 4);
 }
+
+/// Point 7: an operator's edit saved while a delivery was being written
+/// (between the checks and the rename) was overwritten. The agent's write
+/// is held open for 3 s by fault injection; the edit falls into it.
+#[test]
+fn point_7_an_edit_during_a_delivery_is_kept() {
+    let mut c = Cluster::start();
+    let (_, v) = c.submit_wait(&spur(&c, 20));
+    assert_eq!(v["state"], "delivered", "{v}");
+    c.proc("agent").kill();
+    c.start_agent_with(
+        "agent-slow",
+        "H01",
+        &["--fault-pause-before-rename-ms", "3000"],
+    );
+    let job = c.submit(&spur(&c, 21));
+    let id = job["job"].as_str().unwrap().to_string();
+    // The write is under way once its temporary file is there.
+    let deadline = Instant::now() + Duration::from_secs(30);
+    let writing = || {
+        std::fs::read_dir(c.program_dir())
+            .unwrap()
+            .any(|e| e.unwrap().file_name().to_string_lossy().contains(".tmp-"))
+    };
+    while !writing() {
+        assert!(Instant::now() < deadline, "no write started\n{}", c.logs());
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let path = c.program_dir().join("_N_SP_1001_MPF");
+    std::fs::write(&path, "; FEED LOWERED BY THE OPERATOR\n").unwrap();
+    let v = wait_status(&c, &id, |v| {
+        v["waiting_for"]
+            .as_str()
+            .is_some_and(|w| w.contains("PROGRAM_CHANGED_AT_MACHINE"))
+    });
+    assert_eq!(v["state"], "waiting", "{v}");
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap(),
+        "; FEED LOWERED BY THE OPERATOR\n"
+    );
+}

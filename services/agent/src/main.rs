@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Parser;
 use gearcam_agent::service::run;
-use gearcam_agent::store::StoreConfig;
+use gearcam_agent::store::{Faults, StoreConfig};
 use gearcam_bus::{cancel_on_signal, init_tracing, Bus, BusArgs};
 use gearcam_proto::{Dialect, MachineId};
 
@@ -43,6 +43,10 @@ struct Args {
     /// into place, before the index commit.
     #[arg(long, hide = true)]
     fault_crash_after_rename: bool,
+    /// Fault injection for the fault tests: pause this many milliseconds
+    /// between writing a program and renaming it into place.
+    #[arg(long, hide = true, default_value_t = 0)]
+    fault_pause_before_rename_ms: u64,
 }
 
 #[tokio::main(flavor = "multi_thread")]
@@ -66,7 +70,10 @@ async fn main() -> anyhow::Result<()> {
         dialect,
         program_dir: args.program_dir,
         index_path,
-        crash_after_rename: args.fault_crash_after_rename,
+        faults: Faults {
+            crash_after_rename: args.fault_crash_after_rename,
+            pause_before_rename_ms: args.fault_pause_before_rename_ms,
+        },
     };
     if args.rebuild_index {
         let r = gearcam_agent::store::Store::rebuild(config)?;

@@ -44,10 +44,20 @@ pub struct StoreConfig {
     pub program_dir: PathBuf,
     /// SQLite index file.
     pub index_path: PathBuf,
-    /// Fault injection for the fault tests: abort the process right after
-    /// the renames of a group commit, before the index says `stored` (the
-    /// crash the intent record is for). Never set in service.
+    /// Fault injection for the fault tests; none in service.
+    pub faults: Faults,
+}
+
+/// Faults the fault tests inject into a real agent process.
+#[derive(Debug, Clone, Default)]
+pub struct Faults {
+    /// Abort the process right after the renames of a group commit, before
+    /// the index says `stored` (the crash the intent record is for).
     pub crash_after_rename: bool,
+    /// Pause this long after the temporary files are written, before the
+    /// file at the machine is compared again and renamed over (widens the
+    /// window an operator's edit could fall into).
+    pub pause_before_rename_ms: u64,
 }
 
 /// A machine's program store.
@@ -564,7 +574,7 @@ mod tests {
             dialect: Dialect::Sinumerik840d,
             program_dir: dir.join("programs"),
             index_path: dir.join("index.db"),
-            crash_after_rename: false,
+            faults: Faults::default(),
         })
         .unwrap()
     }

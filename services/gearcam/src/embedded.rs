@@ -129,7 +129,7 @@ impl Embedded {
                 dialect: m.dialect,
                 program_dir: layout.program_dir(&m),
                 index_path: layout.index_db(&m),
-                crash_after_rename: false,
+                faults: Default::default(),
             };
             served.push((m.clone(), cfg.program_dir.clone()));
             services.push(keys::agent_service(&m.id));

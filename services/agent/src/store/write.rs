@@ -146,6 +146,11 @@ impl Store {
                 return;
             }
         };
+        if self.config.faults.pause_before_rename_ms > 0 {
+            std::thread::sleep(std::time::Duration::from_millis(
+                self.config.faults.pause_before_rename_ms,
+            ));
+        }
         // 3. Compare again, then rename.
         let mut renamed = Vec::new();
         let mut undone = Vec::new();
@@ -169,7 +174,7 @@ impl Store {
             }
         }
         let synced = File::open(&dir).and_then(|d| d.sync_all());
-        if self.config.crash_after_rename && !renamed.is_empty() {
+        if self.config.faults.crash_after_rename && !renamed.is_empty() {
             tracing::error!("fault injection: aborting after the rename, before the index commit");
             std::process::abort();
         }
