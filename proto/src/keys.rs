@@ -66,6 +66,27 @@ pub fn kb_library(library: &str) -> String {
     format!("{PREFIX}/kb/{library}")
 }
 
+/// `gearcam/v1/kb-changes/{library}[/{id}]`: the knowledge service's
+/// queryable for changes (add, edit, remove) — keys of their own, so that an
+/// access control grants reading (`kb/**`) and changing (`kb-changes/**`)
+/// to different users.
+pub fn kb_change(library: &str, id: Option<&str>) -> String {
+    match id {
+        Some(id) => format!("{PREFIX}/kb-changes/{library}/{id}"),
+        None => format!("{PREFIX}/kb-changes/{library}"),
+    }
+}
+
+/// Every knowledge-base change key (the knowledge service's queryable).
+pub const KB_CHANGES_ALL: &str = "gearcam/v1/kb-changes/**";
+
+/// The library (and record id) of a change key
+/// (`gearcam/v1/kb-changes/{library}[/{id}]`), if the key is well formed.
+pub fn kb_change_of(key: &str) -> Option<(String, Option<String>)> {
+    let rest = key.strip_prefix(PREFIX)?.strip_prefix("/kb-changes/")?;
+    kb_of(&format!("{PREFIX}/kb/{rest}"))
+}
+
 /// `gearcam/v1/kb/{library}/{id}`: one knowledge-base record (get, edit, remove).
 pub fn kb_record(library: &str, id: &str) -> String {
     format!("{PREFIX}/kb/{library}/{id}")

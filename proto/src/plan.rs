@@ -471,9 +471,10 @@ pub enum KbOp {
     Remove,
 }
 
-/// Message: a query on a knowledge-base library. Sent as the payload of a
-/// Zenoh query on `gearcam/v1/kb/{library}[/{id}]`; a query without payload
-/// is a `list` (no id) or `get` (with id).
+/// Message: a query on a knowledge-base library. Reads (`list`, `get`) are
+/// asked on `gearcam/v1/kb/{library}[/{id}]` (a query without payload is a
+/// `list` without id, a `get` with one); changes (`add`, `edit`, `remove`,
+/// with `by`) on `gearcam/v1/kb-changes/{library}[/{id}]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct KbRequest {
     /// The operation.
@@ -484,6 +485,9 @@ pub struct KbRequest {
     /// Fields to change (`edit`), by name or dotted path (`limits.max_hob_rpm`).
     #[serde(default)]
     pub set: KbRecord,
+    /// Who makes a change (`add`, `edit`, `remove`): recorded with it.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub by: String,
 }
 
 impl Message for KbRequest {
@@ -543,6 +547,7 @@ mod tests {
             op: KbOp::Edit,
             record: None,
             set,
+            by: "admin".into(),
         };
         let back: KbRequest = decode(&encode(&req).unwrap()).unwrap();
         assert_eq!(back, req);

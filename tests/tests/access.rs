@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
 
+use gearcam_proto::plan::{KbOp, KbRecord, KbReply, KbRequest, KbValue};
 use gearcam_proto::{
     decode, encode, keys, Dialect, JobId, MachineId, NcProgram, StoreReply, StoreRequest,
     TemplateRef,
@@ -180,6 +181,7 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
             .join("\n")
     };
     let planner = PathBuf::from(cfg("planner"));
+    let planner_cfg = planner.clone();
 
     // The whole pipeline works through TLS, passwords and the ACL.
     let v = submit(dir, &planner, "SEC-0001");
@@ -281,8 +283,84 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
             StoreReply::Changed { receipt } => assert_eq!(receipt.name, "SEC_0001"),
             other => panic!("a supervisor's rollback: {other:?}"),
         }
+        // Issue 13 point 10: a planner cannot write the knowledge base.
+        // A change on the change key does not even reach the service; one
+        // hidden in a read query is refused; H01's spindle M-code stays 3.
+        let planner = planner_session(&planner_cfg)
+            .await
+            .expect("the planner connects");
+        let mut set = KbRecord::new();
+        set.insert("mcodes.spindle_on".into(), KbValue::Int(4));
+        let edit = KbRequest {
+            op: KbOp::Edit,
+            record: None,
+            set,
+            by: "planner".into(),
+        };
+        let replies = planner
+            .get(keys::kb_change("machines", Some("H01")))
+            .payload(encode(&edit).unwrap())
+            .timeout(Duration::from_secs(3))
+            .await
+            .unwrap();
+        assert!(
+            replies.recv_async().await.is_err(),
+            "a planner's change reached the knowledge base"
+        );
+        let replies = planner
+            .get(keys::kb_record("machines", "H01"))
+            .payload(encode(&edit).unwrap())
+            .timeout(Duration::from_secs(5))
+            .await
+            .unwrap();
+        let reply = replies.recv_async().await.expect("a read is answered");
+        let reply: KbReply = decode(&reply.result().unwrap().payload().to_bytes()).unwrap();
+        assert_eq!(reply.errors[0].code, "KB_WRONG_KEY", "{reply:?}");
+        planner.close().await.unwrap();
+        // An administrator (the supervisor) can; the change is recorded.
+        let mut set = KbRecord::new();
+        set.insert("coating".into(), KbValue::Text("TiAlN".into()));
+        let edit = KbRequest {
+            op: KbOp::Edit,
+            record: None,
+            set,
+            by: "supervisor Wu".into(),
+        };
+        let replies = supervisor
+            .get(keys::kb_change("hobs", Some("HOB-M3-80")))
+            .payload(encode(&edit).unwrap())
+            .timeout(Duration::from_secs(5))
+            .await
+            .unwrap();
+        let reply = replies
+            .recv_async()
+            .await
+            .expect("the supervisor's change is answered");
+        let reply: KbReply = decode(&reply.result().unwrap().payload().to_bytes()).unwrap();
+        assert!(reply.errors.is_empty(), "{reply:?}");
         supervisor.close().await.unwrap();
     });
+    let kb = rusqlite::Connection::open(dir.join("kb.db")).unwrap();
+    let spindle: String = kb
+        .query_row(
+            "SELECT profile_json FROM machines WHERE id = 'H01'",
+            [],
+            |r| r.get(0),
+        )
+        .unwrap();
+    let spindle: serde_json::Value = serde_json::from_str(&spindle).unwrap();
+    assert_eq!(
+        spindle["mcodes"]["spindle_on"], 3,
+        "a planner changed H01's spindle M-code"
+    );
+    let (by, op): (String, String) = kb
+        .query_row(
+            "SELECT by_user, op FROM kb_changes WHERE library = 'hobs' AND record_id = 'HOB-M3-80' ORDER BY seq DESC LIMIT 1",
+            [],
+            |r| Ok((r.get(0)?, r.get(1)?)),
+        )
+        .unwrap();
+    assert_eq!((by.as_str(), op.as_str()), ("supervisor Wu", "edit"));
     // Nothing was stored that should not be, and everything still serves.
     assert!(!programs.join("_N_EVIL_MPF").exists());
     let v = submit(dir, &planner, "SEC-0002");

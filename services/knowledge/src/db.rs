@@ -186,6 +186,10 @@ INSERT INTO jobs_v5 SELECT job_id, part_number, machine, class, quantity, hob_id
 DROP TABLE jobs;
 ALTER TABLE jobs_v5 RENAME TO jobs;
 "#,
+    // Version 6: every change to the libraries recorded (who, when, old,
+    // new) by triggers ([`crate::audit`]); created in Rust from the tables'
+    // columns.
+    "",
 ];
 
 /// Opens (creating and seeding if new) the knowledge base at `path`.
@@ -228,6 +232,7 @@ fn migrate(conn: &mut Connection) -> Result<(), KnowledgeError> {
             1 => crate::seed::seed_v2(&tx)?,
             2 => crate::seed::seed_v3(&tx)?,
             3 => crate::seed::seed_v4(&tx)?,
+            5 => crate::audit::install(&tx)?,
             _ => {}
         }
         tx.pragma_update(None, "user_version", (i + 1) as i64)?;
@@ -322,7 +327,7 @@ mod tests {
         conn.pragma_update(None, "user_version", 2).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
-        assert_eq!(schema_version(&conn).unwrap(), 5);
+        assert_eq!(schema_version(&conn).unwrap(), 6);
         let id = MachineId::new("H02").unwrap();
         assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h02()));
         // The version-2 seed record of HG-3003-L gains its profile shift.
@@ -375,7 +380,7 @@ mod tests {
         conn.pragma_update(None, "user_version", 3).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
-        assert_eq!(schema_version(&conn).unwrap(), 5);
+        assert_eq!(schema_version(&conn).unwrap(), 6);
         assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h01()));
         let sp = library::get(&conn, &library::WORKPIECES, "SP-1001")
             .unwrap()

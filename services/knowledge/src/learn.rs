@@ -104,6 +104,16 @@ pub struct Confirmed {
 /// Confirms a delivered job: it becomes a case, the hob's shift position and
 /// remaining life move on, the job is marked confirmed; all in one transaction.
 pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
+    // The case and the hob's wear are recorded as this confirmation's.
+    crate::audit::acting_as(conn, &format!("{} (confirm {})", c.by, c.job_id)).map_err(|e| {
+        vec![Stage::Knowledge.error(
+            "KNOWLEDGE_BASE_ERROR",
+            "-",
+            "a writable knowledge base",
+            e.to_string(),
+            "the confirmation could not be recorded",
+        )]
+    })?;
     let Some(job) = records::job(conn, &c.job_id)? else {
         return Err(vec![Stage::Knowledge.error(
             "UNKNOWN_JOB",

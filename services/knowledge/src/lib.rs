@@ -23,6 +23,7 @@
 //!   library queryable on `gearcam/v1/kb/**`.
 #![forbid(unsafe_code)]
 
+pub mod audit;
 pub mod cbr;
 pub mod csvio;
 pub mod db;

@@ -91,6 +91,11 @@ pub async fn run(
         .declare_queryable(keys::KB_ALL)
         .await
         .map_err(zerr("declare queryable"))?;
+    let changes = bus
+        .session()
+        .declare_queryable(keys::KB_CHANGES_ALL)
+        .await
+        .map_err(zerr("declare queryable"))?;
     let events = bus
         .session()
         .declare_subscriber(keys::ALL_JOB_EVENTS)
@@ -102,6 +107,10 @@ pub async fn run(
             let query = tokio::select! {
                 _ = stop.cancelled() => break,
                 q = queryable.recv_async() => match q {
+                    Ok(q) => q,
+                    Err(_) => break,
+                },
+                q = changes.recv_async() => match q {
                     Ok(q) => q,
                     Err(_) => break,
                 },
@@ -275,14 +284,18 @@ fn answer_inner(
     payload: &[u8],
     library_name: &mut String,
 ) -> Result<Vec<Record>, Vec<JobError>> {
-    let Some((lib, id)) = keys::kb_of(key) else {
-        return Err(vec![Stage::Knowledge.error(
-            "BAD_KEY",
-            "key",
-            keys::KB_KEY_FORMS,
-            key,
-            "a knowledge-base query names a library and, for one record, its id",
-        )]);
+    let (change_key, (lib, id)) = match (keys::kb_of(key), keys::kb_change_of(key)) {
+        (Some(read), _) => (false, read),
+        (None, Some(change)) => (true, change),
+        (None, None) => {
+            return Err(vec![Stage::Knowledge.error(
+                "BAD_KEY",
+                "key",
+                keys::KB_KEY_FORMS,
+                key,
+                "a knowledge-base query names a library and, for one record, its id",
+            )])
+        }
     };
     *library_name = lib.clone();
     let lib = library::library(&lib).map_err(|e| vec![e])?;
@@ -291,6 +304,7 @@ fn answer_inner(
             op: if id.is_some() { KbOp::Get } else { KbOp::List },
             record: None,
             set: KbRecord::new(),
+            by: String::new(),
         }
     } else {
         decode::<KbRequest>(payload).map_err(|e| {
@@ -318,6 +332,52 @@ fn answer_inner(
             )]
         })
     };
+    // Reads on the read keys, changes on the change keys (with who makes
+    // them): the access control grants them to different users.
+    let is_change = matches!(req.op, KbOp::Add | KbOp::Edit | KbOp::Remove);
+    if is_change != change_key {
+        let (expected, message) = if is_change {
+            (
+                format!("list or get on {key}; a change on {}", keys::kb_change(lib.name, id.as_deref())),
+                "changes to the knowledge base are asked on the kb-changes keys, which the access control grants to administrators",
+            )
+        } else {
+            (
+                format!(
+                    "add, edit or remove on {key}; reads on {}",
+                    keys::kb_library(lib.name)
+                ),
+                "the kb-changes keys take changes only",
+            )
+        };
+        return Err(vec![Stage::Knowledge.error(
+            "KB_WRONG_KEY",
+            "op",
+            expected,
+            format!("{:?}", req.op).to_lowercase(),
+            message,
+        )]);
+    }
+    if is_change {
+        if req.by.trim().is_empty() {
+            return Err(vec![Stage::Knowledge.error(
+                "FIELD_MISSING",
+                "by",
+                "who makes the change",
+                "nothing",
+                "every change to the knowledge base is recorded with who made it",
+            )]);
+        }
+        crate::audit::acting_as(conn, &req.by).map_err(|e| {
+            vec![Stage::Knowledge.error(
+                "KNOWLEDGE_BASE_ERROR",
+                "-",
+                "a writable knowledge base",
+                e.to_string(),
+                "the change could not be recorded",
+            )]
+        })?;
+    }
     match req.op {
         KbOp::List => Ok(library::list(conn, &lib)?),
         KbOp::Get => {

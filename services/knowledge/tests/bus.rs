@@ -82,8 +82,18 @@ async fn libraries_are_browsed_and_edited_over_zenoh_and_a_job_gets_a_proposal()
         op: KbOp::Add,
         record: Some(hob),
         set: KbRecord::new(),
+        by: "admin Zhang".into(),
     };
+    // A change on a read key is refused: the access control cannot tell it
+    // from a read there.
     let r = query(&client, &keys::kb_record("hobs", "HOB-M25-70"), Some(&add)).await;
+    assert_eq!(r.errors[0].code, "KB_WRONG_KEY", "{:?}", r.errors);
+    let r = query(
+        &client,
+        &keys::kb_change("hobs", Some("HOB-M25-70")),
+        Some(&add),
+    )
+    .await;
     assert!(r.errors.is_empty(), "{:?}", r.errors);
     assert_eq!(r.records[0]["material"], text("HSS"), "default filled in");
     let r = query(&client, &keys::kb_record("hobs", "HOB-M25-70"), None).await;
@@ -97,8 +107,14 @@ async fn libraries_are_browsed_and_edited_over_zenoh_and_a_job_gets_a_proposal()
         op: KbOp::Edit,
         record: None,
         set,
+        by: "admin Zhang".into(),
     };
-    let r = query(&client, &keys::kb_record("hobs", "HOB-M25-70"), Some(&edit)).await;
+    let r = query(
+        &client,
+        &keys::kb_change("hobs", Some("HOB-M25-70")),
+        Some(&edit),
+    )
+    .await;
     let fields: Vec<(&str, &str, &str)> = r
         .errors
         .iter()
@@ -118,8 +134,14 @@ async fn libraries_are_browsed_and_edited_over_zenoh_and_a_job_gets_a_proposal()
         op: KbOp::Edit,
         record: None,
         set,
+        by: "admin Zhang".into(),
     };
-    let r = query(&client, &keys::kb_record("machines", "H01"), Some(&edit)).await;
+    let r = query(
+        &client,
+        &keys::kb_change("machines", Some("H01")),
+        Some(&edit),
+    )
+    .await;
     assert!(r.errors.is_empty(), "{:?}", r.errors);
     let KbValue::Map(limits) = &r.records[0]["limits"] else {
         panic!("limits is a map")

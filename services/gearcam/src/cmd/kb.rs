@@ -36,6 +36,13 @@ pub struct KbArgs {
 pub enum KbCommand {
     /// The libraries and their fields (name, type, default, meaning).
     Libraries,
+    /// Every change to the libraries, newest first: who, when, the record,
+    /// the old and the new values (CLI, CSV import, confirmed jobs, the bus).
+    Changes {
+        /// At most this many.
+        #[arg(long, default_value_t = 50)]
+        limit: usize,
+    },
     /// Every record of a library.
     List {
         /// The library.
@@ -137,7 +144,24 @@ pub struct ConfirmArgs {
     pub json: bool,
 }
 
+/// Opens the knowledge base; the changes made through it are recorded as
+/// the login user's (`gearcam_knowledge::audit`).
 fn open(data: &Path) -> Result<rusqlite::Connection, ExitCode> {
+    let conn = open_db(data)?;
+    gearcam_knowledge::audit::acting_as(&conn, &crate::jobfile::user()).map_err(|e| {
+        crate::output::fail(
+            crate::exit::UNREACHABLE,
+            &[],
+            &format!(
+                "gearcam: the knowledge base in {} cannot be written: {e}",
+                data.display()
+            ),
+        )
+    })?;
+    Ok(conn)
+}
+
+fn open_db(data: &Path) -> Result<rusqlite::Connection, ExitCode> {
     db::open(&data.join("knowledge.db")).map_err(|e| {
         crate::output::fail(
             crate::exit::UNREACHABLE,
@@ -361,6 +385,37 @@ pub fn run(args: KbArgs) -> ExitCode {
     let result: Result<(), ExitCode> = (|| {
         match &args.command {
             KbCommand::Libraries => {}
+            KbCommand::Changes { limit } => {
+                let changes = gearcam_knowledge::audit::changes(&conn, *limit).map_err(|e| {
+                    crate::output::fail(crate::exit::UNREACHABLE, &[], &format!("gearcam: {e}"))
+                })?;
+                if args.json {
+                    crate::outln!(
+                        "{}",
+                        serde_json::to_string_pretty(&changes).unwrap_or_default()
+                    );
+                } else {
+                    crate::outln!(
+                        "{:>6}  {:<23}  {:<24} {:<7} {:<12} RECORD",
+                        "SEQ",
+                        "WHEN",
+                        "BY",
+                        "OP",
+                        "LIBRARY"
+                    );
+                    for c in &changes {
+                        crate::outln!(
+                            "{:>6}  {:<23}  {:<24} {:<7} {:<12} {}",
+                            c.seq,
+                            crate::output::utc(c.at_ms.max(0) as u64),
+                            c.by,
+                            c.op,
+                            c.library,
+                            c.record_id
+                        );
+                    }
+                }
+            }
             KbCommand::List { library: l } => {
                 let lib = lib_of(l)?;
                 let records = library::list(&conn, &lib).map_err(|e| refused(&Vec::from(e)))?;
