@@ -74,112 +74,158 @@ async fn planner_session(config: &Path) -> zenoh::Result<zenoh::Session> {
     zenoh::open(zenoh::Config::from_file(config)?).await
 }
 
-#[test]
-fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge() {
-    let tmp = tempfile::tempdir().unwrap();
-    let dir = tmp.path();
-    let made = Command::new("bash")
-        .arg(deploy().join("make-certs.sh"))
-        .arg(dir)
-        .output()
-        .unwrap();
-    assert!(
-        made.status.success(),
-        "make-certs.sh: {}",
-        String::from_utf8_lossy(&made.stderr)
-    );
-    std::fs::copy(deploy().join("users.txt"), dir.join("users.txt")).unwrap();
-    // The router listens on a port the operating system chooses; the
-    // services' configurations get the port it printed.
-    let router = local_config(dir, "router.json5", 0);
-    let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
-    let router = Proc::start(
-        dir,
-        "router",
-        "gearcam",
-        &s(&["router", "--config", &router.display().to_string()]),
-    );
-    let port = router.listening_port(Duration::from_secs(20));
-    let cfg = |name: &str| {
-        local_config(dir, &format!("{name}.json5"), port)
-            .display()
-            .to_string()
-    };
-    let mut procs = vec![router];
-    let (journal, db) = (
-        dir.join("station.db").display().to_string(),
-        dir.join("kb.db").display().to_string(),
-    );
-    let (programs, index) = (
-        dir.join("H01/programs"),
-        dir.join("H01/index.db").display().to_string(),
-    );
-    procs.push(Proc::start(
-        dir,
-        "station",
-        "gearcam",
-        &s(&[
+/// Every service as its own process behind a router configured from
+/// `deploy/secure/` (TLS, a user per service, the ACL), with the agents of
+/// H01 (840D) and H02 (FANUC).
+struct Secure {
+    tmp: tempfile::TempDir,
+    port: u16,
+    procs: Vec<Proc>,
+}
+
+impl Secure {
+    fn start() -> Secure {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
+        let made = Command::new("bash")
+            .arg(deploy().join("make-certs.sh"))
+            .arg(dir)
+            .output()
+            .unwrap();
+        assert!(
+            made.status.success(),
+            "make-certs.sh: {}",
+            String::from_utf8_lossy(&made.stderr)
+        );
+        std::fs::copy(deploy().join("users.txt"), dir.join("users.txt")).unwrap();
+        // The router listens on a port the operating system chooses; the
+        // services' configurations get the port it printed.
+        let router = local_config(dir, "router.json5", 0);
+        let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+        let router = Proc::start(
+            dir,
+            "router",
+            "gearcam",
+            &s(&["router", "--config", &router.display().to_string()]),
+        );
+        let port = router.listening_port(Duration::from_secs(20));
+        let cfg = |name: &str| {
+            local_config(dir, &format!("{name}.json5"), port)
+                .display()
+                .to_string()
+        };
+        let mut procs = vec![router];
+        let (journal, db) = (
+            dir.join("station.db").display().to_string(),
+            dir.join("kb.db").display().to_string(),
+        );
+        let (programs, index) = (
+            dir.join("H01/programs"),
+            dir.join("H01/index.db").display().to_string(),
+        );
+        procs.push(Proc::start(
+            dir,
             "station",
-            "--config",
-            &cfg("station"),
-            "--journal",
-            &journal,
-        ]),
-    ));
-    procs.push(Proc::start(
-        dir,
-        "knowledge",
-        "gearcam-knowledge",
-        &s(&["--config", &cfg("knowledge"), "--db", &db]),
-    ));
-    procs.push(Proc::start(
-        dir,
-        "model",
-        "gearcam-model",
-        &s(&["--config", &cfg("model")]),
-    ));
-    procs.push(Proc::start(
-        dir,
-        "template",
-        "gearcam-template",
-        &s(&[
-            "--config",
-            &cfg("template"),
-            "--library",
-            &dir.join("templates.db").display().to_string(),
-        ]),
-    ));
-    procs.push(Proc::start(
-        dir,
-        "agent",
-        "gearcam-agent",
-        &s(&[
-            "--config",
-            &cfg("agent-H01"),
-            "--machine",
-            "H01",
-            "--program-dir",
-            &programs.display().to_string(),
-            "--index",
-            &index,
-        ]),
-    ));
-    let log_files: Vec<(String, PathBuf)> = procs
-        .iter()
-        .map(|p| (p.name.clone(), p.log.clone()))
-        .collect();
-    let logs = || {
-        log_files
+            "gearcam",
+            &s(&[
+                "station",
+                "--config",
+                &cfg("station"),
+                "--journal",
+                &journal,
+            ]),
+        ));
+        procs.push(Proc::start(
+            dir,
+            "knowledge",
+            "gearcam-knowledge",
+            &s(&["--config", &cfg("knowledge"), "--db", &db]),
+        ));
+        procs.push(Proc::start(
+            dir,
+            "model",
+            "gearcam-model",
+            &s(&["--config", &cfg("model")]),
+        ));
+        procs.push(Proc::start(
+            dir,
+            "template",
+            "gearcam-template",
+            &s(&[
+                "--config",
+                &cfg("template"),
+                "--library",
+                &dir.join("templates.db").display().to_string(),
+            ]),
+        ));
+        procs.push(Proc::start(
+            dir,
+            "agent",
+            "gearcam-agent",
+            &s(&[
+                "--config",
+                &cfg("agent-H01"),
+                "--machine",
+                "H01",
+                "--program-dir",
+                &programs.display().to_string(),
+                "--index",
+                &index,
+            ]),
+        ));
+        procs.push(Proc::start(
+            dir,
+            "agent-H02",
+            "gearcam-agent",
+            &s(&[
+                "--config",
+                &cfg("agent-H02"),
+                "--machine",
+                "H02",
+                "--dialect",
+                "fanuc",
+                "--program-dir",
+                &dir.join("H02/programs").display().to_string(),
+                "--index",
+                &dir.join("H02/index.db").display().to_string(),
+            ]),
+        ));
+        Secure { tmp, port, procs }
+    }
+
+    fn dir(&self) -> &Path {
+        self.tmp.path()
+    }
+
+    /// The client configuration `{name}.json5`, made local.
+    fn cfg(&self, name: &str) -> PathBuf {
+        local_config(self.dir(), &format!("{name}.json5"), self.port)
+    }
+
+    /// Every process's log.
+    fn logs(&self) -> String {
+        self.procs
             .iter()
-            .map(|(name, log)| {
+            .map(|p| {
                 format!(
-                    "--- {name} ---\n{}",
-                    std::fs::read_to_string(log).unwrap_or_default()
+                    "--- {} ---\n{}",
+                    p.name,
+                    std::fs::read_to_string(&p.log).unwrap_or_default()
                 )
             })
             .collect::<Vec<_>>()
             .join("\n")
-    };
+    }
+}
+
+#[test]
+fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge() {
+    let mut secure = Secure::start();
+    let dir = secure.dir().to_path_buf();
+    let dir = dir.as_path();
+    let cfg = |name: &str| secure.cfg(name).display().to_string();
+    let programs = dir.join("H01/programs");
+    let logs = || secure.logs();
     let planner = PathBuf::from(cfg("planner"));
     let planner_cfg = planner.clone();
 
@@ -371,7 +417,160 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
         .collect();
     files.sort();
     assert_eq!(files, ["_N_SEC_0001_MPF", "_N_SEC_0002_MPF"]);
-    for p in &mut procs {
-        assert!(p.running(), "{} died\n{}", p.name, logs());
+    let log = secure.logs();
+    for p in &mut secure.procs {
+        assert!(p.running(), "{} died\n{log}", p.name);
     }
+}
+
+/// Runs `gearcam ARGS --config CONFIG`; exit code, stdout, stderr.
+fn cli(config: &Path, args: &[&str]) -> (Option<i32>, String, String) {
+    let out = Command::new(bin("gearcam"))
+        .args(args)
+        .arg("--config")
+        .arg(config)
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// Issue 13 points 11 and 13: every machine and every role on the secure
+/// deployment, every bus command of the CLI; nobody declares another's
+/// liveliness token (a planner's `alive/agent/H09` made the station drive
+/// jobs to an absent agent).
+#[test]
+fn every_role_machine_and_command_on_the_secure_deployment() {
+    let secure = Secure::start();
+    let dir = secure.dir();
+    let (planner, operator, admin) = (
+        secure.cfg("planner"),
+        secure.cfg("operator"),
+        secure.cfg("admin"),
+    );
+
+    // Both machines: an 840D job to H01, a FANUC job to H02.
+    let v = submit(dir, &planner, "SEC-0101");
+    assert_eq!(v["state"], "delivered", "{v}\n{}", secure.logs());
+    let fanuc = gearcam_testkit::examples::example("helical_shift_fanuc.toml");
+    let job = dir.join("fanuc.toml");
+    std::fs::write(&job, fanuc).unwrap();
+    let (code, out, err) = cli(
+        &planner,
+        &[
+            "submit",
+            job.to_str().unwrap(),
+            "--wait",
+            "--json",
+            "--timeout",
+            "60",
+        ],
+    );
+    assert_eq!(code, Some(0), "{out}{err}\n{}", secure.logs());
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["program"]["name"], "O2107", "{v}");
+    let id = v["job"].as_str().unwrap().to_string();
+
+    // A planner's reads.
+    for args in [
+        vec!["jobs", "--json"],
+        vec!["status", id.as_str(), "--json"],
+        vec!["program", "history", "--machine", "H02", "--json"],
+        vec!["program", "show", "O2107", "1", "--machine", "H02"],
+    ] {
+        let (code, _, err) = cli(&planner, &args);
+        assert_eq!(code, Some(0), "planner {args:?}: {err}");
+    }
+    // Changing a machine's program: the operator may, a planner and an
+    // admin may not (the router drops the query: nothing answers).
+    let rollback = [
+        "program",
+        "rollback",
+        "O2107",
+        "1",
+        "--machine",
+        "H02",
+        "--json",
+    ];
+    for who in [&planner, &admin] {
+        let (code, _, err) = cli(who, &rollback);
+        assert_eq!(code, Some(2), "{} may not roll back: {err}", who.display());
+    }
+    let (code, out, err) = cli(&operator, &rollback);
+    assert_eq!(code, Some(0), "the operator rolls back: {out}{err}");
+    let (code, _, err) = cli(
+        &operator,
+        &["program", "resolve", "O2107", "--machine", "H02", "--adopt"],
+    );
+    assert_eq!(
+        code,
+        Some(1),
+        "the operator's resolve is answered (nothing to resolve): {err}"
+    );
+    assert!(err.contains("NO_CONFLICT"), "{err}");
+
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .unwrap();
+    rt.block_on(async {
+        // Changing the knowledge base: the admin may, the operator may not.
+        let mut set = KbRecord::new();
+        set.insert("coating".into(), KbValue::Text("AlCrN".into()));
+        let edit = KbRequest {
+            op: KbOp::Edit,
+            record: None,
+            set,
+            by: "admin Li".into(),
+        };
+        for (who, answered) in [(&operator, false), (&admin, true)] {
+            let s = planner_session(who).await.unwrap();
+            let replies = s
+                .get(keys::kb_change("hobs", Some("HOB-M3-80")))
+                .payload(encode(&edit).unwrap())
+                .timeout(Duration::from_secs(3))
+                .await
+                .unwrap();
+            assert_eq!(
+                replies.recv_async().await.is_ok(),
+                answered,
+                "{}",
+                who.display()
+            );
+            s.close().await.unwrap();
+        }
+        // A planner declares an agent's liveliness token: nobody sees it.
+        let forger = planner_session(&planner).await.unwrap();
+        let _fake = forger
+            .liveliness()
+            .declare_token("gearcam/v1/alive/agent/H09")
+            .await
+            .unwrap();
+        tokio::time::sleep(Duration::from_millis(500)).await;
+        let watcher = planner_session(&operator).await.unwrap();
+        let replies = watcher
+            .liveliness()
+            .get("gearcam/v1/alive/agent/H09")
+            .timeout(Duration::from_secs(2))
+            .await
+            .unwrap();
+        assert!(
+            replies.recv_async().await.is_err(),
+            "a planner's token for agent H09 is visible"
+        );
+        // The real ones are.
+        let replies = watcher
+            .liveliness()
+            .get("gearcam/v1/alive/agent/H02")
+            .timeout(Duration::from_secs(2))
+            .await
+            .unwrap();
+        assert!(
+            replies.recv_async().await.is_ok(),
+            "agent H02's token is not visible"
+        );
+    });
 }
