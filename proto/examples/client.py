@@ -96,7 +96,7 @@ class Client:
         query catches up on what was missed."""
         events = queue.Queue()
         sub = self.session.declare_subscriber(
-            f"{PREFIX}/jobs/{job_id}/events",
+            f"{PREFIX}/jobs/{job_id}/events/*",
             lambda s: events.put(decode(s.payload.to_bytes(), "job_event")))
         return sub, events
 

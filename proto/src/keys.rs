@@ -23,9 +23,59 @@ pub fn job_model(job: &JobId) -> String {
     format!("{PREFIX}/jobs/{job}/model")
 }
 
-/// `gearcam/v1/jobs/{job}/events`: [`crate::JobEvent`]s from every stage.
+/// `gearcam/v1/jobs/{job}/events/{reporter}`: the [`crate::JobEvent`]s one
+/// service reports: `station`, `knowledge`, `model`, `template`, or
+/// `agent-{machine}`. A key per reporter lets an access control grant each
+/// service its own, and the station accepts a state only from the service
+/// that owns it ([`reporter_owns`]).
+pub fn job_event(job: &JobId, reporter: &str) -> String {
+    format!("{PREFIX}/jobs/{job}/events/{reporter}")
+}
+
+/// Every event of one job, whoever reports it (a subscription).
 pub fn job_events(job: &JobId) -> String {
-    format!("{PREFIX}/jobs/{job}/events")
+    format!("{PREFIX}/jobs/{job}/events/*")
+}
+
+/// The reporter of a service, by its liveliness name: the name itself, with
+/// an agent's `agent/{machine}` written `agent-{machine}` (one key chunk).
+pub fn reporter(service: &str) -> String {
+    service.replace('/', "-")
+}
+
+/// The reporter chunk of an event key (`gearcam/v1/jobs/{job}/events/{reporter}`).
+pub fn reporter_of(key: &str) -> Option<&str> {
+    let rest = key.strip_prefix(PREFIX)?.strip_prefix("/jobs/")?;
+    let (_, rest) = rest.split_once('/')?;
+    rest.strip_prefix("events/").filter(|r| !r.contains('/'))
+}
+
+/// True when `reporter` may report `event` of a job for `machine`: every
+/// service its own stage's events; `delivered` only the job's machine's
+/// agent, `planned` only the knowledge service, `modelled` only the model
+/// service, `programmed` only the template service, `accepted` only the
+/// station.
+pub fn reporter_owns(reporter: &str, event: &crate::JobEvent, machine: &MachineId) -> bool {
+    use crate::{EventKind, Stage};
+    let agent = format!("agent-{machine}");
+    let own_stage = match event.stage {
+        Stage::Station => reporter == "station",
+        Stage::Knowledge => reporter == "knowledge",
+        Stage::Model => reporter == "model",
+        Stage::Template => reporter == "template",
+        Stage::Agent => reporter == agent,
+    };
+    own_stage
+        && match &event.event {
+            EventKind::Accepted { .. } => event.stage == Stage::Station,
+            EventKind::Planned { .. } => event.stage == Stage::Knowledge,
+            EventKind::Modelled { .. } => event.stage == Stage::Model,
+            EventKind::Programmed { .. } => event.stage == Stage::Template,
+            EventKind::Delivered { receipt } => {
+                event.stage == Stage::Agent && receipt.machine == *machine
+            }
+            EventKind::Waiting { .. } | EventKind::Failed { .. } => true,
+        }
 }
 
 /// `gearcam/v1/machines/{machine}/programs/{job}`: an [`crate::NcProgram`] for a machine's agent.
@@ -39,8 +89,8 @@ pub const ALL_JOB_REQUESTS: &str = "gearcam/v1/jobs/*/request";
 pub const ALL_JOB_PLANS: &str = "gearcam/v1/jobs/*/plan";
 /// Subscription pattern for all machining models.
 pub const ALL_JOB_MODELS: &str = "gearcam/v1/jobs/*/model";
-/// Subscription pattern for all job events.
-pub const ALL_JOB_EVENTS: &str = "gearcam/v1/jobs/*/events";
+/// Subscription pattern for all job events, every reporter.
+pub const ALL_JOB_EVENTS: &str = "gearcam/v1/jobs/*/events/*";
 
 /// Subscription pattern for every program sent to one machine.
 pub fn machine_programs(machine: &MachineId) -> String {
@@ -123,7 +173,7 @@ pub fn job_of(key: &str) -> Option<JobId> {
     let rest = key.strip_prefix(PREFIX)?.strip_prefix('/')?;
     let parts: Vec<&str> = rest.split('/').collect();
     let raw = match parts.as_slice() {
-        ["jobs", job, _] => job,
+        ["jobs", job, _] | ["jobs", job, "events", _] => job,
         ["machines", _, "programs", job] => job,
         _ => return None,
     };
@@ -283,7 +333,15 @@ mod tests {
             machine_program(&m, &job),
             "gearcam/v1/machines/H01/programs/J1"
         );
-        assert_eq!(job_of(&job_events(&job)), Some(job.clone()));
+        assert_eq!(job_of(&job_event(&job, "agent-H01")), Some(job.clone()));
+        assert_eq!(
+            reporter_of(&job_event(&job, "agent-H01")),
+            Some("agent-H01")
+        );
+        assert_eq!(
+            reporter(&agent_service(&MachineId::new("H01").unwrap())),
+            "agent-H01"
+        );
         assert_eq!(job_of(&machine_program(&m, &job)), Some(job.clone()));
         assert_eq!(job_of("gearcam/v1/other/J1"), None);
         assert_eq!(alive(&agent_service(&m)), "gearcam/v1/alive/agent/H01");

@@ -287,7 +287,7 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
         );
         // Nor forge a stage's message (a plan): no stage reacts to it.
         let events = session
-            .declare_subscriber("gearcam/v1/jobs/EVIL-2/events")
+            .declare_subscriber("gearcam/v1/jobs/EVIL-2/events/*")
             .await
             .unwrap();
         session
@@ -542,8 +542,31 @@ fn every_role_machine_and_command_on_the_secure_deployment() {
             );
             s.close().await.unwrap();
         }
-        // A planner declares an agent's liveliness token: nobody sees it.
+        // Issue 13 point 9: a planner cannot report a job's events, not even
+        // on the agent's key: nobody hears them.
+        let listener = planner_session(&operator).await.unwrap();
+        let heard = listener
+            .declare_subscriber("gearcam/v1/jobs/FORGED-1/events/*")
+            .await
+            .unwrap();
         let forger = planner_session(&planner).await.unwrap();
+        let forged = gearcam_proto::JobEvent {
+            job_id: JobId::new("FORGED-1").unwrap(),
+            stage: gearcam_proto::Stage::Agent,
+            at_ms: 1,
+            event: gearcam_proto::EventKind::Failed { errors: vec![] },
+        };
+        let job = JobId::new("FORGED-1").unwrap();
+        for reporter in ["agent-H01", "station", "template"] {
+            forger
+                .put(keys::job_event(&job, reporter), encode(&forged).unwrap())
+                .await
+                .unwrap();
+        }
+        let got = tokio::time::timeout(Duration::from_secs(2), heard.recv_async()).await;
+        assert!(got.is_err(), "a planner's forged event was delivered");
+        listener.close().await.unwrap();
+        // A planner declares an agent's liveliness token: nobody sees it.
         let _fake = forger
             .liveliness()
             .declare_token("gearcam/v1/alive/agent/H09")

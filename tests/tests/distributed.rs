@@ -217,7 +217,7 @@ fn every_service_survives_malformed_messages_and_reports_them() {
     let reports = rt.block_on(async {
         let session = session_with_services(&cluster.endpoint).await;
         let events = session
-            .declare_subscriber("gearcam/v1/jobs/*/events")
+            .declare_subscriber("gearcam/v1/jobs/*/events/*")
             .await
             .unwrap();
         let garbage: &[u8] = &[0xc1, 0xff, 0x00, 0x13, 0x37];
@@ -369,7 +369,7 @@ fn a_repeated_request_is_stored_once_and_answered_with_the_original_receipt() {
             submitted_by: "test".into(),
             spec,
         };
-        let events = session.declare_subscriber("gearcam/v1/jobs/REP-1/events").await.unwrap();
+        let events = session.declare_subscriber("gearcam/v1/jobs/REP-1/events/*").await.unwrap();
         let bytes = gearcam_proto::encode(&req).unwrap();
         // Twice, back to back, as a re-drive racing the first delivery would.
         session.put("gearcam/v1/jobs/REP-1/request", bytes.clone()).await.unwrap();
@@ -469,7 +469,7 @@ fn oversize_payloads_and_path_names_are_refused_and_nothing_is_stored() {
         let session = session_with_services(&cluster.endpoint).await;
         // An oversize request: the knowledge service refuses it with a typed error.
         let events = session
-            .declare_subscriber("gearcam/v1/jobs/BIG-1/events")
+            .declare_subscriber("gearcam/v1/jobs/BIG-1/events/*")
             .await
             .unwrap();
         let big = vec![0x90u8; gearcam_proto::MAX_MESSAGE_BYTES + 1];

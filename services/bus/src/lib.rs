@@ -103,15 +103,28 @@ impl Bus {
         self.put_bytes(key, encode(msg)?).await
     }
 
-    /// Publishes a job event on the job's events key.
+    /// Publishes a job event of a middle service or the station on its own
+    /// key (`gearcam/v1/jobs/{job}/events/{stage}`).
     pub async fn event(&self, job: &JobId, stage: Stage, event: EventKind) -> Result<(), BusError> {
+        self.event_as(stage.as_str(), job, stage, event).await
+    }
+
+    /// Publishes a job event on `reporter`'s key
+    /// (`gearcam/v1/jobs/{job}/events/{reporter}`; an agent: `agent-{machine}`).
+    pub async fn event_as(
+        &self,
+        reporter: &str,
+        job: &JobId,
+        stage: Stage,
+        event: EventKind,
+    ) -> Result<(), BusError> {
         let msg = JobEvent {
             job_id: job.clone(),
             stage,
             at_ms: now_ms(),
             event,
         };
-        self.put(&keys::job_events(job), &msg).await
+        self.put(&keys::job_event(job, reporter), &msg).await
     }
 
     /// Declares the liveliness token `gearcam/v1/alive/{service}`; it lives as

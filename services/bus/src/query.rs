@@ -4,7 +4,7 @@
 
 use std::time::Duration;
 
-use gearcam_proto::{decode, encode, EventKind, JobId, Message, Stage};
+use gearcam_proto::{decode, encode, keys, EventKind, JobId, Message, Stage};
 use tokio_util::sync::CancellationToken;
 
 use crate::{Bus, BusError};
@@ -191,6 +191,8 @@ where
         Some(s) => Some(bus.alive_token(s).await?),
         None => None,
     };
+    // Events go out on the service's own key (an agent: `agent-{machine}`).
+    let reporter = keys::reporter(service.unwrap_or(stage.as_str()));
     tracing::info!(stage = stage.as_str(), pattern, "serving queries");
     loop {
         let first = tokio::select! {
@@ -242,7 +244,7 @@ where
             events.extend(answer.events);
         }
         for (job, ev) in events {
-            if let Err(e) = bus.event(&job, stage, ev).await {
+            if let Err(e) = bus.event_as(&reporter, &job, stage, ev).await {
                 tracing::warn!(%job, error = %e, "cannot publish event");
             }
         }

@@ -149,6 +149,22 @@ pub async fn run(
             let Ok(ev) = decode::<JobEvent>(&sample.payload().to_bytes()) else {
                 continue;
             };
+            // Only the reporter that owns an event is believed: a delivery
+            // from the machine's agent, a refusal from the stage's service.
+            let reporter = keys::reporter_of(sample.key_expr().as_str()).unwrap_or_default();
+            let machine = match &ev.event {
+                EventKind::Delivered { receipt } => Some(receipt.machine.clone()),
+                _ => None,
+            };
+            let owned = match &machine {
+                Some(m) => keys::reporter_owns(reporter, &ev, m),
+                None if ev.stage == Stage::Agent => reporter.starts_with("agent-"),
+                None => reporter == ev.stage.as_str(),
+            };
+            if !owned {
+                tracing::warn!(job = %ev.job_id, reporter, "ignored an event its reporter does not own");
+                continue;
+            }
             if let EventKind::Delivered { receipt } = &ev.event {
                 match learn::record_delivered(&events_conn, receipt) {
                     Ok(true) => {

@@ -187,21 +187,39 @@ impl Journal {
             .ok_or_else(|| station_error("JOURNAL_ERROR", "-", "the row just written", "nothing"))
     }
 
-    /// Applies a job event; returns true when the job is known and changed.
-    /// Final states never change; progress pushes the next re-drive to
+    /// Applies a job event `reporter` published (the last chunk of its key);
+    /// returns true when the job is known and changed. An event its reporter
+    /// does not own (a `delivered` not from the job's machine's agent, a
+    /// stage's state from another service) is ignored and logged. Final
+    /// states never change; progress pushes the next re-drive to
     /// `now + redrive_ms`.
-    pub fn apply(&self, ev: &JobEvent, now: u64, redrive_ms: u64) -> Result<bool, JournalError> {
-        let current: Option<String> = self
+    pub fn apply(
+        &self,
+        reporter: &str,
+        ev: &JobEvent,
+        now: u64,
+        redrive_ms: u64,
+    ) -> Result<bool, JournalError> {
+        let row: Option<(String, String)> = self
             .conn
             .query_row(
-                "SELECT state FROM jobs WHERE job = ?1",
+                "SELECT state, machine FROM jobs WHERE job = ?1",
                 [ev.job_id.as_str()],
-                |r| r.get(0),
+                |r| Ok((r.get(0)?, r.get(1)?)),
             )
             .optional()?;
-        let Some(current) = current.and_then(|s| JobState::parse(&s)) else {
+        let Some((current, machine)) = row else {
             return Ok(false);
         };
+        let Some(current) = JobState::parse(&current) else {
+            return Ok(false);
+        };
+        let owned = MachineId::new(machine)
+            .is_ok_and(|m| gearcam_proto::keys::reporter_owns(reporter, ev, &m));
+        if !owned {
+            tracing::warn!(job = %ev.job_id, reporter, stage = ev.stage.as_str(), "ignored an event its reporter does not own");
+            return Ok(false);
+        }
         if current.is_final() {
             return Ok(false);
         }

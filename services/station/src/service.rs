@@ -108,13 +108,13 @@ pub async fn run(
     let mut drives = Drives::default();
     loop {
         let mut new_submits: Vec<Query> = Vec::new();
-        let mut new_events: Vec<JobEvent> = Vec::new();
+        let mut new_events: Vec<(String, JobEvent)> = Vec::new();
         let mut drive_now = false;
         tokio::select! {
             _ = shutdown.cancelled() => break,
             q = submits.recv_async() => if let Ok(q) = q { new_submits.push(q) },
             s = events.recv_async() => if let Ok(s) = s {
-                if let Ok(ev) = decode::<JobEvent>(&s.payload().to_bytes()) { new_events.push(ev) }
+                if let Some(ev) = reported(&s) { new_events.push(ev) }
             },
             q = views.recv_async() => if let Ok(q) = q {
                 let reply = view_reply(&journal, q.key_expr().as_str());
@@ -157,7 +157,7 @@ pub async fn run(
         while new_events.len() < 4096 {
             match events.try_recv() {
                 Ok(Some(s)) => {
-                    if let Ok(ev) = decode::<JobEvent>(&s.payload().to_bytes()) {
+                    if let Some(ev) = reported(&s) {
                         new_events.push(ev);
                     }
                 }
@@ -206,8 +206,8 @@ pub async fn run(
             }
             let now = now_ms();
             let (replies, to_send) = journal.batch(|j| {
-                for ev in &new_events {
-                    if let Err(e) = j.apply(ev, now, redrive_ms) {
+                for (reporter, ev) in &new_events {
+                    if let Err(e) = j.apply(reporter, ev, now, redrive_ms) {
                         tracing::error!(job = %ev.job_id, error = %e, "cannot journal event");
                     }
                 }
@@ -402,6 +402,13 @@ async fn drive(bus: &Bus, missing: Vec<String>, redrive_ms: u64, d: Due) -> Opti
             None
         }
     }
+}
+
+/// A job event with its reporter (the key's last chunk), if it decodes.
+fn reported(s: &zenoh::sample::Sample) -> Option<(String, JobEvent)> {
+    let reporter = keys::reporter_of(s.key_expr().as_str())?.to_string();
+    let ev = decode::<JobEvent>(&s.payload().to_bytes()).ok()?;
+    Some((reporter, ev))
 }
 
 async fn reply_message<T: gearcam_proto::Message>(q: Query, msg: &T) {
