@@ -280,6 +280,9 @@ catalogue! {
     JOB_ID_MISMATCH: "knowledge, model, template, agent",
         "A message's job id differs from the job id in its key.",
         "Fix the sender so that key and message name the same job.";
+    JOB_NOT_JOURNALED: "agent",
+        "The agent was sent a program of a job the station has not journaled for its machine (or one that failed); it stores only programs of journaled jobs.",
+        "Submit the job through the planning station; a program sent to the agent directly is never stored.";
     JOB_STATE: "knowledge",
         "The job cannot be confirmed in its state: it is not delivered yet, already confirmed, or refused by a later stage (no program was delivered for it).",
         "Confirm a job once, after delivery; pass `--undelivered` with the values that ran for a job cut from a program delivered another way; a refused job is fixed and submitted again.";
@@ -316,6 +319,9 @@ catalogue! {
     MISSING_ID: "knowledge",
         "A get, edit or remove query has no record id in its key.",
         "Query `gearcam/v1/kb/{library}/{id}`.";
+    MODEL_UNKNOWN: "agent",
+        "The agent checks every program again against the model the model service published for the job and has not seen that model (it started after it was published); the job waits.",
+        "Nothing: the station re-drives the job, the model is published again and the program is checked and stored.";
     MODULE_RANGE: "model",
         "The gear's normal module is not a positive length.",
         "Correct `gear.module_mm`.";
@@ -337,7 +343,7 @@ catalogue! {
     PARSE: "template (path check)",
         "Path check finding: a program line lies outside the NC subset gearcam emits, or its arithmetic fails.",
         "The program was not sent; correct the template line named in the error.";
-    PATH_CHECK_FAILED: "template",
+    PATH_CHECK_FAILED: "template, agent",
         "The path check of the rendered program found a line that breaks a rule; the rule is in expected, one error per finding.",
         "The program was not sent; look up the rule in this table and correct the template or the job.";
     POSITION_TRAVEL_LIMIT: "model",
@@ -376,6 +382,9 @@ catalogue! {
     SPEED_LIMIT: "template (path check)",
         "Path check finding: a hob speed, or the table speed it gives, is above the machine's limit.",
         "The program was not sent; lower the cutting speed or correct the template.";
+    STATION_UNREACHABLE: "agent",
+        "The agent could not ask the planning station whether the job is journaled; the job waits.",
+        "Start the station (`gearcam station` or `gearcam up`); the job is delivered at its next re-drive.";
     STORE_INDEX_ERROR: "agent",
         "The agent could not read or write its program index, or found a bad row in it.",
         "See the agent's log; check the store's database file.";

@@ -10,8 +10,8 @@ use std::time::Duration;
 
 use gearcam_proto::plan::{KbOp, KbRecord, KbReply, KbRequest, KbValue};
 use gearcam_proto::{
-    decode, encode, keys, Dialect, JobId, MachineId, NcProgram, StoreReply, StoreRequest,
-    TemplateRef,
+    decode, encode, keys, DeliveryReply, Dialect, JobId, MachineId, NcProgram, StoreReply,
+    StoreRequest, TemplateRef,
 };
 use gearcam_testkit::{bin, Proc};
 use sha2::{Digest, Sha256};
@@ -455,6 +455,7 @@ fn every_role_machine_and_command_on_the_secure_deployment() {
     // Both machines: an 840D job to H01, a FANUC job to H02.
     let v = submit(dir, &planner, "SEC-0101");
     assert_eq!(v["state"], "delivered", "{v}\n{}", secure.logs());
+    let h01_job = JobId::new(v["job"].as_str().unwrap()).unwrap();
     let fanuc = gearcam_testkit::examples::example("helical_shift_fanuc.toml");
     let job = dir.join("fanuc.toml");
     std::fs::write(&job, fanuc).unwrap();
@@ -566,6 +567,54 @@ fn every_role_machine_and_command_on_the_secure_deployment() {
         let got = tokio::time::timeout(Duration::from_secs(2), heard.recv_async()).await;
         assert!(got.is_err(), "a planner's forged event was delivered");
         listener.close().await.unwrap();
+        // Issue 13 point 12: even with the template service's credentials,
+        // the agent stores no program of a job the station did not journal,
+        // and none that fails its own path check (the hob run backwards).
+        let file = dir.join("H01/programs/_N_SEC_0101_MPF");
+        let stored = std::fs::read_to_string(&file).unwrap();
+        let template = planner_session(&secure.cfg("template")).await.unwrap();
+        let program = |job: &JobId, text: String| NcProgram {
+            job_id: job.clone(),
+            machine: MachineId::new("H01").unwrap(),
+            name: "SEC_0101".into(),
+            revision: 2,
+            dialect: Dialect::Sinumerik840d,
+            sha256: hex::encode(Sha256::digest(text.as_bytes())),
+            text,
+            template: TemplateRef {
+                id: "forged".into(),
+                version: 1,
+            },
+            part_number: "SEC-0101".into(),
+            cases: vec![],
+            model_version: "-".into(),
+            generator: "-".into(),
+            path_check: Default::default(),
+        };
+        let reversed = stored.replacen(" M3 ", " M4 ", 1);
+        assert_ne!(reversed, stored);
+        for (job, text, code) in [
+            (
+                JobId::new("NOT-JOURNALED-1").unwrap(),
+                stored.clone(),
+                "JOB_NOT_JOURNALED",
+            ),
+            (h01_job.clone(), reversed, "PATH_CHECK_FAILED"),
+        ] {
+            let replies = template
+                .get(keys::machine_program(&MachineId::new("H01").unwrap(), &job))
+                .payload(encode(&program(&job, text)).unwrap())
+                .timeout(Duration::from_secs(10))
+                .await
+                .unwrap();
+            let reply = replies.recv_async().await.expect("the agent answers");
+            match decode::<DeliveryReply>(&reply.result().unwrap().payload().to_bytes()).unwrap() {
+                DeliveryReply::Refused { error } => assert_eq!(error.code, code, "{error:?}"),
+                other => panic!("{job}: stored what it must not: {other:?}"),
+            }
+        }
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), stored);
+        template.close().await.unwrap();
         // A planner declares an agent's liveliness token: nobody sees it.
         let _fake = forger
             .liveliness()

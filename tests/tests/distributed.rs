@@ -6,7 +6,7 @@
 use std::time::Duration;
 
 use approx::assert_abs_diff_eq;
-use gearcam_proto::{decode, DeliveryReply, EventKind, JobEvent};
+use gearcam_proto::{decode, keys, DeliveryReply, EventKind, JobEvent, StationReply};
 use gearcam_testkit::Cluster;
 use sha2::{Digest, Sha256};
 
@@ -371,7 +371,18 @@ fn a_repeated_request_is_stored_once_and_answered_with_the_original_receipt() {
         };
         let events = session.declare_subscriber("gearcam/v1/jobs/REP-1/events/*").await.unwrap();
         let bytes = gearcam_proto::encode(&req).unwrap();
-        // Twice, back to back, as a re-drive racing the first delivery would.
+        // Journaled by the station first (the agent stores only journaled
+        // jobs); the station sends it too.
+        let replies = session
+            .get(keys::STATION_SUBMIT)
+            .payload(bytes.clone())
+            .timeout(Duration::from_secs(10))
+            .await
+            .unwrap();
+        let reply = replies.recv_async().await.expect("the station answers");
+        let reply: StationReply = decode(&reply.result().unwrap().payload().to_bytes()).unwrap();
+        assert!(matches!(reply, StationReply::Accepted { .. }), "{reply:?}");
+        // Twice more, back to back, as a re-drive racing the first delivery would.
         session.put("gearcam/v1/jobs/REP-1/request", bytes.clone()).await.unwrap();
         session.put("gearcam/v1/jobs/REP-1/request", bytes).await.unwrap();
         let mut receipts = Vec::new();

@@ -170,20 +170,37 @@ fn point_2_a_store_that_cannot_write_makes_the_job_wait_not_fail() {
 #[test]
 fn point_6_a_repeated_delivery_checks_the_file() {
     let c = Cluster::start();
-    let text = "%_N_PT_6_MPF\n;$PATH=/_N_MPF_DIR\nN10 M2\n".to_string();
+    let (_, v) = c.submit_wait(&spur(&c, 20));
+    assert_eq!(v["state"], "delivered", "{v}");
+    let job = JobId::new(v["job"].as_str().unwrap()).unwrap();
+    // The program as the template service sent it: its stored text.
+    let (code, out, err) = gearcam(&[
+        "program",
+        "show",
+        "SP_1001",
+        "1",
+        "--machine",
+        "H01",
+        "--connect",
+        &c.endpoint,
+        "--json",
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let shown: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let text = shown["text"].as_str().unwrap().to_string();
     let program = NcProgram {
-        job_id: JobId::new("PT6-1").unwrap(),
+        job_id: job.clone(),
         machine: MachineId::new("H01").unwrap(),
-        name: "PT_6".into(),
+        name: "SP_1001".into(),
         revision: 1,
         dialect: Dialect::Sinumerik840d,
         sha256: sha(text.as_bytes()),
         text,
         template: TemplateRef {
-            id: "test".into(),
-            version: 1,
+            id: "cylindrical_840d".into(),
+            version: 7,
         },
-        part_number: "PT-6".into(),
+        part_number: "SP-1001".into(),
         cases: vec![],
         model_version: "-".into(),
         generator: "-".into(),
@@ -197,49 +214,38 @@ fn point_6_a_repeated_delivery_checks_the_file() {
         let ask = |key: String, payload: Option<Vec<u8>>| {
             let session = session.clone();
             async move {
-                let deadline = Instant::now() + Duration::from_secs(30);
-                loop {
-                    let mut get = session.get(&key).timeout(Duration::from_secs(5));
-                    if let Some(p) = payload.clone() {
-                        get = get.payload(p);
-                    }
-                    let replies = get.await.unwrap();
-                    if let Ok(reply) = replies.recv_async().await {
-                        let bytes = reply.result().expect("a reply").payload().to_bytes();
-                        return decode::<DeliveryReply>(&bytes).unwrap();
-                    }
-                    assert!(Instant::now() < deadline, "the agent never answered");
-                    tokio::time::sleep(Duration::from_millis(200)).await;
-                }
+                let replies = session
+                    .get(&key)
+                    .payload(payload.unwrap_or_default())
+                    .timeout(Duration::from_secs(10))
+                    .await
+                    .unwrap();
+                let reply = replies.recv_async().await.expect("the agent answers");
+                decode::<DeliveryReply>(&reply.result().expect("a reply").payload().to_bytes())
+                    .unwrap()
             }
         };
         let machine = program.machine.clone();
         let deliver = || {
             ask(
-                keys::machine_program(&machine, &program.job_id),
+                keys::machine_program(&machine, &job),
                 Some(encode(&program).unwrap()),
             )
         };
-        let DeliveryReply::Stored { receipt } = deliver().await else {
-            panic!("not stored")
-        };
-        assert!(!receipt.duplicate);
-        let DeliveryReply::Stored { receipt } = deliver().await else {
-            panic!("not stored")
-        };
-        assert!(
-            receipt.duplicate,
-            "a repeat of a held program is a duplicate"
-        );
-
-        std::fs::remove_file(c.program_dir().join("_N_PT_6_MPF")).unwrap();
+        match deliver().await {
+            DeliveryReply::Stored { receipt } => {
+                assert!(receipt.duplicate, "a repeat of a held program")
+            }
+            other => panic!("a repeat of a held program: {other:?}"),
+        }
+        std::fs::remove_file(c.program_dir().join("_N_SP_1001_MPF")).unwrap();
         match deliver().await {
             DeliveryReply::Refused { error } => {
                 assert_eq!(error.code, "PROGRAM_CHANGED_AT_MACHINE")
             }
             other => panic!("answered {other:?} for a program the machine no longer holds"),
         }
-        let lost = ask(keys::store_job(&machine, &program.job_id), None).await;
+        let lost = ask(keys::store_job(&machine, &job), None).await;
         assert_eq!(
             lost,
             DeliveryReply::NotStored,

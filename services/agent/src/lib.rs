@@ -6,10 +6,13 @@
 //!
 //! - [`store`]: the part-program store (atomic file write, index, idempotency,
 //!   conflict detection).
+//! - [`guard`]: only programs of journaled jobs, checked again against the
+//!   model service's model.
 //! - [`service`]: the Zenoh stage: `NcProgram` in, `delivered` event with the
 //!   receipt out.
 #![forbid(unsafe_code)]
 
+pub mod guard;
 pub mod service;
 pub mod store;
 

@@ -13,6 +13,7 @@ use gearcam_proto::{
     Stage, StoreReply, StoreRequest,
 };
 
+use crate::guard::{self, Models};
 use crate::store::{Resolution, Store, StoreConfig};
 use crate::AgentError;
 
@@ -31,6 +32,9 @@ pub async fn run(
     if let Some(earlier) = single.refused() {
         return Err(AgentError::Duplicate(duplicate_message(&machine, &earlier)));
     }
+    let models = Models::follow(&bus, machine.clone(), serving.clone()).await?;
+    let guard_bus = bus.clone();
+    let runtime = tokio::runtime::Handle::current();
     let pattern = keys::agent_any(&machine);
     run_queryable_batched(
         &bus,
@@ -52,8 +56,38 @@ pub async fn run(
                     }
                 }
             }
-            let programs: Vec<NcProgram> = deliveries.iter().map(|(_, p)| p.clone()).collect();
-            for ((i, program), result) in deliveries.into_iter().zip(store.store_batch(&programs)) {
+            // Defence in depth: a journaled job of this machine, and a
+            // program that passes the path check against its model.
+            let deliveries: Vec<(usize, NcProgram)> = deliveries
+                .into_iter()
+                .filter_map(|(i, program)| match store.check_program(&program) {
+                    Ok(_) => Some((i, program)),
+                    Err(error) => {
+                        answers[i] = Some(refused(Some(program.job_id), error));
+                        None
+                    }
+                })
+                .collect();
+            let jobs: Vec<JobId> = deliveries.iter().map(|(_, p)| p.job_id.clone()).collect();
+            let verdicts = if jobs.is_empty() {
+                Vec::new()
+            } else {
+                tokio::task::block_in_place(|| {
+                    runtime.block_on(guard::journaled(&guard_bus, &machine, &jobs))
+                })
+            };
+            let mut checked = Vec::with_capacity(deliveries.len());
+            for ((i, program), verdict) in deliveries.into_iter().zip(verdicts) {
+                match verdict.and_then(|()| models.check(&program)) {
+                    Ok(()) => checked.push((i, program)),
+                    Err(error) => {
+                        tracing::warn!(job = %program.job_id, code = error.code, "program refused before storing");
+                        answers[i] = Some(refused(Some(program.job_id), error));
+                    }
+                }
+            }
+            let programs: Vec<NcProgram> = checked.iter().map(|(_, p)| p.clone()).collect();
+            for ((i, program), result) in checked.into_iter().zip(store.store_batch(&programs)) {
                 answers[i] = Some(delivered(program, result));
             }
             for (i, (key, payload)) in batch.iter().enumerate() {
@@ -333,6 +367,8 @@ fn refused(job: Option<JobId>, error: JobError) -> Answer {
             codes::PROGRAM_CHANGED_AT_MACHINE,
             codes::STORE_IO_ERROR,
             codes::STORE_INDEX_ERROR,
+            codes::STATION_UNREACHABLE,
+            codes::MODEL_UNKNOWN,
         ];
         let event = if waits.contains(&error.code.as_str()) {
             EventKind::Waiting {

@@ -213,8 +213,9 @@ impl Store {
             .collect()
     }
 
-    /// Checks a program and decides whether it must be written.
-    fn prepare(&self, p: &NcProgram) -> Result<Prepared, JobError> {
+    /// The checks of a program on its own (machine, dialect, name, size,
+    /// hash), before anything is asked or written; its file name.
+    pub fn check_program(&self, p: &NcProgram) -> Result<String, JobError> {
         if p.machine != self.config.machine {
             return Err(Stage::Agent.error(
                 "WRONG_MACHINE",
@@ -261,6 +262,13 @@ impl Store {
                 "the program text does not match its hash; it was damaged on the way",
             ));
         }
+        Ok(file_name)
+    }
+
+    /// Checks a program and decides whether it must be written.
+    fn prepare(&self, p: &NcProgram) -> Result<Prepared, JobError> {
+        let file_name = self.check_program(p)?;
+        let hash = p.sha256.clone();
         // Idempotency: the same job and revision.
         let existing = self
             .conn

@@ -1,0 +1,208 @@
+//! Defence in depth before a program is stored (issue 13): the agent stores
+//! only programs of jobs the station journaled for its machine, and checks
+//! each program again against the model the model service computed for the
+//! job — not the one the sender might claim.
+//!
+//! - **Journaled**: the station is asked for the job's status
+//!   (`gearcam/v1/station/jobs/{job}`): it must exist, be for this machine and
+//!   not be failed. No such job: `JOB_NOT_JOURNALED` (final). No answer:
+//!   `STATION_UNREACHABLE` (the job waits and is re-driven).
+//! - **Path check**: the agent follows the models the model service
+//!   publishes for its machine (`gearcam/v1/jobs/*/model`, which only the
+//!   model service may publish under `deploy/secure`) and re-runs the NC path
+//!   check (`gearcam_nc::check`) of every program against its job's model.
+//!   A finding: `PATH_CHECK_FAILED` (final). No model seen yet (the agent
+//!   started after it was published): `MODEL_UNKNOWN` (the job waits; the
+//!   station's re-drive publishes the model again).
+
+use std::collections::{HashMap, VecDeque};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use gearcam_bus::query::Retry;
+use gearcam_bus::{Bus, CancellationToken};
+use gearcam_proto::{
+    decode, keys, JobError, JobId, JobRequest, JobState, MachineId, MachiningModel, NcProgram,
+    Stage, StationReply,
+};
+
+/// Models kept, newest last (a bounded memory).
+const MAX_MODELS: usize = 4096;
+
+/// The models kept, by job, and the order they came in.
+type Kept = (HashMap<JobId, Arc<MachiningModel>>, VecDeque<JobId>);
+
+/// The models the model service published for this machine, by job.
+#[derive(Debug, Clone, Default)]
+pub struct Models {
+    inner: Arc<Mutex<Kept>>,
+}
+
+impl Models {
+    fn insert(&self, model: MachiningModel) {
+        let Ok(mut g) = self.inner.lock() else { return };
+        let (map, order) = &mut *g;
+        let job = model.job_id.clone();
+        if map.insert(job.clone(), Arc::new(model)).is_none() {
+            order.push_back(job);
+        }
+        while order.len() > MAX_MODELS {
+            if let Some(old) = order.pop_front() {
+                map.remove(&old);
+            }
+        }
+    }
+
+    fn get(&self, job: &JobId) -> Option<Arc<MachiningModel>> {
+        self.inner.lock().ok()?.0.get(job).cloned()
+    }
+
+    /// Follows the models of `machine` until `shutdown`.
+    pub async fn follow(
+        bus: &Bus,
+        machine: MachineId,
+        shutdown: CancellationToken,
+    ) -> Result<Models, crate::AgentError> {
+        let models = Models::default();
+        let sub = bus
+            .session()
+            .declare_subscriber(keys::ALL_JOB_MODELS)
+            .await
+            .map_err(|e| {
+                crate::AgentError::Bus(gearcam_bus::BusError::Zenoh {
+                    op: "declare subscriber",
+                    detail: e.to_string(),
+                })
+            })?;
+        let kept = models.clone();
+        tokio::spawn(async move {
+            loop {
+                let sample = tokio::select! {
+                    _ = shutdown.cancelled() => break,
+                    s = sub.recv_async() => match s { Ok(s) => s, Err(_) => break },
+                };
+                if let Ok(model) = decode::<MachiningModel>(&sample.payload().to_bytes()) {
+                    if model.plan.machine.id == machine {
+                        kept.insert(model);
+                    }
+                }
+            }
+        });
+        Ok(models)
+    }
+
+    /// Re-runs the path check of `program` against its job's model.
+    pub fn check(&self, program: &NcProgram) -> Result<(), JobError> {
+        let Some(model) = self.get(&program.job_id) else {
+            return Err(Stage::Agent.error(
+                "MODEL_UNKNOWN",
+                "job_id",
+                "a job whose model the agent has seen from the model service",
+                program.job_id.as_str(),
+                "the agent checks every program again against the model service's model and has not seen this job's; the job waits and the station's re-drive publishes it again",
+            ));
+        };
+        let (check, _) = gearcam_nc::check(&program.text, &model);
+        match check.findings.first() {
+            None => Ok(()),
+            Some(f) => Err(Stage::Agent.error(
+                "PATH_CHECK_FAILED",
+                &format!("program.line.{}", f.line),
+                format!("a program that keeps rule {}", f.rule),
+                program
+                    .text
+                    .lines()
+                    .nth((f.line as usize).saturating_sub(1))
+                    .unwrap_or("")
+                    .trim()
+                    .to_string(),
+                format!(
+                    "the agent's own path check of program {} line {}: {} [{}]; {} finding(s) in all; the program was not stored",
+                    program.name,
+                    f.line,
+                    f.message,
+                    f.rule,
+                    check.findings.len()
+                ),
+            )),
+        }
+    }
+}
+
+/// Asks the station whether each job is journaled for `machine`, all at
+/// once; one verdict per job, in order.
+pub async fn journaled(
+    bus: &Bus,
+    machine: &MachineId,
+    jobs: &[JobId],
+) -> Vec<Result<(), JobError>> {
+    let retry = Retry {
+        timeout: Duration::from_secs(3),
+        attempts: 2,
+        pause: Duration::from_millis(200),
+    };
+    let mut asks = tokio::task::JoinSet::new();
+    for (i, job) in jobs.iter().enumerate() {
+        let (bus, machine, job) = (bus.clone(), machine.clone(), job.clone());
+        asks.spawn(async move {
+            let reply = bus
+                .call::<JobRequest, StationReply>(&keys::station_job(&job), None, retry)
+                .await;
+            let verdict = match reply {
+                Ok(StationReply::Status { status })
+                    if status.machine == machine && status.state != JobState::Failed =>
+                {
+                    Ok(())
+                }
+                Ok(StationReply::Status { status }) => Err(not_journaled(
+                    &job,
+                    &machine,
+                    &format!(
+                        "job {job} of machine {} in state {}",
+                        status.machine,
+                        status.state.as_str()
+                    ),
+                )),
+                Ok(_) => Err(not_journaled(&job, &machine, "no such job in the station's journal")),
+                Err(e) => Err(Stage::Agent.error(
+                    "STATION_UNREACHABLE",
+                    "job_id",
+                    "an answer of the planning station about the job",
+                    e.to_string(),
+                    "the agent stores only programs of journaled jobs and could not ask the station; the job waits",
+                )),
+            };
+            (i, verdict)
+        });
+    }
+    let mut verdicts: Vec<Option<Result<(), JobError>>> = vec![None; jobs.len()];
+    while let Some(done) = asks.join_next().await {
+        if let Ok((i, verdict)) = done {
+            verdicts[i] = Some(verdict);
+        }
+    }
+    verdicts
+        .into_iter()
+        .map(|v| {
+            v.unwrap_or_else(|| {
+                Err(Stage::Agent.error(
+                    "STATION_UNREACHABLE",
+                    "job_id",
+                    "an answer of the planning station about the job",
+                    "the question failed",
+                    "the agent could not ask the station; the job waits",
+                ))
+            })
+        })
+        .collect()
+}
+
+fn not_journaled(job: &JobId, machine: &MachineId, got: &str) -> JobError {
+    Stage::Agent.error(
+        "JOB_NOT_JOURNALED",
+        "job_id",
+        format!("a job the station journaled for machine {machine}, not failed"),
+        got.to_string(),
+        format!("the agent stores only programs of journaled jobs of its machine; job {job} is not one, so nothing was stored"),
+    )
+}
