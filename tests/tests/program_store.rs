@@ -182,29 +182,6 @@ fn submit_raw(endpoint: &str, spec: JobSpec) -> StationReply {
     })
 }
 
-/// Waits until job `id`'s status satisfies `done`; returns it.
-fn wait_status(
-    c: &Cluster,
-    id: &str,
-    done: impl Fn(&serde_json::Value) -> bool,
-) -> serde_json::Value {
-    let deadline = Instant::now() + Duration::from_secs(60);
-    loop {
-        let (_, out, _) = gearcam(&["status", id, "--connect", &c.endpoint, "--json"]);
-        if let Ok(v) = serde_json::from_str::<serde_json::Value>(&out) {
-            if done(&v) {
-                return v;
-            }
-            assert!(
-                Instant::now() < deadline,
-                "job {id} stuck: {v}\n{}",
-                c.logs()
-            );
-        }
-        std::thread::sleep(Duration::from_millis(200));
-    }
-}
-
 /// Point 2: an edit at the machine was detected but the job failed for
 /// good, later jobs of the program were refused, and the edit never
 /// reached the history.
@@ -224,7 +201,7 @@ fn point_2_an_edit_at_the_machine_is_resolved_and_kept() {
     let second = text.replace("quantity = 20", "quantity = 21");
     let v = c.submit(&c.job_file("second.toml", &second));
     let id = v["job"].as_str().unwrap().to_string();
-    let v = wait_status(&c, &id, |v| {
+    let v = c.wait_status(&id, |v| {
         v["waiting_for"]
             .as_str()
             .is_some_and(|w| w.contains("PROGRAM_CHANGED_AT_MACHINE"))
@@ -259,7 +236,7 @@ fn point_2_an_edit_at_the_machine_is_resolved_and_kept() {
         &c.endpoint,
     ]);
     assert_eq!(code, Some(0), "{out}{err}");
-    let v = wait_status(&c, &id, |v| v["state"] == "delivered");
+    let v = c.wait_status(&id, |v| v["state"] == "delivered");
     assert_eq!(v["program"]["name"], "SP_1001");
     let h = history(&c, "H01");
     let states: Vec<(&str, &str)> = h

@@ -22,30 +22,26 @@ fn spur(c: &Cluster, quantity: u32) -> std::path::PathBuf {
     c.job_file(&format!("spur-{quantity}.toml"), &text)
 }
 
-/// Waits until `gearcam status JOB --json` satisfies `done`.
-fn wait_status(
-    c: &Cluster,
-    id: &str,
-    done: impl Fn(&serde_json::Value) -> bool,
-) -> serde_json::Value {
-    let deadline = Instant::now() + Duration::from_secs(60);
-    loop {
-        let (_, out, _) = gearcam(&["status", id, "--connect", &c.endpoint, "--json"]);
-        if let Ok(v) = serde_json::from_str::<serde_json::Value>(&out) {
-            if done(&v) {
-                return v;
-            }
-            assert!(
-                Instant::now() < deadline,
-                "job {id} stuck: {v}\n{}",
-                c.logs()
-            );
-        }
+/// The current version of SP_1001 at H01, once the agent answers (30 s at most).
+fn current_version(c: &Cluster) -> serde_json::Value {
+    let deadline = Instant::now() + Duration::from_secs(30);
+    while gearcam(&[
+        "program",
+        "history",
+        "--machine",
+        "H01",
+        "--connect",
+        &c.endpoint,
+    ])
+    .0 != Some(0)
+    {
+        assert!(
+            Instant::now() < deadline,
+            "the agent does not answer\n{}",
+            c.logs()
+        );
         std::thread::sleep(Duration::from_millis(200));
     }
-}
-
-fn current_version(c: &Cluster) -> serde_json::Value {
     let (code, out, err) = gearcam(&[
         "program",
         "history",
@@ -95,29 +91,7 @@ fn point_1_a_crash_between_rename_and_commit_is_finished_at_restart() {
     c.proc("station").kill();
     c.start_agent_with("agent-again", "H01", &[]);
     let file = std::fs::read(c.program_dir().join("_N_SP_1001_MPF")).unwrap();
-    let deadline = Instant::now() + Duration::from_secs(30);
-    let current = loop {
-        let (code, out, _) = gearcam(&[
-            "program",
-            "history",
-            "SP_1001",
-            "--machine",
-            "H01",
-            "--connect",
-            &c.endpoint,
-            "--json",
-        ]);
-        if code == Some(0) {
-            let _ = out;
-            break current_version(&c);
-        }
-        assert!(
-            Instant::now() < deadline,
-            "the agent did not come back\n{}",
-            c.logs()
-        );
-        std::thread::sleep(Duration::from_millis(200));
-    };
+    let current = current_version(&c);
     assert_eq!(
         current["sha256"],
         sha(&file),
@@ -128,7 +102,7 @@ fn point_1_a_crash_between_rename_and_commit_is_finished_at_restart() {
     // The station comes back: the job is delivered, and the next program
     // for the name is stored, not refused as an edit.
     c.proc("station").restart();
-    wait_status(&c, &second, |v| v["state"] == "delivered");
+    c.wait_status(&second, |v| v["state"] == "delivered");
     let (_, v) = c.submit_wait(&spur(&c, 22));
     assert_eq!(v["state"], "delivered", "{v}");
 }
@@ -146,7 +120,7 @@ fn point_2_a_store_that_cannot_write_makes_the_job_wait_not_fail() {
     std::fs::create_dir_all(&blocker).unwrap();
     let job = c.submit(&spur(&c, 20));
     let id = job["job"].as_str().unwrap().to_string();
-    let v = wait_status(&c, &id, |v| {
+    let v = c.wait_status(&id, |v| {
         v["waiting_for"]
             .as_str()
             .is_some_and(|w| w.contains("STORE_IO_ERROR"))
@@ -154,9 +128,7 @@ fn point_2_a_store_that_cannot_write_makes_the_job_wait_not_fail() {
     assert_eq!(v["state"], "waiting", "{v}");
     // Space freed: the station's re-drive delivers it.
     std::fs::remove_dir(&blocker).unwrap();
-    let v = wait_status(&c, &id, |v| {
-        v["state"] == "delivered" || v["state"] == "failed"
-    });
+    let v = c.wait_status(&id, |v| v["state"] == "delivered" || v["state"] == "failed");
     assert_eq!(v["state"], "delivered", "{v}");
     let names: Vec<String> = std::fs::read_dir(c.program_dir())
         .unwrap()
@@ -316,28 +288,7 @@ fn point_4_an_emptied_index_or_journal_is_refused_with_a_recovery() {
         "{out:?}"
     );
     c.start_agent_with("agent-rebuilt", "H01", &[]);
-    let deadline = Instant::now() + Duration::from_secs(30);
-    let current = loop {
-        let (code, _, _) = gearcam(&[
-            "program",
-            "history",
-            "SP_1001",
-            "--machine",
-            "H01",
-            "--connect",
-            &c.endpoint,
-            "--json",
-        ]);
-        if code == Some(0) {
-            break current_version(&c);
-        }
-        assert!(
-            Instant::now() < deadline,
-            "the rebuilt agent did not answer\n{}",
-            c.logs()
-        );
-        std::thread::sleep(Duration::from_millis(200));
-    };
+    let current = current_version(&c);
     assert_eq!(
         (current["job"].as_str(), current["state"].as_str()),
         (Some(job.as_str()), Some("rebuilt"))
@@ -418,7 +369,7 @@ fn point_7_an_edit_during_a_delivery_is_kept() {
     }
     let path = c.program_dir().join("_N_SP_1001_MPF");
     std::fs::write(&path, "; FEED LOWERED BY THE OPERATOR\n").unwrap();
-    let v = wait_status(&c, &id, |v| {
+    let v = c.wait_status(&id, |v| {
         v["waiting_for"]
             .as_str()
             .is_some_and(|w| w.contains("PROGRAM_CHANGED_AT_MACHINE"))

@@ -460,6 +460,30 @@ impl Cluster {
         serde_json::from_slice::<Vec<serde_json::Value>>(&out.stdout).ok()
     }
 
+    /// Waits until `gearcam status JOB --json` satisfies `done` (60 s at
+    /// most); returns that status.
+    pub fn wait_status(
+        &self,
+        id: &str,
+        done: impl Fn(&serde_json::Value) -> bool,
+    ) -> serde_json::Value {
+        let deadline = Instant::now() + Duration::from_secs(60);
+        loop {
+            let (_, out, _) = gearcam(&["status", id, "--connect", &self.endpoint, "--json"]);
+            if let Ok(v) = serde_json::from_str::<serde_json::Value>(&out) {
+                if done(&v) {
+                    return v;
+                }
+                assert!(
+                    Instant::now() < deadline,
+                    "job {id} stuck: {v}\n{}",
+                    self.logs()
+                );
+            }
+            std::thread::sleep(Duration::from_millis(200));
+        }
+    }
+
     /// Waits until the station reports `n` jobs, all delivered; returns them.
     pub fn wait_all_delivered(&self, n: usize, timeout: Duration) -> Vec<serde_json::Value> {
         let start = Instant::now();
