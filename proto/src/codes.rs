@@ -382,6 +382,9 @@ catalogue! {
     SPEED_LIMIT: "template (path check)",
         "Path check finding: a hob speed, or the table speed it gives, is above the machine's limit.",
         "The program was not sent; lower the cutting speed or correct the template.";
+    SPIRAL_RANGE: "model",
+        "A spiral face-milling value is out of range: a radius not positive, an inner radius not below the outer one, a tool larger than the face, a step-over of the tool's diameter or more (it leaves material between the turns), a negative overtravel.",
+        "Correct the field named in the error; expected says the range.";
     STATION_UNREACHABLE: "agent",
         "The agent could not ask the planning station whether the job is journaled; the job waits.",
         "Start the station (`gearcam station` or `gearcam up`); the job is delivered at its next re-drive.";

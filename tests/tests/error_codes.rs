@@ -11,7 +11,7 @@
 //! # What counts as a use of a code
 //!
 //! The walk reads every `.rs` and `.tpl` file under `services/*/src`,
-//! `proto/src` and `crates/nc/src` (the path check's rule ids live in
+//! `proto/src`, `crates/spiral/src` and `crates/nc/src` (the path check's rule ids live in
 //! `crates/nc/src/lib.rs`), except the catalogue itself
 //! (`proto/src/codes.rs`) and test code: an item under `#[cfg(test)]` (a
 //! `mod tests { … }` block, a test helper function) is skipped to its closing
@@ -84,6 +84,7 @@ fn source_roots(root: &Path) -> Vec<PathBuf> {
     }
     roots.push(root.join("proto/src"));
     roots.push(root.join("crates/nc/src"));
+    roots.push(root.join("crates/spiral/src"));
     roots
 }
 

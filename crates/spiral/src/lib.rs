@@ -1,0 +1,548 @@
+//! Spiral face milling, the pure model (seed 001; docs/spiral.md): a
+//! circular face (inner radius 0), an annular face, or a planar spiral
+//! groove, milled along an Archimedean spiral of the tool centre.
+//!
+//! The tool centre follows, in polar coordinates about the face's centre,
+//!
+//! ```text
+//! R(θ) = R1 + (R2 − R1)·(θ − θ0) / (360°·n)      θ from θ0 to θ0 + 360°·n
+//! ```
+//!
+//! from radius R1 to R2 in n turns, so each turn moves the tool by the
+//! step-over L = |R2 − R1| / n. This crate decides R1, R2 and n from the
+//! region, the tool and the overtravels ([`plan`]), and gives what the
+//! programs and their checks need: the path length in closed form
+//! ([`Spiral::length`]), the chords within a tolerance ([`Spiral::chords`])
+//! and the coverage check ([`coverage`]) that proves every point of the
+//! region lies under the tool somewhere along the path.
+//!
+//! Lengths are mm, angles degrees at the interface (radians inside).
+#![forbid(unsafe_code)]
+
+use gearcam_proto::{JobError, Stage};
+use serde::{Deserialize, Serialize};
+
+/// The face to mill: a circle (`inner_radius_mm` = 0) or an annulus.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Region {
+    /// Outer radius Ro, mm.
+    pub outer_radius_mm: f64,
+    /// Inner radius Ri, mm (0: a full circle).
+    pub inner_radius_mm: f64,
+}
+
+/// Which way the spiral runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Direction {
+    /// From outside the face inwards: the tool enters the material
+    /// gradually from outside (the seed's way).
+    OutsideIn,
+    /// From the inner edge outwards.
+    InsideOut,
+}
+
+/// What the spiral is asked to do.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SpiralSpec {
+    /// The face.
+    pub region: Region,
+    /// Tool radius rt, mm.
+    pub tool_radius_mm: f64,
+    /// Largest step-over between turns, mm (the turns are rounded up, so
+    /// the step-over used is at most this).
+    pub step_over_mm: f64,
+    /// Outer overtravel: the tool centre starts (or ends) this far beyond
+    /// Ro + rt, so the tool enters the material gradually from outside, mm.
+    pub outer_overtravel_mm: f64,
+    /// Inner overtravel: how far past the inner edge the tool goes, so no
+    /// ring is left at the inner edge, mm. On a full circle the spiral stops
+    /// when the tool covers the centre (centre radius rt − this).
+    pub inner_overtravel_mm: f64,
+    /// Polar angle θ0 of the start point, degrees.
+    pub start_angle_deg: f64,
+    /// Outside-in or inside-out.
+    pub direction: Direction,
+}
+
+/// The tool-centre spiral: R(θ) from R1 at θ0 to R2 after `turns` turns.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Spiral {
+    /// R1, the centre's start radius, mm.
+    pub start_radius_mm: f64,
+    /// R2, the centre's end radius, mm.
+    pub end_radius_mm: f64,
+    /// θ0, degrees.
+    pub start_angle_deg: f64,
+    /// n, turns (a whole number, ≥ 1).
+    pub turns: u32,
+    /// The direction of rotation as seen from +Z: +1 counter-clockwise, −1 clockwise.
+    pub sense: i8,
+}
+
+fn refuse(code: &str, field: &str, expected: String, got: String, message: &str) -> JobError {
+    Stage::Model.error(code, field, expected, got, message)
+}
+
+/// The spiral for `spec`, or every input error found (typed, naming the
+/// field, the expected and the given value).
+///
+/// Outside-in, counter-clockwise from +Z (the rotation sense is the
+/// machine's choice of climb or conventional milling; [`Spiral::sense`]):
+/// R1 = Ro + rt + outer overtravel (the tool starts clear of the face),
+/// R2 = max(Ri + rt − L − inner overtravel, 0): the spiral is a step-over
+/// further out one turn before its end, so this is the largest end radius
+/// that leaves no ring at the inner edge (on a full circle, Ri = 0, no
+/// centre island and no useless path around the centre). Inside-out swaps
+/// R1 and R2. n = ⌈|R1 − R2| / L⌉.
+pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
+    let mut errors = Vec::new();
+    let Region {
+        outer_radius_mm: ro,
+        inner_radius_mm: ri,
+    } = spec.region;
+    let rt = spec.tool_radius_mm;
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    if !positive(ro) {
+        errors.push(refuse(
+            "SPIRAL_RANGE",
+            "region.outer_radius_mm",
+            "a radius > 0 mm".into(),
+            format!("{ro}"),
+            "the face's outer radius must be positive",
+        ));
+    }
+    if !(ri.is_finite() && ri >= 0.0) {
+        errors.push(refuse(
+            "SPIRAL_RANGE",
+            "region.inner_radius_mm",
+            "0 (a full circle) or a radius > 0 mm".into(),
+            format!("{ri}"),
+            "the inner radius is 0 for a full circle",
+        ));
+    } else if positive(ro) && ri >= ro {
+        errors.push(refuse(
+            "SPIRAL_RANGE",
+            "region.inner_radius_mm",
+            format!("less than the outer radius {ro} mm"),
+            format!("{ri}"),
+            "an annulus's inner radius is below its outer radius",
+        ));
+    }
+    if !positive(rt) {
+        errors.push(refuse(
+            "SPIRAL_RANGE",
+            "tool.radius_mm",
+            "a radius > 0 mm".into(),
+            format!("{rt}"),
+            "the tool's radius must be positive",
+        ));
+    } else if positive(ro) && rt > ro {
+        errors.push(refuse(
+            "SPIRAL_RANGE",
+            "tool.radius_mm",
+            format!("at most the face's outer radius {ro} mm"),
+            format!("{rt}"),
+            "a tool larger than the face: mill it in one plunge, not with a spiral",
+        ));
+    }
+    let l = spec.step_over_mm;
+    if !positive(l) {
+        errors.push(refuse(
+            "SPIRAL_RANGE",
+            "process.step_over_mm",
+            "a step-over > 0 mm".into(),
+            format!("{l}"),
+            "the step-over sets the number of turns; it must be positive",
+        ));
+    } else if positive(rt) && l >= 2.0 * rt {
+        errors.push(refuse(
+            "SPIRAL_RANGE",
+            "process.step_over_mm",
+            format!("less than the tool's diameter {} mm", 2.0 * rt),
+            format!("{l}"),
+            "a step-over of the tool's diameter or more leaves material between the turns",
+        ));
+    }
+    for (v, field) in [
+        (spec.outer_overtravel_mm, "process.outer_overtravel_mm"),
+        (spec.inner_overtravel_mm, "process.inner_overtravel_mm"),
+    ] {
+        if !(v.is_finite() && v >= 0.0) {
+            errors.push(refuse(
+                "SPIRAL_RANGE",
+                field,
+                "0 mm or more".into(),
+                format!("{v}"),
+                "an overtravel is a distance",
+            ));
+        }
+    }
+    if !spec.start_angle_deg.is_finite() {
+        errors.push(refuse(
+            "SPIRAL_RANGE",
+            "process.start_angle_deg",
+            "an angle in degrees".into(),
+            format!("{}", spec.start_angle_deg),
+            "the start angle must be a number",
+        ));
+    }
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    let outer = ro + rt + spec.outer_overtravel_mm;
+    // A spiral reaches its end radius only at its end angle: one turn
+    // earlier it is a step-over further out. So the inner edge is covered
+    // all around only if R2 + L − rt ≤ Ri, i.e. R2 ≤ Ri + rt − L; the inner
+    // overtravel is a margin beyond that. On a full circle (Ri = 0) the same
+    // rule keeps the last turn within rt of the centre.
+    let inner = (ri + rt - l - spec.inner_overtravel_mm).max(0.0);
+    if outer - inner <= 0.0 {
+        return Err(vec![refuse(
+            "SPIRAL_RANGE",
+            "tool.radius_mm",
+            "a tool that leaves room for a spiral".into(),
+            format!("{rt}"),
+            "the spiral has no length",
+        )]);
+    }
+    let turns = ((outer - inner) / l - 1e-9).ceil().max(1.0) as u32;
+    let (r1, r2) = match spec.direction {
+        Direction::OutsideIn => (outer, inner),
+        Direction::InsideOut => (inner, outer),
+    };
+    Ok(Spiral {
+        start_radius_mm: r1,
+        end_radius_mm: r2,
+        start_angle_deg: spec.start_angle_deg,
+        turns,
+        sense: 1,
+    })
+}
+
+impl Spiral {
+    /// The step-over used, |R2 − R1| / n, mm.
+    pub fn step_over_mm(&self) -> f64 {
+        (self.end_radius_mm - self.start_radius_mm).abs() / f64::from(self.turns)
+    }
+
+    /// Total sweep, radians.
+    fn sweep(&self) -> f64 {
+        std::f64::consts::TAU * f64::from(self.turns)
+    }
+
+    /// dR/dφ (φ in radians from θ0), mm per radian.
+    fn b(&self) -> f64 {
+        (self.end_radius_mm - self.start_radius_mm) / self.sweep()
+    }
+
+    /// The centre's radius after turning `phi` radians from θ0.
+    pub fn radius_at(&self, phi: f64) -> f64 {
+        self.start_radius_mm + self.b() * phi
+    }
+
+    /// The centre's point after turning `phi` radians from θ0, mm.
+    pub fn point_at(&self, phi: f64) -> (f64, f64) {
+        let r = self.radius_at(phi);
+        let a = self.start_angle_deg.to_radians() + f64::from(self.sense) * phi;
+        (r * a.cos(), r * a.sin())
+    }
+
+    /// Arc length of the centre path in closed form, mm: with r = a + bφ,
+    /// ds = √(r² + b²) dφ, and ∫√(r² + b²) dr / b =
+    /// [r·√(r² + b²) + b²·ln(r + √(r² + b²))] / (2b).
+    pub fn length(&self) -> f64 {
+        let b = self.b();
+        if b.abs() < 1e-15 {
+            return self.start_radius_mm * self.sweep();
+        }
+        let f = |r: f64| {
+            let h = (r * r + b * b).sqrt();
+            (r * h + b * b * (r + h).ln()) / (2.0 * b)
+        };
+        (f(self.end_radius_mm) - f(self.start_radius_mm)).abs()
+    }
+
+    /// The chord points of the path, with a constant angle step small enough
+    /// that no chord strays more than `tolerance_mm` from the spiral at its
+    /// largest radius (sagitta r·(1 − cos(Δφ/2)) ≤ tolerance; the spiral's
+    /// own curvature is within 0.1 % of a circle's here). Returns the angle
+    /// step (degrees) and the points, the first at θ0 and the last at the end.
+    pub fn chords(&self, tolerance_mm: f64) -> (f64, Vec<(f64, f64)>) {
+        let r_max = self.start_radius_mm.max(self.end_radius_mm);
+        let step = 2.0 * (1.0 - tolerance_mm / r_max).clamp(-1.0, 1.0).acos();
+        let n = (self.sweep() / step).ceil().max(1.0) as usize;
+        let dphi = self.sweep() / n as f64;
+        let points = (0..=n).map(|i| self.point_at(dphi * i as f64)).collect();
+        (dphi.to_degrees(), points)
+    }
+}
+
+/// The largest distance of the chords from the true spiral, mm, measured
+/// densely (every chord sampled at 16 points against the spiral between its
+/// ends): an independent check of [`Spiral::chords`]' tolerance.
+pub fn chord_deviation(spiral: &Spiral, points: &[(f64, f64)]) -> f64 {
+    let n = points.len().saturating_sub(1).max(1);
+    let dphi = spiral.sweep() / n as f64;
+    let mut worst: f64 = 0.0;
+    for (i, w) in points.windows(2).enumerate() {
+        for k in 1..16 {
+            let t = k as f64 / 16.0;
+            let (x, y) = (
+                w[0].0 + t * (w[1].0 - w[0].0),
+                w[0].1 + t * (w[1].1 - w[0].1),
+            );
+            // The nearest point of the spiral lies between the chord's ends;
+            // the distance is unimodal there: golden-section search.
+            let d2 = |phi: f64| {
+                let (sx, sy) = spiral.point_at(phi);
+                (sx - x).powi(2) + (sy - y).powi(2)
+            };
+            let (mut lo, mut hi) = (dphi * i as f64, dphi * (i + 1) as f64);
+            let g = 0.5 * (5f64.sqrt() - 1.0);
+            for _ in 0..60 {
+                let (m1, m2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+                if d2(m1) < d2(m2) {
+                    hi = m2;
+                } else {
+                    lo = m1;
+                }
+            }
+            worst = worst.max(d2(0.5 * (lo + hi)).sqrt());
+        }
+    }
+    worst
+}
+
+/// What the coverage check found.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Coverage {
+    /// True when every sampled point of the region lies under the tool.
+    pub ok: bool,
+    /// The largest distance of a region point beyond the tool's edge
+    /// (0 when covered), mm.
+    pub max_gap_mm: f64,
+    /// Where that point is (x, y), mm.
+    pub worst_point: (f64, f64),
+    /// Points of the region sampled.
+    pub samples: usize,
+}
+
+/// Checks that every point of `region` lies within `tool_radius_mm` of the
+/// tool-centre path `points` (a polyline): the region is sampled on a polar
+/// grid no coarser than `resolution_mm`, and each sample's distance to the
+/// path is the exact distance to the nearest segment (a grid of buckets keeps
+/// it fast). Independent of the spiral's formula: it sees only the points.
+pub fn coverage(
+    region: &Region,
+    tool_radius_mm: f64,
+    points: &[(f64, f64)],
+    resolution_mm: f64,
+) -> Coverage {
+    let cell = tool_radius_mm.max(resolution_mm);
+    let mut grid: std::collections::HashMap<(i64, i64), Vec<usize>> =
+        std::collections::HashMap::new();
+    let key = |x: f64, y: f64| ((x / cell).floor() as i64, (y / cell).floor() as i64);
+    for (i, w) in points.windows(2).enumerate() {
+        let (a, b) = (key(w[0].0, w[0].1), key(w[1].0, w[1].1));
+        for gx in a.0.min(b.0)..=a.0.max(b.0) {
+            for gy in a.1.min(b.1)..=a.1.max(b.1) {
+                grid.entry((gx, gy)).or_default().push(i);
+            }
+        }
+    }
+    let seg_dist = |i: usize, x: f64, y: f64| {
+        let (a, b) = (points[i], points[i + 1]);
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let len2 = dx * dx + dy * dy;
+        let t = if len2 > 0.0 {
+            (((x - a.0) * dx + (y - a.1) * dy) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        ((a.0 + t * dx - x).powi(2) + (a.1 + t * dy - y).powi(2)).sqrt()
+    };
+    let mut result = Coverage {
+        ok: true,
+        max_gap_mm: 0.0,
+        worst_point: (0.0, 0.0),
+        samples: 0,
+    };
+    let (ri, ro) = (region.inner_radius_mm, region.outer_radius_mm);
+    let rings = ((ro - ri) / resolution_mm).ceil().max(1.0) as usize;
+    for k in 0..=rings {
+        let r = ri + (ro - ri) * k as f64 / rings as f64;
+        let around = ((std::f64::consts::TAU * r / resolution_mm).ceil() as usize).max(1);
+        for j in 0..around {
+            let a = std::f64::consts::TAU * j as f64 / around as f64;
+            let (x, y) = (r * a.cos(), r * a.sin());
+            result.samples += 1;
+            let (gx, gy) = key(x, y);
+            // Segments within two cells: anything farther is more than the
+            // tool's radius away and counts as that far (a lower bound).
+            let mut best = 2.0 * cell;
+            for ox in -2..=2 {
+                for oy in -2..=2 {
+                    if let Some(segs) = grid.get(&(gx + ox, gy + oy)) {
+                        for &i in segs {
+                            best = best.min(seg_dist(i, x, y));
+                        }
+                    }
+                }
+            }
+            let gap = best - tool_radius_mm;
+            if gap > result.max_gap_mm {
+                result.max_gap_mm = gap;
+                result.worst_point = (x, y);
+            }
+        }
+    }
+    result.ok = result.max_gap_mm <= 1e-9;
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec(ro: f64, ri: f64, rt: f64, step: f64) -> SpiralSpec {
+        SpiralSpec {
+            region: Region {
+                outer_radius_mm: ro,
+                inner_radius_mm: ri,
+            },
+            tool_radius_mm: rt,
+            step_over_mm: step,
+            outer_overtravel_mm: 2.0,
+            inner_overtravel_mm: 1.0,
+            start_angle_deg: 0.0,
+            direction: Direction::OutsideIn,
+        }
+    }
+
+    #[test]
+    fn the_spiral_starts_clear_of_the_face_and_ends_past_the_inner_edge() {
+        let s = plan(&spec(100.0, 20.0, 10.0, 15.0)).unwrap();
+        assert_eq!(s.start_radius_mm, 112.0); // Ro + rt + outer overtravel
+        assert_eq!(s.end_radius_mm, 14.0); // Ri + rt − L − inner overtravel
+        assert_eq!(s.turns, 7); // ⌈98 / 15⌉
+        assert!(s.step_over_mm() <= 15.0);
+        let c = plan(&spec(100.0, 0.0, 10.0, 6.0)).unwrap();
+        assert_eq!(c.end_radius_mm, 3.0); // rt − L − 1: the last turn stays within rt of the centre
+        let inside_out = plan(&SpiralSpec {
+            direction: Direction::InsideOut,
+            ..spec(100.0, 20.0, 10.0, 15.0)
+        })
+        .unwrap();
+        assert_eq!(
+            (inside_out.start_radius_mm, inside_out.end_radius_mm),
+            (14.0, 112.0)
+        );
+    }
+
+    #[test]
+    fn bad_input_is_refused_on_its_field() {
+        let fields = |s: SpiralSpec| -> Vec<String> {
+            plan(&s)
+                .unwrap_err()
+                .iter()
+                .map(|e| e.field.clone())
+                .collect()
+        };
+        assert_eq!(
+            fields(spec(50.0, 50.0, 5.0, 5.0)),
+            ["region.inner_radius_mm"]
+        );
+        assert_eq!(fields(spec(50.0, 0.0, 5.0, 10.0)), ["process.step_over_mm"]);
+        assert_eq!(fields(spec(50.0, 0.0, 60.0, 5.0)), ["tool.radius_mm"]);
+        assert_eq!(fields(spec(50.0, 0.0, 5.0, 0.0)), ["process.step_over_mm"]);
+        let e = &plan(&spec(50.0, 0.0, 5.0, 12.0)).unwrap_err()[0];
+        assert_eq!(
+            (e.code.as_str(), e.expected.as_str(), e.got.as_str()),
+            ("SPIRAL_RANGE", "less than the tool's diameter 10 mm", "12")
+        );
+    }
+
+    /// The closed-form length against a numeric sum of the chords at 0.1 µm.
+    #[test]
+    fn the_length_in_closed_form_matches_a_dense_sum() {
+        for s in [
+            spec(100.0, 20.0, 10.0, 15.0),
+            spec(100.0, 0.0, 8.0, 6.0),
+            spec(30.0, 5.0, 3.0, 1.0),
+        ] {
+            let spiral = plan(&s).unwrap();
+            let (_, pts) = spiral.chords(1e-4);
+            let sum: f64 = pts
+                .windows(2)
+                .map(|w| ((w[1].0 - w[0].0).powi(2) + (w[1].1 - w[0].1).powi(2)).sqrt())
+                .sum();
+            assert!(
+                (spiral.length() - sum).abs() / sum < 1e-6,
+                "{} vs {sum}",
+                spiral.length()
+            );
+        }
+    }
+
+    /// Seed 001's comparison (docs/spiral.md): radius 20 → 100 mm with a 10 mm
+    /// step-over needs about 1,907 chords at 5 µm and 4,264 at 1 µm.
+    #[test]
+    fn chords_within_the_tolerance_and_the_published_counts() {
+        let spiral = Spiral {
+            start_radius_mm: 100.0,
+            end_radius_mm: 20.0,
+            start_angle_deg: 0.0,
+            turns: 8,
+            sense: 1,
+        };
+        for (tol, expected) in [(0.005, 1907.0), (0.001, 4264.0)] {
+            let (_, pts) = spiral.chords(tol);
+            let n = (pts.len() - 1) as f64;
+            // A constant angle step for the largest radius: a few % more
+            // chords than a step that grows as the radius falls.
+            assert!(n >= expected && n < expected * 1.9, "{tol}: {n} chords");
+            let dev = chord_deviation(&spiral, &pts);
+            assert!(dev <= tol * 1.001, "{tol}: deviation {dev}");
+        }
+    }
+
+    #[test]
+    fn the_coverage_check_proves_a_face_and_finds_a_ring() {
+        let region = Region {
+            outer_radius_mm: 60.0,
+            inner_radius_mm: 15.0,
+        };
+        let spiral = plan(&spec(60.0, 15.0, 8.0, 12.0)).unwrap();
+        let (_, pts) = spiral.chords(0.005);
+        let c = coverage(&region, 8.0, &pts, 0.5);
+        assert!(c.ok, "{c:?}");
+        // A full circle too: no island at the centre.
+        let disc = Region {
+            outer_radius_mm: 60.0,
+            inner_radius_mm: 0.0,
+        };
+        let (_, pts) = plan(&spec(60.0, 0.0, 8.0, 12.0)).unwrap().chords(0.005);
+        let c = coverage(&disc, 8.0, &pts, 0.5);
+        assert!(c.ok, "{c:?}");
+        // A step-over wider than the tool leaves a ring between the turns:
+        // the check finds it (the planner refuses it; built by hand here).
+        let wide = Spiral { turns: 3, ..spiral };
+        assert!(wide.step_over_mm() > 16.0);
+        let (_, pts) = wide.chords(0.005);
+        let c = coverage(&region, 8.0, &pts, 0.5);
+        assert!(!c.ok && c.max_gap_mm > 1.0, "{c:?}");
+        // Ending where the tool's edge just reaches the inner edge (the
+        // naive end, Ri + rt) leaves a crescent there: one turn before its
+        // end the spiral is a step-over further out.
+        let short = Spiral {
+            end_radius_mm: 15.0 + 8.0,
+            ..spiral
+        };
+        let (_, pts) = short.chords(0.005);
+        let c = coverage(&region, 8.0, &pts, 0.5);
+        assert!(!c.ok, "{c:?}");
+        let (x, y) = c.worst_point;
+        assert!(((x * x + y * y).sqrt() - 15.0).abs() < 3.1, "{c:?}");
+    }
+}
