@@ -19,6 +19,8 @@
 //! Lengths are mm, angles degrees at the interface (radians inside).
 #![forbid(unsafe_code)]
 
+pub mod arcs;
+
 use gearcam_proto::{JobError, Stage};
 use serde::{Deserialize, Serialize};
 
