@@ -20,6 +20,7 @@
 #![forbid(unsafe_code)]
 
 pub mod arcs;
+pub mod linuxcnc;
 
 use gearcam_proto::{JobError, Stage};
 use serde::{Deserialize, Serialize};
