@@ -20,7 +20,9 @@
 #![forbid(unsafe_code)]
 
 pub mod arcs;
+pub mod fanuc;
 pub mod linuxcnc;
+pub mod macrob;
 
 use gearcam_proto::{JobError, Stage};
 use serde::{Deserialize, Serialize};

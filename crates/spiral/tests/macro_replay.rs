@@ -1,0 +1,56 @@
+//! The FANUC macro replayed by the Macro B interpreter (`macrob`, which
+//! knows nothing of spirals): its moves are compared with the model.
+
+use gearcam_spiral::fanuc::macro_program;
+use gearcam_spiral::linuxcnc::Cut;
+use gearcam_spiral::macrob::replay;
+use gearcam_spiral::{chord_deviation, plan, Direction, Region, SpiralSpec};
+
+#[test]
+fn the_macro_replays_onto_the_model() {
+    for (ri, direction) in [(15.0, Direction::OutsideIn), (0.0, Direction::InsideOut)] {
+        let spiral = plan(&SpiralSpec {
+            region: Region {
+                outer_radius_mm: 60.0,
+                inner_radius_mm: ri,
+            },
+            tool_radius_mm: 8.0,
+            step_over_mm: 12.0,
+            outer_overtravel_mm: 2.0,
+            inner_overtravel_mm: 1.0,
+            start_angle_deg: 30.0,
+            direction,
+        })
+        .unwrap();
+        let cut = Cut {
+            depth_mm: 1.0,
+            passes: 2,
+            feed_mm_min: 800.0,
+            plunge_feed_mm_min: 200.0,
+            spindle_rpm: 1200.0,
+            safe_z_mm: 5.0,
+            tolerance_mm: 0.005,
+        };
+        let program = macro_program(&spiral, &cut, 2107, &["JOB TEST-1".into()]);
+        assert!(program.contains("WHILE [#22 LT #5] DO2") && program.contains("G16"));
+        let moves = replay(&program, 1_000_000).unwrap();
+        let (_, model) = spiral.chords(cut.tolerance_mm);
+        // Per pass: the rapid to the start, the plunge, N chords; then the retract.
+        let feeds: Vec<_> = moves.iter().filter(|m| m.feed).collect();
+        assert_eq!(feeds.len(), 2 * model.len());
+        for (pass, z) in [(0, -0.5), (1, -1.0)] {
+            let ms = &feeds[pass * model.len()..(pass + 1) * model.len()];
+            assert!(ms.iter().all(|m| (m.z - z).abs() < 1e-12));
+            let xy: Vec<(f64, f64)> = ms.iter().map(|m| (m.x, m.y)).collect();
+            let worst = xy
+                .iter()
+                .zip(&model)
+                .map(|(a, b)| ((a.0 - b.0).powi(2) + (a.1 - b.1).powi(2)).sqrt())
+                .fold(0.0, f64::max);
+            assert!(worst < 1e-5, "pass {pass}: {worst} mm from the model");
+            assert!(chord_deviation(&spiral, &xy) <= cut.tolerance_mm * 1.01);
+        }
+        // Ends clear of the part.
+        assert_eq!(moves.last().unwrap().z, 5.0);
+    }
+}
