@@ -89,3 +89,61 @@ pub fn macro_program(spiral: &Spiral, cut: &Cut, number: u32, header: &[String])
     );
     p
 }
+
+/// The expanded FANUC program with true arcs: the spiral as the
+/// tangent-continuous arcs of [`crate::arcs::fit`] (`G02`/`G03` with the
+/// centre as `I J` from the start), numbers to 0.1 µm, no macro; for controls
+/// or shops that want every move written out.
+pub fn arc_program(spiral: &Spiral, cut: &Cut, number: u32, header: &[String]) -> String {
+    let arcs = crate::arcs::fit(spiral, cut.tolerance_mm);
+    let clean = |s: &str| s.to_uppercase().replace(['(', ')'], " ");
+    let f = |v: f64| {
+        let s = format!("{v:.4}");
+        if s == "-0.0000" {
+            "0.0000".to_string()
+        } else {
+            s
+        }
+    };
+    let mut p = String::from("%\n");
+    let _ = writeln!(p, "O{number:04} (SPIRAL FACE MILLING, ARCS)");
+    for line in header {
+        let _ = writeln!(p, "({})", clean(line));
+    }
+    let _ = writeln!(
+        p,
+        "({} TANGENT ARCS WITHIN {} MM OF THE SPIRAL)",
+        arcs.len(),
+        cut.tolerance_mm
+    );
+    let _ = writeln!(p, "G21 G90 G17 G94 G40 G49 G80");
+    let _ = writeln!(p, "S{} M03", f(cut.spindle_rpm));
+    let _ = writeln!(p, "G00 Z{}", f(cut.safe_z_mm));
+    let (x0, y0) = spiral.point_at(0.0);
+    for pass in 1..=cut.passes {
+        let z = -cut.depth_mm * f64::from(pass) / f64::from(cut.passes);
+        let _ = writeln!(p, "G00 X{} Y{}", f(x0), f(y0));
+        let _ = writeln!(p, "G01 Z{} F{}", f(z), f(cut.plunge_feed_mm_min));
+        let mut from = (x0, y0);
+        for (k, a) in arcs.iter().enumerate() {
+            let g = if a.ccw { "G03" } else { "G02" };
+            let feed = if k == 0 {
+                format!(" F{}", f(cut.feed_mm_min))
+            } else {
+                String::new()
+            };
+            let _ = writeln!(
+                p,
+                "{g} X{} Y{} I{} J{}{feed}",
+                f(a.end.0),
+                f(a.end.1),
+                f(a.centre.0 - from.0),
+                f(a.centre.1 - from.1)
+            );
+            from = a.end;
+        }
+        let _ = writeln!(p, "G00 Z{}", f(cut.safe_z_mm));
+    }
+    p.push_str("M05\nM30\n%\n");
+    p
+}

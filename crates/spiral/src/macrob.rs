@@ -5,8 +5,8 @@
 //! Subset: `#n=expr` (local and common variables), arithmetic `+ - * /`
 //! with `[ ]`, functions `SIN COS TAN ATAN SQRT ABS ROUND FIX FUP`
 //! (degrees, as on the control), comparisons `EQ NE GT GE LT LE` with
-//! `AND OR`, `WHILE [cond] DOm` … `ENDm`, `IF [cond] GOTOn`, `GOTOn`, `Nn`
-//! sequence numbers, `G00 G01 G15 G16 G17 G21 G90 G91 G94` (other G codes
+//! `AND OR`, `WHILE [cond] DOm` … `ENDm`, arcs with `I J` (centre from the start), `IF [cond] GOTOn`, `GOTOn`, `Nn`
+//! sequence numbers, `G00 G01 G02 G03 G15 G16 G17 G21 G90 G91 G94` (other G codes
 //! are accepted and ignored), axis words `X Y Z` and `F S M` with a number,
 //! `#n` or `[expr]`, comments in parentheses, `%` and `O` lines. Under
 //! `G16` X is the radius and Y the angle about the origin.
@@ -16,8 +16,10 @@ use std::collections::HashMap;
 /// A move the program commands.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Move {
-    /// `true` for `G01`, `false` for `G00`.
+    /// `true` for `G01`/`G02`/`G03`, `false` for `G00`.
     pub feed: bool,
+    /// For `G02`/`G03`: the centre (absolute) and whether counter-clockwise.
+    pub arc: Option<((f64, f64), bool)>,
     /// End point, mm.
     pub x: f64,
     /// End point, mm.
@@ -37,6 +39,8 @@ pub struct ReplayError {
 
 struct Machine {
     vars: HashMap<u32, f64>,
+    /// 0, 1, 2 or 3: the modal motion.
+    motion: u8,
     polar: bool,
     absolute: bool,
     feed_mode: bool,
@@ -63,6 +67,7 @@ pub fn replay(program: &str, budget: usize) -> Result<Vec<Move>, ReplayError> {
         .collect();
     let mut m = Machine {
         vars: HashMap::new(),
+        motion: 0,
         polar: false,
         absolute: true,
         feed_mode: false,
@@ -219,6 +224,7 @@ fn bracketed(s: &str) -> Result<(String, &str), String> {
 fn block(m: &mut Machine, line: &str) -> Result<(), String> {
     let mut rest = line;
     let mut axes: [Option<f64>; 3] = [None; 3];
+    let mut centre: [Option<f64>; 2] = [None; 2];
     while !rest.trim_start().is_empty() {
         rest = rest.trim_start();
         let letter = rest.chars().next().expect("not empty");
@@ -227,8 +233,18 @@ fn block(m: &mut Machine, line: &str) -> Result<(), String> {
         rest = after;
         match letter {
             'G' => match value.round() as i64 {
-                0 => m.feed_mode = false,
-                1 => m.feed_mode = true,
+                0 => {
+                    m.feed_mode = false;
+                    m.motion = 0;
+                }
+                1 => {
+                    m.feed_mode = true;
+                    m.motion = 1;
+                }
+                2 | 3 => {
+                    m.feed_mode = true;
+                    m.motion = value.round() as u8;
+                }
                 15 => m.polar = false,
                 16 => {
                     m.polar = true;
@@ -242,6 +258,8 @@ fn block(m: &mut Machine, line: &str) -> Result<(), String> {
             'X' => axes[0] = Some(value),
             'Y' => axes[1] = Some(value),
             'Z' => axes[2] = Some(value),
+            'I' => centre[0] = Some(value),
+            'J' => centre[1] = Some(value),
             'F' | 'S' | 'M' | 'T' | 'H' | 'D' => {}
             other => return Err(format!("word {other} is outside the subset")),
         }
@@ -250,6 +268,10 @@ fn block(m: &mut Machine, line: &str) -> Result<(), String> {
         return Ok(());
     }
     let (mut x, mut y, mut z) = m.pos;
+    let start = m.pos;
+    if m.motion >= 2 && m.polar {
+        return Err("G02/G03 under G16 is outside the subset".into());
+    }
     if m.polar {
         let (mut r, mut a) = m.polar_words;
         if let Some(v) = axes[0] {
@@ -275,8 +297,17 @@ fn block(m: &mut Machine, line: &str) -> Result<(), String> {
         z = if m.absolute { v } else { z + v };
     }
     m.pos = (x, y, z);
+    let arc = if m.motion >= 2 {
+        let (Some(i), Some(j)) = (centre[0], centre[1]) else {
+            return Err("G02/G03 needs I and J (the centre from the start)".into());
+        };
+        Some(((start.0 + i, start.1 + j), m.motion == 3))
+    } else {
+        None
+    };
     m.moves.push(Move {
         feed: m.feed_mode,
+        arc,
         x,
         y,
         z,

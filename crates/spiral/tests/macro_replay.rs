@@ -54,3 +54,61 @@ fn the_macro_replays_onto_the_model() {
         assert_eq!(moves.last().unwrap().z, 5.0);
     }
 }
+
+/// The expanded program with true arcs, replayed: every arc of the replay
+/// stays within the tolerance of the spiral (plus the 0.1 µm of the printed
+/// numbers), measured on 20,001 spiral points.
+#[test]
+fn the_arc_program_replays_within_the_tolerance() {
+    use gearcam_spiral::arcs::Arc;
+    use gearcam_spiral::fanuc::arc_program;
+    let spiral = gearcam_spiral::Spiral {
+        start_radius_mm: 100.0,
+        end_radius_mm: 20.0,
+        start_angle_deg: 0.0,
+        turns: 8,
+        sense: 1,
+    };
+    let cut = Cut {
+        depth_mm: 0.5,
+        passes: 1,
+        feed_mm_min: 800.0,
+        plunge_feed_mm_min: 200.0,
+        spindle_rpm: 1200.0,
+        safe_z_mm: 5.0,
+        tolerance_mm: 0.001,
+    };
+    let program = arc_program(&spiral, &cut, 2108, &[]);
+    let moves = replay(&program, 100_000).unwrap();
+    let mut arcs = Vec::new();
+    let mut from = (0.0, 0.0);
+    for m in &moves {
+        if let Some((centre, ccw)) = m.arc {
+            let radius = ((from.0 - centre.0).powi(2) + (from.1 - centre.1).powi(2)).sqrt();
+            arcs.push(Arc {
+                start: from,
+                end: (m.x, m.y),
+                centre,
+                radius,
+                ccw,
+                end_phi: 0.0,
+            });
+        }
+        from = (m.x, m.y);
+    }
+    let blocks = gearcam_spiral::arcs::fit(&spiral, cut.tolerance_mm).len();
+    assert_eq!(arcs.len(), blocks);
+    let chords = spiral.chords(cut.tolerance_mm).1.len() - 1;
+    assert!(chords > 20 * blocks, "{chords} chords vs {blocks} arcs");
+    let total = std::f64::consts::TAU * 8.0;
+    let mut i: usize = 0;
+    for k in 0..=20_000 {
+        let p = spiral.point_at(total * k as f64 / 20_000.0);
+        // The arcs run in order along the spiral: search a window around the last.
+        let (best_i, d) = (i.saturating_sub(2)..(i + 3).min(arcs.len()))
+            .map(|j| (j, arcs[j].distance(p)))
+            .fold((i, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+        i = best_i;
+        assert!(d <= cut.tolerance_mm + 1e-4, "{d} mm at sample {k}");
+    }
+}
