@@ -196,6 +196,9 @@ catalogue! {
     GEAR_MISSING: "knowledge",
         "The job has no `[gear]` section, and its part number is not in the workpiece library.",
         "Add the `[gear]` section, or add the part with `gearcam kb add workpieces` and name it in `[job] part_number`.";
+    GROOVE_RANGE: "model",
+        "A planar spiral groove's value is out of range: a pitch not above the tool's diameter (the turns would overlap: a face, not a groove), no turns, or more turns than fit before the centre.",
+        "Correct the field named in the error; expected says the range.";
     HASH_MISMATCH: "agent",
         "The program text does not match its SHA-256 hash; it was damaged on the way.",
         "Submit the job again; if it repeats, check the network and the sender.";

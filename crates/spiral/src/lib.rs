@@ -21,6 +21,7 @@
 
 pub mod arcs;
 pub mod fanuc;
+pub mod groove;
 pub mod linuxcnc;
 pub mod macrob;
 
