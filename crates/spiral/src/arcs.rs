@@ -109,21 +109,7 @@ fn deviation(spiral: &Spiral, arc: &Arc, phi0: f64, phi1: f64) -> f64 {
         let phi = phi0 + (phi1 - phi0) * k as f64 / 24.0;
         worst = worst.max(arc.distance(spiral.point_at(phi)));
         let p = arc.point(k as f64 / 24.0);
-        let d2 = |phi: f64| {
-            let q = spiral.point_at(phi);
-            (q.0 - p.0).powi(2) + (q.1 - p.1).powi(2)
-        };
-        let (mut lo, mut hi) = (phi0, phi1);
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        for _ in 0..50 {
-            let (m1, m2) = (hi - g * (hi - lo), lo + g * (hi - lo));
-            if d2(m1) < d2(m2) {
-                hi = m2;
-            } else {
-                lo = m1;
-            }
-        }
-        worst = worst.max(d2(0.5 * (lo + hi)).sqrt());
+        worst = worst.max(crate::distance_to_spiral(spiral, p, phi0, phi1));
     }
     worst
 }

@@ -298,26 +298,33 @@ pub fn chord_deviation(spiral: &Spiral, points: &[(f64, f64)]) -> f64 {
                 w[0].0 + t * (w[1].0 - w[0].0),
                 w[0].1 + t * (w[1].1 - w[0].1),
             );
-            // The nearest point of the spiral lies between the chord's ends;
-            // the distance is unimodal there: golden-section search.
-            let d2 = |phi: f64| {
-                let (sx, sy) = spiral.point_at(phi);
-                (sx - x).powi(2) + (sy - y).powi(2)
-            };
-            let (mut lo, mut hi) = (dphi * i as f64, dphi * (i + 1) as f64);
-            let g = 0.5 * (5f64.sqrt() - 1.0);
-            for _ in 0..60 {
-                let (m1, m2) = (hi - g * (hi - lo), lo + g * (hi - lo));
-                if d2(m1) < d2(m2) {
-                    hi = m2;
-                } else {
-                    lo = m1;
-                }
-            }
-            worst = worst.max(d2(0.5 * (lo + hi)).sqrt());
+            // The nearest point of the spiral lies between the chord's ends.
+            let near = distance_to_spiral(spiral, (x, y), dphi * i as f64, dphi * (i + 1) as f64);
+            worst = worst.max(near);
         }
     }
     worst
+}
+
+/// The distance from `p` to the spiral between the parameters `lo` and
+/// `hi` (radians from θ0), where it is unimodal (a piece shorter than a turn
+/// near `p`): golden-section search.
+pub(crate) fn distance_to_spiral(spiral: &Spiral, p: (f64, f64), lo: f64, hi: f64) -> f64 {
+    let d2 = |phi: f64| {
+        let (sx, sy) = spiral.point_at(phi);
+        (sx - p.0).powi(2) + (sy - p.1).powi(2)
+    };
+    let (mut lo, mut hi) = (lo, hi);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..60 {
+        let (m1, m2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        if d2(m1) < d2(m2) {
+            hi = m2;
+        } else {
+            lo = m1;
+        }
+    }
+    d2(0.5 * (lo + hi)).sqrt()
 }
 
 /// What the coverage check found.
