@@ -24,6 +24,7 @@ pub mod fanuc;
 pub mod groove;
 pub mod linuxcnc;
 pub mod macrob;
+pub mod picture;
 
 use gearcam_proto::{JobError, Stage};
 use serde::{Deserialize, Serialize};
