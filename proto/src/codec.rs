@@ -92,6 +92,52 @@ pub fn decode<T: Message>(bytes: &[u8]) -> Result<T, CodecError> {
     Ok(env.body)
 }
 
+/// A message type a stage receives: one [`Message`] kind, or one of several
+/// (a plan or model of any part family, [`crate::AnyPlan`]).
+pub trait Incoming: Sized {
+    /// The envelope kinds accepted, for error messages.
+    const KINDS: &'static str;
+    /// Decodes the bytes, checking size, schema version and kind first.
+    fn decode_incoming(bytes: &[u8]) -> Result<Self, CodecError>;
+}
+
+impl<T: Message> Incoming for T {
+    const KINDS: &'static str = T::KIND;
+    fn decode_incoming(bytes: &[u8]) -> Result<Self, CodecError> {
+        decode(bytes)
+    }
+}
+
+/// The envelope's kind of `bytes` (checking size and schema version), for a
+/// reader that accepts several kinds (`expected` names them in errors).
+pub fn kind_of(bytes: &[u8], expected: &'static str) -> Result<String, CodecError> {
+    if bytes.len() > MAX_MESSAGE_BYTES {
+        return Err(CodecError::TooLarge {
+            kind: expected,
+            limit: MAX_MESSAGE_BYTES,
+            got: bytes.len(),
+        });
+    }
+    let head: EnvelopeHead =
+        rmp_serde::from_slice(bytes).map_err(|e| CodecError::Malformed {
+            expected_kind: expected,
+            detail: e.to_string(),
+        })?;
+    if head.schema != SCHEMA_VERSION {
+        return Err(CodecError::UnknownVersion {
+            kind: head.kind,
+            expected: SCHEMA_VERSION,
+            got: head.schema,
+        });
+    }
+    Ok(head.kind)
+}
+
+/// [`decode`] under another name, for the dispatching readers.
+pub fn decode_kind<T: Message>(bytes: &[u8]) -> Result<T, CodecError> {
+    decode(bytes)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -36,10 +36,36 @@ pub enum CutMode {
     Climb,
 }
 
+/// The part family of a job: which process, which stages' models.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Family {
+    /// Gear hobbing (`[gear]`, `[hob]`, `[process]`; the default, so every
+    /// hobbing job file written before families stays valid).
+    #[default]
+    Hobbing,
+    /// Spiral face milling of a circular or annular face or a planar
+    /// spiral groove (`[face]` or `[groove]`, `[mill]`, `[milling]`).
+    SpiralFace,
+}
+
+impl Family {
+    /// The name as written in job files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Family::Hobbing => "hobbing",
+            Family::SpiralFace => "spiral-face",
+        }
+    }
+}
+
 /// `[job]`: which machine, how many parts, which part.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct JobHeader {
+    /// The part family (default `hobbing`).
+    #[serde(default, skip_serializing_if = "is_hobbing")]
+    pub family: Family,
     /// Optional fixed job id (letters, digits, `_`, `-`); the station generates one if absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub id: Option<JobId>,
@@ -55,6 +81,10 @@ pub struct JobHeader {
     /// the controller's rule (docs/programs.md#program-names-and-files).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub program_name: Option<String>,
+}
+
+fn is_hobbing(f: &Family) -> bool {
+    *f == Family::Hobbing
 }
 
 /// Longest part number accepted, characters: it goes into program headers,
@@ -476,6 +506,26 @@ pub struct JobSpec {
     /// `[[units]]`: further gear units of a multi-gear part (empty for one gear).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub units: Vec<UnitSpec>,
+    /// `[face]` (spiral family): a circular or annular face.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub face: Option<crate::spiral::FaceSpec>,
+    /// `[groove]` (spiral family): a planar spiral groove.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub groove: Option<crate::spiral::GrooveSpec>,
+    /// `[mill]` (spiral family): the tool.
+    #[serde(default, skip_serializing_if = "is_default_mill")]
+    pub mill: crate::spiral::MillSpec,
+    /// `[milling]` (spiral family): the process values fixed by the planner.
+    #[serde(default, skip_serializing_if = "is_default_milling")]
+    pub milling: crate::spiral::MillingOverrides,
+}
+
+fn is_default_mill(m: &crate::spiral::MillSpec) -> bool {
+    *m == crate::spiral::MillSpec::default()
+}
+
+fn is_default_milling(m: &crate::spiral::MillingOverrides) -> bool {
+    *m == crate::spiral::MillingOverrides::default()
 }
 
 impl JobSpec {

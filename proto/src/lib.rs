@@ -11,6 +11,7 @@
 //! - [`plan`]: machine profiles, hobs, the [`ProcessPlan`].
 //! - [`model`]: geometry and the [`MachiningModel`].
 //! - [`program`]: [`NcProgram`], [`DeliveryReceipt`], [`JobEvent`].
+//! - [`spiral`]: the spiral face milling family's job sections, [`SpiralPlan`] and [`SpiralModel`].
 //! - [`naming`]: controllers' program naming rules.
 //! - [`delivery`]: station journal states and queries, agent replies and program history.
 //! - [`error`]: typed [`JobError`]s and the [`Stage`] that found them, id and codec errors.
@@ -30,9 +31,10 @@ pub mod model;
 pub mod naming;
 pub mod plan;
 pub mod program;
+pub mod spiral;
 
 pub use class::{classify, GearClass};
-pub use codec::{decode, encode, Message, MAX_MESSAGE_BYTES, SCHEMA_VERSION};
+pub use codec::{decode, encode, Incoming, Message, MAX_MESSAGE_BYTES, SCHEMA_VERSION};
 pub use delivery::{
     DeliveryReply, JobState, JobStatus, ProgramHistory, ProgramRef, ProgramText, ProgramVersion,
     StationReply, StoreReply, StoreRequest,
@@ -40,7 +42,8 @@ pub use delivery::{
 pub use error::{CodecError, IdError, JobError, Stage};
 pub use ids::{HobId, JobId, MachineId};
 pub use job::{
-    part_number_problem, ConeSpec, CrowningShape, CrowningSpec, CurvedToothSpec, CutMode, GearSpec,
+    part_number_problem, ConeSpec, CrowningShape, CrowningSpec, CurvedToothSpec, CutMode, Family,
+    GearSpec,
     Hand, HobSpec, Infeed, JobHeader, JobRequest, JobSpec, LargeEnd, MateSpec, Operation, Options,
     ProcessOverrides, ShiftMode, ShiftSpec, UnitSpec, WormInfeed, WormWheelSpec, MAX_PART_NUMBER,
 };
@@ -53,6 +56,11 @@ pub use plan::{
     AxisNames, CaseRef, Dialect, Envelope, GCodeSystem, HobData, MCodes, MachineLimits,
     MachineProfile, MachineSettings, ParameterBlock, ProcessData, ProcessPlan, Source, Sourced,
     WorkpieceRef,
+};
+pub use spiral::{
+    AnyModel, AnyPlan, CoverageCheck, FaceSpec, GrooveFigures, GrooveSpec, MillData, MillKind,
+    MillProfile, MillSpec, MillingOverrides, MillingProcess, SpiralCut, SpiralDirection,
+    SpiralFigures, SpiralModel, SpiralPart, SpiralPlan, SpiralProgram,
 };
 pub use program::{
     now_ms, utc_text, DeliveryReceipt, EventKind, JobEvent, NcProgram, PathCheck, PathFinding,

@@ -44,7 +44,7 @@ pub fn plan_groove(g: &GrooveSpec) -> Result<Groove, Vec<JobError>> {
     let width = 2.0 * g.tool_radius_mm;
     if !(g.tool_radius_mm.is_finite() && g.tool_radius_mm > 0.0) {
         errors.push(bad(
-            "tool.radius_mm",
+            "mill.radius_mm",
             "a radius > 0 mm".into(),
             g.tool_radius_mm,
             "the tool's radius must be positive",

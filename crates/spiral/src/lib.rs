@@ -113,7 +113,7 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
     if !positive(ro) {
         errors.push(refuse(
             "SPIRAL_RANGE",
-            "region.outer_radius_mm",
+            "face.outer_radius_mm",
             "a radius > 0 mm".into(),
             format!("{ro}"),
             "the face's outer radius must be positive",
@@ -122,7 +122,7 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
     if !(ri.is_finite() && ri >= 0.0) {
         errors.push(refuse(
             "SPIRAL_RANGE",
-            "region.inner_radius_mm",
+            "face.inner_radius_mm",
             "0 (a full circle) or a radius > 0 mm".into(),
             format!("{ri}"),
             "the inner radius is 0 for a full circle",
@@ -130,7 +130,7 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
     } else if positive(ro) && ri >= ro {
         errors.push(refuse(
             "SPIRAL_RANGE",
-            "region.inner_radius_mm",
+            "face.inner_radius_mm",
             format!("less than the outer radius {ro} mm"),
             format!("{ri}"),
             "an annulus's inner radius is below its outer radius",
@@ -139,7 +139,7 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
     if !positive(rt) {
         errors.push(refuse(
             "SPIRAL_RANGE",
-            "tool.radius_mm",
+            "mill.radius_mm",
             "a radius > 0 mm".into(),
             format!("{rt}"),
             "the tool's radius must be positive",
@@ -147,7 +147,7 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
     } else if positive(ro) && rt > ro {
         errors.push(refuse(
             "SPIRAL_RANGE",
-            "tool.radius_mm",
+            "mill.radius_mm",
             format!("at most the face's outer radius {ro} mm"),
             format!("{rt}"),
             "a tool larger than the face: mill it in one plunge, not with a spiral",
@@ -157,7 +157,7 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
     if !positive(l) {
         errors.push(refuse(
             "SPIRAL_RANGE",
-            "process.step_over_mm",
+            "milling.step_over_mm",
             "a step-over > 0 mm".into(),
             format!("{l}"),
             "the step-over sets the number of turns; it must be positive",
@@ -165,15 +165,15 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
     } else if positive(rt) && l >= 2.0 * rt {
         errors.push(refuse(
             "SPIRAL_RANGE",
-            "process.step_over_mm",
+            "milling.step_over_mm",
             format!("less than the tool's diameter {} mm", 2.0 * rt),
             format!("{l}"),
             "a step-over of the tool's diameter or more leaves material between the turns",
         ));
     }
     for (v, field) in [
-        (spec.outer_overtravel_mm, "process.outer_overtravel_mm"),
-        (spec.inner_overtravel_mm, "process.inner_overtravel_mm"),
+        (spec.outer_overtravel_mm, "milling.outer_overtravel_mm"),
+        (spec.inner_overtravel_mm, "milling.inner_overtravel_mm"),
     ] {
         if !(v.is_finite() && v >= 0.0) {
             errors.push(refuse(
@@ -188,7 +188,7 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
     if !spec.start_angle_deg.is_finite() {
         errors.push(refuse(
             "SPIRAL_RANGE",
-            "process.start_angle_deg",
+            "milling.start_angle_deg",
             "an angle in degrees".into(),
             format!("{}", spec.start_angle_deg),
             "the start angle must be a number",
@@ -207,7 +207,7 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
     if outer - inner <= 0.0 {
         return Err(vec![refuse(
             "SPIRAL_RANGE",
-            "tool.radius_mm",
+            "mill.radius_mm",
             "a tool that leaves room for a spiral".into(),
             format!("{rt}"),
             "the spiral has no length",
@@ -465,11 +465,11 @@ mod tests {
         };
         assert_eq!(
             fields(spec(50.0, 50.0, 5.0, 5.0)),
-            ["region.inner_radius_mm"]
+            ["face.inner_radius_mm"]
         );
-        assert_eq!(fields(spec(50.0, 0.0, 5.0, 10.0)), ["process.step_over_mm"]);
-        assert_eq!(fields(spec(50.0, 0.0, 60.0, 5.0)), ["tool.radius_mm"]);
-        assert_eq!(fields(spec(50.0, 0.0, 5.0, 0.0)), ["process.step_over_mm"]);
+        assert_eq!(fields(spec(50.0, 0.0, 5.0, 10.0)), ["milling.step_over_mm"]);
+        assert_eq!(fields(spec(50.0, 0.0, 60.0, 5.0)), ["mill.radius_mm"]);
+        assert_eq!(fields(spec(50.0, 0.0, 5.0, 0.0)), ["milling.step_over_mm"]);
         let e = &plan(&spec(50.0, 0.0, 5.0, 12.0)).unwrap_err()[0];
         assert_eq!(
             (e.code.as_str(), e.expected.as_str(), e.got.as_str()),

@@ -9,7 +9,10 @@
 //! sequence numbers, `G00 G01 G02 G03 G15 G16 G17 G21 G90 G91 G94` (other G codes
 //! are accepted and ignored), axis words `X Y Z` and `F S M` with a number,
 //! `#n` or `[expr]`, comments in parentheses, `%` and `O` lines. Under
-//! `G16` X is the radius and Y the angle about the origin.
+//! `G16` X is the radius and Y the angle about the origin. Macro calls:
+//! `G65 P#### <arguments>` runs program `O####` with the argument letters
+//! in its local variables (#1–#33, the caller's kept and restored, FANUC
+//! argument specification I) until `M99`; `M30` ends the main program.
 
 use std::collections::HashMap;
 
@@ -75,7 +78,19 @@ pub fn replay(program: &str, budget: usize) -> Result<Vec<Move>, ReplayError> {
         polar_words: (0.0, 0.0),
         moves: Vec::new(),
     };
+    // Where each program `O####` starts, for `G65 P####`.
+    let programs: HashMap<u32, usize> = lines
+        .iter()
+        .enumerate()
+        .filter_map(|(i, l)| {
+            let rest = l.trim().strip_prefix('O')?;
+            let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
+            digits.parse().ok().map(|n| (n, i))
+        })
+        .collect();
     let mut loops: Vec<(u32, usize)> = Vec::new();
+    // The macro call stack: where to return, the caller's locals and loops.
+    let mut frames: Vec<Frame> = Vec::new();
     let mut pc = 0;
     let mut steps = 0;
     let err = |line: usize, message: String| ReplayError {
@@ -93,7 +108,60 @@ pub fn replay(program: &str, budget: usize) -> Result<Vec<Move>, ReplayError> {
         let line = lines[pc].trim();
         let line = strip_sequence(line);
         if line.is_empty() || line == "%" || line.starts_with('O') {
+            if line.starts_with('O') && pc > 0 && frames.is_empty() && !m.moves.is_empty() {
+                // The main program ran into the next program without M30.
+                return Err(err(pc, "the main program ran into another program: M30 missing".into()));
+            }
             pc += 1;
+            continue;
+        }
+        if line == "M30" || line == "M02" || line == "M2" {
+            break;
+        }
+        if line == "M99" {
+            let Some(frame) = frames.pop() else {
+                return Err(err(pc, "M99 outside a called macro".into()));
+            };
+            if let Some((id, _)) = loops.last() {
+                return Err(err(pc, format!("M99 inside WHILE … DO{id}")));
+            }
+            for n in LOCALS {
+                m.vars.remove(&n);
+            }
+            m.vars.extend(frame.locals);
+            loops = frame.loops;
+            pc = frame.back;
+            continue;
+        }
+        if let Some(rest) = line.strip_prefix("G65") {
+            let args = call_arguments(&m, rest).map_err(|e| err(pc, e))?;
+            let target = args
+                .iter()
+                .find(|(l, _)| *l == 'P')
+                .map(|(_, p)| p.round() as u32)
+                .ok_or_else(|| err(pc, "G65 without P (the program number)".into()))?;
+            let start = *programs
+                .get(&target)
+                .ok_or_else(|| err(pc, format!("G65 P{target}: no program O{target:04}")))?;
+            if frames.len() >= 4 {
+                return Err(err(pc, "more than 4 nested macro calls".into()));
+            }
+            let locals = LOCALS
+                .filter_map(|n| m.vars.remove(&n).map(|v| (n, v)))
+                .collect();
+            frames.push(Frame {
+                back: pc + 1,
+                locals,
+                loops: std::mem::take(&mut loops),
+            });
+            for (letter, v) in args {
+                if let Some(n) = argument_variable(letter) {
+                    m.vars.insert(n, v);
+                } else if letter != 'P' && letter != 'L' {
+                    return Err(err(pc, format!("G65 argument {letter} is not an argument letter")));
+                }
+            }
+            pc = start + 1;
             continue;
         }
         if let Some(rest) = line.strip_prefix("WHILE") {
@@ -173,6 +241,66 @@ pub fn replay(program: &str, budget: usize) -> Result<Vec<Move>, ReplayError> {
         return Err(err(lines.len() - 1, format!("DO{id} never ended")));
     }
     Ok(m.moves)
+}
+
+/// A macro call's return point and the caller's state.
+struct Frame {
+    back: usize,
+    locals: Vec<(u32, f64)>,
+    loops: Vec<(u32, usize)>,
+}
+
+/// The local variables of a macro level (#1–#33).
+const LOCALS: std::ops::RangeInclusive<u32> = 1..=33;
+
+/// The local variable a `G65` argument letter sets (argument specification
+/// I of the FANUC 0i manual): A #1, B #2, C #3, I #4, J #5, K #6, D #7,
+/// E #8, F #9, H #11, M #13, Q #17, R #18, S #19, T #20, U #21, V #22,
+/// W #23, X #24, Y #25, Z #26 (G, L, N, O, P are not arguments).
+fn argument_variable(letter: char) -> Option<u32> {
+    Some(match letter {
+        'A' => 1,
+        'B' => 2,
+        'C' => 3,
+        'I' => 4,
+        'J' => 5,
+        'K' => 6,
+        'D' => 7,
+        'E' => 8,
+        'F' => 9,
+        'H' => 11,
+        'M' => 13,
+        'Q' => 17,
+        'R' => 18,
+        'S' => 19,
+        'T' => 20,
+        'U' => 21,
+        'V' => 22,
+        'W' => 23,
+        'X' => 24,
+        'Y' => 25,
+        'Z' => 26,
+        _ => return None,
+    })
+}
+
+/// The words of a `G65` block after `G65`, evaluated in the caller.
+fn call_arguments(m: &Machine, mut rest: &str) -> Result<Vec<(char, f64)>, String> {
+    let mut args = Vec::new();
+    while !rest.trim_start().is_empty() {
+        rest = rest.trim_start();
+        let letter = rest.chars().next().expect("not empty");
+        if !letter.is_ascii_uppercase() {
+            return Err(format!("bad G65 word at {rest}"));
+        }
+        let (v, after) = word_value(m, &rest[1..])?;
+        if args.iter().any(|(l, _)| *l == letter) {
+            return Err(format!("G65 argument {letter} given twice"));
+        }
+        args.push((letter, v));
+        rest = after;
+    }
+    Ok(args)
 }
 
 fn strip_comments(line: &str) -> String {

@@ -32,7 +32,7 @@ fn the_macro_replays_onto_the_model() {
             tolerance_mm: 0.005,
         };
         let program = macro_program(&spiral, &cut, 2107, &["JOB TEST-1".into()]);
-        assert!(program.contains("WHILE [#22 LT #5] DO2") && program.contains("G16"));
+        assert!(program.contains("WHILE [#32 LT #5] DO2") && program.contains("G16"));
         let moves = replay(&program, 1_000_000).unwrap();
         let (_, model) = spiral.chords(cut.tolerance_mm);
         // Per pass: the rapid to the start, the plunge, N chords; then the retract.
@@ -110,5 +110,80 @@ fn the_arc_program_replays_within_the_tolerance() {
             .fold((i, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
         i = best_i;
         assert!(d <= cut.tolerance_mm + 1e-4, "{d} mm at sample {k}");
+    }
+}
+
+fn cut() -> Cut {
+    Cut {
+        depth_mm: 1.0,
+        passes: 2,
+        feed_mm_min: 800.0,
+        plunge_feed_mm_min: 200.0,
+        spindle_rpm: 1200.0,
+        safe_z_mm: 5.0,
+        tolerance_mm: 0.005,
+    }
+}
+
+/// The G65 form (a main program with one call line, the value-free family
+/// subprogram after it) commands exactly the standalone macro's moves, for
+/// both senses of rotation; the interpreter restores the caller's locals.
+#[test]
+fn the_g65_call_commands_the_same_moves_as_the_macro() {
+    use gearcam_spiral::fanuc::g65_program;
+    for sense in [1, -1] {
+        let spiral = gearcam_spiral::Spiral {
+            start_radius_mm: 70.0,
+            end_radius_mm: 6.0,
+            start_angle_deg: 45.0,
+            turns: 6,
+            sense,
+        };
+        let standalone = replay(&macro_program(&spiral, &cut(), 3001, &[]), 1_000_000).unwrap();
+        let program = g65_program(&spiral, &cut(), 3002, 7001, &["PART FL-1".into()]);
+        assert!(program.contains("G65 P7001 A70.0 B6.0 C45.0 I2160.0"), "{program}");
+        assert!(program.contains("O7001") && program.contains("M99"));
+        let called = replay(&program, 1_000_000).unwrap();
+        assert_eq!(called, standalone);
+        // The replayed chords follow the model's spiral in its sense.
+        let (_, model) = spiral.chords(0.005);
+        let feeds: Vec<_> = called.iter().filter(|m| m.feed).collect();
+        let end = feeds[model.len() - 1];
+        let goal = model.last().unwrap();
+        assert!((end.x - goal.0).abs() + (end.y - goal.1).abs() < 1e-5);
+        let second = feeds[2];
+        assert!((second.x - model[2].0).abs() + (second.y - model[2].1).abs() < 1e-5);
+    }
+}
+
+/// A G65 argument that is not an argument letter, and an M99 outside a
+/// call, are refused with the line.
+#[test]
+fn macro_call_errors_name_the_line() {
+    let e = replay("O0001\nG65 P2 G1\nM30\nO0002\nM99\n", 100).unwrap_err();
+    assert_eq!(e.line, 2, "{e:?}");
+    let e = replay("O0001\nM99\n", 100).unwrap_err();
+    assert!(e.message.contains("M99"), "{e:?}");
+    let e = replay("O0001\nG65 P9\nM30\n", 100).unwrap_err();
+    assert!(e.message.contains("O0009"), "{e:?}");
+}
+
+/// The expanded chord program replays onto the model's chord points.
+#[test]
+fn the_chord_program_replays_onto_the_model() {
+    use gearcam_spiral::fanuc::chord_program;
+    let spiral = gearcam_spiral::Spiral {
+        start_radius_mm: 50.0,
+        end_radius_mm: 0.0,
+        start_angle_deg: 0.0,
+        turns: 5,
+        sense: -1,
+    };
+    let moves = replay(&chord_program(&spiral, &cut(), 3003, &[]), 1_000_000).unwrap();
+    let (_, model) = spiral.chords(0.005);
+    let feeds: Vec<_> = moves.iter().filter(|m| m.feed && m.z == -1.0).collect();
+    assert_eq!(feeds.len(), model.len());
+    for (m, p) in feeds.iter().zip(&model) {
+        assert!((m.x - p.0).abs() < 6e-5 && (m.y - p.1).abs() < 6e-5);
     }
 }

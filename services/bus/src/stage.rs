@@ -8,7 +8,7 @@
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use gearcam_proto::{decode, keys, EventKind, JobError, JobId, Message, Stage};
+use gearcam_proto::{keys, EventKind, Incoming, JobError, JobId, Stage};
 use tokio_util::sync::CancellationToken;
 
 use crate::{Bus, BusError};
@@ -35,14 +35,14 @@ pub struct Handled {
 pub type Failure = Vec<JobError>;
 
 /// Builds the typed error for an undecodable payload.
-pub fn codec_error<T: Message>(stage: Stage, err: &gearcam_proto::CodecError) -> JobError {
+pub fn codec_error<T: Incoming>(stage: Stage, err: &gearcam_proto::CodecError) -> JobError {
     JobError {
         stage,
         code: err.code().to_string(),
         field: "payload".into(),
         expected: format!(
             "a MessagePack {} message, schema {}",
-            T::KIND,
+            T::KINDS,
             gearcam_proto::SCHEMA_VERSION
         ),
         got: match err {
@@ -70,7 +70,7 @@ pub async fn run_stage<T, F>(
     mut handle: F,
 ) -> Result<(), BusError>
 where
-    T: Message,
+    T: Incoming,
     F: FnMut(&str, T) -> Result<Handled, Failure>,
 {
     let sub = bus
@@ -94,7 +94,7 @@ where
         let key = sample.key_expr().as_str().to_string();
         let bytes = sample.payload().to_bytes();
         let job = keys::job_of(&key);
-        let result = match decode::<T>(&bytes) {
+        let result = match T::decode_incoming(&bytes) {
             Err(e) => {
                 tracing::warn!(stage = stage.as_str(), key, error = %e, "dropping undecodable message");
                 Err(vec![codec_error::<T>(stage, &e)])

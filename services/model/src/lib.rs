@@ -19,7 +19,8 @@
 //! - [`shift`]: hob shifting per part and per cut inside the usable length.
 //! - [`units`]: multi-gear parts, unit by unit, with hob changes.
 //! - [`explain`]: where each value came from.
-//! - [`service`]: the Zenoh service around [`compute`].
+//! - [`spiral`]: the spiral face milling family's model ([`spiral::compute_spiral`]).
+//! - [`service`]: the Zenoh service around [`compute`] and [`spiral::compute_spiral`].
 //!
 //! The entry point is [`compute`].
 #![forbid(unsafe_code)]
@@ -33,6 +34,7 @@ pub mod path;
 mod properties;
 pub mod service;
 pub mod shift;
+pub mod spiral;
 pub mod units;
 pub mod validate;
 
@@ -130,6 +132,7 @@ pub(crate) mod fixtures {
             submitted_by: "test".into(),
             spec: JobSpec {
                 job: JobHeader {
+                    family: Default::default(),
                     id: Some(job_id.clone()),
                     machine: machine.id.clone(),
                     quantity: 10,
@@ -144,6 +147,10 @@ pub(crate) mod fixtures {
                 process: ProcessOverrides::default(),
                 options: Options::default(),
                 units: Vec::new(),
+                face: None,
+                groove: None,
+                mill: Default::default(),
+                milling: Default::default(),
             },
         };
         let mut values = BTreeMap::new();

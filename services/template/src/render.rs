@@ -487,6 +487,7 @@ mod tests {
         gear.material = "20CrMnTi".into();
         let spec = JobSpec {
             job: JobHeader {
+                    family: Default::default(),
                 id: Some(job_id.clone()),
                 machine: machine.id.clone(),
                 quantity: 10,
@@ -498,6 +499,10 @@ mod tests {
             process: ProcessOverrides::default(),
             options: Options::default(),
             units: Vec::new(),
+            face: None,
+            groove: None,
+            mill: Default::default(),
+            milling: Default::default(),
         };
         let hob = HobData {
             id: "HOB-M3-80".into(),
