@@ -118,11 +118,10 @@ pub fn kind_of(bytes: &[u8], expected: &'static str) -> Result<String, CodecErro
             got: bytes.len(),
         });
     }
-    let head: EnvelopeHead =
-        rmp_serde::from_slice(bytes).map_err(|e| CodecError::Malformed {
-            expected_kind: expected,
-            detail: e.to_string(),
-        })?;
+    let head: EnvelopeHead = rmp_serde::from_slice(bytes).map_err(|e| CodecError::Malformed {
+        expected_kind: expected,
+        detail: e.to_string(),
+    })?;
     if head.schema != SCHEMA_VERSION {
         return Err(CodecError::UnknownVersion {
             kind: head.kind,

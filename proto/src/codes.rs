@@ -106,6 +106,9 @@ catalogue! {
     BLANK_OD_WINDOW: "model",
         "The blank outside diameter lies outside the machine's window around the gear's tip diameter.",
         "Turn the blank to size or correct `gear.blank_od_mm`.";
+    BLOCK_COUNT: "template, agent (spiral replay)",
+        "Spiral verification finding: a replayed pass has another number of blocks along the spiral than the model.",
+        "The program was not sent; report it, the generator is at fault.";
     CENTRE_DISTANCE_TOO_SMALL: "model",
         "The final centre distance is below the theoretical one, so the teeth would be cut thin.",
         "Reduce `process.depth_mm`, or leave it out to use the theoretical depth.";
@@ -133,6 +136,9 @@ catalogue! {
     COUPLING_RATIO: "template (path check)",
         "Path check finding: a gearbox coupling differs from the model's ratio or factors, or a unit is coupled again in another way.",
         "The program was not sent; report it with the job file, since the template and the model disagree.";
+    COVERAGE_FAILED: "model",
+        "The coverage check of a spiral face found a point of the face outside the tool's disc all along the path (an uncut ring or island), or a groove's measured pitch is off.",
+        "Lower the step-over or check the overtravels; the error names the worst point.";
     CROWNING_RANGE: "model",
         "The crowning amount is not between 0 and half the face width.",
         "Correct `gear.crowning.amount_mm` (typically 0.01 to 0.05 mm).";
@@ -301,9 +307,15 @@ catalogue! {
     KNOWLEDGE_BASE_ERROR: "knowledge",
         "The knowledge base could not be read or written.",
         "Check the knowledge service's log and its database file.";
+    MACHINE_FAMILY: "knowledge",
+        "A job was sent to a machine of another part family (a spiral face milling job to a hobbing machine, or the reverse).",
+        "Choose a machine of the job's family; expected lists them.";
     MACHINE_MODULE_LIMIT: "model",
         "The gear's module is outside the machine's module range.",
         "Choose another machine for this gear.";
+    MACHINE_RANGE: "model",
+        "A spiral job's spindle speed, feed or tool-centre reach is beyond the milling machine's limit.",
+        "Lower the cutting speed or feed given in `[milling]`, or use a machine that reaches; expected gives the limit.";
     MACHINE_SETTING_RANGE: "model",
         "A setting, axis sense, envelope value or parameter block of the machine profile is out of range.",
         "Correct the machine profile in the knowledge base (`gearcam kb edit machines`).";
@@ -319,9 +331,15 @@ catalogue! {
     MESSAGE_TOO_LARGE: "any",
         "A message is larger than its reader accepts.",
         "Fix the sender; the message was dropped.";
+    MISSING_FIELD: "knowledge",
+        "A section given inline lacks a field it needs (e.g. an inline `[mill]` without its kind, radius or flutes).",
+        "Add the field named, or name a library record instead.";
     MISSING_ID: "knowledge",
         "A get, edit or remove query has no record id in its key.",
         "Query `gearcam/v1/kb/{library}/{id}`.";
+    MISSING_SECTION: "knowledge",
+        "A spiral face milling job has neither a `[face]` nor a `[groove]` section.",
+        "Describe the face (outer_radius_mm, inner_radius_mm, depth_mm, material) or the groove.";
     MODEL_UNKNOWN: "agent",
         "The agent checks every program again against the model the model service published for the job and has not seen that model (it started after it was published); the job waits.",
         "Nothing: the station re-drives the job, the model is published again and the program is checked and stored.";
@@ -340,12 +358,24 @@ catalogue! {
     NO_CSV: "knowledge",
         "This library cannot be imported or exported as CSV.",
         "Use workpieces, hobs, cases or materials, which have CSV.";
+    NO_CUTTING_DATA: "knowledge",
+        "The knowledge base has neither similar milling cases nor milling data for the job's material group, and the job gives no cutting speed and feed.",
+        "Give `[milling]` cutting_speed_m_min and feed_per_tooth_mm, or add milling data for the group (gearcam kb add milling-data).";
     NO_MATCHING_HOB: "knowledge",
         "No hob in the tool library fits the gear (base pitch, accuracy class, usable length).",
         "Add a fitting hob with `gearcam kb add hobs`, or give the hob inline.";
+    NO_RETRACT: "template, agent (spiral replay)",
+        "Spiral verification finding: the replayed program ends below the safe height.",
+        "The program was not sent; report it, the generator is at fault.";
+    NO_TOOL: "knowledge",
+        "No tool of the library fits: no end mill of the groove's width, or an empty tool library.",
+        "Add a tool (gearcam kb add mills) or give `[mill]`.";
     PARSE: "template (path check)",
         "Path check finding: a program line lies outside the NC subset gearcam emits, or its arithmetic fails.",
         "The program was not sent; correct the template line named in the error.";
+    PASS_DEPTHS: "template, agent (spiral replay)",
+        "Spiral verification finding: the replayed program cuts at other depths, or in another number of passes, than the model.",
+        "The program was not sent; report it, the generator is at fault.";
     PATH_CHECK_FAILED: "template, agent",
         "The path check of the rendered program found a line that breaks a rule; the rule is in expected, one error per finding.",
         "The program was not sent; look up the rule in this table and correct the template or the job.";
@@ -358,6 +388,9 @@ catalogue! {
     PROGRAM_CHANGED_AT_MACHINE: "agent",
         "The program file at the machine was changed or created there since gearcam stored it; the agent kept the file, and the job waits.",
         "Review the edit, then `gearcam program resolve NAME --machine M --adopt` (the edit becomes the current version) or `--replace` (gearcam's version goes back, the edit is kept in the history); the waiting job is then delivered.";
+    PROGRAM_FORM: "model, template",
+        "The program form asked for (`[milling]` program) is not one the machine's control runs.",
+        "Choose one of the forms expected lists, or another machine.";
     PROGRAM_NAME_TAKEN: "agent",
         "The program name is held at the machine by a program of another part; the agent does not replace it. The error names both parts and a free name.",
         "Give the job its own name (`program_name` in `[job]`), e.g. the free one the error offers.";
@@ -370,12 +403,21 @@ catalogue! {
     RAPID_CLEARANCE: "template (path check)",
         "Path check finding: a rapid move passes through the zone where the hob can touch the blank.",
         "The program was not sent; correct the template's rapid moves or the safety distance.";
+    RAPID_IN_MATERIAL: "template, agent (spiral replay)",
+        "Spiral verification finding: the replayed program moves at rapid below the face.",
+        "The program was not sent; report it, the generator is at fault.";
+    REPLAY_FAILED: "template, agent (spiral replay)",
+        "Spiral verification finding: the program could not be replayed by the Macro B / LinuxCNC subset interpreter (a syntax error, an unset variable, a runaway loop); the line is given.",
+        "The program was not sent; report it, the generator is at fault.";
     REVISION_CONFLICT: "agent",
         "This job revision was already stored with different content.",
         "Send the changed program as a new revision.";
     SAFETY_RANGE: "model",
         "The safety distance is negative.",
         "Correct `process.safety_mm`.";
+    SECTION_FAMILY: "knowledge",
+        "A job file carries a section of another part family (`[gear]` in a spiral face milling job, `[face]` in a hobbing job), or both `[face]` and `[groove]`.",
+        "Remove the section, or set `[job]` family to the job's family.";
     SETUP: "template (path check)",
         "Path check finding: the program does not set unit, work offset, diameter mode or G-code system as the machine profile needs, or writes a parameter outside the profile's free block.",
         "The program was not sent; correct the template's header or the machine profile.";
@@ -385,12 +427,21 @@ catalogue! {
     SPEED_LIMIT: "template (path check)",
         "Path check finding: a hob speed, or the table speed it gives, is above the machine's limit.",
         "The program was not sent; lower the cutting speed or correct the template.";
+    SPIRAL_DEVIATION: "template, agent (spiral replay)",
+        "Spiral verification finding: the replayed path strays further from the model's spiral than the tolerance, sampled at 20,001 points per pass.",
+        "The program was not sent; report it, the generator is at fault.";
+    SPIRAL_ENDS: "template, agent (spiral replay)",
+        "Spiral verification finding: a replayed pass starts or ends away from the model's spiral.",
+        "The program was not sent; report it, the generator is at fault.";
     SPIRAL_RANGE: "model",
         "A spiral face-milling value is out of range: a radius not positive, an inner radius not below the outer one, a tool larger than the face, a step-over of the tool's diameter or more (it leaves material between the turns), a negative overtravel.",
         "Correct the field named in the error; expected says the range.";
     STATION_UNREACHABLE: "agent",
         "The agent could not ask the planning station whether the job is journaled; the job waits.",
         "Start the station (`gearcam station` or `gearcam up`); the job is delivered at its next re-drive.";
+    STEP_OVER_LARGE: "model (warning)",
+        "The spiral's step-over is over 90 % of the tool's diameter: neighbouring turns overlap little, and a tool a little under its nominal size would leave a ring.",
+        "Check the tool's real diameter, or lower the step-over.";
     STORE_INDEX_ERROR: "agent",
         "The agent could not read or write its program index, or found a bad row in it.",
         "See the agent's log; check the store's database file.";
@@ -418,6 +469,9 @@ catalogue! {
     TEMPLATE_RENDER_FAILED: "template",
         "The template failed while rendering this model.",
         "Correct the template at the line the message names.";
+    TOOL_RANGE: "knowledge",
+        "An inline tool's value is out of range (radius not positive, no flutes, a corner radius above the radius).",
+        "Correct the field named.";
     TRAVEL_LIMIT: "template (path check)",
         "Path check finding: an X or Z target lies outside the machine's travel, or a swivel goes beyond its limit.",
         "The program was not sent; check the machine profile's travel or correct the template.";
@@ -457,6 +511,9 @@ catalogue! {
     UNKNOWN_SCHEMA_VERSION: "any",
         "A message carries a schema version this reader does not understand.",
         "Run the same gearcam version on every station, service and agent.";
+    UNKNOWN_TOOL: "knowledge",
+        "The `[mill]` id names no tool of the library.",
+        "Name a tool of gearcam kb list mills, or give the tool inline.";
     UNKNOWN_VERSION: "agent",
         "The program store has no such version (seq) of this program.",
         "Pick a version listed by `gearcam program history`.";

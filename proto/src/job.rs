@@ -12,6 +12,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::codec::Message;
+pub use crate::cutting::CutMode;
 use crate::ids::{HobId, JobId, MachineId};
 
 /// Hand of a helix (gear tooth trace or hob thread).
@@ -24,16 +25,6 @@ pub enum Hand {
     /// Left hand.
     #[serde(alias = "lh", alias = "LH", alias = "L")]
     Left,
-}
-
-/// Cutting mode of hobbing.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum CutMode {
-    /// Conventional cutting: the hob feeds against the workpiece rotation (patent default; feeds down).
-    Conventional,
-    /// Climb cutting: the hob feeds with the workpiece rotation (feeds up).
-    Climb,
 }
 
 /// The part family of a job: which process, which stages' models.
@@ -508,24 +499,24 @@ pub struct JobSpec {
     pub units: Vec<UnitSpec>,
     /// `[face]` (spiral family): a circular or annular face.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub face: Option<crate::spiral::FaceSpec>,
+    pub face: Option<crate::milling::FaceSpec>,
     /// `[groove]` (spiral family): a planar spiral groove.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub groove: Option<crate::spiral::GrooveSpec>,
+    pub groove: Option<crate::milling::GrooveSpec>,
     /// `[mill]` (spiral family): the tool.
     #[serde(default, skip_serializing_if = "is_default_mill")]
-    pub mill: crate::spiral::MillSpec,
+    pub mill: crate::milling::MillSpec,
     /// `[milling]` (spiral family): the process values fixed by the planner.
     #[serde(default, skip_serializing_if = "is_default_milling")]
-    pub milling: crate::spiral::MillingOverrides,
+    pub milling: crate::milling::MillingOverrides,
 }
 
-fn is_default_mill(m: &crate::spiral::MillSpec) -> bool {
-    *m == crate::spiral::MillSpec::default()
+fn is_default_mill(m: &crate::milling::MillSpec) -> bool {
+    *m == crate::milling::MillSpec::default()
 }
 
-fn is_default_milling(m: &crate::spiral::MillingOverrides) -> bool {
-    *m == crate::spiral::MillingOverrides::default()
+fn is_default_milling(m: &crate::milling::MillingOverrides) -> bool {
+    *m == crate::milling::MillingOverrides::default()
 }
 
 impl JobSpec {

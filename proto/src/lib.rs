@@ -11,7 +11,9 @@
 //! - [`plan`]: machine profiles, hobs, the [`ProcessPlan`].
 //! - [`model`]: geometry and the [`MachiningModel`].
 //! - [`program`]: [`NcProgram`], [`DeliveryReceipt`], [`JobEvent`].
-//! - [`spiral`]: the spiral face milling family's job sections, [`SpiralPlan`] and [`SpiralModel`].
+//! - [`cutting`]: what the families share ([`CutMode`]).
+//! - [`milling`]: the spiral face milling family's job sections.
+//! - [`spiral`]: its [`SpiralPlan`] and [`SpiralModel`].
 //! - [`naming`]: controllers' program naming rules.
 //! - [`delivery`]: station journal states and queries, agent replies and program history.
 //! - [`error`]: typed [`JobError`]s and the [`Stage`] that found them, id and codec errors.
@@ -22,11 +24,13 @@
 pub mod class;
 pub mod codec;
 pub mod codes;
+pub mod cutting;
 pub mod delivery;
 pub mod error;
 pub mod ids;
 pub mod job;
 pub mod keys;
+pub mod milling;
 pub mod model;
 pub mod naming;
 pub mod plan;
@@ -43,9 +47,12 @@ pub use error::{CodecError, IdError, JobError, Stage};
 pub use ids::{HobId, JobId, MachineId};
 pub use job::{
     part_number_problem, ConeSpec, CrowningShape, CrowningSpec, CurvedToothSpec, CutMode, Family,
-    GearSpec,
-    Hand, HobSpec, Infeed, JobHeader, JobRequest, JobSpec, LargeEnd, MateSpec, Operation, Options,
-    ProcessOverrides, ShiftMode, ShiftSpec, UnitSpec, WormInfeed, WormWheelSpec, MAX_PART_NUMBER,
+    GearSpec, Hand, HobSpec, Infeed, JobHeader, JobRequest, JobSpec, LargeEnd, MateSpec, Operation,
+    Options, ProcessOverrides, ShiftMode, ShiftSpec, UnitSpec, WormInfeed, WormWheelSpec,
+    MAX_PART_NUMBER,
+};
+pub use milling::{
+    FaceSpec, GrooveSpec, MillKind, MillSpec, MillingOverrides, SpiralDirection, SpiralProgram,
 };
 pub use model::{
     ConeModel, CouplingFactors, CrowningModel, Cut, Explained, Geometry, Kinematics,
@@ -57,12 +64,11 @@ pub use plan::{
     MachineProfile, MachineSettings, ParameterBlock, ProcessData, ProcessPlan, Source, Sourced,
     WorkpieceRef,
 };
-pub use spiral::{
-    AnyModel, AnyPlan, CoverageCheck, FaceSpec, GrooveFigures, GrooveSpec, MillData, MillKind,
-    MillProfile, MillSpec, MillingOverrides, MillingProcess, SpiralCut, SpiralDirection,
-    SpiralFigures, SpiralModel, SpiralPart, SpiralPlan, SpiralProgram,
-};
 pub use program::{
     now_ms, utc_text, DeliveryReceipt, EventKind, JobEvent, NcProgram, PathCheck, PathFinding,
     TemplateRef,
+};
+pub use spiral::{
+    AnyModel, AnyPlan, CoverageCheck, GrooveFigures, MillData, MillProfile, MillingProcess,
+    SpiralCut, SpiralFigures, SpiralModel, SpiralPart, SpiralPlan,
 };

@@ -71,6 +71,10 @@ pub struct NcProgram {
     /// when it is ok.
     #[serde(default)]
     pub path_check: PathCheck,
+    /// The program form of a spiral face milling job (`fanuc-macro`,
+    /// `fanuc-arcs`, `fanuc-chords`, `linuxcnc`); absent for hobbing.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub form: Option<crate::milling::SpiralProgram>,
 }
 
 impl Message for NcProgram {
@@ -114,7 +118,8 @@ pub enum EventKind {
     },
     /// The knowledge service produced the plan.
     Planned {
-        /// Hob chosen.
+        /// The cutting tool's id: the hob chosen (hobbing) or the mill
+        /// (spiral face milling). The name is kept for compatibility.
         hob_id: String,
         /// Confidence of the proposal.
         confidence: f64,

@@ -274,6 +274,7 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
             model_version: "-".into(),
             generator: "-".into(),
             path_check: Default::default(),
+            form: None,
         };
         let replies = session
             .get("gearcam/v1/machines/H01/programs/EVIL-1")
@@ -590,6 +591,7 @@ fn every_role_machine_and_command_on_the_secure_deployment() {
             model_version: "-".into(),
             generator: "-".into(),
             path_check: Default::default(),
+            form: None,
         };
         let reversed = stored.replacen(" M3 ", " M4 ", 1);
         assert_ne!(reversed, stored);

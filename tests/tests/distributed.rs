@@ -466,6 +466,7 @@ fn program_named(job: &str, name: &str) -> gearcam_proto::NcProgram {
         model_version: "-".into(),
         generator: "-".into(),
         path_check: Default::default(),
+        form: None,
     }
 }
 

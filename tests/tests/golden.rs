@@ -7,8 +7,53 @@
 
 use gearcam_template::Templates;
 
-use gearcam_testkit::examples::{on_machine, valid as examples};
-use gearcam_testkit::pipeline::model_of;
+use gearcam_testkit::examples::{on_machine, valid_hobbing as examples, valid_spiral};
+use gearcam_testkit::pipeline::{model_of, spiral_model_of};
+
+/// Compares `text` with the golden file `file` (or writes it when blessing);
+/// the first differing line, if any.
+fn compare(file: &std::path::Path, text: &str, bless: bool) -> Option<String> {
+    if bless {
+        std::fs::create_dir_all(file.parent().unwrap()).unwrap();
+        std::fs::write(file, text).unwrap();
+        return None;
+    }
+    let want = std::fs::read_to_string(file)
+        .unwrap_or_else(|e| panic!("{}: {e} (bless with GEARCAM_BLESS=1)", file.display()));
+    if want == text {
+        return None;
+    }
+    let line = want
+        .lines()
+        .zip(text.lines())
+        .position(|(a, b)| a != b)
+        .map_or(want.lines().count().min(text.lines().count()), |i| i);
+    Some(format!(
+        "{}: first difference at line {}:\n  want {:?}\n  got  {:?}",
+        file.display(),
+        line + 1,
+        want.lines().nth(line),
+        text.lines().nth(line)
+    ))
+}
+
+/// Every spiral example's program, in the form its job and machine choose.
+#[test]
+fn every_spiral_example_program_is_unchanged() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("golden");
+    let bless = std::env::var_os("GEARCAM_BLESS").is_some();
+    let mut differ = Vec::new();
+    let all = valid_spiral();
+    assert!(all.len() >= 6, "{} spiral examples", all.len());
+    for (name, text) in all {
+        let model = spiral_model_of(&text).unwrap_or_else(|e| panic!("{name}: {e:#?}"));
+        let program =
+            gearcam_template::spiral::render(&model).unwrap_or_else(|e| panic!("{name}: {e:#?}"));
+        let file = dir.join(format!("{}.nc", name.trim_end_matches(".toml")));
+        differ.extend(compare(&file, &program.text, bless));
+    }
+    assert!(differ.is_empty(), "{}", differ.join("\n"));
+}
 
 #[test]
 fn every_example_program_is_unchanged() {

@@ -177,6 +177,7 @@ fn point_6_a_repeated_delivery_checks_the_file() {
         model_version: "-".into(),
         generator: "-".into(),
         path_check: Default::default(),
+        form: None,
     };
     let rt = tokio::runtime::Runtime::new().unwrap();
     rt.block_on(async {

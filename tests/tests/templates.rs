@@ -8,7 +8,7 @@ use gearcam_proto::{MachiningModel, MoveKind, NcProgram};
 use gearcam_template::{TemplateSource, Templates, DEFAULT_FUEL};
 use proptest::prelude::*;
 
-use gearcam_testkit::examples::{on_machine, valid as examples};
+use gearcam_testkit::examples::{on_machine, valid_hobbing as examples};
 use gearcam_testkit::pipeline::model_of;
 
 #[test]

@@ -105,13 +105,7 @@ pub fn macro_program(spiral: &Spiral, cut: &Cut, number: u32, header: &[String])
 /// value-free subprogram `O{sub}` with `G65 P{sub}` and one argument letter
 /// per value (the seed's "one program for the whole part family": the
 /// subprogram stays in the control, each part is one `G65` line).
-pub fn g65_program(
-    spiral: &Spiral,
-    cut: &Cut,
-    number: u32,
-    sub: u32,
-    header: &[String],
-) -> String {
+pub fn g65_program(spiral: &Spiral, cut: &Cut, number: u32, sub: u32, header: &[String]) -> String {
     let mut p = String::from("%\n");
     let _ = writeln!(p, "O{number:04} (SPIRAL FACE MILLING, G65 CALL)");
     for line in header {
@@ -149,17 +143,12 @@ pub fn chord_program(spiral: &Spiral, cut: &Cut, number: u32, header: &[String])
         cut.tolerance_mm
     );
     let _ = writeln!(p, "G21 G90 G17 G94 G40 G49 G80");
-    let _ = writeln!(p, "S{} M03", fixed(cut.spindle_rpm));
+    let _ = writeln!(p, "S{:.0} M03", cut.spindle_rpm);
     let _ = writeln!(p, "G00 Z{}", fixed(cut.safe_z_mm));
     for pass in 1..=cut.passes {
         let z = -cut.depth_mm * f64::from(pass) / f64::from(cut.passes);
         let _ = writeln!(p, "G00 X{} Y{}", fixed(points[0].0), fixed(points[0].1));
-        let _ = writeln!(
-            p,
-            "G01 Z{} F{}",
-            fixed(z),
-            fixed(cut.plunge_feed_mm_min)
-        );
+        let _ = writeln!(p, "G01 Z{} F{}", fixed(z), fixed(cut.plunge_feed_mm_min));
         for (k, q) in points.iter().enumerate().skip(1) {
             let feed = if k == 1 {
                 format!(" F{}", fixed(cut.feed_mm_min))
@@ -203,7 +192,7 @@ pub fn arc_program(spiral: &Spiral, cut: &Cut, number: u32, header: &[String]) -
         cut.tolerance_mm
     );
     let _ = writeln!(p, "G21 G90 G17 G94 G40 G49 G80");
-    let _ = writeln!(p, "S{} M03", f(cut.spindle_rpm));
+    let _ = writeln!(p, "S{:.0} M03", cut.spindle_rpm);
     let _ = writeln!(p, "G00 Z{}", f(cut.safe_z_mm));
     let (x0, y0) = spiral.point_at(0.0);
     for pass in 1..=cut.passes {

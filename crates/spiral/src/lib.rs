@@ -25,6 +25,7 @@ pub mod groove;
 pub mod linuxcnc;
 pub mod macrob;
 pub mod picture;
+pub mod verify;
 
 use gearcam_proto::{JobError, Stage};
 use serde::{Deserialize, Serialize};
@@ -463,10 +464,7 @@ mod tests {
                 .map(|e| e.field.clone())
                 .collect()
         };
-        assert_eq!(
-            fields(spec(50.0, 50.0, 5.0, 5.0)),
-            ["face.inner_radius_mm"]
-        );
+        assert_eq!(fields(spec(50.0, 50.0, 5.0, 5.0)), ["face.inner_radius_mm"]);
         assert_eq!(fields(spec(50.0, 0.0, 5.0, 10.0)), ["milling.step_over_mm"]);
         assert_eq!(fields(spec(50.0, 0.0, 60.0, 5.0)), ["mill.radius_mm"]);
         assert_eq!(fields(spec(50.0, 0.0, 5.0, 0.0)), ["milling.step_over_mm"]);

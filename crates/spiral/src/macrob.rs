@@ -110,7 +110,10 @@ pub fn replay(program: &str, budget: usize) -> Result<Vec<Move>, ReplayError> {
         if line.is_empty() || line == "%" || line.starts_with('O') {
             if line.starts_with('O') && pc > 0 && frames.is_empty() && !m.moves.is_empty() {
                 // The main program ran into the next program without M30.
-                return Err(err(pc, "the main program ran into another program: M30 missing".into()));
+                return Err(err(
+                    pc,
+                    "the main program ran into another program: M30 missing".into(),
+                ));
             }
             pc += 1;
             continue;
@@ -158,7 +161,10 @@ pub fn replay(program: &str, budget: usize) -> Result<Vec<Move>, ReplayError> {
                 if let Some(n) = argument_variable(letter) {
                     m.vars.insert(n, v);
                 } else if letter != 'P' && letter != 'L' {
-                    return Err(err(pc, format!("G65 argument {letter} is not an argument letter")));
+                    return Err(err(
+                        pc,
+                        format!("G65 argument {letter} is not an argument letter"),
+                    ));
                 }
             }
             pc = start + 1;
@@ -241,6 +247,76 @@ pub fn replay(program: &str, budget: usize) -> Result<Vec<Move>, ReplayError> {
         return Err(err(lines.len() - 1, format!("DO{id} never ended")));
     }
     Ok(m.moves)
+}
+
+/// Replays a LinuxCNC program of the subset gearcam emits by reading it into
+/// the Macro B subset line by line: named parameters `#<name>` become
+/// numbered variables (#100 on, in order of appearance), `oN while [c]` …
+/// `oN endwhile` become `WHILE [c] DOm` … `ENDm`, a block with the polar
+/// words `@` (radius) and `^` (angle) becomes `G16` with X and Y and is
+/// followed by `G15` (LinuxCNC's polar words hold for their block only),
+/// `M2` ends the program. Errors name the LinuxCNC program's line. The tests
+/// run the same programs through LinuxCNC's own `rs274`.
+pub fn replay_linuxcnc(program: &str, budget: usize) -> Result<Vec<Move>, ReplayError> {
+    let mut names: HashMap<String, u32> = HashMap::new();
+    let mut out = String::new();
+    let mut origin = Vec::new();
+    let mut open: Vec<String> = Vec::new();
+    for (i, raw) in program.lines().enumerate() {
+        let err = |message: String| ReplayError {
+            line: i + 1,
+            message,
+        };
+        let mut line = String::new();
+        let mut rest = strip_comments(raw);
+        while let Some(at) = rest.find("#<") {
+            let end = rest[at..]
+                .find('>')
+                .ok_or_else(|| err(format!("unclosed parameter name in {raw}")))?;
+            let name = rest[at + 2..at + end].trim().to_lowercase();
+            let next = 100 + names.len() as u32;
+            let n = *names.entry(name).or_insert(next);
+            line.push_str(&rest[..at]);
+            line.push_str(&format!("#{n}"));
+            rest = rest[at + end + 1..].to_string();
+        }
+        line.push_str(&rest);
+        let line = line.trim().to_uppercase();
+        let mut emit = |text: String| {
+            out.push_str(&text);
+            out.push('\n');
+            origin.push(i);
+        };
+        if let Some(o) = line.strip_prefix('O') {
+            let (label, body) = o
+                .split_once(char::is_whitespace)
+                .ok_or_else(|| err(format!("an o-word without a keyword: {raw}")))?;
+            let body = body.trim();
+            if let Some(cond) = body.strip_prefix("WHILE") {
+                open.push(label.to_string());
+                emit(format!("WHILE {} DO{}", cond.trim(), open.len()));
+            } else if body == "ENDWHILE" {
+                if open.last().map(String::as_str) != Some(label) {
+                    return Err(err(format!("o{label} endwhile without its while")));
+                }
+                emit(format!("END{}", open.len()));
+                open.pop();
+            } else {
+                return Err(err(format!("o-word {body} is outside the subset")));
+            }
+        } else if line.contains('@') || line.contains('^') {
+            emit(format!("G16 {}", line.replace('@', "X").replace('^', "Y")));
+            emit("G15".to_string());
+        } else {
+            emit(line);
+        }
+    }
+    replay(&out, budget).map_err(|e| ReplayError {
+        line: origin
+            .get(e.line.saturating_sub(1))
+            .map_or(e.line, |o| o + 1),
+        message: e.message,
+    })
 }
 
 /// A macro call's return point and the caller's state.

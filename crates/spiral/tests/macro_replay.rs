@@ -141,7 +141,10 @@ fn the_g65_call_commands_the_same_moves_as_the_macro() {
         };
         let standalone = replay(&macro_program(&spiral, &cut(), 3001, &[]), 1_000_000).unwrap();
         let program = g65_program(&spiral, &cut(), 3002, 7001, &["PART FL-1".into()]);
-        assert!(program.contains("G65 P7001 A70.0 B6.0 C45.0 I2160.0"), "{program}");
+        assert!(
+            program.contains("G65 P7001 A70.0 B6.0 C45.0 I2160.0"),
+            "{program}"
+        );
         assert!(program.contains("O7001") && program.contains("M99"));
         let called = replay(&program, 1_000_000).unwrap();
         assert_eq!(called, standalone);

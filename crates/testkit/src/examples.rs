@@ -47,6 +47,22 @@ pub fn valid() -> Vec<(String, String)> {
         .collect()
 }
 
+/// True for a spiral face milling example (`family = "spiral-face"`).
+pub fn is_spiral(text: &str) -> bool {
+    text.lines()
+        .any(|l| l.split('#').next().unwrap_or("").replace(' ', "") == "family=\"spiral-face\"")
+}
+
+/// The valid hobbing examples.
+pub fn valid_hobbing() -> Vec<(String, String)> {
+    valid().into_iter().filter(|(_, t)| !is_spiral(t)).collect()
+}
+
+/// The valid spiral face milling examples.
+pub fn valid_spiral() -> Vec<(String, String)> {
+    valid().into_iter().filter(|(_, t)| is_spiral(t)).collect()
+}
+
 /// The invalid examples, each with the code it must get.
 pub fn invalid() -> Vec<(String, String, String)> {
     all()

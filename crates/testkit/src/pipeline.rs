@@ -29,6 +29,13 @@ pub fn model_of(text: &str) -> Result<MachiningModel, Vec<JobError>> {
     gearcam_model::compute(&plan_of(text)?)
 }
 
+/// A spiral job's model (planned, then computed), or the first refusing stage's errors.
+pub fn spiral_model_of(text: &str) -> Result<gearcam_proto::SpiralModel, Vec<JobError>> {
+    let conn = gearcam_knowledge::db::open_in_memory().expect("an in-memory knowledge base");
+    let plan = gearcam_knowledge::spiral::plan_spiral(&conn, &request(text, "TEST-1"))?;
+    gearcam_model::spiral::compute_spiral(&plan)
+}
+
 /// The checked program the shipped templates make of a model.
 pub fn program_of(model: &MachiningModel) -> Result<NcProgram, Vec<JobError>> {
     gearcam_template::Templates::builtin().render(model)

@@ -320,7 +320,8 @@ impl Cluster {
 
     /// Starts the agent of `machine` (a separate process, labelled `agent`
     /// for H01 and `agent-{machine}` otherwise), its store under `{machine}/`;
-    /// H02 is the seeded FANUC machine, every other an 840D.
+    /// H02 (hobbing) and M01 (milling) are the seeded FANUC machines, M02
+    /// the LinuxCNC mill, every other an 840D.
     pub fn start_agent_for(&mut self, machine: &str) {
         let label = if machine == "H01" {
             "agent".to_string()
@@ -351,10 +352,10 @@ impl Cluster {
                 "--machine",
                 machine,
                 "--dialect",
-                if machine == "H02" {
-                    "fanuc"
-                } else {
-                    "sinumerik840d"
+                match machine {
+                    "H02" | "M01" => "fanuc",
+                    "M02" => "linuxcnc",
+                    _ => "sinumerik840d",
                 },
                 "--program-dir",
                 &programs,
@@ -367,6 +368,11 @@ impl Cluster {
         args.extend(extra.iter().map(|s| s.to_string()));
         let agent = Proc::start(d, label, "gearcam-agent", &args);
         self.procs.push(agent);
+    }
+
+    /// The cluster's directory (each agent's store is under `{machine}/`).
+    pub fn dir(&self) -> &Path {
+        self.dir.path()
     }
 
     /// The agent's program directory.

@@ -10,7 +10,8 @@
 //! - **Path check**: the agent follows the models the model service
 //!   publishes for its machine (`gearcam/v1/jobs/*/model`, which only the
 //!   model service may publish under `deploy/secure`) and re-runs the NC path
-//!   check (`gearcam_nc::check`) of every program against its job's model.
+//!   check (`gearcam_nc::check`; for the spiral family the replay of
+//!   `gearcam_spiral::verify`) of every program against its job's model.
 //!   A finding: `PATH_CHECK_FAILED` (final). No model seen yet (the agent
 //!   started after it was published): `MODEL_UNKNOWN` (the job waits; the
 //!   station's re-drive publishes the model again).
@@ -22,15 +23,15 @@ use std::time::Duration;
 use gearcam_bus::query::Retry;
 use gearcam_bus::{Bus, CancellationToken};
 use gearcam_proto::{
-    decode, keys, JobError, JobId, JobRequest, JobState, MachineId, MachiningModel, NcProgram,
-    Stage, StationReply,
+    keys, AnyModel, Incoming, JobError, JobId, JobRequest, JobState, MachineId, NcProgram, Stage,
+    StationReply,
 };
 
 /// Models kept, newest last (a bounded memory).
 const MAX_MODELS: usize = 4096;
 
 /// The models kept, by job, and the order they came in.
-type Kept = (HashMap<JobId, Arc<MachiningModel>>, VecDeque<JobId>);
+type Kept = (HashMap<JobId, Arc<AnyModel>>, VecDeque<JobId>);
 
 /// The models the model service published for this machine, by job.
 #[derive(Debug, Clone, Default)]
@@ -39,10 +40,10 @@ pub struct Models {
 }
 
 impl Models {
-    fn insert(&self, model: MachiningModel) {
+    fn insert(&self, model: AnyModel) {
         let Ok(mut g) = self.inner.lock() else { return };
         let (map, order) = &mut *g;
-        let job = model.job_id.clone();
+        let job = model.job_id().clone();
         if map.insert(job.clone(), Arc::new(model)).is_none() {
             order.push_back(job);
         }
@@ -53,7 +54,7 @@ impl Models {
         }
     }
 
-    fn get(&self, job: &JobId) -> Option<Arc<MachiningModel>> {
+    fn get(&self, job: &JobId) -> Option<Arc<AnyModel>> {
         self.inner.lock().ok()?.0.get(job).cloned()
     }
 
@@ -81,8 +82,8 @@ impl Models {
                     _ = shutdown.cancelled() => break,
                     s = sub.recv_async() => match s { Ok(s) => s, Err(_) => break },
                 };
-                if let Ok(model) = decode::<MachiningModel>(&sample.payload().to_bytes()) {
-                    if model.plan.machine.id == machine {
+                if let Ok(model) = AnyModel::decode_incoming(&sample.payload().to_bytes()) {
+                    if *model.machine() == machine {
                         kept.insert(model);
                     }
                 }
@@ -102,7 +103,25 @@ impl Models {
                 "the agent checks every program again against the model service's model and has not seen this job's; the job waits and the station's re-drive publishes it again",
             ));
         };
-        let (check, _) = gearcam_nc::check(&program.text, &model);
+        let check = match &*model {
+            AnyModel::Hobbing(model) => gearcam_nc::check(&program.text, model).0,
+            AnyModel::Spiral(model) => {
+                let form = model.plan.process.program;
+                if program.form != Some(form) {
+                    return Err(Stage::Agent.error(
+                        "PATH_CHECK_FAILED",
+                        "program.form",
+                        format!("the form of the job's model, {}", form.as_str()),
+                        program.form.map_or("none", |f| f.as_str()),
+                        format!(
+                            "program {} is not in the form its job's model was computed for; it was not stored",
+                            program.name
+                        ),
+                    ));
+                }
+                gearcam_spiral::verify::verify(&program.text, form, model).0
+            }
+        };
         match check.findings.first() {
             None => Ok(()),
             Some(f) => Err(Stage::Agent.error(

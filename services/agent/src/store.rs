@@ -605,6 +605,7 @@ mod tests {
             model_version: "m".into(),
             generator: "g".into(),
             path_check: Default::default(),
+            form: None,
         }
     }
 

@@ -7,8 +7,9 @@ use std::fmt::Write as _;
 
 use gearcam_proto::plan::HobChoice;
 use gearcam_proto::{
-    Geometry, JobError, JobRequest, Kinematics, Source, Sourced, Stage, TemplateRef, Warning,
-    WorkpieceRef,
+    CoverageCheck, Family, Geometry, GrooveFigures, JobError, JobRequest, Kinematics, MillData,
+    Source, Sourced, SpiralCut, SpiralFigures, SpiralModel, SpiralPart, Stage, TemplateRef,
+    Warning, WorkpieceRef,
 };
 use gearcam_template::Templates;
 use rusqlite::Connection;
@@ -71,6 +72,9 @@ pub struct PlanSummary {
     pub proposed: BTreeMap<String, Sourced>,
     /// The values the job overrode.
     pub overridden: Vec<String>,
+    /// The mill (spiral face milling; absent for hobbing, whose tool is `hob_id`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tool: Option<MillData>,
     /// How the hob was chosen (absent when the job named or gave its hob).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub hob_choice: Option<HobChoice>,
@@ -86,7 +90,9 @@ pub struct PlanSummary {
 pub struct ProgramSummary {
     /// Program name.
     pub name: String,
-    /// Dialect.
+    /// Dialect: the controller's (`sinumerik840d`, `fanuc`) for hobbing;
+    /// the program form (`fanuc-macro`, `fanuc-arcs`, `fanuc-chords`,
+    /// `linuxcnc`) for spiral face milling.
     pub dialect: String,
     /// Template that made it.
     pub template: TemplateRef,
@@ -97,6 +103,40 @@ pub struct ProgramSummary {
     pub path_check: gearcam_proto::PathCheck,
     /// The program.
     pub text: String,
+}
+
+/// The model of either family, as reported.
+#[derive(Debug, Clone, Serialize)]
+#[serde(untagged)]
+pub enum ModelReport {
+    /// Hobbing: the kinematics (its fields at the top of `model`).
+    Hobbing(Box<Kinematics>),
+    /// Spiral face milling.
+    Spiral(Box<SpiralReport>),
+}
+
+impl ModelReport {
+    /// The hobbing kinematics, if this is a hobbing model.
+    pub fn hobbing(&self) -> Option<&Kinematics> {
+        match self {
+            ModelReport::Hobbing(k) => Some(k),
+            ModelReport::Spiral(_) => None,
+        }
+    }
+}
+
+/// A spiral job's model (`model` in the JSON report).
+#[derive(Debug, Clone, Serialize)]
+pub struct SpiralReport {
+    /// The spiral's figures; the face's centre is the origin.
+    pub spiral: SpiralFigures,
+    /// The cutting data.
+    pub cut: SpiralCut,
+    /// A groove's width, pitch and land.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub groove: Option<GrooveFigures>,
+    /// Cutting time of one part, min.
+    pub part_time_min: f64,
 }
 
 /// The report of `gearcam check` (JSON contract: keep these names).
@@ -117,9 +157,17 @@ pub struct CheckReport {
     /// Gear geometry.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub geometry: Option<Geometry>,
-    /// Machining model.
+    /// Machining model: the hobbing kinematics, or the spiral's figures
+    /// (`model.spiral`, `model.cut`, `model.groove`, `model.part_time_min`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub model: Option<Kinematics>,
+    pub model: Option<ModelReport>,
+    /// The coverage check of a spiral face (or the pitch check of a groove)
+    /// and the program's largest deviation from the spiral.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub coverage: Option<CoverageCheck>,
+    /// Where the SVG picture of a spiral job was written.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub picture: Option<String>,
     /// The NC program.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub program: Option<ProgramSummary>,
@@ -136,13 +184,14 @@ impl CheckReport {
             plan: None,
             geometry: None,
             model: None,
+            coverage: None,
+            picture: None,
             program: None,
         }
     }
 }
 
-/// Runs knowledge → model → template locally for one request.
-pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> CheckReport {
+fn job_summary(req: &JobRequest) -> CheckReport {
     let spec = &req.spec;
     let mut report = CheckReport::failed(vec![]);
     report.job = Some(JobSummary {
@@ -151,6 +200,35 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
         part_number: spec.job.part_number.clone(),
         quantity: spec.job.quantity,
     });
+    report
+}
+
+/// Runs knowledge → model → program locally for one request of any
+/// family; a spiral job's model comes back too (for its picture).
+pub fn check_any(
+    conn: &Connection,
+    templates: &Templates,
+    req: &JobRequest,
+) -> (CheckReport, Option<SpiralModel>) {
+    if req.spec.job.family == Family::SpiralFace {
+        check_spiral(conn, req, job_summary(req))
+    } else {
+        (check(conn, templates, req), None)
+    }
+}
+
+/// Runs knowledge → model → template locally for one request.
+pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> CheckReport {
+    let spec = &req.spec;
+    let mut report = job_summary(req);
+    if spec.job.family == Family::SpiralFace {
+        return check_spiral(conn, req, report).0;
+    }
+    let family = gearcam_knowledge::spiral::family_errors(req);
+    if !family.is_empty() {
+        report.errors = family;
+        return report;
+    }
     if let Some(gear) = &spec.gear {
         report.geometry = Some(gearcam_model::geometry_of(gear));
     }
@@ -185,6 +263,7 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
         values: plan.values.clone(),
         proposed: plan.proposal.values.clone(),
         overridden: plan.proposal.overridden.clone(),
+        tool: None,
         hob_choice: plan.proposal.hob.clone(),
         workpiece: plan.proposal.workpiece.clone(),
     });
@@ -196,7 +275,7 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
         }
     };
     report.geometry = Some(model.geometry.clone());
-    report.model = Some(model.model.clone());
+    report.model = Some(ModelReport::Hobbing(Box::new(model.model.clone())));
     report.warnings = model.warnings.clone();
     match templates.instantiate(&model) {
         Ok(p) => {
@@ -214,6 +293,134 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
         Err(errors) => report.errors = errors,
     }
     report
+}
+
+/// Knowledge → model → program for a spiral job; the report and the model
+/// (for the picture).
+pub fn check_spiral(
+    conn: &Connection,
+    req: &JobRequest,
+    mut report: CheckReport,
+) -> (CheckReport, Option<SpiralModel>) {
+    let plan = match gearcam_knowledge::spiral::plan_spiral(conn, req) {
+        Ok(p) => p,
+        Err(errors) => {
+            report.errors = errors;
+            return (report, None);
+        }
+    };
+    let p = &plan.process;
+    let face = matches!(plan.part, SpiralPart::Face(_));
+    let values: BTreeMap<String, Sourced> = [
+        ("step_over_mm", p.step_over_mm),
+        ("cutting_speed_m_min", p.cutting_speed_m_min),
+        ("feed_per_tooth_mm", p.feed_per_tooth_mm),
+        ("outer_overtravel_mm", p.outer_overtravel_mm),
+        ("inner_overtravel_mm", p.inner_overtravel_mm),
+        ("start_angle_deg", p.start_angle_deg),
+        ("tolerance_mm", p.tolerance_mm),
+        (
+            "passes",
+            Sourced {
+                value: f64::from(p.passes),
+                source: if plan.request.spec.milling.passes.is_some() {
+                    Source::Job
+                } else {
+                    Source::Case
+                },
+            },
+        ),
+    ]
+    .into_iter()
+    // A groove's step-over is its pitch; the overtravels are a face's.
+    .filter(|(k, _)| face || !k.ends_with("overtravel_mm"))
+    .map(|(k, v)| (k.to_string(), v))
+    .collect();
+    report.plan = Some(PlanSummary {
+        class: format!("spiral-{}", plan.part.kind()),
+        machine: MachineSummary {
+            id: plan.machine.id.to_string(),
+            name: plan.machine.name.clone(),
+            dialect: plan.machine.dialect.as_str().into(),
+        },
+        hob_id: plan.tool.id.clone(),
+        confidence: plan.confidence,
+        cases: plan
+            .cases
+            .iter()
+            .map(|c| CaseSummary {
+                id: c.id.clone(),
+                similarity: c.similarity,
+                provenance: c.provenance.clone(),
+            })
+            .collect(),
+        overridden: values
+            .iter()
+            .filter(|(_, v)| v.source == Source::Job)
+            .map(|(k, _)| k.clone())
+            .collect(),
+        proposed: values
+            .iter()
+            .filter(|(_, v)| v.source != Source::Job)
+            .map(|(k, v)| (k.clone(), *v))
+            .collect(),
+        values,
+        tool: Some(plan.tool.clone()),
+        hob_choice: None,
+        workpiece: None,
+    });
+    let model = match gearcam_model::spiral::compute_spiral(&plan) {
+        Ok(m) => m,
+        Err(errors) => {
+            report.errors = errors;
+            return (report, None);
+        }
+    };
+    report.model = Some(ModelReport::Spiral(Box::new(SpiralReport {
+        spiral: model.spiral.clone(),
+        cut: model.cut,
+        groove: model.groove,
+        part_time_min: model.part_time_min,
+    })));
+    report.coverage = Some(model.coverage);
+    report.warnings = model.warnings.clone();
+    match gearcam_template::spiral::instantiate(&model) {
+        Ok(p) => {
+            report.errors = gearcam_template::render::path_check_errors(&p);
+            report.ok = report.errors.is_empty();
+            report.program = Some(ProgramSummary {
+                name: p.name,
+                dialect: p.form.map_or(p.dialect.as_str(), |f| f.as_str()).into(),
+                template: p.template,
+                sha256: p.sha256,
+                path_check: p.path_check,
+                text: p.text,
+            });
+        }
+        Err(errors) => report.errors = errors,
+    }
+    (report, Some(model))
+}
+
+/// The SVG picture of a spiral model: the region (or the groove's band),
+/// the swept band of the tool, the tool-centre path and the worst gap.
+pub fn spiral_picture(model: &SpiralModel) -> String {
+    let spiral = gearcam_spiral::verify::spiral_of(model);
+    let (_, points) = spiral.chords(model.cut.tolerance_mm);
+    let region = gearcam_spiral::Region {
+        outer_radius_mm: model.spiral.outer_radius_mm,
+        inner_radius_mm: model.spiral.inner_radius_mm,
+    };
+    let coverage = gearcam_spiral::Coverage {
+        ok: model.coverage.ok,
+        max_gap_mm: match model.plan.part {
+            SpiralPart::Face(_) => model.coverage.max_gap_mm,
+            SpiralPart::Groove(_) => 0.0,
+        },
+        worst_point: model.coverage.worst_point_mm,
+        samples: model.coverage.samples as usize,
+    };
+    gearcam_spiral::picture::face_svg(&region, model.spiral.tool_radius_mm, &points, &coverage)
 }
 
 fn src(s: Source) -> &'static str {
@@ -260,11 +467,29 @@ pub fn format_human(r: &CheckReport) -> String {
             "machine {} ({}, {})",
             p.machine.id, p.machine.name, p.machine.dialect
         );
-        let _ = writeln!(
-            out,
-            "class {}  hob {}  confidence {:.2}",
-            p.class, p.hob_id, p.confidence
-        );
+        match &p.tool {
+            Some(t) => {
+                let _ = writeln!(
+                    out,
+                    "class {}  tool {} ({} Ø{} mm, corner R{} mm, {} flutes, from {})  confidence {:.2}",
+                    p.class,
+                    t.id,
+                    t.kind.as_str(),
+                    2.0 * t.radius_mm,
+                    t.corner_radius_mm,
+                    t.flutes,
+                    src(t.source),
+                    p.confidence
+                );
+            }
+            None => {
+                let _ = writeln!(
+                    out,
+                    "class {}  hob {}  confidence {:.2}",
+                    p.class, p.hob_id, p.confidence
+                );
+            }
+        }
         for c in &p.cases {
             let _ = writeln!(
                 out,
@@ -328,7 +553,65 @@ pub fn format_human(r: &CheckReport) -> String {
             g.sn_mm, g.span_teeth, g.span_mm, g.ball_mm, g.over_balls_mm
         );
     }
-    if let Some(m) = &r.model {
+    if let Some(ModelReport::Spiral(m)) = &r.model {
+        let s = &m.spiral;
+        let _ = writeln!(
+            out,
+            "spiral  region Ro {} Ri {} mm  tool radius {} mm  centre R1 {:.4} → R2 {:.4} mm  {} turns  step-over {:.4} mm  {}",
+            s.outer_radius_mm,
+            s.inner_radius_mm,
+            s.tool_radius_mm,
+            s.start_radius_mm,
+            s.end_radius_mm,
+            s.turns,
+            s.step_over_mm,
+            if s.sense > 0 { "counter-clockwise" } else { "clockwise" }
+        );
+        let _ = writeln!(
+            out,
+            "  path {:.1} mm per pass  {} blocks ({} arcs or {} chords at {} mm, angle step {:.4}°)",
+            s.path_length_mm, s.blocks, s.arcs, s.chords, m.cut.tolerance_mm, s.angle_step_deg
+        );
+        let _ = writeln!(
+            out,
+            "  {} pass(es) to {} mm  {:.0} rpm  feed {:.1} mm/min (plunge {:.1})  {:.2} min per part",
+            m.cut.passes,
+            m.cut.depth_mm,
+            m.cut.spindle_rpm,
+            m.cut.feed_mm_min,
+            m.cut.plunge_feed_mm_min,
+            m.part_time_min
+        );
+        if let Some(g) = &m.groove {
+            let _ = writeln!(
+                out,
+                "  groove width {} mm  pitch {} mm  land {} mm",
+                g.width_mm, g.pitch_mm, g.land_mm
+            );
+        }
+    }
+    let groove = matches!(&r.model, Some(ModelReport::Spiral(m)) if m.groove.is_some());
+    if let Some(c) = &r.coverage {
+        let _ = writeln!(
+            out,
+            "{} {}  {} {:.4} mm  max deviation from the spiral {:.5} mm  ({} {})",
+            if groove { "pitch check" } else { "coverage" },
+            if c.ok { "ok" } else { "FAILED" },
+            if groove {
+                "worst pitch error"
+            } else {
+                "max gap"
+            },
+            c.max_gap_mm,
+            c.max_deviation_mm,
+            c.samples,
+            if groove { "rays" } else { "points of the face" }
+        );
+    }
+    if let Some(p) = &r.picture {
+        let _ = writeln!(out, "picture: {p}");
+    }
+    if let Some(ModelReport::Hobbing(m)) = &r.model {
         let _ = writeln!(
             out,
             "model  swivel {:.4}°  ΔH′ {:.3} mm (+{:.3} safety)  L {:.3} mm  depth {:.3} mm",
@@ -404,9 +687,9 @@ pub fn first_stage(r: &CheckReport) -> Option<Stage> {
 mod tests {
     use super::*;
 
-    /// Every valid example of `examples/` moved to machine H02 (FANUC).
+    /// Every valid hobbing example of `examples/` moved to machine H02 (FANUC).
     fn examples_on_h02() -> Vec<(String, String)> {
-        gearcam_testkit::examples::valid()
+        gearcam_testkit::examples::valid_hobbing()
             .into_iter()
             .map(|(name, text)| {
                 let text = gearcam_testkit::examples::on_machine(&text, "H02");
@@ -430,7 +713,10 @@ mod tests {
         assert!(written.ok, "{}", format_errors(&written.errors));
         assert_eq!(by_part.geometry, written.geometry);
         // The same kinematics; only the explanation's origins differ.
-        let (mut a, mut b) = (by_part.model.unwrap(), written.model.unwrap());
+        let (mut a, mut b) = (
+            by_part.model.unwrap().hobbing().unwrap().clone(),
+            written.model.unwrap().hobbing().unwrap().clone(),
+        );
         let origin = |k: &Kinematics, name: &str| {
             k.explain
                 .iter()
@@ -500,6 +786,94 @@ mod tests {
             (Stage::Knowledge, "GEAR_MISSING", "gear")
         );
         assert!(e.got.contains("XX-9"), "{}", e.got);
+    }
+
+    /// Every spiral example of `examples/` through knowledge, model and
+    /// program: a valid one is covered, replays onto its model and is in
+    /// its machine's form; an invalid one gets the code it names.
+    #[test]
+    fn every_spiral_example_runs_or_fails_with_its_named_error() {
+        let conn = gearcam_knowledge::db::open_in_memory().unwrap();
+        let templates = Templates::builtin();
+        let mut forms = std::collections::BTreeSet::new();
+        let mut kinds = std::collections::BTreeSet::new();
+        let spiral: Vec<_> = gearcam_testkit::examples::all()
+            .into_iter()
+            .filter(|(_, t)| gearcam_testkit::examples::is_spiral(t))
+            .collect();
+        assert!(spiral.len() >= 10, "{} spiral examples", spiral.len());
+        for (name, text) in spiral {
+            let spec = crate::jobfile::parse(&text, &name).unwrap();
+            let (report, model) = check_any(&conn, &templates, &crate::jobfile::request(spec));
+            match gearcam_testkit::examples::expected_code(&text) {
+                Some(code) => assert!(
+                    report.errors.iter().any(|e| e.code == code),
+                    "{name}: expected {code}: {}",
+                    format_errors(&report.errors)
+                ),
+                None => {
+                    assert!(report.ok, "{name}: {}", format_errors(&report.errors));
+                    let model = model.unwrap();
+                    assert!(report.coverage.unwrap().ok, "{name}");
+                    let p = report.program.unwrap();
+                    assert!(p.path_check.ok, "{name}");
+                    forms.insert(p.dialect.clone());
+                    kinds.insert(
+                        match (&model.plan.part, model.spiral.inner_radius_mm > 0.0) {
+                            (SpiralPart::Groove(_), _) => "groove",
+                            (_, true) => "annulus",
+                            (_, false) => "circle",
+                        },
+                    );
+                    // The picture shows the path and, for a face, the region.
+                    let svg = spiral_picture(&model);
+                    assert!(svg.starts_with("<svg") && svg.contains("<path"), "{name}");
+                }
+            }
+        }
+        let all_forms: Vec<&str> = gearcam_proto::SpiralProgram::ALL
+            .iter()
+            .map(|f| f.as_str())
+            .collect();
+        assert_eq!(forms.iter().map(String::as_str).collect::<Vec<_>>(), {
+            let mut v = all_forms.clone();
+            v.sort();
+            v
+        });
+        assert_eq!(
+            kinds.into_iter().collect::<Vec<_>>(),
+            ["annulus", "circle", "groove"]
+        );
+    }
+
+    /// The JSON contract of a spiral job: `model.spiral` with the region,
+    /// the tool and the tool-centre spiral, `coverage`, `program.dialect`.
+    #[test]
+    fn a_spiral_report_has_the_spiral_the_coverage_and_the_form_in_json() {
+        let report = check_example("face_circle_arcs_fanuc.toml");
+        let v = serde_json::to_value(&report).unwrap();
+        let s = &v["model"]["spiral"];
+        for key in [
+            "outer_radius_mm",
+            "inner_radius_mm",
+            "tool_radius_mm",
+            "turns",
+            "step_over_mm",
+            "start_radius_mm",
+            "end_radius_mm",
+            "angle_step_deg",
+            "path_length_mm",
+            "blocks",
+        ] {
+            assert!(s[key].is_number(), "model.spiral.{key}: {s}");
+        }
+        assert_eq!(s["outer_radius_mm"], 90.0);
+        assert_eq!(s["end_radius_mm"], 0.0, "a full circle ends at the centre");
+        for key in ["ok", "max_gap_mm", "max_deviation_mm"] {
+            assert!(!v["coverage"][key].is_null(), "coverage.{key}");
+        }
+        assert_eq!(v["program"]["dialect"], "fanuc-arcs");
+        assert_eq!(v["plan"]["tool"]["id"], "FM-063");
     }
 
     #[test]

@@ -75,6 +75,10 @@ pub enum Command {
         /// Data directory holding the knowledge base (created and seeded if missing).
         #[arg(long, default_value = "gearcam-data")]
         data: PathBuf,
+        /// Where to write the SVG picture of a spiral face milling job
+        /// (default: DATA/pictures/JOBFILE.svg, JOBFILE the job file's name).
+        #[arg(long)]
+        svg: Option<PathBuf>,
     },
     /// Run the planning station service on its own (job journal, re-drives).
     Station {
@@ -136,7 +140,12 @@ pub async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             timeout,
             id,
         } => cmd::submit::submit(&job, &bus.bus_args(), wait, json, timeout, id).await,
-        Command::Check { job, json, data } => Ok(cmd::check::check(&job, json, &data)),
+        Command::Check {
+            job,
+            json,
+            data,
+            svg,
+        } => Ok(cmd::check::check(&job, json, &data, svg.as_deref())),
         Command::Router { bus } => cmd::router::router(&bus).await,
         Command::Kb(args) => Ok(kb::run(args)),
         Command::Confirm(args) => Ok(kb::confirm(args)),

@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use gearcam_agent::store::StoreConfig;
 use gearcam_bus::{Bus, BusConfig, CancellationToken};
-use gearcam_proto::{keys, MachineProfile};
+use gearcam_proto::{keys, Dialect, MachineId};
 use gearcam_template::Templates;
 use tokio::task::JoinSet;
 
@@ -29,20 +29,33 @@ impl DataLayout {
     }
 
     /// A machine's program directory.
-    pub fn program_dir(&self, machine: &MachineProfile) -> PathBuf {
+    pub fn program_dir(&self, machine: &MachineId) -> PathBuf {
         self.root
             .join("machines")
-            .join(machine.id.as_str())
+            .join(machine.as_str())
             .join("programs")
     }
 
     /// A machine's program index.
-    pub fn index_db(&self, machine: &MachineProfile) -> PathBuf {
+    pub fn index_db(&self, machine: &MachineId) -> PathBuf {
         self.root
             .join("machines")
-            .join(machine.id.as_str())
+            .join(machine.as_str())
             .join("index.db")
     }
+}
+
+/// A machine an embedded agent serves.
+#[derive(Debug, Clone)]
+pub struct Served {
+    /// Machine id.
+    pub id: MachineId,
+    /// Human name.
+    pub name: String,
+    /// Controller dialect (the store's naming).
+    pub dialect: Dialect,
+    /// Its program directory.
+    pub dir: PathBuf,
 }
 
 /// Running embedded services.
@@ -50,8 +63,8 @@ impl DataLayout {
 pub struct Embedded {
     /// The shared session.
     pub bus: Bus,
-    /// Machines served, with their program directories.
-    pub machines: Vec<(MachineProfile, PathBuf)>,
+    /// Machines served (hobbing and milling), with their program directories.
+    pub machines: Vec<Served>,
     shutdown: CancellationToken,
     tasks: JoinSet<(&'static str, anyhow::Result<()>)>,
 }
@@ -68,9 +81,15 @@ impl Embedded {
         };
         // Create and seed the knowledge base before the services start, so the
         // agents know which machines exist.
-        let machines = {
+        let machines: Vec<(MachineId, String, Dialect)> = {
             let conn = gearcam_knowledge::db::open(&layout.knowledge_db())?;
-            gearcam_knowledge::db::machines(&conn)?
+            let hobbing = gearcam_knowledge::db::machines(&conn)?
+                .into_iter()
+                .map(|m| (m.id, m.name, m.dialect));
+            let milling = gearcam_knowledge::spiral::mill_machines(&conn)?
+                .into_iter()
+                .map(|m| (m.id, m.name, m.dialect));
+            hobbing.chain(milling).collect()
         };
         let bus = Bus::open(bus_config).await?;
         let shutdown = CancellationToken::new();
@@ -123,16 +142,21 @@ impl Embedded {
             gearcam_model::service::SERVICE.to_string(),
             gearcam_template::service::SERVICE.to_string(),
         ];
-        for m in machines {
+        for (id, name, dialect) in machines {
             let cfg = StoreConfig {
-                machine: m.id.clone(),
-                dialect: m.dialect,
-                program_dir: layout.program_dir(&m),
-                index_path: layout.index_db(&m),
+                machine: id.clone(),
+                dialect,
+                program_dir: layout.program_dir(&id),
+                index_path: layout.index_db(&id),
                 faults: Default::default(),
             };
-            served.push((m.clone(), cfg.program_dir.clone()));
-            services.push(keys::agent_service(&m.id));
+            served.push(Served {
+                id: id.clone(),
+                name,
+                dialect,
+                dir: cfg.program_dir.clone(),
+            });
+            services.push(keys::agent_service(&id));
             let (b, s) = (bus.clone(), shutdown.clone());
             tasks.spawn(async move {
                 (

@@ -3,7 +3,8 @@
 //! tests read the same list (and check it holds every file of `examples/`).
 
 /// The example jobs `gearcam demo` submits, bundled into the binary: one or
-/// more per gear class.
+/// more per gear class, and every spiral face milling variant (circle,
+/// annulus, planar spiral groove; each program form).
 pub const VALID: &[(&str, &str)] = &[
     (
         "examples/spur_840d.toml",
@@ -61,6 +62,30 @@ pub const VALID: &[(&str, &str)] = &[
         "examples/multi_gear_840d.toml",
         include_str!("../../../examples/multi_gear_840d.toml"),
     ),
+    (
+        "examples/face_annulus_fanuc.toml",
+        include_str!("../../../examples/face_annulus_fanuc.toml"),
+    ),
+    (
+        "examples/face_circle_arcs_fanuc.toml",
+        include_str!("../../../examples/face_circle_arcs_fanuc.toml"),
+    ),
+    (
+        "examples/face_chords_fanuc.toml",
+        include_str!("../../../examples/face_chords_fanuc.toml"),
+    ),
+    (
+        "examples/face_circle_linuxcnc.toml",
+        include_str!("../../../examples/face_circle_linuxcnc.toml"),
+    ),
+    (
+        "examples/groove_fanuc.toml",
+        include_str!("../../../examples/groove_fanuc.toml"),
+    ),
+    (
+        "examples/groove_linuxcnc.toml",
+        include_str!("../../../examples/groove_linuxcnc.toml"),
+    ),
 ];
 
 /// Invalid jobs `gearcam demo` submits to show typed refusals; each file names
@@ -89,6 +114,26 @@ pub const INVALID: &[(&str, &str)] = &[
     (
         "examples/invalid_unknown_part.toml",
         include_str!("../../../examples/invalid_unknown_part.toml"),
+    ),
+    (
+        "examples/invalid_face_inner_radius.toml",
+        include_str!("../../../examples/invalid_face_inner_radius.toml"),
+    ),
+    (
+        "examples/invalid_face_step_over.toml",
+        include_str!("../../../examples/invalid_face_step_over.toml"),
+    ),
+    (
+        "examples/invalid_face_tool_too_large.toml",
+        include_str!("../../../examples/invalid_face_tool_too_large.toml"),
+    ),
+    (
+        "examples/invalid_groove_turns.toml",
+        include_str!("../../../examples/invalid_groove_turns.toml"),
+    ),
+    (
+        "examples/invalid_face_on_hobbing_machine.toml",
+        include_str!("../../../examples/invalid_face_on_hobbing_machine.toml"),
     ),
 ];
 

@@ -20,6 +20,10 @@ pub const AUDITED: &[&str] = &[
     "workpieces",
     "cases",
     "cbr_weights",
+    "mill_machines",
+    "mills",
+    "milling_data",
+    "milling_cases",
 ];
 
 /// Creates the audit tables and the triggers of [`AUDITED`] (schema 6).
@@ -47,6 +51,10 @@ pub fn install(conn: &Connection) -> Result<(), KnowledgeError> {
                 Ok((r.get::<_, String>(0)?, r.get::<_, i64>(1)? > 0))
             })?
             .collect::<Result<_, _>>()?;
+        if columns.is_empty() {
+            // Created by a later migration, which installs its triggers.
+            continue;
+        }
         let key = columns
             .iter()
             .find(|(_, pk)| *pk)

@@ -190,6 +190,68 @@ ALTER TABLE jobs_v5 RENAME TO jobs;
     // new) by triggers ([`crate::audit`]); created in Rust from the tables'
     // columns.
     "",
+    // Version 7: the spiral face milling family (issue 14): milling
+    // machines, mills, starting cutting data and cases; audited like the rest.
+    r#"
+CREATE TABLE IF NOT EXISTS mill_machines (
+    id               TEXT PRIMARY KEY,
+    name             TEXT NOT NULL,
+    controller       TEXT NOT NULL,
+    dialect          TEXT NOT NULL CHECK (dialect IN ('fanuc', 'linuxcnc')),
+    programs         TEXT NOT NULL,
+    default_program  TEXT NOT NULL,
+    max_rpm          REAL NOT NULL CHECK (max_rpm > 0),
+    max_feed_mm_min  REAL NOT NULL CHECK (max_feed_mm_min > 0),
+    max_radius_mm    REAL NOT NULL CHECK (max_radius_mm > 0),
+    safe_z_mm        REAL NOT NULL CHECK (safe_z_mm > 0),
+    work_offset      TEXT NOT NULL,
+    source           TEXT NOT NULL
+);
+CREATE TABLE IF NOT EXISTS mills (
+    id                TEXT PRIMARY KEY,
+    kind              TEXT NOT NULL CHECK (kind IN ('face-mill', 'end-mill')),
+    diameter_mm       REAL NOT NULL CHECK (diameter_mm > 0),
+    corner_radius_mm  REAL NOT NULL CHECK (corner_radius_mm >= 0),
+    flutes            INTEGER NOT NULL CHECK (flutes >= 1),
+    material          TEXT NOT NULL,
+    source            TEXT NOT NULL
+);
+CREATE TABLE IF NOT EXISTS milling_data (
+    id                     TEXT PRIMARY KEY,
+    material_group         TEXT NOT NULL,
+    tool_material          TEXT NOT NULL,
+    cutting_speed_m_min    REAL NOT NULL CHECK (cutting_speed_m_min > 0),
+    feed_per_tooth_mm      REAL NOT NULL CHECK (feed_per_tooth_mm > 0),
+    step_over_ratio        REAL NOT NULL CHECK (step_over_ratio > 0 AND step_over_ratio < 1),
+    max_depth_per_pass_mm  REAL NOT NULL CHECK (max_depth_per_pass_mm > 0),
+    confidence             REAL NOT NULL CHECK (confidence BETWEEN 0 AND 1),
+    source                 TEXT NOT NULL
+);
+CREATE TABLE IF NOT EXISTS milling_cases (
+    id                   TEXT PRIMARY KEY,
+    kind                 TEXT NOT NULL CHECK (kind IN ('face', 'groove')),
+    machine              TEXT,
+    material             TEXT NOT NULL,
+    material_group       TEXT NOT NULL,
+    outer_radius_mm      REAL NOT NULL CHECK (outer_radius_mm > 0),
+    inner_radius_mm      REAL NOT NULL CHECK (inner_radius_mm >= 0),
+    tool_id              TEXT,
+    tool_diameter_mm     REAL NOT NULL CHECK (tool_diameter_mm > 0),
+    flutes               INTEGER NOT NULL CHECK (flutes >= 1),
+    step_over_mm         REAL NOT NULL CHECK (step_over_mm > 0),
+    passes               INTEGER NOT NULL CHECK (passes >= 1),
+    depth_mm             REAL NOT NULL CHECK (depth_mm > 0),
+    cutting_speed_m_min  REAL NOT NULL CHECK (cutting_speed_m_min > 0),
+    feed_per_tooth_mm    REAL NOT NULL CHECK (feed_per_tooth_mm > 0),
+    outcome              TEXT NOT NULL,
+    notes                TEXT NOT NULL,
+    confidence           REAL NOT NULL CHECK (confidence BETWEEN 0 AND 1),
+    provenance           TEXT NOT NULL,
+    job_id               TEXT,
+    created_at_ms        INTEGER NOT NULL
+);
+CREATE INDEX IF NOT EXISTS milling_cases_by_group ON milling_cases (kind, material_group);
+"#,
 ];
 
 /// Opens (creating and seeding if new) the knowledge base at `path`.
@@ -233,6 +295,10 @@ fn migrate(conn: &mut Connection) -> Result<(), KnowledgeError> {
             2 => crate::seed::seed_v3(&tx)?,
             3 => crate::seed::seed_v4(&tx)?,
             5 => crate::audit::install(&tx)?,
+            6 => {
+                crate::audit::install(&tx)?;
+                crate::spiral::seed_v7(&tx)?;
+            }
             _ => {}
         }
         tx.pragma_update(None, "user_version", (i + 1) as i64)?;
@@ -327,7 +393,7 @@ mod tests {
         conn.pragma_update(None, "user_version", 2).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
-        assert_eq!(schema_version(&conn).unwrap(), 6);
+        assert_eq!(schema_version(&conn).unwrap(), 7);
         let id = MachineId::new("H02").unwrap();
         assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h02()));
         // The version-2 seed record of HG-3003-L gains its profile shift.
@@ -380,7 +446,7 @@ mod tests {
         conn.pragma_update(None, "user_version", 3).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
-        assert_eq!(schema_version(&conn).unwrap(), 6);
+        assert_eq!(schema_version(&conn).unwrap(), 7);
         assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h01()));
         let sp = library::get(&conn, &library::WORKPIECES, "SP-1001")
             .unwrap()

@@ -35,6 +35,7 @@ pub mod plan;
 pub mod records;
 pub mod seed;
 pub mod service;
+pub mod spiral;
 
 use thiserror::Error;
 

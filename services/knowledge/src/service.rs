@@ -15,14 +15,14 @@ use gearcam_bus::stage::{run_stage, Handled, Output};
 use gearcam_bus::{Bus, BusError, CancellationToken};
 use gearcam_proto::plan::{KbOp, KbRecord, KbReply, KbRequest, KbValue};
 use gearcam_proto::{
-    decode, encode, keys, now_ms, EventKind, JobError, JobEvent, JobRequest, Message, Stage,
+    decode, encode, keys, now_ms, EventKind, Family, JobError, JobEvent, JobRequest, Message, Stage,
 };
 use rusqlite::Connection;
 use serde_json::Value;
 
 use crate::cbr::CaseBase;
 use crate::library::{self, Record};
-use crate::{db, history, learn, plan, KnowledgeError};
+use crate::{db, history, learn, plan, spiral, KnowledgeError};
 
 /// Configuration of the knowledge service.
 #[derive(Debug, Clone)]
@@ -208,11 +208,29 @@ pub async fn run(
             if let Err(e) = cases.refresh(&conn) {
                 tracing::warn!(error = %e, "cannot reload the case base; planning with the one in memory");
             }
-            let plan = plan::plan_with(&conn, &cases.base, &req)?;
-            if let Err(e) = learn::record_planned(&conn, &plan, now_ms()) {
-                tracing::warn!(job = %plan.job_id, error = %e, "cannot record the planned job");
-            }
-            let payload = encode(&plan).map_err(|e| {
+            // Each family plans its own way; both plans go out on the job's
+            // plan key under their own envelope kind.
+            let (tool, confidence, payload) = match req.spec.job.family {
+                Family::Hobbing => {
+                    let errors = spiral::family_errors(&req);
+                    if !errors.is_empty() {
+                        return Err(errors);
+                    }
+                    let plan = plan::plan_with(&conn, &cases.base, &req)?;
+                    if let Err(e) = learn::record_planned(&conn, &plan, now_ms()) {
+                        tracing::warn!(job = %plan.job_id, error = %e, "cannot record the planned job");
+                    }
+                    (plan.hob.id.clone(), plan.confidence, encode(&plan))
+                }
+                Family::SpiralFace => {
+                    let plan = spiral::plan_spiral(&conn, &req)?;
+                    if let Err(e) = spiral::record_planned(&conn, &plan, now_ms()) {
+                        tracing::warn!(job = %plan.job_id, error = %e, "cannot record the planned job");
+                    }
+                    (plan.tool.id.clone(), plan.confidence, encode(&plan))
+                }
+            };
+            let payload = payload.map_err(|e| {
                 vec![gearcam_bus::stage::codec_error::<JobRequest>(
                     Stage::Knowledge,
                     &e,
@@ -220,11 +238,11 @@ pub async fn run(
             })?;
             Ok(Handled {
                 events: vec![EventKind::Planned {
-                    hob_id: plan.hob.id.clone(),
-                    confidence: plan.confidence,
+                    hob_id: tool,
+                    confidence,
                 }],
                 outputs: vec![Output {
-                    key: keys::job_plan(&plan.job_id),
+                    key: keys::job_plan(&req.job_id),
                     payload,
                 }],
             })

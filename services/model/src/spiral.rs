@@ -76,13 +76,14 @@ fn spiral_of(plan: &SpiralPlan) -> Result<(Spiral, Option<GrooveFigures>), Vec<J
                     "the groove is cut in one pass of the tool's full width: choose a tool whose diameter is the groove's width",
                 )]);
             }
-            let planned = gearcam_spiral::groove::plan_groove(&gearcam_spiral::groove::GrooveSpec {
-                outer_radius_mm: g.outer_radius_mm,
-                pitch_mm: g.pitch_mm,
-                turns: g.turns,
-                tool_radius_mm: rt,
-                start_angle_deg: p.start_angle_deg.value,
-            })?;
+            let planned =
+                gearcam_spiral::groove::plan_groove(&gearcam_spiral::groove::GrooveSpec {
+                    outer_radius_mm: g.outer_radius_mm,
+                    pitch_mm: g.pitch_mm,
+                    turns: g.turns,
+                    tool_radius_mm: rt,
+                    start_angle_deg: p.start_angle_deg.value,
+                })?;
             let mut s = planned.spiral;
             if p.direction == SpiralDirection::InsideOut {
                 std::mem::swap(&mut s.start_radius_mm, &mut s.end_radius_mm);
@@ -99,6 +100,23 @@ fn spiral_of(plan: &SpiralPlan) -> Result<(Spiral, Option<GrooveFigures>), Vec<J
     };
     spiral.sense = sense(p.direction, p.cut_mode);
     Ok((spiral, groove))
+}
+
+/// Sagitta of the polyline an arc path is checked as, mm.
+const SAG_MM: f64 = 1e-4;
+
+/// The arcs as a polyline whose chords stray at most [`SAG_MM`] from them.
+fn arc_polyline(arcs: &[arcs::Arc]) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    if let Some(first) = arcs.first() {
+        out.push(first.start);
+    }
+    for a in arcs {
+        let step = 2.0 * (1.0 - SAG_MM / a.radius).clamp(-1.0, 1.0).acos();
+        let n = (a.sweep() / step).ceil().max(1.0) as usize;
+        out.extend((1..=n).map(|i| a.point(i as f64 / n as f64)));
+    }
+    out
 }
 
 /// The measured pitch error of a groove's chord path, mm: along 72 rays the
@@ -196,6 +214,21 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
     if !errors.is_empty() {
         return Err(errors);
     }
+    // Neighbouring turns must overlap by more than the path strays from the
+    // spiral (chords and arcs up to the tolerance, on either side for arcs):
+    // the analytic condition the coverage check then confirms by sampling.
+    if groove.is_none() && spiral.step_over_mm() > 2.0 * rt - 2.0 * tol {
+        errors.push(Stage::Model.error(
+            "SPIRAL_RANGE",
+            "milling.step_over_mm",
+            format!(
+                "at most {:.4} mm: the tool's diameter less twice the tolerance {tol} mm",
+                2.0 * rt - 2.0 * tol
+            ),
+            format!("{:.4}", spiral.step_over_mm()),
+            "the path strays up to the tolerance from the spiral, so turns a tool's diameter apart would leave a ring",
+        ));
+    }
     let reach = spiral.start_radius_mm.max(spiral.end_radius_mm);
     if reach > m.max_radius_mm {
         errors.push(machine_error(
@@ -255,15 +288,19 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
     let mut warnings = Vec::new();
     let coverage = match (&plan.part, &groove) {
         (SpiralPart::Face(f), _) => {
-            // The program's path strays up to the deviation from the
-            // spiral: the tool covers at least rt − deviation around it.
+            // The path the program cuts: its chords, or its arcs as a
+            // polyline within SAG_MM (the disc is shrunk by that much).
+            let (path, shrink) = match p.program {
+                SpiralProgram::FanucArcs => (arc_polyline(&fitted), SAG_MM),
+                _ => (points.clone(), 0.0),
+            };
             let c = gearcam_spiral::coverage(
                 &Region {
                     outer_radius_mm: f.outer_radius_mm,
                     inner_radius_mm: f.inner_radius_mm,
                 },
-                rt - max_deviation_mm,
-                &points,
+                rt - shrink,
+                &path,
                 (rt / 4.0).min(0.5),
             );
             CoverageCheck {
@@ -303,13 +340,17 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
             "the coverage check found material the path leaves uncut; lower the step-over or the inner overtravel",
         )]);
     }
-    if rt - max_deviation_mm < spiral.step_over_mm() {
+    // Coverage holds; but with turns nearly a tool's diameter apart a tool
+    // a little smaller than its nominal size leaves a ring.
+    if groove.is_none() && spiral.step_over_mm() > 0.9 * 2.0 * rt {
         warnings.push(Warning {
             code: "STEP_OVER_LARGE".into(),
             field: "milling.step_over_mm".into(),
             message: format!(
-                "the step-over {:.3} mm is more than the tool's radius {rt} mm: neighbouring turns overlap little",
-                spiral.step_over_mm()
+                "the step-over {:.3} mm is over 90 % of the tool's diameter {} mm: neighbouring turns overlap by {:.3} mm only",
+                spiral.step_over_mm(),
+                2.0 * rt,
+                2.0 * rt - spiral.step_over_mm()
             ),
         });
     }
@@ -371,5 +412,150 @@ pub fn spiral_of_model(model: &SpiralModel) -> Spiral {
         start_angle_deg: model.spiral.start_angle_deg,
         turns: model.spiral.turns,
         sense: model.spiral.sense,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gearcam_proto::{JobId, JobRequest, JobSpec};
+    use serde_json::{json, Value};
+
+    fn plan(v: Value) -> SpiralPlan {
+        let spec: JobSpec = serde_json::from_value(v).unwrap();
+        let req = JobRequest {
+            job_id: JobId::new("J-M1").unwrap(),
+            submitted_at_ms: 0,
+            submitted_by: "test".into(),
+            spec,
+        };
+        let conn = gearcam_knowledge::db::open_in_memory().unwrap();
+        gearcam_knowledge::spiral::plan_spiral(&conn, &req).unwrap()
+    }
+
+    fn face(milling: Value) -> SpiralPlan {
+        plan(json!({
+            "job": {"family": "spiral-face", "machine": "M01", "part_number": "FL-1"},
+            "face": {"outer_radius_mm": 60.0, "inner_radius_mm": 10.0, "depth_mm": 1.0,
+                     "material": "C45"},
+            "mill": {"id": "EM-16"},
+            "milling": milling,
+        }))
+    }
+
+    /// Climb milling with a clockwise spindle keeps the uncut material on
+    /// the right of the feed, for both directions; conventional on the
+    /// left. Checked on the model's own path: the side of the face's
+    /// centre (outside-in: the uncut side) or of the outside (inside-out).
+    #[test]
+    fn climb_keeps_the_uncut_material_on_the_right_of_the_feed() {
+        for direction in ["outside-in", "inside-out"] {
+            for mode in ["climb", "conventional"] {
+                let model =
+                    compute_spiral(&face(json!({"direction": direction, "cut_mode": mode})))
+                        .unwrap();
+                let spiral = spiral_of_model(&model);
+                let (_, pts) = spiral.chords(0.005);
+                let k = pts.len() / 2;
+                let (p, q) = (pts[k], pts[k + 1]);
+                let feed = (q.0 - p.0, q.1 - p.1);
+                // Towards the uncut material.
+                let uncut = if direction == "outside-in" {
+                    (-p.0, -p.1)
+                } else {
+                    (p.0, p.1)
+                };
+                let cross = feed.0 * uncut.1 - feed.1 * uncut.0;
+                let on_right = cross < 0.0;
+                assert_eq!(on_right, mode == "climb", "{direction} {mode}");
+            }
+        }
+    }
+
+    /// The analytic guard: turns closer to a tool's diameter apart than
+    /// twice the tolerance are refused before the coverage check.
+    #[test]
+    fn a_step_over_within_twice_the_tolerance_of_the_diameter_is_refused() {
+        // Numbers exact in binary, so the turns come out whole: 45 mm of face
+        // plus 2 + 0.9765625 mm of overtravel is 3 steps of 15.9921875 mm
+        // (16 less 1/128), over the 15.99 mm a 5 um tolerance allows.
+        let tight = |tol: f64| {
+            plan(json!({
+                "job": {"family": "spiral-face", "machine": "M01", "part_number": "FL-1"},
+                "face": {"outer_radius_mm": 60.0, "inner_radius_mm": 15.0, "depth_mm": 1.0,
+                         "material": "C45"},
+                "mill": {"id": "EM-16"},
+                "milling": {"step_over_mm": 15.9921875, "tolerance_mm": tol,
+                            "outer_overtravel_mm": 2.0, "inner_overtravel_mm": 0.9765625},
+            }))
+        };
+        let ok = compute_spiral(&tight(0.001)).unwrap();
+        assert_eq!((ok.spiral.turns, ok.spiral.step_over_mm), (4, 15.9921875));
+        assert!(ok.coverage.ok, "{:?}", ok.coverage);
+        let e = compute_spiral(&tight(0.005)).unwrap_err();
+        assert_eq!(
+            (e[0].code.as_str(), e[0].field.as_str()),
+            ("SPIRAL_RANGE", "milling.step_over_mm")
+        );
+        assert!(e[0].expected.contains("15.99"), "{}", e[0].expected);
+    }
+
+    /// The groove's pitch is measured on the path's points: a path of
+    /// 16 mm pitch checked against 15 mm is off by 1 mm.
+    #[test]
+    fn the_pitch_check_measures_the_path() {
+        let spiral = Spiral {
+            start_radius_mm: 60.0,
+            end_radius_mm: 12.0,
+            start_angle_deg: 10.0,
+            turns: 3,
+            sense: -1,
+        };
+        let (_, pts) = spiral.chords(0.005);
+        assert!(
+            pitch_error(&pts, 16.0) < 0.01,
+            "{}",
+            pitch_error(&pts, 16.0)
+        );
+        assert!((pitch_error(&pts, 15.0) - 1.0).abs() < 0.01);
+    }
+
+    /// Every form's model is covered, with the deviation of its own path.
+    #[test]
+    fn faces_are_covered_in_every_form_and_the_machine_limits_hold() {
+        for form in ["fanuc-macro", "fanuc-arcs", "fanuc-chords"] {
+            let m = compute_spiral(&face(json!({"program": form, "tolerance_mm": 0.002}))).unwrap();
+            assert!(
+                m.coverage.ok && m.coverage.max_gap_mm == 0.0,
+                "{form}: {:?}",
+                m.coverage
+            );
+            assert!(
+                m.coverage.max_deviation_mm <= 0.002 * 1.01,
+                "{form}: {:?}",
+                m.coverage
+            );
+            let expected = if form == "fanuc-arcs" {
+                m.spiral.arcs
+            } else {
+                m.spiral.chords
+            };
+            assert_eq!(m.spiral.blocks, expected, "{form}");
+            assert!(
+                m.spiral.arcs * 10 < m.spiral.chords,
+                "{form}: {:?}",
+                m.spiral
+            );
+        }
+        let e = compute_spiral(&face(json!({"program": "linuxcnc"}))).unwrap_err();
+        assert_eq!(
+            (e[0].code.as_str(), e[0].field.as_str()),
+            ("PROGRAM_FORM", "milling.program")
+        );
+        let e = compute_spiral(&face(json!({"cutting_speed_m_min": 600.0}))).unwrap_err();
+        assert_eq!(
+            (e[0].code.as_str(), e[0].field.as_str()),
+            ("MACHINE_RANGE", "milling.cutting_speed_m_min")
+        );
     }
 }

@@ -4,8 +4,14 @@
 //! `# expect: CODE`) is refused with that named error.
 
 use gearcam_proto::{classify, GearClass, MachiningModel, MoveKind};
-use gearcam_testkit::examples::{all as examples, expected_code};
+use gearcam_testkit::examples::{all, expected_code, is_spiral};
 use gearcam_testkit::pipeline::{model_of, program_of};
+
+/// The hobbing examples (the spiral family's run through `gearcam check`'s
+/// tests, `services/gearcam/src/check.rs`).
+fn examples() -> Vec<(String, String)> {
+    all().into_iter().filter(|(_, t)| !is_spiral(t)).collect()
+}
 
 /// Plan, model and program of one job file, or the errors of the first
 /// stage that refuses it.

@@ -437,44 +437,46 @@ async fn known_machine(
         attempts: 1,
         pause: Duration::ZERO,
     };
-    let key = keys::kb_library(MACHINES);
-    match bus.call::<KbRequest, KbReply>(&key, None, retry).await {
-        Ok(reply) if reply.errors.is_empty() => {
-            let ids: Vec<String> = reply
-                .records
-                .iter()
-                .filter_map(|r| match r.get("id") {
+    // Hobbing machines and milling machines: every family's library.
+    let mut ids: Vec<String> = Vec::new();
+    for library in [MACHINES, MILL_MACHINES] {
+        let key = keys::kb_library(library);
+        match bus.call::<KbRequest, KbReply>(&key, None, retry).await {
+            Ok(reply) if reply.errors.is_empty() => {
+                ids.extend(reply.records.iter().filter_map(|r| match r.get("id") {
                     Some(KbValue::Text(id)) => Some(id.clone()),
                     _ => None,
-                })
-                .collect();
-            known.extend(ids.iter().filter_map(|id| MachineId::new(id.as_str()).ok()));
-            if known.contains(machine) {
-                Ok(())
-            } else {
-                Err(JobError::new(
-                    Stage::Station,
-                    "UNKNOWN_MACHINE",
-                    "spec.job.machine",
-                    format!("one of the knowledge base's machines: {}", ids.join(", ")),
-                    machine.as_str(),
-                    "the knowledge base has no such machine (gearcam kb list machines lists them); the job was not journaled",
-                ))
+                }))
+            }
+            Ok(reply) => {
+                tracing::warn!(library, errors = ?reply.errors, "the knowledge base refused the machine list");
+                return Ok(());
+            }
+            Err(e) => {
+                tracing::warn!(library, error = %e, "the knowledge base did not answer; the machine is checked when the job is planned");
+                return Ok(());
             }
         }
-        Ok(reply) => {
-            tracing::warn!(errors = ?reply.errors, "the knowledge base refused the machine list");
-            Ok(())
-        }
-        Err(e) => {
-            tracing::warn!(error = %e, "the knowledge base did not answer; the machine is checked when the job is planned");
-            Ok(())
-        }
+    }
+    known.extend(ids.iter().filter_map(|id| MachineId::new(id.as_str()).ok()));
+    if known.contains(machine) {
+        Ok(())
+    } else {
+        Err(JobError::new(
+            Stage::Station,
+            "UNKNOWN_MACHINE",
+            "spec.job.machine",
+            format!("one of the knowledge base's machines: {}", ids.join(", ")),
+            machine.as_str(),
+            "the knowledge base has no such machine (gearcam kb list machines and gearcam kb list mill-machines list them); the job was not journaled",
+        ))
     }
 }
 
 /// The knowledge base's library of machines.
 const MACHINES: &str = "machines";
+/// The knowledge base's library of milling machines.
+const MILL_MACHINES: &str = "mill-machines";
 
 /// The reply to a view query (`jobs` or `jobs/{job}`), computed from the journal.
 fn view_reply(journal: &Journal, key: &str) -> StationReply {

@@ -41,6 +41,7 @@ pub mod render;
 pub mod service;
 pub mod similarity;
 pub mod source;
+pub mod spiral;
 pub mod stdcode;
 
 pub use error::TemplateError;

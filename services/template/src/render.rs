@@ -262,6 +262,7 @@ impl Templates {
             model_version: model.model_version.clone(),
             generator: GENERATOR.to_string(),
             path_check,
+            form: None,
         })
     }
 
@@ -487,7 +488,7 @@ mod tests {
         gear.material = "20CrMnTi".into();
         let spec = JobSpec {
             job: JobHeader {
-                    family: Default::default(),
+                family: Default::default(),
                 id: Some(job_id.clone()),
                 machine: machine.id.clone(),
                 quantity: 10,

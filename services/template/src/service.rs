@@ -13,7 +13,7 @@ use std::time::Duration;
 use gearcam_bus::query::{CallError, Retry};
 use gearcam_bus::stage::{run_stage, Handled};
 use gearcam_bus::{Bus, BusError, CancellationToken};
-use gearcam_proto::{keys, DeliveryReply, EventKind, JobError, MachiningModel, NcProgram, Stage};
+use gearcam_proto::{keys, AnyModel, DeliveryReply, EventKind, JobError, NcProgram, Stage};
 use tokio::sync::mpsc;
 
 use crate::Templates;
@@ -42,22 +42,25 @@ pub async fn run(
             tokio::spawn(deliver(delivery_bus.clone(), program));
         }
     });
-    let result = run_stage::<MachiningModel, _>(
+    let result = run_stage::<AnyModel, _>(
         &bus,
         keys::ALL_JOB_MODELS,
         SERVICE,
         Stage::Template,
         shutdown,
         |key, model| {
-            if keys::job_of(key).as_ref() != Some(&model.job_id) {
+            if keys::job_of(key).as_ref() != Some(model.job_id()) {
                 return Err(vec![JobError::job_id_mismatch(
                     Stage::Template,
                     key,
-                    &model.job_id,
+                    model.job_id(),
                     "model",
                 )]);
             }
-            let program = templates.render(&model)?;
+            let program = match &model {
+                AnyModel::Hobbing(model) => templates.render(model)?,
+                AnyModel::Spiral(model) => crate::spiral::render(model)?,
+            };
             let event = EventKind::Programmed {
                 name: program.name.clone(),
                 sha256: program.sha256.clone(),

@@ -20,7 +20,7 @@ const MM: f64 = 0.0005 + 1e-6;
 /// Print rounding of gearbox factors (6 decimals).
 const FACTOR: f64 = 0.000_000_5 + 1e-9;
 
-use gearcam_testkit::examples::{example, on_machine, valid as valid_examples};
+use gearcam_testkit::examples::{example, on_machine, valid_hobbing as valid_examples};
 
 /// The model of a job file, planned for `machine` (H01: 840D, H02: FANUC).
 fn model(name: &str, text: &str, machine: &str) -> MachiningModel {

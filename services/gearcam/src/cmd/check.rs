@@ -18,14 +18,43 @@ pub fn template_library(data: &Path) -> anyhow::Result<Templates> {
     )?)
 }
 
-pub fn check(job: &Path, json: bool, data: &Path) -> ExitCode {
+/// Where the picture of a spiral job goes by default: `DATA/pictures/STEM.svg`, STEM the job file's name without `.toml`.
+fn default_picture(job: &Path, data: &Path) -> std::path::PathBuf {
+    let stem = job
+        .file_stem()
+        .map_or("job".into(), |s| s.to_string_lossy().into_owned());
+    data.join("pictures").join(format!("{stem}.svg"))
+}
+
+/// Writes the picture of a spiral model; the path written, or an error line.
+fn write_picture(model: &gearcam_proto::SpiralModel, path: &Path) -> Result<String, String> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    std::fs::write(path, check::spiral_picture(model))
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(path.display().to_string())
+}
+
+pub fn check(job: &Path, json: bool, data: &Path, svg: Option<&Path>) -> ExitCode {
     let report = match jobfile::load(job) {
         Err(e) => CheckReport::failed(vec![e]),
         Ok(spec) => {
             let req = jobfile::request(spec);
             match gearcam_knowledge::db::open(&data.join("knowledge.db")) {
                 Ok(conn) => match template_library(data) {
-                    Ok(templates) => check::check(&conn, &templates, &req),
+                    Ok(templates) => {
+                        let (mut report, model) = check::check_any(&conn, &templates, &req);
+                        if let Some(model) = model {
+                            let path =
+                                svg.map_or_else(|| default_picture(job, data), Path::to_path_buf);
+                            match write_picture(&model, &path) {
+                                Ok(p) => report.picture = Some(p),
+                                Err(e) => eprintln!("gearcam: cannot write the picture {e}"),
+                            }
+                        }
+                        report
+                    }
                     Err(e) => check::CheckReport::failed(vec![gearcam_proto::JobError {
                         stage: gearcam_proto::Stage::Template,
                         code: "TEMPLATE_LIBRARY_UNREADABLE".into(),

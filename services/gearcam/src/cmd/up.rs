@@ -21,12 +21,13 @@ pub async fn up(data: &Path, bus: &BusArgs) -> anyhow::Result<ExitCode> {
         config.listen.join(", ")
     );
     crate::outln!("  knowledge base {}", data.join("knowledge.db").display());
-    for (m, dir) in &services.machines {
+    for m in &services.machines {
         crate::outln!(
-            "  agent {} ({}) stores programs in {}",
+            "  agent {} ({}, {}) stores programs in {}",
             m.id,
+            m.name,
             m.dialect.as_str(),
-            dir.display()
+            m.dir.display()
         );
     }
     crate::outln!("submit with: gearcam submit examples/spur_840d.toml --wait   (Ctrl-C stops)");

@@ -5,7 +5,13 @@ use gearcam_proto::Stage;
 
 use super::fields::{Check, Def, Field, Kind, Library, Need};
 
-const fn f(name: &'static str, kind: Kind, need: Need, check: Check, doc: &'static str) -> Field {
+pub(super) const fn f(
+    name: &'static str,
+    kind: Kind,
+    need: Need,
+    check: Check,
+    doc: &'static str,
+) -> Field {
     Field {
         name,
         kind,
@@ -28,9 +34,20 @@ const CLASSES: &[&str] = &[
     "curved_tooth",
     "multi_gear",
 ];
+/// A planned job's class: a hobbing class, or the spiral family's part kind.
+const JOB_CLASSES: &[&str] = &[
+    "cylindrical",
+    "conical",
+    "worm_wheel",
+    "crowned",
+    "curved_tooth",
+    "multi_gear",
+    "spiral-face",
+    "spiral-groove",
+];
 const ACCURACY: &[&str] = &["AA", "A", "B", "C"];
 const OPERATIONS: &[&str] = &["rough", "finish"];
-const OUTCOMES: &[&str] = &["ok", "rework", "scrap", "unknown"];
+pub(super) const OUTCOMES: &[&str] = &["ok", "rework", "scrap", "unknown"];
 const CUT_MODES: &[&str] = &["conventional", "climb"];
 const JOB_STATES: &[&str] = &["planned", "delivered", "confirmed", "refused"];
 
@@ -551,7 +568,13 @@ pub const JOBS: Library = Library {
         f("job_id", Text, Required, Id, "job id"),
         f("part_number", Text, Required, Any, "part number"),
         f("machine", Text, Required, Id, "machine"),
-        f("class", Text, Required, OneOf(CLASSES), "class"),
+        f(
+            "class",
+            Text,
+            Required,
+            OneOf(JOB_CLASSES),
+            "class (spiral-face, spiral-groove for the spiral family)",
+        ),
         f(
             "quantity",
             Int,
@@ -559,7 +582,13 @@ pub const JOBS: Library = Library {
             Range(0.0, 1e9),
             "parts ordered",
         ),
-        f("hob_id", Text, Required, Any, "hob used"),
+        f(
+            "hob_id",
+            Text,
+            Required,
+            Any,
+            "hob used (the mill, for the spiral family)",
+        ),
         f(
             "state",
             Text,
@@ -689,6 +718,10 @@ pub const LIBRARIES: &[Library] = &[
     JOBS,
     MATERIALS,
     WEIGHTS,
+    super::milling::MILL_MACHINES,
+    super::milling::MILLS,
+    super::milling::MILLING_DATA,
+    super::milling::MILLING_CASES,
 ];
 
 /// A library by name.

@@ -21,7 +21,8 @@
 //! - `fields`: the machinery: [`Record`], [`Field`] and its [`Kind`],
 //!   [`Check`], [`Need`] and [`Def`], [`Library`], text values
 //!   ([`parse_value`], [`cell`]).
-//! - `defs`: the library definitions ([`LIBRARIES`]) and [`library`] by name.
+//! - `defs`: the library definitions ([`LIBRARIES`]) and [`library`] by name;
+//!   `milling`: those of the spiral face milling family.
 //! - `validate`: [`validate`], field by field and across fields, and whole
 //!   machine profiles.
 //! - `store`: the SQL reads and writes ([`list`], [`get`], [`keys`], [`add`],
@@ -29,6 +30,7 @@
 
 mod defs;
 mod fields;
+mod milling;
 mod store;
 mod validate;
 
@@ -36,5 +38,6 @@ pub use defs::{
     library, CASES, CLASSES_LIB, HOBS, JOBS, LIBRARIES, MACHINES, MATERIALS, WEIGHTS, WORKPIECES,
 };
 pub use fields::{cell, parse_value, Check, Def, Field, Kind, Library, Need, Outcome, Record};
+pub use milling::{MILLING_CASES, MILLING_DATA, MILLS, MILL_MACHINES};
 pub use store::{add, edit, get, keys, list, remove};
 pub use validate::validate;

@@ -1,0 +1,917 @@
+//! The spiral face milling family in the knowledge base (docs/spiral.md):
+//! its seed (milling machines, mills, starting cutting data, starting
+//! cases), the plan of a spiral job (machine, tool, process values from the
+//! job, the most similar cases or the cutting data, each with its
+//! provenance), and the learning loop's record of a planned spiral job.
+
+use gearcam_proto::{
+    CaseRef, CutMode, Dialect, Family, HobSpec, JobError, JobRequest, MachineId, MillData,
+    MillKind, MillProfile, MillingProcess, ProcessOverrides, Source, Sourced, SpiralDirection,
+    SpiralPart, SpiralPlan, SpiralProgram, Stage,
+};
+use rusqlite::{Connection, Transaction};
+use serde_json::{json, Value};
+
+use crate::library::{self, Record};
+use crate::records;
+use crate::KnowledgeError;
+
+/// Provenance of the seeded milling machines.
+pub const MACHINES_SEED: &str = "gearcam seed: example machine (engineering estimate of a typical \
+machine of its kind; enter your machine's travels and limits with gearcam kb edit mill-machines)";
+
+/// Provenance of the seeded tools.
+pub const TOOLS_SEED: &str = "gearcam seed: example tool library (catalogue-typical geometry; \
+enter your own tools with gearcam kb add mills)";
+
+/// Provenance of the starting cutting data.
+pub const DATA_SEED: &str = "gearcam seed: engineering estimate of starting values for coated \
+carbide face milling (tool makers' catalogues give vc 150-250 m/min and fz 0.1-0.2 mm for \
+steels and grey cast iron); not shop history; replace by importing your cases";
+
+/// Provenance of the starting cases.
+pub const CASES_SEED: &str = "gearcam seed: engineering estimate (not shop history), \
+to show retrieval; replace by importing your cases (gearcam kb import milling-cases FILE.csv)";
+
+/// The similarity a case needs for its values to be proposed.
+pub const MIN_SIMILARITY: f64 = 0.6;
+
+/// Default outer overtravel beyond Ro + tool radius, mm: the tool starts
+/// wholly clear of the part and enters it gradually.
+pub const DEFAULT_OUTER_OVERTRAVEL_MM: f64 = 2.0;
+/// Default inner overtravel past the inner edge, mm.
+pub const DEFAULT_INNER_OVERTRAVEL_MM: f64 = 0.5;
+/// Default chord/arc tolerance, mm (seed 001's 5 µm).
+pub const DEFAULT_TOLERANCE_MM: f64 = 0.005;
+
+/// Adds a seed record unless one with its key is there (a shop's own
+/// record of the same id is kept; a migration run again adds nothing twice).
+fn add(tx: &Transaction<'_>, lib: &library::Library, v: Value) -> Result<(), KnowledgeError> {
+    let Value::Object(rec) = v else {
+        unreachable!("seed records are objects")
+    };
+    let key = rec.get(lib.key).and_then(Value::as_str).unwrap_or_default();
+    if library::get(tx, lib, key)?.is_some() {
+        return Ok(());
+    }
+    library::add(tx, lib, &rec).map(|_| ()).map_err(|errors| {
+        KnowledgeError::Seed(format!(
+            "{} seed record invalid: {}",
+            lib.name,
+            errors
+                .iter()
+                .map(|e| e.to_string())
+                .collect::<Vec<_>>()
+                .join("; ")
+        ))
+    })
+}
+
+/// Seeds the tables of migration 7.
+pub fn seed_v7(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
+    crate::audit::acting_as(tx, "seed")?;
+    add(
+        tx,
+        &library::MILL_MACHINES,
+        json!({"id": "M01", "name": "Vertical machining centre, FANUC 0i-MF",
+               "controller": "FANUC 0i-MF", "dialect": "fanuc",
+               "programs": "fanuc-macro fanuc-arcs fanuc-chords", "default_program": "fanuc-macro",
+               "max_rpm": 8000.0, "max_feed_mm_min": 10000.0, "max_radius_mm": 250.0,
+               "safe_z_mm": 5.0, "work_offset": "G54", "source": MACHINES_SEED}),
+    )?;
+    add(
+        tx,
+        &library::MILL_MACHINES,
+        json!({"id": "M02", "name": "Knee mill retrofit, LinuxCNC 2.9",
+               "controller": "LinuxCNC 2.9", "dialect": "linuxcnc",
+               "programs": "linuxcnc", "default_program": "linuxcnc",
+               "max_rpm": 4000.0, "max_feed_mm_min": 3000.0, "max_radius_mm": 150.0,
+               "safe_z_mm": 5.0, "work_offset": "G54", "source": MACHINES_SEED}),
+    )?;
+    for (id, kind, d, corner, flutes) in [
+        ("FM-125", "face-mill", 125.0, 0.8, 8),
+        ("FM-063", "face-mill", 63.0, 0.8, 5),
+        ("EM-16", "end-mill", 16.0, 0.5, 4),
+        ("EM-10", "end-mill", 10.0, 0.0, 4),
+        ("EM-06", "end-mill", 6.0, 0.0, 3),
+    ] {
+        add(
+            tx,
+            &library::MILLS,
+            json!({"id": id, "kind": kind, "diameter_mm": d, "corner_radius_mm": corner,
+                   "flutes": flutes, "material": "carbide", "source": TOOLS_SEED}),
+        )?;
+    }
+    for (name, group) in [("AlMg3", "aluminium"), ("6061-T6", "aluminium")] {
+        tx.execute(
+            "INSERT OR IGNORE INTO materials (name, material_group, source) VALUES (?1, ?2, ?3)",
+            rusqlite::params![name, group, "gearcam seed (issue 14)"],
+        )?;
+    }
+    for (id, group, vc, fz, ratio, depth, conf) in [
+        (
+            "MD-QT-STEEL",
+            "quenched_tempered_steel",
+            180.0,
+            0.12,
+            0.6,
+            2.0,
+            0.5,
+        ),
+        (
+            "MD-CH-STEEL",
+            "case_hardening_steel",
+            200.0,
+            0.12,
+            0.6,
+            2.0,
+            0.5,
+        ),
+        ("MD-CAST-IRON", "cast_iron", 200.0, 0.15, 0.6, 3.0, 0.5),
+        ("MD-NONFERROUS", "nonferrous", 250.0, 0.10, 0.6, 2.0, 0.4),
+        ("MD-ALUMINIUM", "aluminium", 500.0, 0.10, 0.6, 3.0, 0.4),
+    ] {
+        add(
+            tx,
+            &library::MILLING_DATA,
+            json!({"id": id, "material_group": group, "tool_material": "carbide",
+                   "cutting_speed_m_min": vc, "feed_per_tooth_mm": fz, "step_over_ratio": ratio,
+                   "max_depth_per_pass_mm": depth, "confidence": conf, "source": DATA_SEED}),
+        )?;
+    }
+    for (id, kind, material, group, ro, ri, tool, d, z, step, passes, depth, vc, fz) in [
+        (
+            "MC-FACE-C45-100",
+            "face",
+            "C45",
+            "quenched_tempered_steel",
+            100.0,
+            20.0,
+            "FM-063",
+            63.0,
+            5,
+            38.0,
+            1,
+            1.0,
+            170.0,
+            0.11,
+        ),
+        (
+            "MC-FACE-HT250-150",
+            "face",
+            "HT250",
+            "cast_iron",
+            150.0,
+            0.0,
+            "FM-125",
+            125.0,
+            8,
+            75.0,
+            2,
+            3.0,
+            190.0,
+            0.14,
+        ),
+        (
+            "MC-GROOVE-C45-60",
+            "groove",
+            "C45",
+            "quenched_tempered_steel",
+            60.0,
+            0.0,
+            "EM-10",
+            10.0,
+            4,
+            16.0,
+            4,
+            4.0,
+            120.0,
+            0.04,
+        ),
+    ] {
+        add(
+            tx,
+            &library::MILLING_CASES,
+            json!({"id": id, "kind": kind, "material": material, "material_group": group,
+                   "outer_radius_mm": ro, "inner_radius_mm": ri, "tool_id": tool,
+                   "tool_diameter_mm": d, "flutes": z, "step_over_mm": step, "passes": passes,
+                   "depth_mm": depth, "cutting_speed_m_min": vc, "feed_per_tooth_mm": fz,
+                   "outcome": "ok", "confidence": 0.5, "provenance": CASES_SEED,
+                   "created_at_ms": 0}),
+        )?;
+    }
+    Ok(())
+}
+
+fn num(r: &Record, field: &str) -> f64 {
+    r.get(field).and_then(Value::as_f64).unwrap_or(f64::NAN)
+}
+
+fn text<'a>(r: &'a Record, field: &str) -> &'a str {
+    r.get(field).and_then(Value::as_str).unwrap_or("")
+}
+
+fn form(name: &str) -> Option<SpiralProgram> {
+    SpiralProgram::ALL.into_iter().find(|f| f.as_str() == name)
+}
+
+fn knowledge(code: &str, field: &str, expected: String, got: String, message: String) -> JobError {
+    Stage::Knowledge.error(code, field, expected, got, message)
+}
+
+/// A milling machine's profile from its record.
+fn profile(r: &Record) -> Result<MillProfile, KnowledgeError> {
+    let id = text(r, "id");
+    let bad = |field: &str| {
+        KnowledgeError::Seed(format!(
+            "mill-machines record {id}: field {field} is not usable"
+        ))
+    };
+    let programs: Vec<SpiralProgram> = text(r, "programs")
+        .split_whitespace()
+        .map(|p| form(p).ok_or_else(|| bad("programs")))
+        .collect::<Result<_, _>>()?;
+    Ok(MillProfile {
+        id: MachineId::new(id).map_err(|_| bad("id"))?,
+        name: text(r, "name").to_string(),
+        controller: text(r, "controller").to_string(),
+        dialect: match text(r, "dialect") {
+            "fanuc" => Dialect::Fanuc,
+            "linuxcnc" => Dialect::Linuxcnc,
+            _ => return Err(bad("dialect")),
+        },
+        default_program: form(text(r, "default_program")).ok_or_else(|| bad("default_program"))?,
+        programs,
+        max_rpm: num(r, "max_rpm"),
+        max_feed_mm_min: num(r, "max_feed_mm_min"),
+        max_radius_mm: num(r, "max_radius_mm"),
+        safe_z_mm: num(r, "safe_z_mm"),
+        work_offset: text(r, "work_offset").to_string(),
+    })
+}
+
+/// Every milling machine's profile, ordered by id.
+pub fn mill_machines(conn: &Connection) -> Result<Vec<MillProfile>, KnowledgeError> {
+    library::list(conn, &library::MILL_MACHINES)?
+        .iter()
+        .map(profile)
+        .collect()
+}
+
+fn tool_of(r: &Record) -> MillData {
+    MillData {
+        id: text(r, "id").to_string(),
+        kind: if text(r, "kind") == "face-mill" {
+            MillKind::FaceMill
+        } else {
+            MillKind::EndMill
+        },
+        radius_mm: num(r, "diameter_mm") / 2.0,
+        corner_radius_mm: num(r, "corner_radius_mm"),
+        flutes: num(r, "flutes") as u32,
+        material: text(r, "material").to_string(),
+        source: Source::Library,
+    }
+}
+
+/// The sections a job of another family must not carry.
+fn section_errors(req: &JobRequest) -> Vec<JobError> {
+    let spec = &req.spec;
+    let mut errors = Vec::new();
+    let wrong = |section: &str, family: Family| {
+        knowledge(
+            "SECTION_FAMILY",
+            section,
+            format!("no [{section}] section in a {} job", family.as_str()),
+            format!("a [{section}] section"),
+            format!(
+                "[{section}] belongs to another part family; [job] family = \"{}\" (hobbing: [gear], [hob], [process], [[units]]; spiral-face: [face] or [groove], [mill], [milling])",
+                family.as_str()
+            ),
+        )
+    };
+    match spec.job.family {
+        Family::Hobbing => {
+            for (section, present) in [
+                ("face", spec.face.is_some()),
+                ("groove", spec.groove.is_some()),
+                ("mill", spec.mill != Default::default()),
+                ("milling", spec.milling != Default::default()),
+            ] {
+                if present {
+                    errors.push(wrong(section, Family::Hobbing));
+                }
+            }
+        }
+        Family::SpiralFace => {
+            for (section, present) in [
+                ("gear", spec.gear.is_some()),
+                ("hob", spec.hob != HobSpec::default()),
+                ("process", spec.process != ProcessOverrides::default()),
+                ("units", !spec.units.is_empty()),
+            ] {
+                if present {
+                    errors.push(wrong(section, Family::SpiralFace));
+                }
+            }
+            match (&spec.face, &spec.groove) {
+                (Some(_), Some(_)) => errors.push(knowledge(
+                    "SECTION_FAMILY",
+                    "groove",
+                    "either [face] or [groove]".into(),
+                    "both".into(),
+                    "a spiral job mills one face or one groove".into(),
+                )),
+                (None, None) => errors.push(knowledge(
+                    "MISSING_SECTION",
+                    "face",
+                    "a [face] (outer_radius_mm, inner_radius_mm, depth_mm, material) or a [groove] section".into(),
+                    "neither".into(),
+                    "a spiral-face job describes the face or the groove it mills".into(),
+                )),
+                _ => {}
+            }
+        }
+    }
+    errors
+}
+
+/// The errors of a job's sections against its family (empty when they fit).
+pub fn family_errors(req: &JobRequest) -> Vec<JobError> {
+    section_errors(req)
+}
+
+/// A case's similarity to the job, 0–1: the material group (weight 3), the
+/// outer radius (1) and the inner radius as a share of it (0.5) by relative
+/// difference, the tool's diameter (1), the machine (0.5). Cases of the
+/// other kind (face or groove) are not compared.
+fn similarity(case: &Record, part: &SpiralPart, group: &str, tool_d: f64, machine: &str) -> f64 {
+    let close = |a: f64, b: f64| {
+        if a.max(b) <= 0.0 {
+            1.0
+        } else {
+            1.0 - (a - b).abs() / a.max(b)
+        }
+    };
+    let (ro, ri) = match part {
+        SpiralPart::Face(f) => (f.outer_radius_mm, f.inner_radius_mm),
+        SpiralPart::Groove(g) => (g.outer_radius_mm, 0.0),
+    };
+    let terms = [
+        (
+            3.0,
+            f64::from(u8::from(text(case, "material_group") == group)),
+        ),
+        (1.0, close(ro, num(case, "outer_radius_mm"))),
+        (
+            0.5,
+            1.0 - (ri / ro - num(case, "inner_radius_mm") / num(case, "outer_radius_mm")).abs(),
+        ),
+        (1.0, close(tool_d, num(case, "tool_diameter_mm"))),
+        (0.5, f64::from(u8::from(text(case, "machine") == machine))),
+    ];
+    let total: f64 = terms.iter().map(|t| t.0).sum();
+    terms
+        .iter()
+        .map(|(w, s)| w * s.clamp(0.0, 1.0))
+        .sum::<f64>()
+        / total
+}
+
+/// Plans a spiral job: every typed error found, or the plan.
+pub fn plan_spiral(conn: &Connection, req: &JobRequest) -> Result<SpiralPlan, Vec<JobError>> {
+    plan_inner(conn, req).map_err(|e| match e {
+        Failed::Job(e) => e,
+        Failed::Kb(e) => vec![knowledge(
+            "KNOWLEDGE_BASE_ERROR",
+            "-",
+            "a readable knowledge base".into(),
+            e.to_string(),
+            "the knowledge base could not be read; check the knowledge service's log and database file".into(),
+        )],
+    })
+}
+
+enum Failed {
+    Job(Vec<JobError>),
+    Kb(KnowledgeError),
+}
+
+impl From<KnowledgeError> for Failed {
+    fn from(e: KnowledgeError) -> Self {
+        Failed::Kb(e)
+    }
+}
+
+fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<SpiralPlan, Failed> {
+    let spec = &req.spec;
+    let mut errors = section_errors(req);
+    let machine_id = spec.job.machine.as_str();
+    let machine = match library::get(conn, &library::MILL_MACHINES, machine_id)? {
+        Some(r) => Some(profile(&r)?),
+        None => {
+            let mills = library::keys(conn, &library::MILL_MACHINES)?;
+            let hobbing =
+                library::keys(conn, &library::MACHINES)?.contains(&machine_id.to_string());
+            errors.push(knowledge(
+                if hobbing { "MACHINE_FAMILY" } else { "UNKNOWN_MACHINE" },
+                "job.machine",
+                format!("a milling machine: one of {}", mills.join(", ")),
+                if hobbing {
+                    format!("{machine_id} (a hobbing machine)")
+                } else {
+                    machine_id.to_string()
+                },
+                "spiral face milling runs on a milling machine of the knowledge base (gearcam kb list mill-machines)".into(),
+            ));
+            None
+        }
+    };
+    let part = match (&spec.face, &spec.groove) {
+        (Some(f), None) => Some(SpiralPart::Face(f.clone())),
+        (None, Some(g)) => Some(SpiralPart::Groove(g.clone())),
+        _ => None,
+    };
+    let (Some(machine), Some(part), true) = (machine, part, errors.is_empty()) else {
+        return Err(Failed::Job(errors));
+    };
+    let material = records::material(conn, part.material())?;
+    let group = material
+        .as_ref()
+        .map_or("unknown".to_string(), |m| m.material_group.clone());
+    let tool = choose_tool(conn, req, &part)?.map_err(Failed::Job)?;
+    let o = &spec.milling;
+    let program = o.program.unwrap_or(machine.default_program);
+
+    // The most similar cases of this kind.
+    let d = 2.0 * tool.radius_mm;
+    let mut scored: Vec<(f64, Record)> = library::list(conn, &library::MILLING_CASES)?
+        .into_iter()
+        .filter(|c| text(c, "kind") == part.kind() && text(c, "outcome") != "scrap")
+        .map(|c| (similarity(&c, &part, &group, d, machine_id), c))
+        .collect();
+    scored.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let best = scored.first().filter(|(s, _)| *s >= MIN_SIMILARITY);
+    let data = library::list(conn, &library::MILLING_DATA)?
+        .into_iter()
+        .find(|r| text(r, "material_group") == group);
+    if best.is_none()
+        && data.is_none()
+        && (o.cutting_speed_m_min.is_none() || o.feed_per_tooth_mm.is_none())
+    {
+        return Err(Failed::Job(vec![knowledge(
+            "NO_CUTTING_DATA",
+            &format!("{}.material", part.kind()),
+            "a material whose group has milling data or similar cases (gearcam kb list milling-data), or [milling] cutting_speed_m_min and feed_per_tooth_mm".into(),
+            format!("{} (group {group})", part.material()),
+            "the knowledge base has nothing to propose for this material".into(),
+        )]));
+    }
+    let job = |v: f64| Sourced {
+        value: v,
+        source: Source::Job,
+    };
+    let case = |v: f64| Sourced {
+        value: v,
+        source: Source::Case,
+    };
+    let default = |v: f64| Sourced {
+        value: v,
+        source: Source::Default,
+    };
+    // A value: the job's, else the best case's (adapted), else the cutting data's.
+    let pick = |given: Option<f64>, from_case: Option<f64>, from_data: Option<f64>| {
+        given
+            .map(job)
+            .or_else(|| from_case.map(case))
+            .or_else(|| from_data.map(case))
+    };
+    let case_rec = best.map(|(_, c)| c);
+    let cutting_speed_m_min = pick(
+        o.cutting_speed_m_min,
+        case_rec.map(|c| num(c, "cutting_speed_m_min")),
+        data.as_ref().map(|r| num(r, "cutting_speed_m_min")),
+    );
+    let feed_per_tooth_mm = pick(
+        o.feed_per_tooth_mm,
+        case_rec.map(|c| num(c, "feed_per_tooth_mm")),
+        data.as_ref().map(|r| num(r, "feed_per_tooth_mm")),
+    );
+    // A groove's step-over is its pitch; a face's is the case's share of its
+    // tool's diameter, or the data's.
+    let step_over_mm = match &part {
+        SpiralPart::Groove(g) => Some(job(g.pitch_mm)),
+        SpiralPart::Face(_) => pick(
+            o.step_over_mm,
+            case_rec.map(|c| num(c, "step_over_mm") / num(c, "tool_diameter_mm") * d),
+            data.as_ref().map(|r| num(r, "step_over_ratio") * d),
+        ),
+    };
+    let depth = part.depth_mm();
+    let passes = o.passes.unwrap_or_else(|| {
+        let per_pass = case_rec
+            .map(|c| num(c, "depth_mm") / num(c, "passes"))
+            .or_else(|| data.as_ref().map(|r| num(r, "max_depth_per_pass_mm")))
+            .unwrap_or(depth);
+        ((depth / per_pass).ceil().max(1.0)) as u32
+    });
+    let (Some(mut cutting_speed_m_min), Some(mut feed_per_tooth_mm), Some(step_over_mm)) =
+        (cutting_speed_m_min, feed_per_tooth_mm, step_over_mm)
+    else {
+        unreachable!("checked above: the job, a case or the data gives every value")
+    };
+    // A proposal the machine cannot run is lowered to its limit (source
+    // `machine`); a value the job gives is the planner's and is checked,
+    // never changed, by the model service.
+    let vc_max = machine.max_rpm * std::f64::consts::PI * d / 1000.0;
+    if cutting_speed_m_min.source != Source::Job && cutting_speed_m_min.value > vc_max {
+        cutting_speed_m_min = Sourced {
+            value: (vc_max * 10.0).floor() / 10.0,
+            source: Source::Machine,
+        };
+    }
+    let rpm = 1000.0 * cutting_speed_m_min.value / (std::f64::consts::PI * d);
+    let fz_max = machine.max_feed_mm_min / (f64::from(tool.flutes) * rpm);
+    if feed_per_tooth_mm.source != Source::Job && feed_per_tooth_mm.value > fz_max {
+        feed_per_tooth_mm = Sourced {
+            value: (fz_max * 10_000.0).floor() / 10_000.0,
+            source: Source::Machine,
+        };
+    }
+    let cases: Vec<CaseRef> = scored
+        .iter()
+        .take(3)
+        .filter(|(s, _)| *s >= MIN_SIMILARITY)
+        .map(|(s, c)| CaseRef {
+            id: text(c, "id").to_string(),
+            similarity: *s,
+            provenance: text(c, "provenance").to_string(),
+        })
+        .collect();
+    let confidence = match (best, &data) {
+        (Some((s, c)), _) => s * num(c, "confidence"),
+        (None, Some(r)) => num(r, "confidence"),
+        (None, None) => 1.0,
+    };
+    Ok(SpiralPlan {
+        job_id: req.job_id.clone(),
+        request: req.clone(),
+        part,
+        machine,
+        tool,
+        process: MillingProcess {
+            step_over_mm,
+            passes,
+            cutting_speed_m_min,
+            feed_per_tooth_mm,
+            direction: o.direction.unwrap_or(SpiralDirection::OutsideIn),
+            cut_mode: o.cut_mode.unwrap_or(CutMode::Climb),
+            outer_overtravel_mm: o
+                .outer_overtravel_mm
+                .map_or(default(DEFAULT_OUTER_OVERTRAVEL_MM), job),
+            inner_overtravel_mm: o
+                .inner_overtravel_mm
+                .map_or(default(DEFAULT_INNER_OVERTRAVEL_MM), job),
+            start_angle_deg: o.start_angle_deg.map_or(default(0.0), job),
+            tolerance_mm: o.tolerance_mm.map_or(default(DEFAULT_TOLERANCE_MM), job),
+            program,
+        },
+        cases,
+        confidence,
+    })
+}
+
+/// The tool: the job's library id, the job's inline tool, or the library's
+/// choice (a groove: an end mill of the groove's width; a face: the largest
+/// mill no wider than the face's radius).
+fn choose_tool(
+    conn: &Connection,
+    req: &JobRequest,
+    part: &SpiralPart,
+) -> Result<Result<MillData, Vec<JobError>>, KnowledgeError> {
+    let m = &req.spec.mill;
+    let tools = library::list(conn, &library::MILLS)?;
+    let ids = || {
+        tools
+            .iter()
+            .map(|t| text(t, "id").to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if let Some(id) = &m.id {
+        return Ok(match tools.iter().find(|t| text(t, "id") == id) {
+            Some(t) => Ok(tool_of(t)),
+            None => Err(vec![knowledge(
+                "UNKNOWN_TOOL",
+                "mill.id",
+                format!("a mill of the tool library: one of {}", ids()),
+                id.clone(),
+                "the tool is not in the knowledge base (gearcam kb list mills), or give the tool inline: [mill] kind, radius_mm, flutes".into(),
+            )]),
+        });
+    }
+    if m.radius_mm.is_some() || m.flutes.is_some() || m.kind.is_some() {
+        let missing: Vec<&str> = [
+            ("mill.kind", m.kind.is_none()),
+            ("mill.radius_mm", m.radius_mm.is_none()),
+            ("mill.flutes", m.flutes.is_none()),
+        ]
+        .into_iter()
+        .filter_map(|(f, missing)| missing.then_some(f))
+        .collect();
+        return Ok(match (m.kind, m.radius_mm, m.flutes) {
+            (Some(kind), Some(r), Some(z)) => {
+                let mut errors = Vec::new();
+                if !(r.is_finite() && r > 0.0) {
+                    errors.push(knowledge("TOOL_RANGE", "mill.radius_mm", "a radius > 0 mm".into(), format!("{r}"), "the tool's cutting radius".into()));
+                }
+                if z == 0 {
+                    errors.push(knowledge("TOOL_RANGE", "mill.flutes", "1 or more".into(), "0".into(), "flutes or inserts of the tool".into()));
+                }
+                let corner = m.corner_radius_mm.unwrap_or(0.0);
+                if !(corner.is_finite() && corner >= 0.0 && corner <= r) {
+                    errors.push(knowledge("TOOL_RANGE", "mill.corner_radius_mm", format!("0 to the tool's radius {r} mm"), format!("{corner}"), "the tool's corner radius".into()));
+                }
+                if errors.is_empty() {
+                    Ok(MillData {
+                        id: "job".into(),
+                        kind,
+                        radius_mm: r,
+                        corner_radius_mm: corner,
+                        flutes: z,
+                        material: "carbide".into(),
+                        source: Source::Job,
+                    })
+                } else {
+                    Err(errors)
+                }
+            }
+            _ => Err(vec![knowledge(
+                "MISSING_FIELD",
+                missing[0],
+                "an inline tool gives kind, radius_mm and flutes (or [mill] id names a library tool)".into(),
+                format!("no {}", missing.join(", no ")),
+                "the tool is incomplete".into(),
+            )]),
+        });
+    }
+    let mut candidates: Vec<MillData> = tools.iter().map(tool_of).collect();
+    candidates.sort_by(|a, b| b.radius_mm.total_cmp(&a.radius_mm));
+    Ok(match part {
+        SpiralPart::Groove(g) => candidates
+            .into_iter()
+            .find(|t| t.kind == MillKind::EndMill && (2.0 * t.radius_mm - g.width_mm).abs() < 1e-3)
+            .ok_or_else(|| {
+                vec![knowledge(
+                    "NO_TOOL",
+                    "groove.width_mm",
+                    format!(
+                        "the diameter of an end mill in the tool library ({})",
+                        tools
+                            .iter()
+                            .filter(|t| text(t, "kind") == "end-mill")
+                            .map(|t| format!("{} mm", num(t, "diameter_mm")))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                    format!("{}", g.width_mm),
+                    "a groove is cut in one pass of the tool's full width; add an end mill of this diameter or give [mill]".into(),
+                )]
+            }),
+        SpiralPart::Face(f) => {
+            let fits = candidates
+                .iter()
+                .find(|t| 2.0 * t.radius_mm <= f.outer_radius_mm)
+                .cloned();
+            fits.or_else(|| candidates.last().cloned()).ok_or_else(|| {
+                vec![knowledge(
+                    "NO_TOOL",
+                    "mill",
+                    "a mill in the tool library".into(),
+                    "an empty tool library".into(),
+                    "add mills (gearcam kb add mills) or give [mill]".into(),
+                )]
+            })
+        }
+    })
+}
+
+/// Records a planned spiral job in the jobs library (state `planned`; its
+/// class is `spiral-face` or `spiral-groove`, its tool in `hob_id`).
+pub fn record_planned(
+    conn: &Connection,
+    plan: &SpiralPlan,
+    at_ms: u64,
+) -> Result<(), KnowledgeError> {
+    conn.execute(
+        "INSERT OR REPLACE INTO jobs (job_id, part_number, machine, class, quantity, hob_id, state,
+                                      confidence, plan_json, planned_at_ms)
+         VALUES (?1, ?2, ?3, ?4, ?5, ?6, 'planned', ?7, ?8, ?9)",
+        rusqlite::params![
+            plan.job_id.as_str(),
+            plan.request.spec.job.part_number,
+            plan.machine.id.as_str(),
+            format!("spiral-{}", plan.part.kind()),
+            plan.request.spec.job.quantity,
+            plan.tool.id,
+            plan.confidence,
+            serde_json::to_string(plan)?,
+            at_ms as i64,
+        ],
+    )?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::db;
+    use gearcam_proto::{JobId, JobSpec};
+
+    fn request(v: Value) -> JobRequest {
+        let spec: JobSpec = serde_json::from_value(v).unwrap();
+        JobRequest {
+            job_id: JobId::new("J-S1").unwrap(),
+            submitted_at_ms: 0,
+            submitted_by: "test".into(),
+            spec,
+        }
+    }
+
+    fn face(machine: &str, extra: Value) -> JobRequest {
+        let mut v = json!({
+            "job": {"family": "spiral-face", "machine": machine, "part_number": "FL-1"},
+            "face": {"outer_radius_mm": 100.0, "inner_radius_mm": 20.0, "depth_mm": 1.0,
+                     "material": "C45"},
+        });
+        if let (Value::Object(m), Value::Object(e)) = (&mut v, extra) {
+            m.extend(e);
+        }
+        request(v)
+    }
+
+    /// A job without process data gets its values from the most similar
+    /// case, each with its source, and the case with its similarity and
+    /// provenance; the step-over scales with the tool's diameter.
+    #[test]
+    fn a_face_without_process_data_gets_a_proposal_from_similar_cases() {
+        let conn = db::open_in_memory().unwrap();
+        let plan = plan_spiral(&conn, &face("M01", json!({}))).unwrap();
+        assert_eq!(plan.tool.id, "FM-063", "the largest mill no wider than Ro");
+        assert_eq!(plan.cases[0].id, "MC-FACE-C45-100");
+        assert!(plan.cases[0].similarity > 0.9, "{:?}", plan.cases);
+        assert!(plan.cases[0].provenance.contains("engineering estimate"));
+        let p = &plan.process;
+        assert_eq!(
+            (p.cutting_speed_m_min.value, p.cutting_speed_m_min.source),
+            (170.0, Source::Case)
+        );
+        assert_eq!(p.feed_per_tooth_mm.source, Source::Case);
+        assert_eq!(p.step_over_mm.value, 38.0);
+        assert_eq!(p.tolerance_mm.source, Source::Default);
+        assert_eq!(p.program, SpiralProgram::FanucMacro, "M01's default form");
+        assert!((plan.confidence - plan.cases[0].similarity * 0.5).abs() < 1e-12);
+
+        // The planner's own values win and say so.
+        let plan = plan_spiral(
+            &conn,
+            &face(
+                "M01",
+                json!({"mill": {"id": "EM-16"}, "milling": {"step_over_mm": 9.0, "cutting_speed_m_min": 150.0}}),
+            ),
+        )
+        .unwrap();
+        assert_eq!(plan.tool.id, "EM-16");
+        assert_eq!(plan.process.step_over_mm.source, Source::Job);
+        assert_eq!(plan.process.cutting_speed_m_min.value, 150.0);
+        assert_eq!(plan.process.cutting_speed_m_min.source, Source::Job);
+    }
+
+    /// With no similar case the milling data of the material's group
+    /// proposes; a proposal above the machine's spindle is lowered to it
+    /// (source `machine`), a job's value never is.
+    #[test]
+    fn proposals_come_from_the_milling_data_and_respect_the_machine() {
+        let conn = db::open_in_memory().unwrap();
+        let req = request(json!({
+            "job": {"family": "spiral-face", "machine": "M02", "part_number": "FL-2"},
+            "face": {"outer_radius_mm": 70.0, "depth_mm": 4.5, "material": "AlMg3"},
+            "mill": {"id": "EM-16"},
+        }));
+        let plan = plan_spiral(&conn, &req).unwrap();
+        assert!(plan.cases.is_empty(), "{:?}", plan.cases);
+        assert_eq!(plan.process.passes, 2, "4.5 mm at 3 mm per pass");
+        assert_eq!(plan.process.step_over_mm.value, 0.6 * 16.0);
+        let vc = plan.process.cutting_speed_m_min;
+        // 500 m/min from the data would be 9,947 rpm; M02 turns 4,000.
+        assert_eq!(vc.source, Source::Machine);
+        let rpm = 1000.0 * vc.value / (std::f64::consts::PI * 16.0);
+        assert!(rpm <= 4000.0 && rpm > 3990.0, "{rpm}");
+        assert_eq!(plan.process.program, SpiralProgram::Linuxcnc);
+        let req = request(json!({
+            "job": {"family": "spiral-face", "machine": "M02", "part_number": "FL-2"},
+            "face": {"outer_radius_mm": 70.0, "depth_mm": 1.0, "material": "AlMg3"},
+            "mill": {"id": "EM-16"},
+            "milling": {"cutting_speed_m_min": 500.0},
+        }));
+        let plan = plan_spiral(&conn, &req).unwrap();
+        assert_eq!(plan.process.cutting_speed_m_min.value, 500.0);
+    }
+
+    /// A groove gets the end mill of its width; none of that width is an
+    /// error naming the widths there are.
+    #[test]
+    fn a_groove_gets_the_end_mill_of_its_width() {
+        let conn = db::open_in_memory().unwrap();
+        let groove = |width: f64| {
+            request(json!({
+                "job": {"family": "spiral-face", "machine": "M01", "part_number": "PT-1"},
+                "groove": {"outer_radius_mm": 60.0, "pitch_mm": 16.0, "turns": 3,
+                           "depth_mm": 4.0, "width_mm": width, "material": "C45"},
+            }))
+        };
+        let plan = plan_spiral(&conn, &groove(10.0)).unwrap();
+        assert_eq!(plan.tool.id, "EM-10");
+        assert_eq!(
+            (
+                plan.process.step_over_mm.value,
+                plan.process.step_over_mm.source
+            ),
+            (16.0, Source::Job),
+            "a groove's step-over is its pitch"
+        );
+        assert_eq!(plan.cases[0].id, "MC-GROOVE-C45-60");
+        let e = plan_spiral(&conn, &groove(12.0)).unwrap_err();
+        assert_eq!(
+            (e[0].code.as_str(), e[0].field.as_str()),
+            ("NO_TOOL", "groove.width_mm")
+        );
+        assert!(e[0].expected.contains("10 mm"), "{}", e[0].expected);
+    }
+
+    /// Sections of the other family, a hobbing machine, an unknown tool and
+    /// an incomplete inline tool are refused naming the field.
+    #[test]
+    fn wrong_sections_machines_and_tools_are_refused_on_their_fields() {
+        let conn = db::open_in_memory().unwrap();
+        let e = plan_spiral(&conn, &face("H01", json!({}))).unwrap_err();
+        assert_eq!(
+            (e[0].code.as_str(), e[0].field.as_str()),
+            ("MACHINE_FAMILY", "job.machine")
+        );
+        assert!(e[0].expected.contains("M01, M02"), "{}", e[0].expected);
+        let e = plan_spiral(
+            &conn,
+            &face(
+                "M01",
+                json!({"gear": {"module_mm": 3.0, "teeth": 20, "face_width_mm": 20.0,
+                                          "material": "C45", "quality_grade": 8,
+                                          "fixture_height_mm": 50.0}}),
+            ),
+        )
+        .unwrap_err();
+        assert_eq!(
+            (e[0].code.as_str(), e[0].field.as_str()),
+            ("SECTION_FAMILY", "gear")
+        );
+        let e = plan_spiral(&conn, &face("M01", json!({"mill": {"id": "FM-999"}}))).unwrap_err();
+        assert_eq!(
+            (e[0].code.as_str(), e[0].field.as_str()),
+            ("UNKNOWN_TOOL", "mill.id")
+        );
+        let e = plan_spiral(&conn, &face("M01", json!({"mill": {"radius_mm": 8.0}}))).unwrap_err();
+        assert_eq!(
+            (e[0].code.as_str(), e[0].field.as_str()),
+            ("MISSING_FIELD", "mill.kind")
+        );
+        // A hobbing job carrying a [face] is refused by the dispatch.
+        let mut req = face("H01", json!({}));
+        req.spec.job.family = Family::Hobbing;
+        let e = family_errors(&req);
+        assert_eq!(
+            (e[0].code.as_str(), e[0].field.as_str()),
+            ("SECTION_FAMILY", "face")
+        );
+    }
+
+    /// The seeded machines and tools are in their libraries, with provenance.
+    #[test]
+    fn the_seed_has_the_mills_and_their_tools() {
+        let conn = db::open_in_memory().unwrap();
+        let m = mill_machines(&conn).unwrap();
+        let ids: Vec<&str> = m.iter().map(|m| m.id.as_str()).collect();
+        assert_eq!(ids, ["M01", "M02"]);
+        assert_eq!(
+            (m[0].dialect, m[1].dialect),
+            (Dialect::Fanuc, Dialect::Linuxcnc)
+        );
+        assert!(m[0].programs.contains(&SpiralProgram::FanucArcs));
+        assert_eq!(m[1].programs, [SpiralProgram::Linuxcnc]);
+        assert!(m
+            .iter()
+            .all(|m| m.controller.contains("FANUC") || m.controller.contains("LinuxCNC")));
+        let tools = library::list(&conn, &library::MILLS).unwrap();
+        assert_eq!(tools.len(), 5);
+        assert!(tools.iter().all(|t| text(t, "source") == TOOLS_SEED));
+    }
+}
