@@ -11,9 +11,16 @@ use gearcam_spiral::{chord_deviation, plan, Direction, Region, SpiralSpec};
 fn feeds(ngc: &str) -> Vec<(f64, f64, f64)> {
     let dir = std::env::temp_dir().join(format!("gearcam-rs274-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("face.ngc");
+    // One file per call: the tests run in parallel.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let file = dir.join(format!("face-{n}.ngc"));
     std::fs::write(&file, ngc).unwrap();
+    // rs274 keeps its parameters in a file of the working directory: one at a time.
+    static ONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _one = ONE.lock().unwrap_or_else(|e| e.into_inner());
     let out = Command::new("rs274")
+        .current_dir(&dir)
         .arg("-g")
         .arg(&file)
         .output()
@@ -105,5 +112,57 @@ fn the_linuxcnc_program_runs_in_rs274_and_follows_the_model() {
             dev <= cut.tolerance_mm * 1.01 + 1e-4,
             "pass {pass}: deviation {dev}"
         );
+    }
+}
+
+/// gearcam's own reading of its LinuxCNC programs (`macrob::replay_linuxcnc`,
+/// which the template service and the agents run before a program is
+/// stored, where no LinuxCNC is installed) agrees with LinuxCNC's `rs274`
+/// move for move, for both senses and both directions.
+#[test]
+fn gearcams_linuxcnc_reading_agrees_with_rs274() {
+    for (direction, sense, ri) in [
+        (Direction::OutsideIn, -1, 0.0),
+        (Direction::InsideOut, 1, 12.0),
+    ] {
+        let mut spiral = plan(&SpiralSpec {
+            region: Region {
+                outer_radius_mm: 45.0,
+                inner_radius_mm: ri,
+            },
+            tool_radius_mm: 6.0,
+            step_over_mm: 8.0,
+            outer_overtravel_mm: 2.0,
+            inner_overtravel_mm: 0.5,
+            start_angle_deg: -20.0,
+            direction,
+        })
+        .unwrap();
+        spiral.sense = sense;
+        let cut = Cut {
+            depth_mm: 1.5,
+            passes: 3,
+            feed_mm_min: 600.0,
+            plunge_feed_mm_min: 150.0,
+            spindle_rpm: 2000.0,
+            safe_z_mm: 5.0,
+            tolerance_mm: 0.005,
+        };
+        let ngc = program(&spiral, &cut, &["JOB TEST-2".into()]);
+        let theirs = feeds(&ngc);
+        let ours: Vec<(f64, f64, f64)> = gearcam_spiral::macrob::replay_linuxcnc(&ngc, 1_000_000)
+            .unwrap()
+            .into_iter()
+            .filter(|m| m.feed)
+            .map(|m| (m.x, m.y, m.z))
+            .collect();
+        assert_eq!(ours.len(), theirs.len(), "{direction:?}");
+        let worst = ours
+            .iter()
+            .zip(&theirs)
+            .map(|(a, b)| (a.0 - b.0).abs().max((a.1 - b.1).abs()).max((a.2 - b.2).abs()))
+            .fold(0.0, f64::max);
+        // rs274 prints four decimals.
+        assert!(worst < 6e-5, "{direction:?}: {worst} mm apart");
     }
 }
