@@ -160,7 +160,12 @@ fn gearcams_linuxcnc_reading_agrees_with_rs274() {
         let worst = ours
             .iter()
             .zip(&theirs)
-            .map(|(a, b)| (a.0 - b.0).abs().max((a.1 - b.1).abs()).max((a.2 - b.2).abs()))
+            .map(|(a, b)| {
+                (a.0 - b.0)
+                    .abs()
+                    .max((a.1 - b.1).abs())
+                    .max((a.2 - b.2).abs())
+            })
             .fold(0.0, f64::max);
         // rs274 prints four decimals.
         assert!(worst < 6e-5, "{direction:?}: {worst} mm apart");

@@ -9,7 +9,7 @@ use serde_json::{json, Value};
 
 use crate::hobmatch;
 use crate::library::{self, Outcome, Record};
-use crate::records::{self, JobState};
+use crate::records::{self, JobClass, JobState};
 use crate::KnowledgeError;
 
 /// Records a planned job (state `planned`; a re-plan replaces the row and
@@ -69,9 +69,11 @@ pub struct Confirmation {
     pub quantity: Option<u32>,
     /// Cutting speed actually used, m/min (default: the plan's).
     pub cutting_speed_m_min: Option<f64>,
-    /// Feed actually used, mm/rev (default: the plan's).
+    /// Feed actually used, mm/rev (default: the plan's); for a spiral face
+    /// milling job the feed per tooth, mm.
     pub feed_mm_per_rev: Option<f64>,
-    /// Cuts actually made (default: the plan's).
+    /// Cuts actually made (default: the plan's); for a spiral face milling
+    /// job the depth passes.
     pub cuts: Option<u32>,
     /// `ok`, `rework`, `scrap` or `unknown`.
     pub outcome: String,
@@ -174,6 +176,9 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
                 state.as_str()
             ),
         )]);
+    }
+    if matches!(job.class, JobClass::SpiralFace | JobClass::SpiralGroove) {
+        return crate::spiral::confirm(conn, c, &job.plan_json);
     }
     let plan = stored_plan(&job.plan_json)?;
     let g = &plan.gear;

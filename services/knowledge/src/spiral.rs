@@ -722,6 +722,97 @@ pub fn record_planned(
     Ok(())
 }
 
+/// Confirms a delivered spiral job (state checked by the caller): it
+/// becomes a milling case with the values that ran (the plan's unless the
+/// planner gives others: `feed_mm_per_rev` is the feed per tooth here and
+/// `cuts` the depth passes), and the job is marked confirmed; one transaction.
+pub fn confirm(
+    conn: &Connection,
+    c: &crate::learn::Confirmation,
+    plan_json: &str,
+) -> library::Outcome<crate::learn::Confirmed> {
+    let plan: SpiralPlan = serde_json::from_str(plan_json).map_err(|e| {
+        vec![knowledge(
+            "KNOWLEDGE_BASE_ERROR",
+            "plan_json",
+            "a stored spiral plan".into(),
+            e.to_string(),
+            "the job's stored plan cannot be read".into(),
+        )]
+    })?;
+    let material = records::material(conn, plan.part.material())?;
+    let p = &plan.process;
+    let vc = c.cutting_speed_m_min.unwrap_or(p.cutting_speed_m_min.value);
+    let fz = c.feed_mm_per_rev.unwrap_or(p.feed_per_tooth_mm.value);
+    let passes = c.cuts.unwrap_or(p.passes);
+    let quantity = c.quantity.unwrap_or(plan.request.spec.job.quantity);
+    let (ro, ri) = match &plan.part {
+        SpiralPart::Face(f) => (f.outer_radius_mm, f.inner_radius_mm),
+        SpiralPart::Groove(g) => (g.outer_radius_mm, 0.0),
+    };
+    let mut changed = Vec::new();
+    if c.cutting_speed_m_min.is_some() {
+        changed.push(format!("vc {vc} m/min"));
+    }
+    if c.feed_mm_per_rev.is_some() {
+        changed.push(format!("fz {fz} mm"));
+    }
+    if c.cuts.is_some() {
+        changed.push(format!("{passes} passes"));
+    }
+    let case_id = format!("JOB-{}", c.job_id);
+    let Value::Object(case) = json!({
+        "id": case_id,
+        "kind": plan.part.kind(),
+        "machine": plan.machine.id.as_str(),
+        "material": plan.part.material().trim(),
+        "material_group": material.as_ref().map_or("unknown", |m| m.material_group.as_str()),
+        "outer_radius_mm": ro,
+        "inner_radius_mm": ri,
+        "tool_id": (plan.tool.source == Source::Library).then_some(plan.tool.id.as_str()),
+        "tool_diameter_mm": 2.0 * plan.tool.radius_mm,
+        "flutes": plan.tool.flutes,
+        "step_over_mm": p.step_over_mm.value,
+        "passes": passes,
+        "depth_mm": plan.part.depth_mm(),
+        "cutting_speed_m_min": vc,
+        "feed_per_tooth_mm": fz,
+        "outcome": c.outcome,
+        "notes": c.notes,
+        "confidence": c.confidence,
+        "provenance": format!(
+            "confirmed job {} ({} parts of {}) by {}{}",
+            c.job_id,
+            quantity,
+            plan.request.spec.job.part_number,
+            c.by,
+            if changed.is_empty() {
+                ": values as planned".to_string()
+            } else {
+                format!(": values actually used differ from the plan: {}", changed.join(", "))
+            }
+        ),
+        "job_id": c.job_id,
+        "created_at_ms": c.at_ms,
+    }) else {
+        unreachable!("a JSON object")
+    };
+    let tx = conn.unchecked_transaction().map_err(KnowledgeError::from)?;
+    let case = library::add(&tx, &library::MILLING_CASES, &case)?;
+    let mut set = Record::new();
+    set.insert("state".into(), json!("confirmed"));
+    set.insert("confirmed_at_ms".into(), json!(c.at_ms));
+    set.insert("delivered_quantity".into(), json!(quantity));
+    set.insert("case_id".into(), json!(case_id));
+    let job = library::edit(&tx, &library::JOBS, &c.job_id, &set)?;
+    tx.commit().map_err(KnowledgeError::from)?;
+    Ok(crate::learn::Confirmed {
+        case,
+        hob: None,
+        job,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -892,6 +983,50 @@ mod tests {
             (e[0].code.as_str(), e[0].field.as_str()),
             ("SECTION_FAMILY", "face")
         );
+    }
+
+    /// The learning loop: a delivered spiral job, confirmed with the feed
+    /// that really ran, becomes a milling case; the next similar job is
+    /// proposed from it first.
+    #[test]
+    fn a_confirmed_spiral_job_becomes_the_case_the_next_job_is_proposed_from() {
+        let conn = db::open_in_memory().unwrap();
+        let req = face("M01", json!({}));
+        let plan = plan_spiral(&conn, &req).unwrap();
+        record_planned(&conn, &plan, 1).unwrap();
+        conn.execute(
+            "UPDATE jobs SET state = 'delivered' WHERE job_id = 'J-S1'",
+            [],
+        )
+        .unwrap();
+        let c = crate::learn::Confirmation {
+            job_id: "J-S1".into(),
+            quantity: None,
+            cutting_speed_m_min: None,
+            feed_mm_per_rev: Some(0.09),
+            cuts: None,
+            outcome: "ok".into(),
+            quality_achieved: None,
+            notes: "flat within 0.01".into(),
+            confidence: 0.9,
+            by: "planner Wang".into(),
+            at_ms: 2,
+            allow_undelivered: false,
+        };
+        let done = crate::learn::confirm(&conn, &c).unwrap();
+        assert_eq!(done.case["id"], "JOB-J-S1");
+        assert_eq!(done.case["feed_per_tooth_mm"], 0.09);
+        assert!(done.case["provenance"]
+            .as_str()
+            .unwrap()
+            .contains("fz 0.09 mm"));
+        assert_eq!(done.job["state"], "confirmed");
+        let next = plan_spiral(&conn, &face("M01", json!({}))).unwrap();
+        assert_eq!(next.cases[0].id, "JOB-J-S1");
+        assert_eq!(next.process.feed_per_tooth_mm.value, 0.09);
+        // Confirmed once.
+        let e = crate::learn::confirm(&conn, &c).unwrap_err();
+        assert_eq!(e[0].code, "JOB_STATE");
     }
 
     /// The seeded machines and tools are in their libraries, with provenance.

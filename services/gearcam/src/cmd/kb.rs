@@ -115,10 +115,12 @@ pub struct ConfirmArgs {
     /// Cutting speed actually used, m/min (default: the plan's).
     #[arg(long)]
     pub cutting_speed: Option<f64>,
-    /// Feed actually used, mm/rev (default: the plan's).
+    /// Feed actually used (default: the plan's): mm/rev for hobbing, mm per
+    /// tooth for spiral face milling.
     #[arg(long)]
     pub feed: Option<f64>,
-    /// Cuts actually made (default: the plan's).
+    /// Cuts actually made (default: the plan's); depth passes for spiral
+    /// face milling.
     #[arg(long)]
     pub cuts: Option<u32>,
     /// Outcome of the cut (required): ok, rework, scrap or unknown.

@@ -39,7 +39,7 @@ use crate::KnowledgeError;
 use row::{describe, read_all, read_one, record_error, RecordRow};
 
 pub use types::{
-    hand_name, CaseOutcome, CaseRecord, ClassRecord, HobRecord, JobRecord, JobState,
+    hand_name, CaseOutcome, CaseRecord, ClassRecord, HobRecord, JobClass, JobRecord, JobState,
     MaterialRecord, WeightRecord, WorkpieceRecord,
 };
 

@@ -443,8 +443,8 @@ pub struct JobRecord {
     pub part_number: String,
     /// Machine.
     pub machine: String,
-    /// Group-technology class.
-    pub class: GearClass,
+    /// Group-technology class (hobbing), or the spiral family's part kind.
+    pub class: JobClass,
     /// Parts ordered.
     pub quantity: u32,
     /// Hob used.
@@ -477,7 +477,7 @@ impl TableRecord for JobRecord {
             job_id: r.get("job_id")?,
             part_number: r.get("part_number")?,
             machine: r.get("machine")?,
-            class: r.choice("class", GearClass::parse)?,
+            class: r.choice("class", JobClass::parse)?,
             quantity: r.get("quantity")?,
             hob_id: r.get("hob_id")?,
             state: r.choice("state", JobState::parse)?,
@@ -490,6 +490,29 @@ impl TableRecord for JobRecord {
             delivered_quantity: r.get("delivered_quantity")?,
             case_id: r.get("case_id")?,
         })
+    }
+}
+
+/// What a planned job is: a hobbed gear of a group-technology class, or a
+/// spiral face milling job (`spiral-face`, `spiral-groove`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JobClass {
+    /// Hobbing, with the gear's class.
+    Gear(GearClass),
+    /// Spiral face milling of a face.
+    SpiralFace,
+    /// Spiral face milling of a planar spiral groove.
+    SpiralGroove,
+}
+
+impl JobClass {
+    /// The class from its stored name.
+    pub fn parse(s: &str) -> Option<JobClass> {
+        match s {
+            "spiral-face" => Some(JobClass::SpiralFace),
+            "spiral-groove" => Some(JobClass::SpiralGroove),
+            _ => GearClass::parse(s).map(JobClass::Gear),
+        }
     }
 }
 
