@@ -329,6 +329,34 @@ pub(crate) fn distance_to_spiral(spiral: &Spiral, p: (f64, f64), lo: f64, hi: f6
     d2(0.5 * (lo + hi)).sqrt()
 }
 
+/// The 5 × 5 cells around a sample's, the nearest first.
+const NEIGHBOURS: [(i64, i64); 25] = {
+    let mut out = [(0, 0); 25];
+    let mut n = 0;
+    let mut ring: i64 = 0;
+    while ring <= 2 {
+        let mut ox: i64 = -2;
+        while ox <= 2 {
+            let mut oy: i64 = -2;
+            while oy <= 2 {
+                let cheb = if ox.abs() > oy.abs() {
+                    ox.abs()
+                } else {
+                    oy.abs()
+                };
+                if cheb == ring {
+                    out[n] = (ox, oy);
+                    n += 1;
+                }
+                oy += 1;
+            }
+            ox += 1;
+        }
+        ring += 1;
+    }
+    out
+};
+
 /// What the coverage check found.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Coverage {
@@ -395,12 +423,15 @@ pub fn coverage(
             let (gx, gy) = key(x, y);
             // Segments within two cells: anything farther is more than the
             // tool's radius away and counts as that far (a lower bound).
+            // Nearest cells first; a segment within the tool's radius ends
+            // the search (the point is covered, its gap is not the worst).
             let mut best = 2.0 * cell;
-            for ox in -2..=2 {
-                for oy in -2..=2 {
-                    if let Some(segs) = grid.get(&(gx + ox, gy + oy)) {
-                        for &i in segs {
-                            best = best.min(seg_dist(i, x, y));
+            'search: for (ox, oy) in NEIGHBOURS {
+                if let Some(segs) = grid.get(&(gx + ox, gy + oy)) {
+                    for &i in segs {
+                        best = best.min(seg_dist(i, x, y));
+                        if best <= tool_radius_mm {
+                            break 'search;
                         }
                     }
                 }
