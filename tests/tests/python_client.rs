@@ -68,3 +68,36 @@ fn the_python_client_delivers_reads_back_and_sees_typed_refusals() {
         "the file's hash {hash} in\n{stdout}"
     );
 }
+
+/// The same client, unchanged, submits a spiral face milling job (a planar
+/// spiral groove for the LinuxCNC mill M02): the family is a field of the
+/// job file, and the client sees the same events and receipt.
+#[test]
+fn the_python_client_delivers_a_spiral_job_to_the_linuxcnc_mill() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut cluster = Cluster::start();
+    cluster.start_agent_for("M02");
+    let out = Command::new("python3")
+        .arg(root.join("proto/examples/client.py"))
+        .args(["--connect", &cluster.endpoint, "--job-id", "PY-S1"])
+        .arg(root.join("examples/groove_linuxcnc.toml"))
+        .output()
+        .expect("run the client");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "client failed\nstdout:\n{stdout}\nstderr:\n{}\nlogs:\n{}",
+        String::from_utf8_lossy(&out.stderr),
+        cluster.logs()
+    );
+    assert!(stdout.contains("delivered PY-S1: PT-4002.ngc"), "{stdout}");
+    let on_disk = std::fs::read(cluster.dir().join("M02/programs/PT-4002.ngc")).unwrap();
+    let hash = {
+        use sha2::{Digest, Sha256};
+        hex::encode(Sha256::digest(&on_disk))
+    };
+    assert!(
+        stdout.contains(&hash),
+        "the file's hash {hash} in\n{stdout}"
+    );
+}
