@@ -8,24 +8,10 @@ use std::fmt::Write as _;
 
 use crate::Spiral;
 
-/// The cutting data of a spiral program.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Cut {
-    /// Total depth below the face (Z = 0 at the face), mm.
-    pub depth_mm: f64,
-    /// Depth passes (≥ 1), equal steps.
-    pub passes: u32,
-    /// Feed along the spiral, mm/min.
-    pub feed_mm_min: f64,
-    /// Plunge feed, mm/min.
-    pub plunge_feed_mm_min: f64,
-    /// Spindle speed, rpm.
-    pub spindle_rpm: f64,
-    /// Safe height above the face, mm.
-    pub safe_z_mm: f64,
-    /// Chord tolerance, mm (sets the angle step).
-    pub tolerance_mm: f64,
-}
+/// The cutting data of a spiral program (the model's, [`gearcam_proto::SpiralCut`]):
+/// depth below the face and passes, feed, plunge feed, spindle speed, safe
+/// height, chord tolerance.
+pub use gearcam_proto::SpiralCut as Cut;
 
 fn num(v: f64) -> String {
     let s = format!("{v:.6}");

@@ -39,6 +39,17 @@ pub struct CaseSummary {
     pub provenance: String,
 }
 
+fn case_summaries(cases: &[gearcam_proto::CaseRef]) -> Vec<CaseSummary> {
+    cases
+        .iter()
+        .map(|c| CaseSummary {
+            id: c.id.clone(),
+            similarity: c.similarity,
+            provenance: c.provenance.clone(),
+        })
+        .collect()
+}
+
 /// The machine a plan is for, in brief.
 #[derive(Debug, Clone, Serialize)]
 pub struct MachineSummary {
@@ -251,15 +262,7 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
         },
         hob_id: plan.hob.id.clone(),
         confidence: plan.confidence,
-        cases: plan
-            .cases
-            .iter()
-            .map(|c| CaseSummary {
-                id: c.id.clone(),
-                similarity: c.similarity,
-                provenance: c.provenance.clone(),
-            })
-            .collect(),
+        cases: case_summaries(&plan.cases),
         values: plan.values.clone(),
         proposed: plan.proposal.values.clone(),
         overridden: plan.proposal.overridden.clone(),
@@ -345,15 +348,7 @@ pub fn check_spiral(
         },
         hob_id: plan.tool.id.clone(),
         confidence: plan.confidence,
-        cases: plan
-            .cases
-            .iter()
-            .map(|c| CaseSummary {
-                id: c.id.clone(),
-                similarity: c.similarity,
-                provenance: c.provenance.clone(),
-            })
-            .collect(),
+        cases: case_summaries(&plan.cases),
         overridden: values
             .iter()
             .filter(|(_, v)| v.source == Source::Job)

@@ -3,7 +3,7 @@
 //! with the values actually used and the outcome, and the job becomes a case.
 //! The hob's shift position and remaining life move on by the quantity cut.
 
-use gearcam_proto::{DeliveryReceipt, ProcessPlan, Source, Stage};
+use gearcam_proto::{DeliveryReceipt, ProcessPlan, Source, SpiralPart, SpiralPlan, Stage};
 use rusqlite::Connection;
 use serde_json::{json, Value};
 
@@ -178,7 +178,7 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
         )]);
     }
     if matches!(job.class, JobClass::SpiralFace | JobClass::SpiralGroove) {
-        return crate::spiral::confirm(conn, c, &job.plan_json);
+        return confirm_spiral(conn, c, &job.plan_json);
     }
     let plan = stored_plan(&job.plan_json)?;
     let g = &plan.gear;
@@ -267,14 +267,106 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
         }
         None => None,
     };
+    let job = mark_confirmed(&tx, c, quantity, &case_id)?;
+    tx.commit().map_err(KnowledgeError::from)?;
+    Ok(Confirmed { case, hob, job })
+}
+
+/// Confirms a delivered spiral job (state checked by the caller): it
+/// becomes a milling case with the values that ran (the plan's unless the
+/// planner gives others: `feed_mm_per_rev` is the feed per tooth here and
+/// `cuts` the depth passes), and the job is marked confirmed; one transaction.
+fn confirm_spiral(conn: &Connection, c: &Confirmation, plan_json: &str) -> Outcome<Confirmed> {
+    let plan: SpiralPlan = serde_json::from_str(plan_json).map_err(|e| {
+        vec![Stage::Knowledge.error(
+            "KNOWLEDGE_BASE_ERROR",
+            "plan_json",
+            "a stored spiral plan",
+            e.to_string(),
+            "the job's stored plan cannot be read",
+        )]
+    })?;
+    let material = records::material(conn, plan.part.material())?;
+    let p = &plan.process;
+    let vc = c.cutting_speed_m_min.unwrap_or(p.cutting_speed_m_min.value);
+    let fz = c.feed_mm_per_rev.unwrap_or(p.feed_per_tooth_mm.value);
+    let passes = c.cuts.unwrap_or(p.passes);
+    let quantity = c.quantity.unwrap_or(plan.request.spec.job.quantity);
+    let (ro, ri) = match &plan.part {
+        SpiralPart::Face(f) => (f.outer_radius_mm, f.inner_radius_mm),
+        SpiralPart::Groove(g) => (g.outer_radius_mm, 0.0),
+    };
+    let mut changed = Vec::new();
+    if c.cutting_speed_m_min.is_some() {
+        changed.push(format!("vc {vc} m/min"));
+    }
+    if c.feed_mm_per_rev.is_some() {
+        changed.push(format!("fz {fz} mm"));
+    }
+    if c.cuts.is_some() {
+        changed.push(format!("{passes} passes"));
+    }
+    let case_id = format!("JOB-{}", c.job_id);
+    let Value::Object(case) = json!({
+        "id": case_id,
+        "kind": plan.part.kind(),
+        "machine": plan.machine.id.as_str(),
+        "material": plan.part.material().trim(),
+        "material_group": material.as_ref().map_or("unknown", |m| m.material_group.as_str()),
+        "outer_radius_mm": ro,
+        "inner_radius_mm": ri,
+        "tool_id": (plan.tool.source == Source::Library).then_some(plan.tool.id.as_str()),
+        "tool_diameter_mm": 2.0 * plan.tool.radius_mm,
+        "flutes": plan.tool.flutes,
+        "step_over_mm": p.step_over_mm.value,
+        "passes": passes,
+        "depth_mm": plan.part.depth_mm(),
+        "cutting_speed_m_min": vc,
+        "feed_per_tooth_mm": fz,
+        "outcome": c.outcome,
+        "notes": c.notes,
+        "confidence": c.confidence,
+        "provenance": format!(
+            "confirmed job {} ({} parts of {}) by {}{}",
+            c.job_id,
+            quantity,
+            plan.request.spec.job.part_number,
+            c.by,
+            if changed.is_empty() {
+                ": values as planned".to_string()
+            } else {
+                format!(": values actually used differ from the plan: {}", changed.join(", "))
+            }
+        ),
+        "job_id": c.job_id,
+        "created_at_ms": c.at_ms,
+    }) else {
+        unreachable!("a JSON object")
+    };
+    let tx = conn.unchecked_transaction().map_err(KnowledgeError::from)?;
+    let case = library::add(&tx, &library::MILLING_CASES, &case)?;
+    let job = mark_confirmed(&tx, c, quantity, &case_id)?;
+    tx.commit().map_err(KnowledgeError::from)?;
+    Ok(Confirmed {
+        case,
+        hob: None,
+        job,
+    })
+}
+
+/// Marks the job confirmed, with the quantity cut and its new case.
+fn mark_confirmed(
+    tx: &rusqlite::Transaction<'_>,
+    c: &Confirmation,
+    quantity: u32,
+    case_id: &str,
+) -> Outcome<Record> {
     let mut set = Record::new();
     set.insert("state".into(), json!("confirmed"));
     set.insert("confirmed_at_ms".into(), json!(c.at_ms));
     set.insert("delivered_quantity".into(), json!(quantity));
     set.insert("case_id".into(), json!(case_id));
-    let job = library::edit(&tx, &library::JOBS, &c.job_id, &set)?;
-    tx.commit().map_err(KnowledgeError::from)?;
-    Ok(Confirmed { case, hob, job })
+    library::edit(tx, &library::JOBS, &c.job_id, &set)
 }
 
 /// A plan as the jobs library stored it. Plans stored before the plan

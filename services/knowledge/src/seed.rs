@@ -32,7 +32,11 @@ feed_mm_per_rev = axial feed / (z0·rpm/z). Hob material not stated (HSS assumed
 /// Provenance of the example workpieces.
 pub const EXAMPLES: &str = "gearcam example job files (examples/*.toml)";
 
-fn insert(tx: &Transaction<'_>, lib: &library::Library, v: Value) -> Result<(), KnowledgeError> {
+pub(crate) fn insert(
+    tx: &Transaction<'_>,
+    lib: &library::Library,
+    v: Value,
+) -> Result<(), KnowledgeError> {
     let Value::Object(rec) = v else {
         unreachable!("seed records are objects")
     };

@@ -406,13 +406,7 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
 
 /// The crate's spiral of a model (for programs and checks).
 pub fn spiral_of_model(model: &SpiralModel) -> Spiral {
-    Spiral {
-        start_radius_mm: model.spiral.start_radius_mm,
-        end_radius_mm: model.spiral.end_radius_mm,
-        start_angle_deg: model.spiral.start_angle_deg,
-        turns: model.spiral.turns,
-        sense: model.spiral.sense,
-    }
+    gearcam_spiral::verify::spiral_of(model)
 }
 
 #[cfg(test)]
