@@ -1,0 +1,413 @@
+//! Tolerance-bounded arc splines (issue 15): the fewest circular arcs, each
+//! joining the next without a corner (G1), that stay within a tolerance ε of
+//! a smooth plane curve. Wire EDM and many controls cut only lines and arcs;
+//! a spline of arcs is the exact program of such a path.
+//!
+//! # Method
+//!
+//! An arc spline starting at point p0 with tangent angle θ0 is fixed by each
+//! arc's curvature κᵢ and length Lᵢ: it is G1 by construction. For k arcs
+//! [`fit`] minimises the largest distance between the spline and the curve
+//! over (θ0, κ1…κk, L1…Lk) — the start point is the curve's start; the end
+//! point must come within ε of the curve's end, and a given start or end
+//! tangent (to join a neighbouring piece without a corner) is kept — by the
+//! Nelder–Mead simplex from a start that splits the curve into k pieces of
+//! equal turning, restarted until it stalls. It tries k = 1, 2, … and returns
+//! the first spline whose deviation, measured again densely and both ways by
+//! [`deviation`] (independently of the optimiser's own samples), is within ε.
+//!
+//! This is a minimax fit in the spirit of Maier (2014), "Optimal arc spline
+//! approximation", and Drysdale, Rote and Sturm (2008), "Approximation of an
+//! open polygonal curve with a minimum number of circular arcs and biarcs":
+//! the arcs may straddle the curve, the junctions need not lie on it, so
+//! fewer arcs suffice than for a biarc fit whose junctions sit on the curve.
+//! Not proved optimal: k is the smallest this search finds.
+#![forbid(unsafe_code)]
+
+use std::f64::consts::TAU;
+
+/// A plane curve to approximate, over its parameter domain.
+pub trait Curve {
+    /// The parameter range `(t0, t1)`, t0 < t1.
+    fn domain(&self) -> (f64, f64);
+    /// The point at parameter `t`.
+    fn point(&self, t: f64) -> (f64, f64);
+    /// The tangent's angle at `t` (direction of increasing t), radians.
+    fn tangent_angle(&self, t: f64) -> f64;
+    /// The distance from `q` to the curve over its domain (exact where the
+    /// curve allows, else a nearest-point search).
+    fn distance(&self, q: (f64, f64)) -> f64;
+}
+
+/// One arc of a spline (a line when the curvature is 0).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Arc {
+    /// Start point.
+    pub start: (f64, f64),
+    /// Tangent angle at the start, radians.
+    pub start_angle: f64,
+    /// Signed curvature, 1/mm: positive turns left (counter-clockwise).
+    pub curvature: f64,
+    /// Length along the arc, mm (≥ 0).
+    pub length: f64,
+}
+
+impl Arc {
+    /// The point `s` along the arc.
+    pub fn point_at(&self, s: f64) -> (f64, f64) {
+        let (x, y) = self.start;
+        let a = self.start_angle;
+        let k = self.curvature;
+        if (k * s).abs() < 1e-9 {
+            // A line, or an arc so flat that the series is exact to 1e-18 mm.
+            let h = 0.5 * k * s * s;
+            return (x + s * a.cos() - h * a.sin(), y + s * a.sin() + h * a.cos());
+        }
+        (
+            x + ((a + k * s).sin() - a.sin()) / k,
+            y - ((a + k * s).cos() - a.cos()) / k,
+        )
+    }
+
+    /// The end point.
+    pub fn end(&self) -> (f64, f64) {
+        self.point_at(self.length)
+    }
+
+    /// The tangent angle at the end.
+    pub fn end_angle(&self) -> f64 {
+        self.start_angle + self.curvature * self.length
+    }
+
+    /// The centre and radius, or `None` for a line.
+    pub fn circle(&self) -> Option<((f64, f64), f64)> {
+        if self.curvature.abs() < 1e-12 {
+            return None;
+        }
+        let r = 1.0 / self.curvature;
+        let a = self.start_angle;
+        Some((
+            (self.start.0 - r * a.sin(), self.start.1 + r * a.cos()),
+            r.abs(),
+        ))
+    }
+
+    /// The distance from `q` to the arc (exact).
+    pub fn distance(&self, q: (f64, f64)) -> f64 {
+        let d = |p: (f64, f64)| ((p.0 - q.0).powi(2) + (p.1 - q.1).powi(2)).sqrt();
+        let ends = d(self.start).min(d(self.end()));
+        match self.circle() {
+            None => {
+                // Project on the segment.
+                let (c, s) = (self.start_angle.cos(), self.start_angle.sin());
+                let u =
+                    ((q.0 - self.start.0) * c + (q.1 - self.start.1) * s).clamp(0.0, self.length);
+                d((self.start.0 + u * c, self.start.1 + u * s))
+            }
+            Some((centre, r)) => {
+                // The angle from the start, in the arc's sense, of q's direction.
+                let sense = self.curvature.signum();
+                let a0 = (self.start.1 - centre.1).atan2(self.start.0 - centre.0);
+                let aq = (q.1 - centre.1).atan2(q.0 - centre.0);
+                let rel = (sense * (aq - a0)).rem_euclid(TAU);
+                if rel <= self.curvature.abs() * self.length {
+                    (d(centre) - r).abs()
+                } else {
+                    ends
+                }
+            }
+        }
+    }
+}
+
+/// What [`fit`] is asked for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// The tolerance ε, mm.
+    pub tolerance: f64,
+    /// The start tangent's angle the spline must keep (to join the piece
+    /// before it without a corner), or free.
+    pub start_angle: Option<f64>,
+    /// The end tangent's angle the spline must keep, or free.
+    pub end_angle: Option<f64>,
+    /// The smallest arc radius allowed (e.g. what a wire can cut), mm.
+    pub min_radius: f64,
+    /// The most arcs tried.
+    pub max_arcs: usize,
+}
+
+impl Options {
+    /// A tolerance, both tangents free, no radius limit, up to 12 arcs.
+    pub fn tolerance(tolerance: f64) -> Options {
+        Options {
+            tolerance,
+            start_angle: None,
+            end_angle: None,
+            min_radius: 0.0,
+            max_arcs: 12,
+        }
+    }
+}
+
+/// An arc spline within the tolerance.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fit {
+    /// The arcs, in order along the curve.
+    pub arcs: Vec<Arc>,
+    /// The deviation measured by [`deviation`], mm.
+    pub max_deviation: f64,
+}
+
+/// Why no spline was found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FitError {
+    /// The arcs tried at the most.
+    pub max_arcs: usize,
+    /// The smallest deviation reached with that many, mm.
+    pub best_deviation: f64,
+}
+
+impl std::fmt::Display for FitError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "no arc spline of at most {} arcs within the tolerance; the best came within {:.6} mm",
+            self.max_arcs, self.best_deviation
+        )
+    }
+}
+
+impl std::error::Error for FitError {}
+
+/// Samples per arc and per curve piece of [`deviation`].
+pub const CHECK_SAMPLES: usize = 2000;
+
+/// The largest distance between `arcs` and `curve`, both ways: `samples`
+/// points along each arc against the curve, and `samples`·n points of the
+/// curve against the nearest arc; and the end points' gaps. Independent of
+/// the fit's own sampling.
+pub fn deviation(curve: &dyn Curve, arcs: &[Arc], samples: usize) -> f64 {
+    let (t0, t1) = curve.domain();
+    let mut worst: f64 = 0.0;
+    for a in arcs {
+        for i in 0..=samples {
+            let q = a.point_at(a.length * i as f64 / samples as f64);
+            worst = worst.max(curve.distance(q));
+        }
+    }
+    let n = samples * arcs.len().max(1);
+    for i in 0..=n {
+        let q = curve.point(t0 + (t1 - t0) * i as f64 / n as f64);
+        let d = arcs
+            .iter()
+            .map(|a| a.distance(q))
+            .fold(f64::INFINITY, f64::min);
+        worst = worst.max(d);
+    }
+    worst
+}
+
+/// The spline of the parameters x = (θ0 offset, κ…, L…).
+fn spline(curve: &dyn Curve, o: &Options, x: &[f64], k: usize) -> Vec<Arc> {
+    let (t0, _) = curve.domain();
+    let mut angle = match o.start_angle {
+        Some(a) => a,
+        None => curve.tangent_angle(t0) + x[0],
+    };
+    let mut p = curve.point(t0);
+    let mut arcs = Vec::with_capacity(k);
+    for i in 0..k {
+        let a = Arc {
+            start: p,
+            start_angle: angle,
+            curvature: x[1 + i],
+            length: x[1 + k + i].abs(),
+        };
+        p = a.end();
+        angle = a.end_angle();
+        arcs.push(a);
+    }
+    arcs
+}
+
+/// Samples per arc of the optimiser's cost.
+const COST_SAMPLES: usize = 24;
+
+/// The optimiser's cost: the largest sampled distance of the spline from
+/// the curve, the end point's gap, the end tangent's miss (as a distance
+/// over the last arc), and a penalty below the radius limit.
+fn cost(curve: &dyn Curve, o: &Options, x: &[f64], k: usize) -> f64 {
+    let arcs = spline(curve, o, x, k);
+    let (_, t1) = curve.domain();
+    let mut worst: f64 = 0.0;
+    for a in &arcs {
+        for i in 1..=COST_SAMPLES {
+            worst =
+                worst.max(curve.distance(a.point_at(a.length * i as f64 / COST_SAMPLES as f64)));
+        }
+        if o.min_radius > 0.0 && a.curvature.abs() * o.min_radius > 1.0 {
+            worst = worst.max(o.tolerance * (1.0 + a.curvature.abs() * o.min_radius));
+        }
+    }
+    let last = arcs.last().expect("k ≥ 1");
+    let e = last.end();
+    let goal = curve.point(t1);
+    worst = worst.max(((e.0 - goal.0).powi(2) + (e.1 - goal.1).powi(2)).sqrt());
+    if let Some(want) = o.end_angle {
+        let miss =
+            (last.end_angle() - want + std::f64::consts::PI).rem_euclid(TAU) - std::f64::consts::PI;
+        worst = worst.max(miss.abs() * last.length.max(o.tolerance));
+    }
+    worst
+}
+
+/// Nelder–Mead on `f` from `x0` with initial steps `scale`.
+fn nelder_mead(
+    f: &dyn Fn(&[f64]) -> f64,
+    x0: &[f64],
+    scale: &[f64],
+    iterations: usize,
+) -> (Vec<f64>, f64) {
+    let n = x0.len();
+    let mut s: Vec<Vec<f64>> = (0..=n)
+        .map(|i| {
+            let mut x = x0.to_vec();
+            if i > 0 {
+                x[i - 1] += scale[i - 1];
+            }
+            x
+        })
+        .collect();
+    let mut fs: Vec<f64> = s.iter().map(|x| f(x)).collect();
+    for _ in 0..iterations {
+        let mut order: Vec<usize> = (0..=n).collect();
+        order.sort_by(|&a, &b| fs[a].total_cmp(&fs[b]));
+        s = order.iter().map(|&i| s[i].clone()).collect();
+        fs = order.iter().map(|&i| fs[i]).collect();
+        if (fs[n] - fs[0]).abs() <= 1e-15 * fs[0].abs().max(1e-12) {
+            break;
+        }
+        let c: Vec<f64> = (0..n)
+            .map(|j| s[..n].iter().map(|x| x[j]).sum::<f64>() / n as f64)
+            .collect();
+        let along = |t: f64| -> Vec<f64> { (0..n).map(|j| c[j] + t * (s[n][j] - c[j])).collect() };
+        let xr = along(-1.0);
+        let fr = f(&xr);
+        if fr < fs[0] {
+            let xe = along(-2.0);
+            let fe = f(&xe);
+            (s[n], fs[n]) = if fe < fr { (xe, fe) } else { (xr, fr) };
+        } else if fr < fs[n - 1] {
+            (s[n], fs[n]) = (xr, fr);
+        } else {
+            let xc = along(0.5);
+            let fc = f(&xc);
+            if fc < fs[n] {
+                (s[n], fs[n]) = (xc, fc);
+            } else {
+                for i in 1..=n {
+                    s[i] = (0..n)
+                        .map(|j| s[0][j] + 0.5 * (s[i][j] - s[0][j]))
+                        .collect();
+                    fs[i] = f(&s[i]);
+                }
+            }
+        }
+    }
+    let best = (0..=n)
+        .min_by(|&a, &b| fs[a].total_cmp(&fs[b]))
+        .expect("a simplex");
+    (s[best].clone(), fs[best])
+}
+
+/// A start for k arcs: the curve cut into k pieces of equal turning (by a
+/// dense walk), each arc with the piece's mean curvature and length.
+fn start(curve: &dyn Curve, k: usize) -> Vec<f64> {
+    let (t0, t1) = curve.domain();
+    const N: usize = 400;
+    let ts: Vec<f64> = (0..=N)
+        .map(|i| t0 + (t1 - t0) * i as f64 / N as f64)
+        .collect();
+    let angle: Vec<f64> = ts.iter().map(|&t| curve.tangent_angle(t)).collect();
+    let mut len = vec![0.0; N + 1];
+    for i in 1..=N {
+        let (a, b) = (curve.point(ts[i - 1]), curve.point(ts[i]));
+        len[i] = len[i - 1] + ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
+    }
+    let turn = |i: usize| (angle[i] - angle[0]).abs();
+    let total = turn(N).max(1e-12);
+    let mut cuts = vec![0usize];
+    for j in 1..k {
+        let goal = total * j as f64 / k as f64;
+        let i = (1..N).find(|&i| turn(i) >= goal).unwrap_or(N * j / k);
+        cuts.push(i.max(cuts[j - 1] + 1).min(N - (k - j)));
+    }
+    cuts.push(N);
+    let mut x = vec![0.0; 1 + 2 * k];
+    for j in 0..k {
+        let (a, b) = (cuts[j], cuts[j + 1]);
+        let l = (len[b] - len[a]).max(1e-9);
+        x[1 + j] = (angle[b] - angle[a]) / l;
+        x[1 + k + j] = l;
+    }
+    x
+}
+
+/// The fewest-arcs spline within `o.tolerance` of `curve` (see the module).
+pub fn fit(curve: &dyn Curve, o: &Options) -> Result<Fit, FitError> {
+    let target = 0.97 * o.tolerance;
+    let mut best_dev = f64::INFINITY;
+    for k in 1..=o.max_arcs {
+        let x0 = start(curve, k);
+        let f = |y: &[f64]| cost(curve, o, y, k);
+        // Two simplex sizes for the start tangent (the optimiser stalls in
+        // different places); the better result is kept.
+        let (x, fx) = [1e-2, 1e-3]
+            .into_iter()
+            .map(|step| {
+                let scale: Vec<f64> = x0
+                    .iter()
+                    .enumerate()
+                    .map(|(i, v)| {
+                        if i == 0 {
+                            step
+                        } else {
+                            0.05 * v.abs().max(1e-6)
+                        }
+                    })
+                    .collect();
+                let mut x = x0.clone();
+                let mut fx = f(&x);
+                // Restart from the best point until a restart gains under 0.1 %.
+                for _ in 0..30 {
+                    let (y, fy) = nelder_mead(&f, &x, &scale, 600 * (1 + 2 * k));
+                    let gain = fx - fy;
+                    x = y;
+                    fx = fy;
+                    if fx <= target || gain < 1e-3 * fx {
+                        break;
+                    }
+                }
+                (x, fx)
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("two starts");
+        if fx <= target {
+            let arcs = spline(curve, o, &x, k);
+            let d = deviation(curve, &arcs, CHECK_SAMPLES);
+            if d <= o.tolerance {
+                return Ok(Fit {
+                    arcs,
+                    max_deviation: d,
+                });
+            }
+            best_dev = best_dev.min(d);
+        } else {
+            best_dev = best_dev.min(fx);
+        }
+    }
+    Err(FitError {
+        max_arcs: o.max_arcs,
+        best_deviation: best_dev,
+    })
+}
