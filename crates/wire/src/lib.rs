@@ -1,0 +1,64 @@
+//! Wire EDM of spur-gear punches and dies (seed 002, issue 15), the pure
+//! part, in progress: the involute of a gear ([`involute`]) and the 3B
+//! program format ([`threeb`]), written and read back. The tooth-space
+//! outline with its root fillet, the offsets, 4B, ISO and DXF, and the
+//! family's place in the system are still to come (docs/wire.md).
+#![forbid(unsafe_code)]
+
+pub mod involute;
+pub mod threeb;
+
+/// A piece of a wire path: a line or a circular arc, in mm.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Segment {
+    /// A straight move.
+    Line {
+        /// Start point.
+        from: (f64, f64),
+        /// End point.
+        to: (f64, f64),
+    },
+    /// A circular arc.
+    Arc {
+        /// Start point.
+        from: (f64, f64),
+        /// End point.
+        to: (f64, f64),
+        /// Centre.
+        centre: (f64, f64),
+        /// Counter-clockwise (else clockwise).
+        ccw: bool,
+    },
+}
+
+impl Segment {
+    /// The start point.
+    pub fn from(&self) -> (f64, f64) {
+        match *self {
+            Segment::Line { from, .. } | Segment::Arc { from, .. } => from,
+        }
+    }
+
+    /// The end point.
+    pub fn to(&self) -> (f64, f64) {
+        match *self {
+            Segment::Line { to, .. } | Segment::Arc { to, .. } => to,
+        }
+    }
+
+    /// The arc of an arc spline as a segment (a line when it is straight).
+    pub fn of_arc(a: &gearcam_arcfit::Arc) -> Segment {
+        match a.circle() {
+            None => Segment::Line {
+                from: a.start,
+                to: a.end(),
+            },
+            Some((centre, _)) => Segment::Arc {
+                from: a.start,
+                to: a.end(),
+                centre,
+                ccw: a.curvature > 0.0,
+            },
+        }
+    }
+}
