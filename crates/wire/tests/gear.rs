@@ -1,0 +1,147 @@
+//! The generated tooth space against published geometry and against a
+//! brute-force simulation of the rack cutting the gear.
+
+use gearcam_arcfit::Curve;
+use gearcam_wire::gear::RackGear;
+
+fn gear(m: f64, z: u32, x: f64, rho: f64) -> RackGear {
+    RackGear {
+        module_mm: m,
+        teeth: z,
+        pressure_angle_deg: 20.0,
+        profile_shift: x,
+        addendum_coef: 1.0,
+        clearance_coef: 0.25,
+        tip_radius_coef: rho,
+    }
+}
+
+/// ISO 21771 values from the MESYS online calculator (SPEC §10): mn 1,
+/// αn 20°, z 20, x 0, ha* 1, tool addendum 1.25 → d 20, db 18.7939, da 22,
+/// df 17.5 (diameters).
+#[test]
+fn the_radii_are_the_published_ones() {
+    let f = gear(1.0, 20, 0.0, 0.38).figures();
+    assert!((2.0 * f.pitch_radius_mm - 20.0).abs() < 1e-12);
+    assert!((2.0 * f.base_radius_mm - 18.7939).abs() < 5e-5);
+    assert!((2.0 * f.tip_radius_mm - 22.0).abs() < 1e-12);
+    assert!((2.0 * f.root_radius_mm - 17.5).abs() < 1e-12);
+}
+
+/// With a sharp rack corner the involute is generated down to the radius
+/// the corner reaches along the line of action, √(rb² + (r·sin α −
+/// (ha* + c* − x)·m / sin α)²) (the generation-limit formula), and the
+/// fillet ends exactly there.
+#[test]
+fn a_sharp_corner_ends_the_involute_at_the_generation_limit() {
+    for (m, z, x) in [(2.0, 20, 0.0), (3.0, 25, 0.3), (1.5, 40, -0.2)] {
+        let g = gear(m, z, x, 0.0);
+        let f = g.figures();
+        let a = 20f64.to_radians();
+        let r = f.pitch_radius_mm;
+        let limit = (f.base_radius_mm.powi(2) + (r * a.sin() - (1.25 - x) * m / a.sin()).powi(2)).sqrt();
+        assert!((f.form_radius_mm - limit).abs() < 1e-9, "{m} {z} {x}: {} vs {limit}", f.form_radius_mm);
+    }
+}
+
+/// The fillet ends on the involute, without a corner: the fillet's last
+/// point is the flank's first (the flank placed by the tooth space's width
+/// at the pitch circle, independently of the rack's motion), and their
+/// tangents agree.
+#[test]
+fn the_fillet_joins_the_involute_without_a_corner() {
+    for (m, z, x, rho) in [(2.0, 20, 0.0, 0.38), (4.0, 17, 0.5, 0.25), (1.0, 60, -0.3, 0.3)] {
+        let g = gear(m, z, x, rho);
+        let (fillet, flank) = (g.fillet(), g.flank());
+        let (_, t1) = fillet.domain();
+        let (s0, _) = flank.domain();
+        let (p, q) = (fillet.point(t1), flank.point(s0));
+        let gap = ((p.0 - q.0).powi(2) + (p.1 - q.1).powi(2)).sqrt();
+        assert!(gap < 1e-9, "{m} {z} {x}: {gap} mm");
+        let turn = (fillet.tangent_angle(t1) - flank.tangent_angle(s0)).rem_euclid(std::f64::consts::TAU);
+        assert!(turn < 1e-9 || turn > std::f64::consts::TAU - 1e-9, "{m} {z} {x}: corner {turn}");
+    }
+}
+
+/// The rack cutting the gear, simulated: along a ray from the gear's
+/// centre the space reaches as deep as the deepest entry of the rack tooth
+/// over every rolling position. The fillet and the flank lie on that
+/// boundary within 0.1 µm.
+#[test]
+fn the_outline_is_the_boundary_of_the_racks_swept_positions() {
+    let g = gear(2.0, 20, 0.2, 0.38);
+    let f = g.figures();
+    let (m, a) = (2.0, 20f64.to_radians());
+    let r = f.pitch_radius_mm;
+    let k = std::f64::consts::PI * m / 4.0 - 0.2 * m * a.tan();
+    let rho = 0.38 * m;
+    let v_tip = (1.25 - 0.2) * m;
+    let (v_c, u_c) = (v_tip - rho, k - (v_tip - rho) * a.tan() - rho / a.cos());
+    // Inside the rack tooth (rack coordinates u, v towards the gear's centre).
+    let inside = |u: f64, v: f64| {
+        let u = u.abs();
+        if v > v_tip || u > k - v * a.tan() {
+            return false;
+        }
+        !(v > v_c && u > u_c) || (u - u_c).powi(2) + (v - v_c).powi(2) <= rho * rho
+    };
+    // The entry radius of the ray at angle b into the tooth at roll phi.
+    let entry = |b: f64, phi: f64| -> f64 {
+        let at = |s: f64| {
+            let (x, y) = (s * b.cos(), s * b.sin());
+            let (sn, cs) = phi.sin_cos();
+            let (fx, fy) = (cs * x + sn * y, -sn * x + cs * y);
+            inside(fx - r * phi, r - fy)
+        };
+        let (lo0, hi0) = (f.root_radius_mm - 0.1, f.tip_radius_mm + 0.1);
+        let n = 400;
+        let h = (hi0 - lo0) / n as f64;
+        let Some(i) = (0..=n).find(|&i| at(lo0 + h * i as f64)) else {
+            return f64::INFINITY;
+        };
+        if i == 0 {
+            return lo0;
+        }
+        let (mut lo, mut hi) = (lo0 + h * (i as f64 - 1.0), lo0 + h * i as f64);
+        for _ in 0..50 {
+            let mid = 0.5 * (lo + hi);
+            if at(mid) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        hi
+    };
+    let deepest = |b: f64| -> f64 {
+        let n = 400;
+        let (p0, p1) = (-0.6, 0.6);
+        let h = (p1 - p0) / n as f64;
+        let best = (0..=n)
+            .min_by(|&i, &j| entry(b, p0 + h * i as f64).total_cmp(&entry(b, p0 + h * j as f64)))
+            .unwrap();
+        let (mut lo, mut hi) = (p0 + h * (best as f64 - 1.0), p0 + h * (best as f64 + 1.0));
+        for _ in 0..60 {
+            let (m1, m2) = (lo + 0.382 * (hi - lo), lo + 0.618 * (hi - lo));
+            if entry(b, m1) < entry(b, m2) {
+                hi = m2;
+            } else {
+                lo = m1;
+            }
+        }
+        entry(b, 0.5 * (lo + hi))
+    };
+    let mut worst: f64 = 0.0;
+    let mut checked = 0;
+    for curve in [&g.fillet() as &dyn Curve, &g.flank()] {
+        let (t0, t1) = curve.domain();
+        for i in 0..=12 {
+            let p = curve.point(t0 + (t1 - t0) * f64::from(i) / 12.0);
+            let (rad, b) = ((p.0 * p.0 + p.1 * p.1).sqrt(), p.1.atan2(p.0));
+            worst = worst.max((deepest(b) - rad).abs());
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 26);
+    assert!(worst < 1e-4, "{worst} mm from the simulated cut");
+}
