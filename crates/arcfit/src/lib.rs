@@ -8,7 +8,8 @@
 //! An arc spline starting at point p0 with tangent angle θ0 is fixed by each
 //! arc's curvature κᵢ and length Lᵢ: it is G1 by construction. For k arcs
 //! [`fit`] minimises the largest distance between the spline and the curve
-//! over (θ0, κ1…κk, L1…Lk) — the start point is the curve's start; the end
+//! over (θ0, κ1…κk, L1…Lk) — the start point is the curve's start (or a given
+//! point, where the piece before ended); the end
 //! point must come within ε of the curve's end, and a given start or end
 //! tangent (to join a neighbouring piece without a corner) is kept — by the
 //! Nelder–Mead simplex from a start that splits the curve into k pieces of
@@ -37,6 +38,12 @@ pub trait Curve {
     /// The distance from `q` to the curve over its domain (exact where the
     /// curve allows, else a nearest-point search).
     fn distance(&self, q: (f64, f64)) -> f64;
+    /// How a deviation at `t` counts against the fit's tolerance: the
+    /// tolerance over the tolerance of this place (1 by default; a curve
+    /// joined of pieces with their own tolerances says more).
+    fn scale_at(&self, _t: f64) -> f64 {
+        1.0
+    }
 }
 
 /// One arc of a spline (a line when the curvature is 0).
@@ -125,11 +132,18 @@ impl Arc {
 pub struct Options {
     /// The tolerance ε, mm.
     pub tolerance: f64,
+    /// The start point, when the spline must begin where the piece before
+    /// it ended (within the tolerance of the curve's start); else the
+    /// curve's start.
+    pub start_point: Option<(f64, f64)>,
     /// The start tangent's angle the spline must keep (to join the piece
     /// before it without a corner), or free.
     pub start_angle: Option<f64>,
     /// The end tangent's angle the spline must keep, or free.
     pub end_angle: Option<f64>,
+    /// How close the end must come to the curve's end, mm, when closer
+    /// than the tolerance (where a piece of a finer tolerance follows).
+    pub end_tolerance: Option<f64>,
     /// The smallest arc radius allowed (e.g. what a wire can cut), mm.
     pub min_radius: f64,
     /// The most arcs tried.
@@ -141,8 +155,10 @@ impl Options {
     pub fn tolerance(tolerance: f64) -> Options {
         Options {
             tolerance,
+            start_point: None,
             start_angle: None,
             end_angle: None,
+            end_tolerance: None,
             min_radius: 0.0,
             max_arcs: 12,
         }
@@ -197,12 +213,13 @@ pub fn deviation(curve: &dyn Curve, arcs: &[Arc], samples: usize) -> f64 {
     }
     let n = samples * arcs.len().max(1);
     for i in 0..=n {
-        let q = curve.point(t0 + (t1 - t0) * i as f64 / n as f64);
+        let t = t0 + (t1 - t0) * i as f64 / n as f64;
+        let q = curve.point(t);
         let d = arcs
             .iter()
             .map(|a| a.distance(q))
             .fold(f64::INFINITY, f64::min);
-        worst = worst.max(d);
+        worst = worst.max(d * curve.scale_at(t));
     }
     worst
 }
@@ -214,7 +231,7 @@ fn spline(curve: &dyn Curve, o: &Options, x: &[f64], k: usize) -> Vec<Arc> {
         Some(a) => a,
         None => curve.tangent_angle(t0) + x[0],
     };
-    let mut p = curve.point(t0);
+    let mut p = o.start_point.unwrap_or_else(|| curve.point(t0));
     let mut arcs = Vec::with_capacity(k);
     for i in 0..k {
         let a = Arc {
@@ -252,7 +269,10 @@ fn cost(curve: &dyn Curve, o: &Options, x: &[f64], k: usize) -> f64 {
     let last = arcs.last().expect("k ≥ 1");
     let e = last.end();
     let goal = curve.point(t1);
-    worst = worst.max(((e.0 - goal.0).powi(2) + (e.1 - goal.1).powi(2)).sqrt());
+    let gap = ((e.0 - goal.0).powi(2) + (e.1 - goal.1).powi(2)).sqrt();
+    // The end gap counts against its own limit, scaled to the tolerance.
+    let end_limit = o.end_tolerance.unwrap_or(o.tolerance).min(o.tolerance);
+    worst = worst.max(gap * o.tolerance / end_limit);
     if let Some(want) = o.end_angle {
         let miss =
             (last.end_angle() - want + std::f64::consts::PI).rem_euclid(TAU) - std::f64::consts::PI;
@@ -395,7 +415,10 @@ pub fn fit(curve: &dyn Curve, o: &Options) -> Result<Fit, FitError> {
         if fx <= target {
             let arcs = spline(curve, o, &x, k);
             let d = deviation(curve, &arcs, CHECK_SAMPLES);
-            if d <= o.tolerance {
+            let (_, t1) = curve.domain();
+            let (e, goal) = (arcs.last().expect("k ≥ 1").end(), curve.point(t1));
+            let gap = ((e.0 - goal.0).powi(2) + (e.1 - goal.1).powi(2)).sqrt();
+            if d <= o.tolerance && gap <= o.end_tolerance.unwrap_or(o.tolerance) {
                 return Ok(Fit {
                     arcs,
                     max_deviation: d,

@@ -14,7 +14,9 @@
 //! to the tip line and the flank). When the gear has turned by φ the rack
 //! has moved by r·φ: a rack point (u, v) is at
 //!
-//!     Rot(φ)·(u + r·φ, r − v)
+//! ```text
+//! Rot(φ)·(u + r·φ, r − v)
+//! ```
 //!
 //! in the gear's frame, and the pitch point I(φ) = Rot(φ)·(0, r) is the
 //! instantaneous centre of the relative motion.
@@ -26,7 +28,9 @@
 //! envelope of the tip circle: its contact point lies on the common normal
 //! through I, on the side away from I,
 //!
-//!     F(φ) = C(φ) + ρ·(C − I)/|C − I|,
+//! ```text
+//! F(φ) = C(φ) + ρ·(C − I)/|C − I|,
+//! ```
 //!
 //! a parallel curve of the trochoid (C′ ⊥ C − I, since I is the
 //! instantaneous centre), so its tangent is C′ = Rot(φ)·(r − (r − v_c),
@@ -179,37 +183,48 @@ impl Curve for Fillet {
         let (_, d) = self.gear.fillet_at(t);
         d.1.atan2(d.0)
     }
-    /// A nearest-point search: a scan of 400, then golden section.
+    /// A nearest-point search ([`nearest`]).
     fn distance(&self, q: (f64, f64)) -> f64 {
         nearest(self, q)
     }
 }
 
-/// The nearest distance from `q` to a curve by a scan and golden section.
+/// The nearest distance from `q` to a curve: a scan of 48 samples, then
+/// Newton's method on (P(t) − q)·P′(t) = 0 with central differences, kept
+/// within the bracket of the best sample; the ends count too.
 pub fn nearest(c: &dyn Curve, q: (f64, f64)) -> f64 {
     let (t0, t1) = c.domain();
-    let d = |t: f64| {
+    let d2 = |t: f64| {
         let p = c.point(t);
-        ((p.0 - q.0).powi(2) + (p.1 - q.1).powi(2)).sqrt()
+        (p.0 - q.0).powi(2) + (p.1 - q.1).powi(2)
     };
-    const N: usize = 400;
+    const N: usize = 48;
     let h = (t1 - t0) / N as f64;
     let i = (0..=N)
-        .min_by(|&a, &b| d(t0 + h * a as f64).total_cmp(&d(t0 + h * b as f64)))
+        .min_by(|&a, &b| d2(t0 + h * a as f64).total_cmp(&d2(t0 + h * b as f64)))
         .expect("samples");
-    let (mut lo, mut hi) = (
+    let (lo, hi) = (
         (t0 + h * (i as f64 - 1.0)).max(t0),
         (t0 + h * (i as f64 + 1.0)).min(t1),
     );
-    for _ in 0..60 {
-        let (m1, m2) = (lo + 0.382 * (hi - lo), lo + 0.618 * (hi - lo));
-        if d(m1) < d(m2) {
-            hi = m2;
-        } else {
-            lo = m1;
+    let mut t = t0 + h * i as f64;
+    let e = 1e-6 * (t1 - t0);
+    for _ in 0..8 {
+        // g = ½ d(d²)/dt, g′ = ½ d²(d²)/dt², by central differences.
+        let (a, b, m) = (d2(t - e), d2(t + e), d2(t));
+        let g = (b - a) / (2.0 * e);
+        let gp = (b - 2.0 * m + a) / (e * e);
+        if gp <= 0.0 {
+            break;
         }
+        let next = (t - g / gp).clamp(lo, hi);
+        if (next - t).abs() < 1e-13 {
+            t = next;
+            break;
+        }
+        t = next;
     }
-    d(0.5 * (lo + hi))
+    d2(t).min(d2(t0)).min(d2(t1)).sqrt()
 }
 
 /// The right flank in the gear's frame: the standard involute mirrored

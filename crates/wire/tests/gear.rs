@@ -39,8 +39,13 @@ fn a_sharp_corner_ends_the_involute_at_the_generation_limit() {
         let f = g.figures();
         let a = 20f64.to_radians();
         let r = f.pitch_radius_mm;
-        let limit = (f.base_radius_mm.powi(2) + (r * a.sin() - (1.25 - x) * m / a.sin()).powi(2)).sqrt();
-        assert!((f.form_radius_mm - limit).abs() < 1e-9, "{m} {z} {x}: {} vs {limit}", f.form_radius_mm);
+        let limit =
+            (f.base_radius_mm.powi(2) + (r * a.sin() - (1.25 - x) * m / a.sin()).powi(2)).sqrt();
+        assert!(
+            (f.form_radius_mm - limit).abs() < 1e-9,
+            "{m} {z} {x}: {} vs {limit}",
+            f.form_radius_mm
+        );
     }
 }
 
@@ -50,7 +55,11 @@ fn a_sharp_corner_ends_the_involute_at_the_generation_limit() {
 /// tangents agree.
 #[test]
 fn the_fillet_joins_the_involute_without_a_corner() {
-    for (m, z, x, rho) in [(2.0, 20, 0.0, 0.38), (4.0, 17, 0.5, 0.25), (1.0, 60, -0.3, 0.3)] {
+    for (m, z, x, rho) in [
+        (2.0, 20, 0.0, 0.38),
+        (4.0, 17, 0.5, 0.25),
+        (1.0, 60, -0.3, 0.3),
+    ] {
         let g = gear(m, z, x, rho);
         let (fillet, flank) = (g.fillet(), g.flank());
         let (_, t1) = fillet.domain();
@@ -58,8 +67,12 @@ fn the_fillet_joins_the_involute_without_a_corner() {
         let (p, q) = (fillet.point(t1), flank.point(s0));
         let gap = ((p.0 - q.0).powi(2) + (p.1 - q.1).powi(2)).sqrt();
         assert!(gap < 1e-9, "{m} {z} {x}: {gap} mm");
-        let turn = (fillet.tangent_angle(t1) - flank.tangent_angle(s0)).rem_euclid(std::f64::consts::TAU);
-        assert!(turn < 1e-9 || turn > std::f64::consts::TAU - 1e-9, "{m} {z} {x}: corner {turn}");
+        let turn =
+            (fillet.tangent_angle(t1) - flank.tangent_angle(s0)).rem_euclid(std::f64::consts::TAU);
+        assert!(
+            !(1e-9..=std::f64::consts::TAU - 1e-9).contains(&turn),
+            "{m} {z} {x}: corner {turn}"
+        );
     }
 }
 
@@ -144,4 +157,28 @@ fn the_outline_is_the_boundary_of_the_racks_swept_positions() {
     }
     assert_eq!(checked, 26);
     assert!(worst < 1e-4, "{worst} mm from the simulated cut");
+}
+
+/// The fillet's distance (a scan and Newton's method) is the distance of
+/// points set off along the fillet's normal, and never below a dense scan's.
+#[test]
+fn the_fillet_distance_is_the_normal_offset() {
+    let g = gear(2.0, 20, 0.0, 0.38);
+    let fillet = g.fillet();
+    let (t0, t1) = fillet.domain();
+    for i in 1..20 {
+        let t = t0 + (t1 - t0) * f64::from(i) / 20.0;
+        let (p, a) = (fillet.point(t), fillet.tangent_angle(t));
+        let off = 0.003 * (f64::from(i) - 10.0) / 10.0;
+        let q = (p.0 - off * a.sin(), p.1 + off * a.cos());
+        let d = fillet.distance(q);
+        assert!((d - off.abs()).abs() < 1e-8, "{i}: {d} vs {off}");
+        let scan = (0..=20_000)
+            .map(|k| {
+                let s = fillet.point(t0 + (t1 - t0) * f64::from(k) / 20_000.0);
+                ((s.0 - q.0).powi(2) + (s.1 - q.1).powi(2)).sqrt()
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert!(d <= scan + 1e-12, "{i}: {d} above the scan's {scan}");
+    }
 }
