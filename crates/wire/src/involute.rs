@@ -10,7 +10,7 @@
 //! roll angle φq whose base-circle tangent passes through it, at
 //! l = √(R² − rb²) from the tangent point; its polar angle is then
 //! θ = φq − arctan(l/rb), so φq = θ + arccos(rb/R), and q is
-//! |l − rb·φq| from the involute along that normal — SPEC §8's
+//! |l − rb·φq| from the involute along that normal — docs/wire.md's
 //! √(R² − rb²) − rb·(θ + arccos(rb/R)), up to its sign. A normal is the
 //! shortest way to a curve, so this is the exact distance whenever φq lies
 //! within the flank's range; otherwise the nearer end point is.

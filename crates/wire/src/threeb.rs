@@ -1,4 +1,4 @@
-//! The 3B program format of Chinese fast-wire EDM controls (SPEC §8): one
+//! The 3B program format of Chinese fast-wire EDM controls (docs/wire.md): one
 //! block `B X B Y B J G Z` per line or arc, X, Y, J unsigned integers in µm.
 //!
 //! - **Line**: X, Y = the end point relative to the start (unsigned); the

@@ -16,7 +16,7 @@ fn gear(m: f64, z: u32, x: f64, rho: f64) -> RackGear {
     }
 }
 
-/// ISO 21771 values from the MESYS online calculator (SPEC §10): mn 1,
+/// ISO 21771 values from the MESYS online calculator: mn 1,
 /// αn 20°, z 20, x 0, ha* 1, tool addendum 1.25 → d 20, db 18.7939, da 22,
 /// df 17.5 (diameters).
 #[test]

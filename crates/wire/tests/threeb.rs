@@ -6,7 +6,7 @@ use gearcam_wire::threeb::{block, program, read, replay};
 use gearcam_wire::Segment;
 use proptest::prelude::*;
 
-/// The published 3B example (SPEC §8, seed 002): the R 9.9 mm circle from
+/// The published 3B example (seed 002; docs/wire.md): the R 9.9 mm circle from
 /// (9.9, 0) counter-clockwise about the origin.
 #[test]
 fn the_published_r9_9_circle() {
