@@ -341,7 +341,8 @@ fn nelder_mead(
 }
 
 /// A start for k arcs: the curve cut into k pieces of equal turning (by a
-/// dense walk), each arc with the piece's mean curvature and length.
+/// dense walk; turning either way counts), each arc with the piece's mean
+/// curvature and length.
 fn start(curve: &dyn Curve, k: usize) -> Vec<f64> {
     let (t0, t1) = curve.domain();
     const N: usize = 400;
@@ -354,7 +355,13 @@ fn start(curve: &dyn Curve, k: usize) -> Vec<f64> {
         let (a, b) = (curve.point(ts[i - 1]), curve.point(ts[i]));
         len[i] = len[i - 1] + ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
     }
-    let turn = |i: usize| (angle[i] - angle[0]).abs();
+    // The turning so far, counted both ways (a curve may turn back: an
+    // S between two pieces).
+    let mut turned = vec![0.0; N + 1];
+    for i in 1..=N {
+        turned[i] = turned[i - 1] + (angle[i] - angle[i - 1]).abs();
+    }
+    let turn = |i: usize| turned[i];
     let total = turn(N).max(1e-12);
     let mut cuts = vec![0usize];
     for j in 1..k {
@@ -399,12 +406,13 @@ pub fn fit(curve: &dyn Curve, o: &Options) -> Result<Fit, FitError> {
                 let mut x = x0.clone();
                 let mut fx = f(&x);
                 // Restart from the best point until a restart gains under 0.1 %.
-                for _ in 0..30 {
+                for round in 0..30 {
                     let (y, fy) = nelder_mead(&f, &x, &scale, 600 * (1 + 2 * k));
                     let gain = fx - fy;
                     x = y;
                     fx = fy;
-                    if fx <= target || gain < 1e-3 * fx {
+                    // Far off after a round: more arcs are needed, not more rounds.
+                    if fx <= target || gain < 1e-3 * fx || (round == 0 && fx > 4.0 * target) {
                         break;
                     }
                 }
