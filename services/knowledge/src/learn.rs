@@ -19,19 +19,62 @@ pub fn record_planned(
     plan: &ProcessPlan,
     at_ms: u64,
 ) -> Result<(), KnowledgeError> {
+    record_job(
+        conn,
+        &Planned {
+            job_id: plan.job_id.as_str(),
+            part_number: &plan.request.spec.job.part_number,
+            machine: plan.machine.id.as_str(),
+            class: plan.class.as_str(),
+            quantity: plan.request.spec.job.quantity,
+            tool: &plan.hob.id,
+            confidence: plan.confidence,
+            plan_json: serde_json::to_string(plan)?,
+        },
+        at_ms,
+    )
+}
+
+/// What the jobs library records of a planned job, of either family.
+pub(crate) struct Planned<'a> {
+    /// The job.
+    pub job_id: &'a str,
+    /// Its part.
+    pub part_number: &'a str,
+    /// Its machine.
+    pub machine: &'a str,
+    /// Its class (`spiral-face`, `spiral-groove` for the spiral family).
+    pub class: &'a str,
+    /// Parts ordered.
+    pub quantity: u32,
+    /// The tool (hob or mill).
+    pub tool: &'a str,
+    /// The proposal's confidence.
+    pub confidence: f64,
+    /// The plan as JSON.
+    pub plan_json: String,
+}
+
+/// Records a planned job (state `planned`; a re-plan replaces the row and
+/// starts the job over).
+pub(crate) fn record_job(
+    conn: &Connection,
+    p: &Planned<'_>,
+    at_ms: u64,
+) -> Result<(), KnowledgeError> {
     conn.execute(
         "INSERT OR REPLACE INTO jobs (job_id, part_number, machine, class, quantity, hob_id, state,
                                       confidence, plan_json, planned_at_ms)
          VALUES (?1, ?2, ?3, ?4, ?5, ?6, 'planned', ?7, ?8, ?9)",
         rusqlite::params![
-            plan.job_id.as_str(),
-            plan.request.spec.job.part_number,
-            plan.machine.id.as_str(),
-            plan.class.as_str(),
-            plan.request.spec.job.quantity,
-            plan.hob.id,
-            plan.confidence,
-            serde_json::to_string(plan)?,
+            p.job_id,
+            p.part_number,
+            p.machine,
+            p.class,
+            p.quantity,
+            p.tool,
+            p.confidence,
+            p.plan_json,
             at_ms as i64,
         ],
     )?;
@@ -235,18 +278,7 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
         "quality_achieved": c.quality_achieved,
         "notes": c.notes,
         "confidence": c.confidence,
-        "provenance": format!(
-            "confirmed job {} ({} parts of {}) by {}{}",
-            c.job_id,
-            quantity,
-            plan.request.spec.job.part_number,
-            c.by,
-            if changed.is_empty() {
-                ": values as planned".to_string()
-            } else {
-                format!(": values actually used differ from the plan: {}", changed.join(", "))
-            }
-        ),
+        "provenance": provenance(c, quantity, &plan.request.spec.job.part_number, &changed),
         "job_id": c.job_id,
         "created_at_ms": c.at_ms,
     });
@@ -326,18 +358,7 @@ fn confirm_spiral(conn: &Connection, c: &Confirmation, plan_json: &str) -> Outco
         "outcome": c.outcome,
         "notes": c.notes,
         "confidence": c.confidence,
-        "provenance": format!(
-            "confirmed job {} ({} parts of {}) by {}{}",
-            c.job_id,
-            quantity,
-            plan.request.spec.job.part_number,
-            c.by,
-            if changed.is_empty() {
-                ": values as planned".to_string()
-            } else {
-                format!(": values actually used differ from the plan: {}", changed.join(", "))
-            }
-        ),
+        "provenance": provenance(c, quantity, &plan.request.spec.job.part_number, &changed),
         "job_id": c.job_id,
         "created_at_ms": c.at_ms,
     }) else {
@@ -352,6 +373,26 @@ fn confirm_spiral(conn: &Connection, c: &Confirmation, plan_json: &str) -> Outco
         hob: None,
         job,
     })
+}
+
+/// A confirmed case's provenance: the job, the parts, who, and the values
+/// that ran where they differ from the plan.
+fn provenance(c: &Confirmation, quantity: u32, part: &str, changed: &[String]) -> String {
+    format!(
+        "confirmed job {} ({} parts of {}) by {}{}",
+        c.job_id,
+        quantity,
+        part,
+        c.by,
+        if changed.is_empty() {
+            ": values as planned".to_string()
+        } else {
+            format!(
+                ": values actually used differ from the plan: {}",
+                changed.join(", ")
+            )
+        }
+    )
 }
 
 /// Marks the job confirmed, with the quantity cut and its new case.

@@ -690,23 +690,20 @@ pub fn record_planned(
     plan: &SpiralPlan,
     at_ms: u64,
 ) -> Result<(), KnowledgeError> {
-    conn.execute(
-        "INSERT OR REPLACE INTO jobs (job_id, part_number, machine, class, quantity, hob_id, state,
-                                      confidence, plan_json, planned_at_ms)
-         VALUES (?1, ?2, ?3, ?4, ?5, ?6, 'planned', ?7, ?8, ?9)",
-        rusqlite::params![
-            plan.job_id.as_str(),
-            plan.request.spec.job.part_number,
-            plan.machine.id.as_str(),
-            format!("spiral-{}", plan.part.kind()),
-            plan.request.spec.job.quantity,
-            plan.tool.id,
-            plan.confidence,
-            serde_json::to_string(plan)?,
-            at_ms as i64,
-        ],
-    )?;
-    Ok(())
+    crate::learn::record_job(
+        conn,
+        &crate::learn::Planned {
+            job_id: plan.job_id.as_str(),
+            part_number: &plan.request.spec.job.part_number,
+            machine: plan.machine.id.as_str(),
+            class: &format!("spiral-{}", plan.part.kind()),
+            quantity: plan.request.spec.job.quantity,
+            tool: &plan.tool.id,
+            confidence: plan.confidence,
+            plan_json: serde_json::to_string(plan)?,
+        },
+        at_ms,
+    )
 }
 
 #[cfg(test)]
