@@ -132,11 +132,6 @@ pub fn kind_of(bytes: &[u8], expected: &'static str) -> Result<String, CodecErro
     Ok(head.kind)
 }
 
-/// [`decode`] under another name, for the dispatching readers.
-pub fn decode_kind<T: Message>(bytes: &[u8]) -> Result<T, CodecError> {
-    decode(bytes)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -11,7 +11,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::codec::{decode_kind, kind_of, Incoming};
+use crate::codec::{decode, kind_of, Incoming};
 use crate::cutting::CutMode;
 use crate::error::CodecError;
 use crate::ids::{JobId, MachineId};
@@ -311,8 +311,8 @@ impl Incoming for AnyPlan {
     const KINDS: &'static str = "process_plan or spiral_plan";
     fn decode_incoming(bytes: &[u8]) -> Result<Self, CodecError> {
         match kind_of(bytes, Self::KINDS)?.as_str() {
-            SpiralPlan::KIND => Ok(AnyPlan::Spiral(Box::new(decode_kind(bytes)?))),
-            ProcessPlan::KIND => Ok(AnyPlan::Hobbing(Box::new(decode_kind(bytes)?))),
+            SpiralPlan::KIND => Ok(AnyPlan::Spiral(Box::new(decode(bytes)?))),
+            ProcessPlan::KIND => Ok(AnyPlan::Hobbing(Box::new(decode(bytes)?))),
             got => Err(CodecError::WrongKind {
                 expected: Self::KINDS,
                 got: got.to_string(),
@@ -352,8 +352,8 @@ impl Incoming for AnyModel {
     const KINDS: &'static str = "machining_model or spiral_model";
     fn decode_incoming(bytes: &[u8]) -> Result<Self, CodecError> {
         match kind_of(bytes, Self::KINDS)?.as_str() {
-            SpiralModel::KIND => Ok(AnyModel::Spiral(Box::new(decode_kind(bytes)?))),
-            MachiningModel::KIND => Ok(AnyModel::Hobbing(Box::new(decode_kind(bytes)?))),
+            SpiralModel::KIND => Ok(AnyModel::Spiral(Box::new(decode(bytes)?))),
+            MachiningModel::KIND => Ok(AnyModel::Hobbing(Box::new(decode(bytes)?))),
             got => Err(CodecError::WrongKind {
                 expected: Self::KINDS,
                 got: got.to_string(),

@@ -30,13 +30,12 @@ pub const VARIABLES: &[(u32, char, &str)] = &[
 
 /// The values of [`VARIABLES`] for a spiral and its cut.
 fn values(spiral: &Spiral, cut: &Cut) -> [f64; 12] {
-    let (_, points) = spiral.chords(cut.tolerance_mm);
     [
         spiral.start_radius_mm,
         spiral.end_radius_mm,
         spiral.start_angle_deg,
         360.0 * f64::from(spiral.turns),
-        (points.len() - 1) as f64,
+        spiral.chord_count(cut.tolerance_mm) as f64,
         f64::from(spiral.sense),
         cut.depth_mm,
         f64::from(cut.passes),

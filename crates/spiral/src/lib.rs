@@ -277,12 +277,17 @@ impl Spiral {
     /// own curvature is within 0.1 % of a circle's here). Returns the angle
     /// step (degrees) and the points, the first at θ0 and the last at the end.
     pub fn chords(&self, tolerance_mm: f64) -> (f64, Vec<(f64, f64)>) {
-        let r_max = self.start_radius_mm.max(self.end_radius_mm);
-        let step = 2.0 * (1.0 - tolerance_mm / r_max).clamp(-1.0, 1.0).acos();
-        let n = (self.sweep() / step).ceil().max(1.0) as usize;
+        let n = self.chord_count(tolerance_mm);
         let dphi = self.sweep() / n as f64;
         let points = (0..=n).map(|i| self.point_at(dphi * i as f64)).collect();
         (dphi.to_degrees(), points)
+    }
+
+    /// How many chords [`Spiral::chords`] takes at `tolerance_mm`.
+    pub fn chord_count(&self, tolerance_mm: f64) -> usize {
+        let r_max = self.start_radius_mm.max(self.end_radius_mm);
+        let step = 2.0 * (1.0 - tolerance_mm / r_max).clamp(-1.0, 1.0).acos();
+        (self.sweep() / step).ceil().max(1.0) as usize
     }
 }
 

@@ -26,8 +26,7 @@ fn num(v: f64) -> String {
 /// The program, with a header naming the job and part (`comment` text is
 /// put in parentheses with parentheses removed).
 pub fn program(spiral: &Spiral, cut: &Cut, header: &[String]) -> String {
-    let (_, points) = spiral.chords(cut.tolerance_mm);
-    let chords = points.len() - 1;
+    let chords = spiral.chord_count(cut.tolerance_mm);
     let total = 360.0 * f64::from(spiral.turns);
     let mut p = String::new();
     let clean = |s: &str| s.replace(['(', ')'], " ");

@@ -61,6 +61,16 @@ pub struct MachineSummary {
     pub dialect: String,
 }
 
+impl MachineSummary {
+    fn of(id: &gearcam_proto::MachineId, name: &str, dialect: gearcam_proto::Dialect) -> Self {
+        MachineSummary {
+            id: id.to_string(),
+            name: name.to_string(),
+            dialect: dialect.as_str().into(),
+        }
+    }
+}
+
 /// The process plan in brief.
 #[derive(Debug, Clone, Serialize)]
 pub struct PlanSummary {
@@ -235,11 +245,6 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
     if spec.job.family == Family::SpiralFace {
         return check_spiral(conn, req, report).0;
     }
-    let family = gearcam_knowledge::spiral::family_errors(req);
-    if !family.is_empty() {
-        report.errors = family;
-        return report;
-    }
     if let Some(gear) = &spec.gear {
         report.geometry = Some(gearcam_model::geometry_of(gear));
     }
@@ -255,11 +260,7 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
     report.geometry = Some(gearcam_model::geometry_of(&plan.gear));
     report.plan = Some(PlanSummary {
         class: plan.class.to_string(),
-        machine: MachineSummary {
-            id: plan.machine.id.to_string(),
-            name: plan.machine.name.clone(),
-            dialect: plan.machine.dialect.as_str().into(),
-        },
+        machine: MachineSummary::of(&plan.machine.id, &plan.machine.name, plan.machine.dialect),
         hob_id: plan.hob.id.clone(),
         confidence: plan.confidence,
         cases: case_summaries(&plan.cases),
@@ -341,11 +342,7 @@ pub fn check_spiral(
     .collect();
     report.plan = Some(PlanSummary {
         class: format!("spiral-{}", plan.part.kind()),
-        machine: MachineSummary {
-            id: plan.machine.id.to_string(),
-            name: plan.machine.name.clone(),
-            dialect: plan.machine.dialect.as_str().into(),
-        },
+        machine: MachineSummary::of(&plan.machine.id, &plan.machine.name, plan.machine.dialect),
         hob_id: plan.tool.id.clone(),
         confidence: plan.confidence,
         cases: case_summaries(&plan.cases),

@@ -212,10 +212,6 @@ pub async fn run(
             // plan key under their own envelope kind.
             let (tool, confidence, payload) = match req.spec.job.family {
                 Family::Hobbing => {
-                    let errors = spiral::family_errors(&req);
-                    if !errors.is_empty() {
-                        return Err(errors);
-                    }
                     let plan = plan::plan_with(&conn, &cases.base, &req)?;
                     if let Err(e) = learn::record_planned(&conn, &plan, now_ms()) {
                         tracing::warn!(job = %plan.job_id, error = %e, "cannot record the planned job");

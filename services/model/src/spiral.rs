@@ -404,11 +404,6 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
     })
 }
 
-/// The crate's spiral of a model (for programs and checks).
-pub fn spiral_of_model(model: &SpiralModel) -> Spiral {
-    gearcam_spiral::verify::spiral_of(model)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -448,7 +443,7 @@ mod tests {
                 let model =
                     compute_spiral(&face(json!({"direction": direction, "cut_mode": mode})))
                         .unwrap();
-                let spiral = spiral_of_model(&model);
+                let spiral = gearcam_spiral::verify::spiral_of(&model);
                 let (_, pts) = spiral.chords(0.005);
                 let k = pts.len() / 2;
                 let (p, q) = (pts[k], pts[k + 1]);

@@ -101,6 +101,11 @@ fn plan_inner(
     cases: &CaseBase,
     req: &JobRequest,
 ) -> Result<ProcessPlan, PlanError> {
+    // A spiral family's section in a hobbing job is refused before anything.
+    let family = crate::spiral::family_errors(req);
+    if !family.is_empty() {
+        return Err(PlanError::Job(family));
+    }
     let mut proposal = Proposal::default();
     // The drawing data first: every later step reads the resolved gear; the
     // plan carries it beside the request as it was asked.

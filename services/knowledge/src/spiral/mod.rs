@@ -261,8 +261,9 @@ fn tool_of(r: &Record) -> MillData {
     }
 }
 
-/// The sections a job of another family must not carry.
-fn section_errors(req: &JobRequest) -> Vec<JobError> {
+/// The errors of a job's sections against its family (empty when they
+/// fit): the sections a job of another family must not carry.
+pub fn family_errors(req: &JobRequest) -> Vec<JobError> {
     let spec = &req.spec;
     let mut errors = Vec::new();
     let wrong = |section: &str, family: Family| {
@@ -321,11 +322,6 @@ fn section_errors(req: &JobRequest) -> Vec<JobError> {
         }
     }
     errors
-}
-
-/// The errors of a job's sections against its family (empty when they fit).
-pub fn family_errors(req: &JobRequest) -> Vec<JobError> {
-    section_errors(req)
 }
 
 /// A case's similarity to the job, 0–1: the material group (weight 3), the
@@ -392,7 +388,7 @@ impl From<KnowledgeError> for Failed {
 
 fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<SpiralPlan, Failed> {
     let spec = &req.spec;
-    let mut errors = section_errors(req);
+    let mut errors = family_errors(req);
     let machine_id = spec.job.machine.as_str();
     let machine = match library::get(conn, &library::MILL_MACHINES, machine_id)? {
         Some(r) => Some(profile(&r)?),
