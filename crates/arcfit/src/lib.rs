@@ -287,6 +287,7 @@ fn nelder_mead(
     x0: &[f64],
     scale: &[f64],
     iterations: usize,
+    good_enough: f64,
 ) -> (Vec<f64>, f64) {
     let n = x0.len();
     let mut s: Vec<Vec<f64>> = (0..=n)
@@ -304,7 +305,10 @@ fn nelder_mead(
         order.sort_by(|&a, &b| fs[a].total_cmp(&fs[b]));
         s = order.iter().map(|&i| s[i].clone()).collect();
         fs = order.iter().map(|&i| fs[i]).collect();
-        if (fs[n] - fs[0]).abs() <= 1e-15 * fs[0].abs().max(1e-12) {
+        // Stop once good enough, or once the simplex has flattened (a
+        // relative spread of 1e-6 moves the deviation by far less than the
+        // tolerance's rounding).
+        if fs[0] <= good_enough || (fs[n] - fs[0]).abs() <= 1e-6 * fs[0].abs().max(1e-12) {
             break;
         }
         let c: Vec<f64> = (0..n)
@@ -389,37 +393,45 @@ pub fn fit(curve: &dyn Curve, o: &Options) -> Result<Fit, FitError> {
         let f = |y: &[f64]| cost(curve, o, y, k);
         // Two simplex sizes for the start tangent (the optimiser stalls in
         // different places); the better result is kept.
-        let (x, fx) = [1e-2, 1e-3]
-            .into_iter()
-            .map(|step| {
-                let scale: Vec<f64> = x0
-                    .iter()
-                    .enumerate()
-                    .map(|(i, v)| {
-                        if i == 0 {
-                            step
-                        } else {
-                            0.05 * v.abs().max(1e-6)
-                        }
-                    })
-                    .collect();
-                let mut x = x0.clone();
-                let mut fx = f(&x);
-                // Restart from the best point until a restart gains under 0.1 %.
-                for round in 0..30 {
-                    let (y, fy) = nelder_mead(&f, &x, &scale, 600 * (1 + 2 * k));
-                    let gain = fx - fy;
-                    x = y;
-                    fx = fy;
-                    // Far off after a round: more arcs are needed, not more rounds.
-                    if fx <= target || gain < 1e-3 * fx || (round == 0 && fx > 4.0 * target) {
-                        break;
+        let mut runs = [1e-2, 1e-3].into_iter().map(|step| {
+            let scale: Vec<f64> = x0
+                .iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    if i == 0 {
+                        step
+                    } else {
+                        0.05 * v.abs().max(1e-6)
                     }
+                })
+                .collect();
+            let mut x = x0.clone();
+            let mut fx = f(&x);
+            // Restart from the best point until a restart gains under 0.1 %.
+            for round in 0..30 {
+                let (y, fy) = nelder_mead(&f, &x, &scale, 600 * (1 + 2 * k), target);
+                let gain = fx - fy;
+                x = y;
+                fx = fy;
+                // Far off after a round: more arcs are needed, not more rounds.
+                if fx <= target || gain < 1e-3 * fx || (round == 0 && fx > 4.0 * target) {
+                    break;
                 }
-                (x, fx)
-            })
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .expect("two starts");
+            }
+            (x, fx)
+        });
+        // The second size only when the first did not reach the target.
+        let first = runs.next().expect("two starts");
+        let (x, fx) = if first.1 <= target {
+            first
+        } else {
+            let second = runs.next().expect("two starts");
+            if second.1 < first.1 {
+                second
+            } else {
+                first
+            }
+        };
         if fx <= target {
             let arcs = spline(curve, o, &x, k);
             let d = deviation(curve, &arcs, CHECK_SAMPLES);
