@@ -25,7 +25,7 @@
 //! Not proved optimal: k is the smallest this search finds.
 #![forbid(unsafe_code)]
 
-use std::f64::consts::TAU;
+use std::f64::consts::{PI, TAU};
 
 /// A plane curve to approximate, over its parameter domain.
 pub trait Curve {
@@ -43,6 +43,96 @@ pub trait Curve {
     /// joined of pieces with their own tolerances says more).
     fn scale_at(&self, _t: f64) -> f64 {
         1.0
+    }
+}
+
+/// A curve sampled densely once, for a fast distance: a polyline through
+/// `n` + 1 points of it. The distance to the polyline is within
+/// [`Sampled::sag`] of the distance to the curve (a chord's sagitta,
+/// ≈ chord · turning / 8, at most), so with a few thousand points it is
+/// exact to far below a micrometre; it finds the nearest chord by a scan of
+/// every 16th point, then the chords around the best.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sampled {
+    points: Vec<(f64, f64)>,
+    angles: Vec<f64>,
+    sag: f64,
+}
+
+/// Points per coarse step of [`Sampled`]'s search.
+const COARSE: usize = 16;
+
+impl Sampled {
+    /// `curve` sampled at `n` + 1 equally spaced parameters (n ≥ 2).
+    pub fn new(curve: &dyn Curve, n: usize) -> Sampled {
+        let n = n.max(2);
+        let (t0, t1) = curve.domain();
+        let ts = (0..=n).map(|i| t0 + (t1 - t0) * i as f64 / n as f64);
+        let points: Vec<(f64, f64)> = ts.clone().map(|t| curve.point(t)).collect();
+        let angles: Vec<f64> = ts.map(|t| curve.tangent_angle(t)).collect();
+        let sag = points
+            .windows(2)
+            .zip(angles.windows(2))
+            .map(|(p, a)| {
+                let chord = ((p[1].0 - p[0].0).powi(2) + (p[1].1 - p[0].1).powi(2)).sqrt();
+                chord * (a[1] - a[0]).abs() / 8.0
+            })
+            .fold(0.0, f64::max);
+        Sampled {
+            points,
+            angles,
+            sag,
+        }
+    }
+
+    /// The largest sagitta of a chord: how far the polyline may lie from
+    /// the curve, mm.
+    pub fn sag(&self) -> f64 {
+        self.sag
+    }
+
+    fn chord_distance(&self, i: usize, q: (f64, f64)) -> f64 {
+        let (a, b) = (self.points[i], self.points[i + 1]);
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let l2 = dx * dx + dy * dy;
+        let u = if l2 > 0.0 {
+            (((q.0 - a.0) * dx + (q.1 - a.1) * dy) / l2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        ((a.0 + u * dx - q.0).powi(2) + (a.1 + u * dy - q.1).powi(2)).sqrt()
+    }
+}
+
+impl Curve for Sampled {
+    fn domain(&self) -> (f64, f64) {
+        (0.0, (self.points.len() - 1) as f64)
+    }
+    fn point(&self, t: f64) -> (f64, f64) {
+        let n = self.points.len() - 1;
+        let i = (t.floor().max(0.0) as usize).min(n - 1);
+        let u = t - i as f64;
+        let (a, b) = (self.points[i], self.points[i + 1]);
+        (a.0 + u * (b.0 - a.0), a.1 + u * (b.1 - a.1))
+    }
+    fn tangent_angle(&self, t: f64) -> f64 {
+        let n = self.points.len() - 1;
+        let i = (t.floor().max(0.0) as usize).min(n - 1);
+        let u = t - i as f64;
+        self.angles[i] + u * (self.angles[i + 1] - self.angles[i])
+    }
+    fn distance(&self, q: (f64, f64)) -> f64 {
+        let n = self.points.len() - 1;
+        let d2 = |p: (f64, f64)| (p.0 - q.0).powi(2) + (p.1 - q.1).powi(2);
+        let best = (0..=n)
+            .step_by(COARSE)
+            .chain(std::iter::once(n))
+            .min_by(|&a, &b| d2(self.points[a]).total_cmp(&d2(self.points[b])))
+            .expect("points");
+        let (lo, hi) = (best.saturating_sub(2 * COARSE), (best + 2 * COARSE).min(n));
+        (lo..hi)
+            .map(|i| self.chord_distance(i, q))
+            .fold(f64::INFINITY, f64::min)
     }
 }
 
@@ -141,6 +231,11 @@ pub struct Options {
     pub start_angle: Option<f64>,
     /// The end tangent's angle the spline must keep, or free.
     pub end_angle: Option<f64>,
+    /// The end point the spline must reach exactly, with `end_angle` (to
+    /// join the piece after it without a gap or corner): the last two arcs
+    /// are then the biarc from the arcs before them to this point and
+    /// tangent, and the fit starts at two arcs.
+    pub end_point: Option<(f64, f64)>,
     /// How close the end must come to the curve's end, mm, when closer
     /// than the tolerance (where a piece of a finer tolerance follows).
     pub end_tolerance: Option<f64>,
@@ -158,6 +253,7 @@ impl Options {
             start_point: None,
             start_angle: None,
             end_angle: None,
+            end_point: None,
             end_tolerance: None,
             min_radius: 0.0,
             max_arcs: 12,
@@ -224,27 +320,103 @@ pub fn deviation(curve: &dyn Curve, arcs: &[Arc], samples: usize) -> f64 {
     worst
 }
 
-/// The spline of the parameters x = (θ0 offset, κ…, L…).
-fn spline(curve: &dyn Curve, o: &Options, x: &[f64], k: usize) -> Vec<Arc> {
+/// The arc from `p` with the tangent angle `a` through `q`.
+fn arc_to(p: (f64, f64), a: f64, q: (f64, f64)) -> Arc {
+    let (dx, dy) = (q.0 - p.0, q.1 - p.1);
+    let chord = (dx * dx + dy * dy).sqrt();
+    // The angle from the tangent to the chord: the arc turns twice that.
+    let psi = (dy.atan2(dx) - a + PI).rem_euclid(TAU) - PI;
+    let (curvature, length) = if psi.abs() < 1e-12 {
+        (0.0, chord)
+    } else {
+        (2.0 * psi.sin() / chord, chord * psi / psi.sin())
+    };
+    Arc {
+        start: p,
+        start_angle: a,
+        curvature,
+        length,
+    }
+}
+
+/// The biarc from `p0` with the tangent angle `a0` to `p1` with `a1`: two
+/// arcs through the junction J = (d2·q1 + d1·q2)/(d1 + d2), q1 = p0 + d1·t0,
+/// q2 = p1 − d2·t1, where the tangent legs d1, d2 satisfy
+/// |q2 − q1| = d1 + d2, i.e. d2 = (v·v/2 − d1·v·t0)/(v·t1 + d1·(1 − t0·t1)),
+/// v = p1 − p0. `scale` is d1 over the equal-legs d1 = d2; `None` when a
+/// leg would not be positive.
+fn biarc(p0: (f64, f64), a0: f64, p1: (f64, f64), a1: f64, scale: f64) -> Option<[Arc; 2]> {
+    let dot = |a: (f64, f64), b: (f64, f64)| a.0 * b.0 + a.1 * b.1;
+    let (t0, t1) = ((a0.cos(), a0.sin()), (a1.cos(), a1.sin()));
+    let v = (p1.0 - p0.0, p1.1 - p0.1);
+    let (vv, t01) = (dot(v, v), dot(t0, t1));
+    // Equal legs: 2(1 − t0·t1)·d² + 2·v·(t0 + t1)·d − v·v = 0.
+    let (qa, qb) = (2.0 * (1.0 - t01), 2.0 * dot(v, (t0.0 + t1.0, t0.1 + t1.1)));
+    let equal = if qa.abs() < 1e-12 {
+        vv / qb
+    } else {
+        (-qb + (qb * qb + 4.0 * qa * vv).sqrt()) / (2.0 * qa)
+    };
+    let d1 = equal * scale;
+    let den = dot(v, t1) + d1 * (1.0 - t01);
+    let d2 = (vv / 2.0 - d1 * dot(v, t0)) / den;
+    if !(d1 > 0.0 && d2 > 0.0 && d1.is_finite() && d2.is_finite()) {
+        return None;
+    }
+    let (q1, q2) = (
+        (p0.0 + d1 * t0.0, p0.1 + d1 * t0.1),
+        (p1.0 - d2 * t1.0, p1.1 - d2 * t1.1),
+    );
+    let j = (
+        (d2 * q1.0 + d1 * q2.0) / (d1 + d2),
+        (d2 * q1.1 + d1 * q2.1) / (d1 + d2),
+    );
+    let first = arc_to(p0, a0, j);
+    let second = arc_to(j, first.end_angle(), p1);
+    Some([first, second])
+}
+
+/// Whether the spline must end on a given point and tangent (its last two
+/// arcs a biarc).
+fn ends_fixed(o: &Options) -> bool {
+    o.end_point.is_some() && o.end_angle.is_some()
+}
+
+/// The free arcs of a k-arc spline (the biarc's two are not).
+fn free_arcs(o: &Options, k: usize) -> usize {
+    if ends_fixed(o) {
+        k - 2
+    } else {
+        k
+    }
+}
+
+/// The spline of the parameters x = (θ0 offset, κ…, L…[, biarc scale]);
+/// `None` when the closing biarc does not exist.
+fn spline(curve: &dyn Curve, o: &Options, x: &[f64], k: usize) -> Option<Vec<Arc>> {
     let (t0, _) = curve.domain();
     let mut angle = match o.start_angle {
         Some(a) => a,
         None => curve.tangent_angle(t0) + x[0],
     };
     let mut p = o.start_point.unwrap_or_else(|| curve.point(t0));
+    let n = free_arcs(o, k);
     let mut arcs = Vec::with_capacity(k);
-    for i in 0..k {
+    for i in 0..n {
         let a = Arc {
             start: p,
             start_angle: angle,
             curvature: x[1 + i],
-            length: x[1 + k + i].abs(),
+            length: x[1 + n + i].abs(),
         };
         p = a.end();
         angle = a.end_angle();
         arcs.push(a);
     }
-    arcs
+    if let (Some(q), Some(b)) = (o.end_point, o.end_angle) {
+        arcs.extend(biarc(p, angle, q, b, x[1 + 2 * n].exp())?);
+    }
+    Some(arcs)
 }
 
 /// Samples per arc of the optimiser's cost.
@@ -254,7 +426,10 @@ const COST_SAMPLES: usize = 24;
 /// the curve, the end point's gap, the end tangent's miss (as a distance
 /// over the last arc), and a penalty below the radius limit.
 fn cost(curve: &dyn Curve, o: &Options, x: &[f64], k: usize) -> f64 {
-    let arcs = spline(curve, o, x, k);
+    let Some(arcs) = spline(curve, o, x, k) else {
+        // No closing biarc: far worse than any spline.
+        return 1e3 * o.tolerance.max(1.0);
+    };
     let (_, t1) = curve.domain();
     let mut worst: f64 = 0.0;
     for a in &arcs {
@@ -265,6 +440,9 @@ fn cost(curve: &dyn Curve, o: &Options, x: &[f64], k: usize) -> f64 {
         if o.min_radius > 0.0 && a.curvature.abs() * o.min_radius > 1.0 {
             worst = worst.max(o.tolerance * (1.0 + a.curvature.abs() * o.min_radius));
         }
+    }
+    if ends_fixed(o) {
+        return worst;
     }
     let last = arcs.last().expect("k ≥ 1");
     let e = last.end();
@@ -345,9 +523,10 @@ fn nelder_mead(
 }
 
 /// A start for k arcs: the curve cut into k pieces of equal turning (by a
-/// dense walk; turning either way counts), each arc with the piece's mean
-/// curvature and length.
-fn start(curve: &dyn Curve, k: usize) -> Vec<f64> {
+/// dense walk; turning either way counts), each of the first `free` arcs
+/// with its piece's mean curvature and length (and a closing biarc of equal
+/// legs when `biarc`).
+fn start(curve: &dyn Curve, k: usize, free: usize, biarc: bool) -> Vec<f64> {
     let (t0, t1) = curve.domain();
     const N: usize = 400;
     let ts: Vec<f64> = (0..=N)
@@ -374,12 +553,12 @@ fn start(curve: &dyn Curve, k: usize) -> Vec<f64> {
         cuts.push(i.max(cuts[j - 1] + 1).min(N - (k - j)));
     }
     cuts.push(N);
-    let mut x = vec![0.0; 1 + 2 * k];
-    for j in 0..k {
+    let mut x = vec![0.0; 1 + 2 * free + usize::from(biarc)];
+    for j in 0..free {
         let (a, b) = (cuts[j], cuts[j + 1]);
         let l = (len[b] - len[a]).max(1e-9);
         x[1 + j] = (angle[b] - angle[a]) / l;
-        x[1 + k + j] = l;
+        x[1 + free + j] = l;
     }
     x
 }
@@ -388,8 +567,9 @@ fn start(curve: &dyn Curve, k: usize) -> Vec<f64> {
 pub fn fit(curve: &dyn Curve, o: &Options) -> Result<Fit, FitError> {
     let target = 0.97 * o.tolerance;
     let mut best_dev = f64::INFINITY;
-    for k in 1..=o.max_arcs {
-        let x0 = start(curve, k);
+    let first_k = if ends_fixed(o) { 2 } else { 1 };
+    for k in first_k..=o.max_arcs {
+        let x0 = start(curve, k, free_arcs(o, k), ends_fixed(o));
         let f = |y: &[f64]| cost(curve, o, y, k);
         // Two simplex sizes for the start tangent (the optimiser stalls in
         // different places); the better result is kept.
@@ -400,6 +580,8 @@ pub fn fit(curve: &dyn Curve, o: &Options) -> Result<Fit, FitError> {
                 .map(|(i, v)| {
                     if i == 0 {
                         step
+                    } else if i == x0.len() - 1 && ends_fixed(o) {
+                        0.2 // the biarc's scale, a logarithm
                     } else {
                         0.05 * v.abs().max(1e-6)
                     }
@@ -432,11 +614,11 @@ pub fn fit(curve: &dyn Curve, o: &Options) -> Result<Fit, FitError> {
                 first
             }
         };
-        if fx <= target {
-            let arcs = spline(curve, o, &x, k);
+        if let (true, Some(arcs)) = (fx <= target, spline(curve, o, &x, k)) {
             let d = deviation(curve, &arcs, CHECK_SAMPLES);
             let (_, t1) = curve.domain();
-            let (e, goal) = (arcs.last().expect("k ≥ 1").end(), curve.point(t1));
+            let goal = o.end_point.unwrap_or_else(|| curve.point(t1));
+            let e = arcs.last().expect("k ≥ 1").end();
             let gap = ((e.0 - goal.0).powi(2) + (e.1 - goal.1).powi(2)).sqrt();
             if d <= o.tolerance && gap <= o.end_tolerance.unwrap_or(o.tolerance) {
                 return Ok(Fit {

@@ -111,11 +111,47 @@ impl RackGear {
         (k - v_c * a.tan() - rho / a.cos(), v_c, rho)
     }
 
-    /// The fillet's range of φ.
+    /// The fillet's range of φ from the deepest point (φ0 = −u_c/r) to
+    /// where the straight flank takes over (φ1 = (v_c·cot α − u_c)/r), cut
+    /// short where the fillet crosses the space's axis (the two fillets
+    /// meet there) or, with undercut, where it crosses the involute.
     fn fillet_range(&self) -> (f64, f64) {
         let (u_c, v_c, _) = self.tip_circle();
         let r = self.r();
-        (-u_c / r, (v_c / self.alpha().tan() - u_c) / r)
+        let (mut phi0, mut phi1) = (-u_c / r, (v_c / self.alpha().tan() - u_c) / r);
+        let x_at = |phi: f64| self.fillet_at(phi).0 .0;
+        if x_at(phi0) < 0.0 && x_at(phi1) > 0.0 {
+            phi0 = bisect(phi0, phi1, |phi| x_at(phi) >= 0.0);
+        }
+        if self.undercut() {
+            // The involute's side: the polar angle above the flank's at
+            // the same radius is the space (> 0), below it the tooth.
+            let f = self.figures_without_form();
+            let side = |phi: f64| {
+                let p = self.fillet_at(phi).0;
+                let big_r = (p.0 * p.0 + p.1 * p.1).sqrt();
+                if big_r <= f.base_radius_mm {
+                    return 1.0;
+                }
+                let a = (f.base_radius_mm / big_r).acos();
+                p.1.atan2(p.0) - (f.base_angle - (a.tan() - a))
+            };
+            const N: usize = 400;
+            let at = |i: usize| phi0 + (phi1 - phi0) * i as f64 / N as f64;
+            if let Some(i) = (0..N).rev().find(|&i| side(at(i)) < 0.0) {
+                phi1 = bisect(at(i), at(i + 1), |phi| side(phi) >= 0.0);
+            }
+        }
+        (phi0, phi1)
+    }
+
+    /// Whether the rack's straight flank reaches below the interference
+    /// point (depth r·sin²α under the pitch line, where the line of action
+    /// touches the base circle): then the fillet cuts into the involute.
+    pub fn undercut(&self) -> bool {
+        let (_, v_c, rho) = self.tip_circle();
+        let a = self.alpha();
+        v_c + rho * a.sin() > self.r() * a.sin().powi(2)
     }
 
     /// The fillet point F(φ) and the trochoid's tangent C′(φ).
@@ -134,19 +170,27 @@ impl RackGear {
         (f, rot((v_c, u_c + r * phi)))
     }
 
-    /// The figures.
-    pub fn figures(&self) -> Figures {
+    /// The figures but the form radius.
+    fn figures_without_form(&self) -> Figures {
         let (m, a, r) = (self.module_mm, self.alpha(), self.r());
         let e = PI * m / 2.0 - 2.0 * self.profile_shift * m * a.tan();
-        let (_, phi1) = self.fillet_range();
-        let (f, _) = self.fillet_at(phi1);
         Figures {
             pitch_radius_mm: r,
             base_radius_mm: r * a.cos(),
             tip_radius_mm: r + (self.addendum_coef + self.profile_shift) * m,
             root_radius_mm: r - (self.addendum_coef + self.clearance_coef - self.profile_shift) * m,
-            form_radius_mm: (f.0 * f.0 + f.1 * f.1).sqrt(),
+            form_radius_mm: f64::NAN,
             base_angle: FRAC_PI_2 - e / (2.0 * r) + (a.tan() - a),
+        }
+    }
+
+    /// The figures.
+    pub fn figures(&self) -> Figures {
+        let (_, phi1) = self.fillet_range();
+        let (f, _) = self.fillet_at(phi1);
+        Figures {
+            form_radius_mm: (f.0 * f.0 + f.1 * f.1).sqrt(),
+            ..self.figures_without_form()
         }
     }
 
@@ -187,6 +231,20 @@ impl Curve for Fillet {
     fn distance(&self, q: (f64, f64)) -> f64 {
         nearest(self, q)
     }
+}
+
+/// The boundary of `inside` between `lo` (outside) and `hi` (inside), by
+/// bisection to machine precision.
+fn bisect(mut lo: f64, mut hi: f64, inside: impl Fn(f64) -> bool) -> f64 {
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if inside(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
 }
 
 /// The nearest distance from `q` to a curve: a scan of 48 samples, then
