@@ -7,6 +7,7 @@
 
 pub mod gear;
 pub mod involute;
+pub mod outline;
 pub mod threeb;
 
 /// A piece of a wire path: a line or a circular arc, in mm.

@@ -1,0 +1,326 @@
+//! The whole outline of a gear as arcs (docs/wire.md): the root arc, the
+//! fitted fillet and flank, and the tip arc of one half tooth space,
+//! mirrored about the tooth's axis into one tooth pitch, and turned z times
+//! about the centre.
+//!
+//! The flank is fitted first with its start tangent free (an involute
+//! starting near its base circle turns fast there; holding its exact
+//! tangent costs arcs). The fillet is fitted after it, from the deepest
+//! point with the root circle's tangent to the flank spline's first point
+//! and tangent exactly (its last two arcs are a biarc), so the outline has
+//! no corner there; with undercut the fillet and the involute meet at a
+//! corner of the part itself, and the fillet ends on it with its own
+//! tangent.
+//!
+//! The outline runs clockwise about the gear's centre (the material on the
+//! right of travel) and starts in the middle of a tooth's tip on +Y.
+
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+use gearcam_arcfit::{fit, Arc, Curve, FitError, Options, Sampled};
+
+use crate::gear::{Figures, Flank, RackGear};
+use crate::Segment;
+
+/// The fit's tolerances, mm.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerances {
+    /// On the flank (the involute that meshes).
+    pub flank_mm: f64,
+    /// On the root fillet.
+    pub fillet_mm: f64,
+    /// The smallest arc radius allowed.
+    pub min_radius_mm: f64,
+}
+
+/// The outline of a gear and what its fit took.
+#[derive(Debug, Clone)]
+pub struct Outline {
+    /// One tooth pitch, clockwise from the middle of the tooth on +Y to
+    /// the middle of the next.
+    pub period: Vec<Segment>,
+    /// Teeth.
+    pub teeth: u32,
+    /// The gear's figures.
+    pub figures: Figures,
+    /// Whether the flank is undercut.
+    pub undercut: bool,
+    /// Arcs per flank.
+    pub arcs_per_flank: usize,
+    /// Arcs per fillet.
+    pub arcs_per_fillet: usize,
+    /// The flank fit's deviation from the involute (exact distance), mm.
+    pub flank_fit_mm: f64,
+    /// The fillet fit's deviation from the fillet, mm.
+    pub fillet_fit_mm: f64,
+    flank: Flank,
+    fillet: Sampled,
+    /// The root arc's polar angles (from the fillet's start to the space's
+    /// axis) in the half-space frame.
+    root_from: f64,
+    /// The tip arc's polar angles (from the tooth's axis to the flank's end).
+    tip_to: f64,
+}
+
+/// Why there is no outline.
+#[derive(Debug, Clone, PartialEq)]
+pub enum OutlineError {
+    /// A piece could not be fitted within its tolerance.
+    Fit {
+        /// `flank` or `fillet`.
+        piece: &'static str,
+        /// What the fit reached.
+        error: FitError,
+    },
+}
+
+impl std::fmt::Display for OutlineError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            OutlineError::Fit { piece, error } => write!(f, "the {piece}: {error}"),
+        }
+    }
+}
+
+impl std::error::Error for OutlineError {}
+
+/// Samples of the fillet for its distance (a sagitta far below 1 nm).
+const FILLET_SAMPLES: usize = 4096;
+
+/// A point turned by `angle` about the origin.
+pub fn turn(p: (f64, f64), angle: f64) -> (f64, f64) {
+    let (s, c) = angle.sin_cos();
+    (c * p.0 - s * p.1, s * p.0 + c * p.1)
+}
+
+/// The mirror image of a point about the line through the origin at `angle`.
+fn mirror(p: (f64, f64), angle: f64) -> (f64, f64) {
+    let (s, c) = (2.0 * angle).sin_cos();
+    (c * p.0 + s * p.1, s * p.0 - c * p.1)
+}
+
+/// A segment with every point mapped by `f` (a rigid motion).
+pub fn map(s: &Segment, f: impl Fn((f64, f64)) -> (f64, f64)) -> Segment {
+    match *s {
+        Segment::Line { from, to } => Segment::Line {
+            from: f(from),
+            to: f(to),
+        },
+        Segment::Arc {
+            from,
+            to,
+            centre,
+            ccw,
+        } => Segment::Arc {
+            from: f(from),
+            to: f(to),
+            centre: f(centre),
+            ccw,
+        },
+    }
+}
+
+/// A segment mirrored about the line through the origin at `angle` and
+/// run the other way: the reflection turns an arc's sense and running it
+/// backwards turns it again, so the flag stays.
+fn mirrored_back(s: &Segment, angle: f64) -> Segment {
+    match map(s, |p| mirror(p, angle)) {
+        Segment::Line { from, to } => Segment::Line { from: to, to: from },
+        Segment::Arc {
+            from,
+            to,
+            centre,
+            ccw,
+        } => Segment::Arc {
+            from: to,
+            to: from,
+            centre,
+            ccw,
+        },
+    }
+}
+
+fn concentric(from: (f64, f64), to: (f64, f64)) -> Segment {
+    Segment::Arc {
+        from,
+        to,
+        centre: (0.0, 0.0),
+        ccw: false,
+    }
+}
+
+/// The outline of `gear` within `tol`.
+pub fn outline(gear: &RackGear, tol: &Tolerances) -> Result<Outline, OutlineError> {
+    let figures = gear.figures();
+    let flank = gear.flank();
+    let exact_fillet = gear.fillet();
+    let fillet = Sampled::new(&exact_fillet, FILLET_SAMPLES);
+    let undercut = gear.undercut();
+    let mut o = Options::tolerance(tol.flank_mm);
+    o.min_radius = tol.min_radius_mm;
+    let flank_fit = fit(&flank, &o).map_err(|error| OutlineError::Fit {
+        piece: "flank",
+        error,
+    })?;
+    let first = flank_fit.arcs[0];
+    let (p0, p1) = exact_fillet.domain();
+    let deepest = exact_fillet.point(p0);
+    let on_axis = deepest.0.abs() < 1e-9;
+    let mut o = Options::tolerance(tol.fillet_mm);
+    o.min_radius = tol.min_radius_mm;
+    o.start_point = Some(deepest);
+    // With a root arc the fillet starts on its tangent; where the two
+    // fillets meet on the space's axis, at a corner.
+    o.start_angle = (!on_axis).then(|| exact_fillet.tangent_angle(p0));
+    o.end_point = Some(first.start);
+    o.end_angle = Some(if undercut {
+        exact_fillet.tangent_angle(p1)
+    } else {
+        first.start_angle
+    });
+    let fillet_fit = fit(&fillet, &o).map_err(|error| OutlineError::Fit {
+        piece: "fillet",
+        error,
+    })?;
+    let mut half: Vec<Segment> = Vec::new();
+    if !on_axis {
+        half.push(concentric((0.0, figures.root_radius_mm), deepest));
+    }
+    half.extend(fillet_fit.arcs.iter().map(Segment::of_arc));
+    half.extend(flank_fit.arcs.iter().map(Segment::of_arc));
+    let z = f64::from(gear.teeth);
+    let tooth_axis = FRAC_PI_2 - PI / z;
+    let edge = half.last().expect("segments").to();
+    let ra = edge.0.hypot(edge.1);
+    half.push(concentric(edge, turn((0.0, ra), -PI / z)));
+    // The period from the tooth's axis: the half mirrored about it, run
+    // backwards (to the next space's axis), then the half turned by one
+    // pitch; the two root arcs either side of the space's axis are one.
+    let pitch = TAU / z;
+    let mut period: Vec<Segment> = half
+        .iter()
+        .rev()
+        .map(|s| mirrored_back(s, tooth_axis))
+        .collect();
+    let turned: Vec<Segment> = half.iter().map(|s| map(s, |p| turn(p, -pitch))).collect();
+    let mut rest = turned.into_iter();
+    if !on_axis {
+        let root = rest.next().expect("a root arc");
+        let last = period.pop().expect("a root arc");
+        period.push(concentric(last.from(), root.to()));
+    }
+    period.extend(rest);
+    // Start in the middle of the tooth on +Y.
+    let period = period.iter().map(|s| map(s, |p| turn(p, PI / z))).collect();
+    Ok(Outline {
+        period,
+        teeth: gear.teeth,
+        figures,
+        undercut,
+        arcs_per_flank: flank_fit.arcs.len(),
+        arcs_per_fillet: fillet_fit.arcs.len(),
+        flank_fit_mm: flank_fit.max_deviation,
+        fillet_fit_mm: fillet_fit.max_deviation,
+        flank,
+        fillet,
+        root_from: deepest.1.atan2(deepest.0),
+        tip_to: edge.1.atan2(edge.0),
+    })
+}
+
+/// Which part of the theoretical outline is nearest a point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Piece {
+    /// The root circle.
+    Root,
+    /// The root fillet.
+    Fillet,
+    /// The involute flank.
+    Flank,
+    /// The tip circle.
+    Tip,
+}
+
+impl Outline {
+    /// Every segment, the period turned z times clockwise.
+    pub fn segments(&self) -> Vec<Segment> {
+        let pitch = TAU / f64::from(self.teeth);
+        (0..self.teeth)
+            .flat_map(|k| {
+                let a = -pitch * f64::from(k);
+                self.period.iter().map(move |s| map(s, |p| turn(p, a)))
+            })
+            .collect()
+    }
+
+    /// The distance from `q` to the theoretical outline (the involute
+    /// exactly, the fillet on 4,096 chords), and the nearest piece: `q` is
+    /// folded into the half tooth space by the gear's symmetry.
+    pub fn distance(&self, q: (f64, f64)) -> (f64, Piece) {
+        let z = f64::from(self.teeth);
+        // Back into the fit's frame (the space's axis on +Y), then the
+        // angle from that axis folded into (−π/z, 0].
+        let q = turn(q, -PI / z);
+        let r = q.0.hypot(q.1);
+        let d = (q.1.atan2(q.0) - FRAC_PI_2 + PI / z).rem_euclid(TAU / z) - PI / z;
+        let q = turn((0.0, r), -d.abs());
+        let a = q.1.atan2(q.0);
+        let circle = |radius: f64, lo: f64, hi: f64| {
+            if (lo..=hi).contains(&a) {
+                (r - radius).abs()
+            } else {
+                let end = |b: f64| (q.0 - radius * b.cos()).hypot(q.1 - radius * b.sin());
+                end(lo).min(end(hi))
+            }
+        };
+        let f = &self.figures;
+        [
+            (
+                circle(f.root_radius_mm, self.root_from, FRAC_PI_2),
+                Piece::Root,
+            ),
+            (self.fillet.distance(q), Piece::Fillet),
+            (self.flank.distance(q), Piece::Flank),
+            (
+                circle(f.tip_radius_mm, FRAC_PI_2 - PI / z, self.tip_to),
+                Piece::Tip,
+            ),
+        ]
+        .into_iter()
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .expect("four pieces")
+    }
+}
+
+/// An arc spline's arc as a plain [`Arc`] again (for measuring).
+pub fn arc_of(s: &Segment) -> Arc {
+    match *s {
+        Segment::Line { from, to } => Arc {
+            start: from,
+            start_angle: (to.1 - from.1).atan2(to.0 - from.0),
+            curvature: 0.0,
+            length: (to.0 - from.0).hypot(to.1 - from.1),
+        },
+        Segment::Arc {
+            from,
+            to,
+            centre,
+            ccw,
+        } => {
+            let r = (from.0 - centre.0).hypot(from.1 - centre.1);
+            let a0 = (from.1 - centre.1).atan2(from.0 - centre.0);
+            let a1 = (to.1 - centre.1).atan2(to.0 - centre.0);
+            let mut sweep = if ccw { a1 - a0 } else { a0 - a1 }.rem_euclid(TAU);
+            if sweep < 1e-12 {
+                sweep = TAU;
+            }
+            let sense = if ccw { 1.0 } else { -1.0 };
+            Arc {
+                start: from,
+                start_angle: a0 + sense * FRAC_PI_2,
+                curvature: sense / r,
+                length: r * sweep,
+            }
+        }
+    }
+}

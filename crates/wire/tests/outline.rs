@@ -1,0 +1,126 @@
+//! The whole outline: closed, without a corner but at the tooth's tip edges
+//! (and an undercut's crossing), each arc within its piece's tolerance of
+//! the theoretical outline measured on dense samples.
+
+use std::f64::consts::TAU;
+
+use gearcam_arcfit::Curve;
+use gearcam_wire::gear::RackGear;
+use gearcam_wire::outline::{arc_of, outline, turn, Piece, Tolerances};
+use gearcam_wire::Segment;
+
+fn gear(m: f64, z: u32, x: f64) -> RackGear {
+    RackGear {
+        module_mm: m,
+        teeth: z,
+        pressure_angle_deg: 20.0,
+        profile_shift: x,
+        addendum_coef: 1.0,
+        clearance_coef: 0.25,
+        tip_radius_coef: 0.38,
+    }
+}
+
+const TOL: Tolerances = Tolerances {
+    flank_mm: 0.001,
+    fillet_mm: 0.005,
+    min_radius_mm: 0.0,
+};
+
+fn gap(a: (f64, f64), b: (f64, f64)) -> f64 {
+    (a.0 - b.0).hypot(a.1 - b.1)
+}
+
+/// The largest deviation of the segments from the theoretical outline,
+/// each point counted against its nearest piece's tolerance (in units of
+/// that tolerance), on 400 points per segment.
+fn worst_ratio(o: &gearcam_wire::outline::Outline, segments: &[Segment]) -> f64 {
+    let mut worst: f64 = 0.0;
+    for s in segments {
+        let a = arc_of(s);
+        for i in 0..=400 {
+            let (d, piece) = o.distance(a.point_at(a.length * f64::from(i) / 400.0));
+            let tol = match piece {
+                Piece::Flank | Piece::Tip => TOL.flank_mm,
+                Piece::Fillet | Piece::Root => TOL.fillet_mm,
+            };
+            worst = worst.max(d / tol);
+        }
+    }
+    worst
+}
+
+#[test]
+fn the_m2_z20_outline_is_closed_smooth_and_within_its_tolerances() {
+    let g = gear(2.0, 20, 0.0);
+    let o = outline(&g, &TOL).unwrap();
+    eprintln!(
+        "m2 z20: {} arcs per flank ({:.3} um), {} per fillet ({:.3} um), {} per pitch",
+        o.arcs_per_flank,
+        o.flank_fit_mm * 1e3,
+        o.arcs_per_fillet,
+        o.fillet_fit_mm * 1e3,
+        o.period.len()
+    );
+    assert!(o.arcs_per_flank <= 4, "{} arcs per flank", o.arcs_per_flank);
+    assert!(!o.undercut);
+    let all = o.segments();
+    assert_eq!(all.len(), 20 * o.period.len());
+    // Closed: each segment starts where the one before ended.
+    for (i, s) in all.iter().enumerate() {
+        let next = &all[(i + 1) % all.len()];
+        assert!(gap(s.to(), next.from()) < 1e-9, "gap after segment {i}");
+    }
+    // Corners only at the tooth's tip edges: two per pitch.
+    let corners = (0..all.len())
+        .filter(|&i| {
+            let (a, b) = (arc_of(&all[i]), arc_of(&all[(i + 1) % all.len()]));
+            let turn = (b.start_angle - a.end_angle() + 3.0 * std::f64::consts::PI).rem_euclid(TAU)
+                - std::f64::consts::PI;
+            turn.abs() > 1e-7
+        })
+        .count();
+    assert_eq!(corners, 2 * 20);
+    let worst = worst_ratio(&o, &all);
+    assert!(worst <= 1.0, "{worst} of the tolerance");
+}
+
+/// The distance folds a point into the half tooth space: points of the
+/// fillet and flank, turned to any tooth and mirrored, are on the outline;
+/// points set off along the radius by δ are δ away.
+#[test]
+fn the_outline_distance_sees_every_tooth_and_both_flanks() {
+    let g = gear(1.5, 13, 0.3);
+    let o = outline(&g, &TOL).unwrap();
+    let (fillet, flank) = (g.fillet(), g.flank());
+    let z = 13.0;
+    for (k, curve) in [(0u32, &fillet as &dyn Curve), (5, &flank), (12, &flank)] {
+        let (t0, t1) = curve.domain();
+        for i in 0..=10 {
+            let p = curve.point(t0 + (t1 - t0) * f64::from(i) / 10.0);
+            // Into the outline's frame (a tooth's middle on +Y), then tooth k.
+            let p = turn(p, std::f64::consts::PI / z - TAU * f64::from(k) / z);
+            let mirrored = (-p.0, p.1);
+            for q in [p, mirrored] {
+                let (d, _) = o.distance(q);
+                assert!(d < 1e-6, "tooth {k} point {i}: {d}");
+            }
+        }
+    }
+    let (d, piece) = o.distance((0.0, o.figures.tip_radius_mm + 0.25));
+    assert!(
+        (d - 0.25).abs() < 1e-12 && piece == Piece::Tip,
+        "{d} {piece:?}"
+    );
+}
+
+/// An undercut pinion (z 9): the fillet meets the involute at a corner of
+/// the part, so a third corner per flank; still within the tolerances.
+#[test]
+fn an_undercut_pinion_has_its_corner_and_keeps_its_tolerances() {
+    let g = gear(1.0, 9, 0.0);
+    let o = outline(&g, &TOL).unwrap();
+    assert!(o.undercut);
+    let worst = worst_ratio(&o, &o.segments());
+    assert!(worst <= 1.0, "{worst} of the tolerance");
+}
