@@ -7,8 +7,10 @@
 
 pub mod gear;
 pub mod involute;
+pub mod offset;
 pub mod outline;
 pub mod threeb;
+pub mod verify;
 
 /// A piece of a wire path: a line or a circular arc, in mm.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -124,3 +124,79 @@ fn an_undercut_pinion_has_its_corner_and_keeps_its_tolerances() {
     let worst = worst_ratio(&o, &o.segments());
     assert!(worst <= 1.0, "{worst} of the tolerance");
 }
+
+/// The distance of a point from the square ±5 mm (brute force over its four
+/// edges).
+fn square_distance(q: (f64, f64)) -> f64 {
+    let edge = |a: (f64, f64), b: (f64, f64)| {
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let t = (((q.0 - a.0) * dx + (q.1 - a.1) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+        (a.0 + t * dx - q.0).hypot(a.1 + t * dy - q.1)
+    };
+    let c = [(-5.0, 5.0), (5.0, 5.0), (5.0, -5.0), (-5.0, -5.0)];
+    (0..4)
+        .map(|i| edge(c[i], c[(i + 1) % 4]))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// A square run clockwise set off both ways: outside (left) its corners are
+/// rounded on the offset, inside (right) they are cut back; every point of
+/// either lies the offset from the square, and the path closes.
+#[test]
+fn a_square_sets_off_outside_round_and_inside_sharp() {
+    use gearcam_wire::offset::{offset, Side};
+    let c = [(-5.0, 5.0), (5.0, 5.0), (5.0, -5.0), (-5.0, -5.0)];
+    let square: Vec<Segment> = (0..4)
+        .map(|i| Segment::Line {
+            from: c[i],
+            to: c[(i + 1) % 4],
+        })
+        .collect();
+    for (side, blocks) in [(Side::Left, 8), (Side::Right, 4)] {
+        let path = offset(&square, side, 0.13).unwrap();
+        assert_eq!(path.len(), blocks, "{side:?}");
+        for (i, s) in path.iter().enumerate() {
+            assert!(gap(s.to(), path[(i + 1) % path.len()].from()) < 1e-12);
+            let a = arc_of(s);
+            for k in 0..=50 {
+                let d = square_distance(a.point_at(a.length * f64::from(k) / 50.0));
+                assert!((d - 0.13).abs() < 1e-12, "{side:?} {i}: {d}");
+            }
+        }
+    }
+}
+
+/// The punch's and the die's paths of m2 z20 lie the offset from the
+/// theoretical outline within the tolerances, close, and go round once
+/// clockwise; a wire thicker than the fillet's tightest arc is refused with
+/// that arc.
+#[test]
+fn punch_and_die_paths_keep_the_offset() {
+    use gearcam_wire::offset::{offset, Side};
+    use gearcam_wire::verify::measure;
+    let g = gear(2.0, 20, 0.0);
+    let o = outline(&g, &TOL).unwrap();
+    let all = o.segments();
+    for side in [Side::Left, Side::Right] {
+        let path = offset(&all, side, 0.1).unwrap();
+        let m = measure(&o, &path, 0.1, 64);
+        assert!(m.flank_mm <= TOL.flank_mm, "{side:?} {m:?}");
+        assert!(m.fillet_mm <= TOL.fillet_mm, "{side:?} {m:?}");
+        assert!(m.closure_mm < 1e-9 && (m.turns + 1.0).abs() < 1e-9, "{m:?}");
+    }
+    let tightest = o
+        .period
+        .iter()
+        .filter_map(|s| match *s {
+            Segment::Arc {
+                from,
+                centre,
+                ccw: true,
+                ..
+            } => Some((from.0 - centre.0).hypot(from.1 - centre.1)),
+            _ => None,
+        })
+        .fold(f64::INFINITY, f64::min);
+    let e = offset(&all, Side::Left, tightest + 0.01).unwrap_err();
+    assert!((e.radius_mm - tightest).abs() < 1e-12, "{e}");
+}
