@@ -38,6 +38,8 @@ pub enum Family {
     /// Spiral face milling of a circular or annular face or a planar
     /// spiral groove (`[face]` or `[groove]`, `[mill]`, `[milling]`).
     SpiralFace,
+    /// Wire EDM of a spur gear's punch or die (`[die]`, `[wire]`).
+    WireEdm,
 }
 
 impl Family {
@@ -46,6 +48,7 @@ impl Family {
         match self {
             Family::Hobbing => "hobbing",
             Family::SpiralFace => "spiral-face",
+            Family::WireEdm => "wire-edm",
         }
     }
 }
@@ -509,6 +512,16 @@ pub struct JobSpec {
     /// `[milling]` (spiral family): the process values fixed by the planner.
     #[serde(default, skip_serializing_if = "is_default_milling")]
     pub milling: crate::milling::MillingOverrides,
+    /// `[die]` (wire family): the gear whose punch or die is cut.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub die: Option<crate::wire::DieSpec>,
+    /// `[wire]` (wire family): the wire and program fixed by the planner.
+    #[serde(default, skip_serializing_if = "is_default_wire")]
+    pub wire: crate::wire::WireOverrides,
+}
+
+fn is_default_wire(w: &crate::wire::WireOverrides) -> bool {
+    *w == crate::wire::WireOverrides::default()
 }
 
 fn is_default_mill(m: &crate::milling::MillSpec) -> bool {

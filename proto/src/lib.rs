@@ -14,6 +14,7 @@
 //! - [`cutting`]: what the families share ([`CutMode`]).
 //! - [`milling`]: the spiral face milling family's job sections.
 //! - [`spiral`]: its [`SpiralPlan`] and [`SpiralModel`].
+//! - [`wire`]: the wire EDM family: `[die]`, `[wire]`, [`WirePlan`], [`WireModel`].
 //! - [`naming`]: controllers' program naming rules.
 //! - [`delivery`]: station journal states and queries, agent replies and program history.
 //! - [`error`]: typed [`JobError`]s and the [`Stage`] that found them, id and codec errors.
@@ -36,6 +37,7 @@ pub mod naming;
 pub mod plan;
 pub mod program;
 pub mod spiral;
+pub mod wire;
 
 pub use class::{classify, GearClass};
 pub use codec::{decode, encode, Incoming, Message, MAX_MESSAGE_BYTES, SCHEMA_VERSION};
@@ -71,4 +73,8 @@ pub use program::{
 pub use spiral::{
     AnyModel, AnyPlan, CoverageCheck, GrooveFigures, MillData, MillProfile, MillingProcess,
     SpiralCut, SpiralFigures, SpiralModel, SpiralPart, SpiralPlan,
+};
+pub use wire::{
+    Cutter, DieFigures, DiePart, DieSpec, WireMachine, WireModel, WireOverrides, WirePlan,
+    WireProcess, WireProgram,
 };

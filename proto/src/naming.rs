@@ -14,14 +14,16 @@ pub const MAX_840D_NAME: usize = 24;
 /// - FANUC: `O` and a number 1–9999 outside the builder range 8000–9999,
 ///   written with four digits (`O1234`); stored under that name.
 /// - LinuxCNC: letters, digits, `_`, `-`, at most 64, stored as `{name}.ngc`.
-/// - Wire 3B: letters, digits, `_`, `-`, at most 32, stored as `{name}.3b`.
+/// - Wire 3B/4B: letters, digits, `_`, `-`, at most 32, stored as
+///   `{name}.3b`; a name may end in `.3b` or `.4b` itself (a 4B program).
+/// - Wire ISO: as FANUC.
 pub fn file_name(dialect: Dialect, name: &str) -> Result<String, String> {
     match dialect {
         Dialect::Sinumerik840d => {
             check_name_840d(name)?;
             Ok(format!("_N_{name}_MPF"))
         }
-        Dialect::Fanuc => {
+        Dialect::Fanuc | Dialect::WireIso => {
             let digits = name.strip_prefix('O').ok_or_else(|| {
                 format!("FANUC program names are O and a number, e.g. O1234; got {name:?}")
             })?;
@@ -43,10 +45,19 @@ pub fn file_name(dialect: Dialect, name: &str) -> Result<String, String> {
             check_plain(name, 64)?;
             Ok(format!("{name}.ngc"))
         }
-        Dialect::Wire3b => {
-            check_plain(name, 32)?;
-            Ok(format!("{name}.3b"))
-        }
+        Dialect::Wire3b => match name
+            .strip_suffix(".4b")
+            .or_else(|| name.strip_suffix(".3b"))
+        {
+            Some(base) => {
+                check_plain(base, 32)?;
+                Ok(name.to_string())
+            }
+            None => {
+                check_plain(name, 32)?;
+                Ok(format!("{name}.3b"))
+            }
+        },
     }
 }
 

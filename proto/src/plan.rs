@@ -20,8 +20,10 @@ pub enum Dialect {
     Fanuc,
     /// LinuxCNC rs274ngc.
     Linuxcnc,
-    /// Wire-EDM 3B/4B.
+    /// Wire-EDM 3B/4B (programs `NAME.3b`, `NAME.4b`).
     Wire3b,
+    /// Wire-EDM ISO G-code (programs `O0001`–`O7999`, as FANUC).
+    WireIso,
 }
 
 impl Dialect {
@@ -32,6 +34,7 @@ impl Dialect {
             Dialect::Fanuc => "fanuc",
             Dialect::Linuxcnc => "linuxcnc",
             Dialect::Wire3b => "wire3b",
+            Dialect::WireIso => "wireiso",
         }
     }
 }

@@ -19,6 +19,7 @@ use crate::job::JobRequest;
 use crate::milling::{FaceSpec, GrooveSpec, MillKind, SpiralDirection, SpiralProgram};
 use crate::model::{MachiningModel, Warning};
 use crate::plan::{CaseRef, Dialect, ProcessPlan, Source, Sourced};
+use crate::wire::{WireModel, WirePlan};
 use crate::Message;
 
 impl SpiralProgram {
@@ -295,6 +296,8 @@ pub enum AnyPlan {
     Hobbing(Box<ProcessPlan>),
     /// Spiral face milling.
     Spiral(Box<SpiralPlan>),
+    /// Wire EDM.
+    Wire(Box<WirePlan>),
 }
 
 impl AnyPlan {
@@ -303,14 +306,16 @@ impl AnyPlan {
         match self {
             AnyPlan::Hobbing(p) => &p.job_id,
             AnyPlan::Spiral(p) => &p.job_id,
+            AnyPlan::Wire(p) => &p.job_id,
         }
     }
 }
 
 impl Incoming for AnyPlan {
-    const KINDS: &'static str = "process_plan or spiral_plan";
+    const KINDS: &'static str = "process_plan, spiral_plan or wire_plan";
     fn decode_incoming(bytes: &[u8]) -> Result<Self, CodecError> {
         match kind_of(bytes, Self::KINDS)?.as_str() {
+            WirePlan::KIND => Ok(AnyPlan::Wire(Box::new(decode(bytes)?))),
             SpiralPlan::KIND => Ok(AnyPlan::Spiral(Box::new(decode(bytes)?))),
             ProcessPlan::KIND => Ok(AnyPlan::Hobbing(Box::new(decode(bytes)?))),
             got => Err(CodecError::WrongKind {
@@ -328,6 +333,8 @@ pub enum AnyModel {
     Hobbing(Box<MachiningModel>),
     /// Spiral face milling.
     Spiral(Box<SpiralModel>),
+    /// Wire EDM.
+    Wire(Box<WireModel>),
 }
 
 impl AnyModel {
@@ -336,6 +343,7 @@ impl AnyModel {
         match self {
             AnyModel::Hobbing(m) => &m.job_id,
             AnyModel::Spiral(m) => &m.job_id,
+            AnyModel::Wire(m) => &m.job_id,
         }
     }
 
@@ -344,14 +352,16 @@ impl AnyModel {
         match self {
             AnyModel::Hobbing(m) => &m.plan.machine.id,
             AnyModel::Spiral(m) => &m.plan.machine.id,
+            AnyModel::Wire(m) => &m.plan.machine.id,
         }
     }
 }
 
 impl Incoming for AnyModel {
-    const KINDS: &'static str = "machining_model or spiral_model";
+    const KINDS: &'static str = "machining_model, spiral_model or wire_model";
     fn decode_incoming(bytes: &[u8]) -> Result<Self, CodecError> {
         match kind_of(bytes, Self::KINDS)?.as_str() {
+            WireModel::KIND => Ok(AnyModel::Wire(Box::new(decode(bytes)?))),
             SpiralModel::KIND => Ok(AnyModel::Spiral(Box::new(decode(bytes)?))),
             MachiningModel::KIND => Ok(AnyModel::Hobbing(Box::new(decode(bytes)?))),
             got => Err(CodecError::WrongKind {

@@ -113,36 +113,16 @@ impl RackGear {
 
     /// The fillet's range of φ from the deepest point (φ0 = −u_c/r) to
     /// where the straight flank takes over (φ1 = (v_c·cot α − u_c)/r), cut
-    /// short where the fillet crosses the space's axis (the two fillets
-    /// meet there) or, with undercut, where it crosses the involute.
+    /// by [`trim_fillet`].
     fn fillet_range(&self) -> (f64, f64) {
         let (u_c, v_c, _) = self.tip_circle();
         let r = self.r();
-        let (mut phi0, mut phi1) = (-u_c / r, (v_c / self.alpha().tan() - u_c) / r);
-        let x_at = |phi: f64| self.fillet_at(phi).0 .0;
-        if x_at(phi0) < 0.0 && x_at(phi1) > 0.0 {
-            phi0 = bisect(phi0, phi1, |phi| x_at(phi) >= 0.0);
-        }
-        if self.undercut() {
-            // The involute's side: the polar angle above the flank's at
-            // the same radius is the space (> 0), below it the tooth.
-            let f = self.figures_without_form();
-            let side = |phi: f64| {
-                let p = self.fillet_at(phi).0;
-                let big_r = (p.0 * p.0 + p.1 * p.1).sqrt();
-                if big_r <= f.base_radius_mm {
-                    return 1.0;
-                }
-                let a = (f.base_radius_mm / big_r).acos();
-                p.1.atan2(p.0) - (f.base_angle - (a.tan() - a))
-            };
-            const N: usize = 400;
-            let at = |i: usize| phi0 + (phi1 - phi0) * i as f64 / N as f64;
-            if let Some(i) = (0..N).rev().find(|&i| side(at(i)) < 0.0) {
-                phi1 = bisect(at(i), at(i + 1), |phi| side(phi) >= 0.0);
-            }
-        }
-        (phi0, phi1)
+        let raw = (-u_c / r, (v_c / self.alpha().tan() - u_c) / r);
+        trim_fillet(
+            &self.figures_without_form(),
+            |phi| self.fillet_at(phi).0,
+            raw,
+        )
     }
 
     /// Whether the rack's straight flank reaches below the interference
@@ -171,7 +151,7 @@ impl RackGear {
     }
 
     /// The figures but the form radius.
-    fn figures_without_form(&self) -> Figures {
+    pub(crate) fn figures_without_form(&self) -> Figures {
         let (m, a, r) = (self.module_mm, self.alpha(), self.r());
         let e = PI * m / 2.0 - 2.0 * self.profile_shift * m * a.tan();
         Figures {
@@ -202,11 +182,7 @@ impl RackGear {
     /// The right flank: the involute from the form circle to the tip circle,
     /// placed in the gear's frame.
     pub fn flank(&self) -> Flank {
-        let f = self.figures();
-        Flank {
-            involute: Involute::between_radii(f.base_radius_mm, f.form_radius_mm, f.tip_radius_mm),
-            base_angle: f.base_angle,
-        }
+        flank_from(&self.figures())
     }
 }
 
@@ -231,6 +207,80 @@ impl Curve for Fillet {
     fn distance(&self, q: (f64, f64)) -> f64 {
         nearest(self, q)
     }
+}
+
+/// The right flank of figures: the involute from the form circle to the
+/// tip circle, placed in the gear's frame.
+pub fn flank_from(f: &Figures) -> Flank {
+    Flank {
+        involute: Involute::between_radii(f.base_radius_mm, f.form_radius_mm, f.tip_radius_mm),
+        base_angle: f.base_angle,
+    }
+}
+
+/// A generated tooth space: what the outline needs of a gear, whichever
+/// tool generated it.
+pub trait ToothSpace {
+    /// Teeth.
+    fn teeth(&self) -> u32;
+    /// The figures.
+    fn figures(&self) -> Figures;
+    /// The right root fillet, from the root up.
+    fn fillet_curve(&self) -> Box<dyn Curve + '_>;
+    /// The right flank.
+    fn flank(&self) -> Flank;
+    /// Whether the fillet cuts into the involute.
+    fn undercut(&self) -> bool;
+}
+
+impl ToothSpace for RackGear {
+    fn teeth(&self) -> u32 {
+        self.teeth
+    }
+    fn figures(&self) -> Figures {
+        RackGear::figures(self)
+    }
+    fn fillet_curve(&self) -> Box<dyn Curve + '_> {
+        Box::new(self.fillet())
+    }
+    fn flank(&self) -> Flank {
+        RackGear::flank(self)
+    }
+    fn undercut(&self) -> bool {
+        RackGear::undercut(self)
+    }
+}
+
+/// A fillet's parameter range cut where the two fillets of the space meet
+/// on its axis (the deepest point would lie past it), and, with undercut,
+/// where the fillet crosses the involute: the involute's side of a point at
+/// radius R above the base circle is its polar angle less the flank's,
+/// θb − inv(arccos(rb/R)) — positive in the space, negative in the tooth;
+/// the fillet ends at its last crossing from the tooth into the space.
+pub fn trim_fillet(
+    base: &Figures,
+    point: impl Fn(f64) -> (f64, f64),
+    raw: (f64, f64),
+) -> (f64, f64) {
+    let (mut t0, mut t1) = raw;
+    if point(t0).0 < 0.0 && point(t1).0 > 0.0 {
+        t0 = bisect(t0, t1, |t| point(t).0 >= 0.0);
+    }
+    let side = |t: f64| {
+        let p = point(t);
+        let big_r = p.0.hypot(p.1);
+        if big_r <= base.base_radius_mm {
+            return 1.0;
+        }
+        let a = (base.base_radius_mm / big_r).acos();
+        p.1.atan2(p.0) - (base.base_angle - (a.tan() - a))
+    };
+    const N: usize = 400;
+    let at = |i: usize| t0 + (t1 - t0) * i as f64 / N as f64;
+    if let Some(i) = (0..N).rev().find(|&i| side(at(i)) < -1e-9) {
+        t1 = bisect(at(i), at(i + 1), |t| side(t) >= 0.0);
+    }
+    (t0, t1)
 }
 
 /// The boundary of `inside` between `lo` (outside) and `hi` (inside), by

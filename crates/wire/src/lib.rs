@@ -5,10 +5,12 @@
 //! family's place in the system are still to come (docs/wire.md).
 #![forbid(unsafe_code)]
 
+pub mod die;
 pub mod gear;
 pub mod involute;
 pub mod offset;
 pub mod outline;
+pub mod pinion;
 pub mod threeb;
 pub mod verify;
 

@@ -19,7 +19,7 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use gearcam_arcfit::{fit, Arc, Curve, FitError, Options, Sampled};
 
-use crate::gear::{Figures, Flank, RackGear};
+use crate::gear::{Figures, Flank, ToothSpace};
 use crate::Segment;
 
 /// The fit's tolerances, mm.
@@ -150,11 +150,11 @@ fn concentric(from: (f64, f64), to: (f64, f64)) -> Segment {
 }
 
 /// The outline of `gear` within `tol`.
-pub fn outline(gear: &RackGear, tol: &Tolerances) -> Result<Outline, OutlineError> {
+pub fn outline(gear: &dyn ToothSpace, tol: &Tolerances) -> Result<Outline, OutlineError> {
     let figures = gear.figures();
     let flank = gear.flank();
-    let exact_fillet = gear.fillet();
-    let fillet = Sampled::new(&exact_fillet, FILLET_SAMPLES);
+    let exact_fillet = gear.fillet_curve();
+    let fillet = Sampled::new(exact_fillet.as_ref(), FILLET_SAMPLES);
     let undercut = gear.undercut();
     let mut o = Options::tolerance(tol.flank_mm);
     o.min_radius = tol.min_radius_mm;
@@ -188,7 +188,7 @@ pub fn outline(gear: &RackGear, tol: &Tolerances) -> Result<Outline, OutlineErro
     }
     half.extend(fillet_fit.arcs.iter().map(Segment::of_arc));
     half.extend(flank_fit.arcs.iter().map(Segment::of_arc));
-    let z = f64::from(gear.teeth);
+    let z = f64::from(gear.teeth());
     let tooth_axis = FRAC_PI_2 - PI / z;
     let edge = half.last().expect("segments").to();
     let ra = edge.0.hypot(edge.1);
@@ -214,7 +214,7 @@ pub fn outline(gear: &RackGear, tol: &Tolerances) -> Result<Outline, OutlineErro
     let period = period.iter().map(|s| map(s, |p| turn(p, PI / z))).collect();
     Ok(Outline {
         period,
-        teeth: gear.teeth,
+        teeth: gear.teeth(),
         figures,
         undercut,
         arcs_per_flank: flank_fit.arcs.len(),

@@ -15,6 +15,7 @@ enum DialectArg {
     Fanuc,
     Linuxcnc,
     Wire3b,
+    Wireiso,
 }
 
 /// The gearcam delivery agent of one machine.
@@ -64,6 +65,7 @@ async fn main() -> anyhow::Result<()> {
         DialectArg::Fanuc => Dialect::Fanuc,
         DialectArg::Linuxcnc => Dialect::Linuxcnc,
         DialectArg::Wire3b => Dialect::Wire3b,
+        DialectArg::Wireiso => Dialect::WireIso,
     };
     let config = StoreConfig {
         machine: args.machine,

@@ -24,6 +24,9 @@ pub const AUDITED: &[&str] = &[
     "mills",
     "milling_data",
     "milling_cases",
+    "wire_machines",
+    "wires",
+    "wire_data",
 ];
 
 /// Creates the audit tables and the triggers of [`AUDITED`] (schema 6).

@@ -252,6 +252,40 @@ CREATE TABLE IF NOT EXISTS milling_cases (
 );
 CREATE INDEX IF NOT EXISTS milling_cases_by_group ON milling_cases (kind, material_group);
 "#,
+    // Version 8: the wire EDM family (issue 15): machines, wires and
+    // starting technology; audited like the rest.
+    r#"
+CREATE TABLE IF NOT EXISTS wire_machines (
+    id                TEXT PRIMARY KEY,
+    name              TEXT NOT NULL,
+    controller        TEXT NOT NULL,
+    dialect           TEXT NOT NULL CHECK (dialect IN ('wire3b', 'wireiso')),
+    programs          TEXT NOT NULL,
+    default_program   TEXT NOT NULL,
+    wire              TEXT NOT NULL,
+    max_thickness_mm  REAL NOT NULL CHECK (max_thickness_mm > 0),
+    max_radius_mm     REAL NOT NULL CHECK (max_radius_mm > 0),
+    source            TEXT NOT NULL
+);
+CREATE TABLE IF NOT EXISTS wires (
+    id            TEXT PRIMARY KEY,
+    material      TEXT NOT NULL,
+    diameter_mm   REAL NOT NULL CHECK (diameter_mm > 0),
+    spark_gap_mm  REAL NOT NULL CHECK (spark_gap_mm >= 0),
+    source        TEXT NOT NULL
+);
+CREATE TABLE IF NOT EXISTS wire_data (
+    id                    TEXT PRIMARY KEY,
+    wire_material         TEXT NOT NULL,
+    material_group        TEXT NOT NULL,
+    pulse_on_us           REAL NOT NULL CHECK (pulse_on_us > 0),
+    pulse_off_us          REAL NOT NULL CHECK (pulse_off_us > 0),
+    current_a             REAL NOT NULL CHECK (current_a > 0),
+    cutting_rate_mm2_min  REAL NOT NULL CHECK (cutting_rate_mm2_min > 0),
+    confidence            REAL NOT NULL CHECK (confidence BETWEEN 0 AND 1),
+    source                TEXT NOT NULL
+);
+"#,
 ];
 
 /// Opens (creating and seeding if new) the knowledge base at `path`.
@@ -298,6 +332,10 @@ fn migrate(conn: &mut Connection) -> Result<(), KnowledgeError> {
             6 => {
                 crate::audit::install(&tx)?;
                 crate::spiral::seed_v7(&tx)?;
+            }
+            7 => {
+                crate::audit::install(&tx)?;
+                crate::wire::seed_v8(&tx)?;
             }
             _ => {}
         }
@@ -393,7 +431,7 @@ mod tests {
         conn.pragma_update(None, "user_version", 2).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
-        assert_eq!(schema_version(&conn).unwrap(), 7);
+        assert_eq!(schema_version(&conn).unwrap(), 8);
         let id = MachineId::new("H02").unwrap();
         assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h02()));
         // The version-2 seed record of HG-3003-L gains its profile shift.
@@ -446,7 +484,7 @@ mod tests {
         conn.pragma_update(None, "user_version", 3).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
-        assert_eq!(schema_version(&conn).unwrap(), 7);
+        assert_eq!(schema_version(&conn).unwrap(), 8);
         assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h01()));
         let sp = library::get(&conn, &library::WORKPIECES, "SP-1001")
             .unwrap()

@@ -223,6 +223,15 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
     if matches!(job.class, JobClass::SpiralFace | JobClass::SpiralGroove) {
         return confirm_spiral(conn, c, &job.plan_json);
     }
+    if job.class == JobClass::Wire {
+        return Err(vec![Stage::Knowledge.error(
+            "CONFIRM_FAMILY",
+            "job",
+            "a hobbing or spiral face milling job",
+            "a wire EDM job",
+            "the wire EDM family keeps no cases yet: its technology comes from the wire-data library; tune it with gearcam kb edit wire-data",
+        )]);
+    }
     let plan = stored_plan(&job.plan_json)?;
     let g = &plan.gear;
     let quantity = c.quantity.unwrap_or(plan.request.spec.job.quantity);

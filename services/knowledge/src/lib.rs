@@ -36,6 +36,7 @@ pub mod records;
 pub mod seed;
 pub mod service;
 pub mod spiral;
+pub mod wire;
 
 use thiserror::Error;
 

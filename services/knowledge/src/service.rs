@@ -225,6 +225,13 @@ pub async fn run(
                     }
                     (plan.tool.id.clone(), plan.confidence, encode(&plan))
                 }
+                Family::WireEdm => {
+                    let plan = crate::wire::plan_wire(&conn, &req)?;
+                    if let Err(e) = crate::wire::record_planned(&conn, &plan, now_ms()) {
+                        tracing::warn!(job = %plan.job_id, error = %e, "cannot record the planned job");
+                    }
+                    (plan.process.wire.clone(), plan.confidence, encode(&plan))
+                }
             };
             let payload = payload.map_err(|e| {
                 vec![gearcam_bus::stage::codec_error::<JobRequest>(

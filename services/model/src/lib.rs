@@ -151,6 +151,8 @@ pub(crate) mod fixtures {
                 groove: None,
                 mill: Default::default(),
                 milling: Default::default(),
+                die: None,
+                wire: Default::default(),
             },
         };
         let mut values = BTreeMap::new();

@@ -504,6 +504,8 @@ mod tests {
             groove: None,
             mill: Default::default(),
             milling: Default::default(),
+            die: None,
+            wire: Default::default(),
         };
         let hob = HobData {
             id: "HOB-M3-80".into(),

@@ -287,6 +287,7 @@ fn dialect_rank(d: Dialect) -> usize {
         Dialect::Fanuc => 1,
         Dialect::Linuxcnc => 2,
         Dialect::Wire3b => 3,
+        Dialect::WireIso => 4,
     }
 }
 

@@ -293,6 +293,7 @@ pub fn dialect_suffix(d: Dialect) -> &'static str {
         Dialect::Fanuc => "fanuc",
         Dialect::Linuxcnc => "linuxcnc",
         Dialect::Wire3b => "3b",
+        Dialect::WireIso => "iso-wire",
     }
 }
 
@@ -302,6 +303,7 @@ fn parse_dialect(s: &str) -> Option<Dialect> {
         Dialect::Fanuc,
         Dialect::Linuxcnc,
         Dialect::Wire3b,
+        Dialect::WireIso,
     ]
     .into_iter()
     .find(|d| d.as_str() == s)

@@ -106,8 +106,10 @@ impl Store {
 fn program_name(dialect: Dialect, file_name: &str) -> Option<String> {
     let name = match dialect {
         Dialect::Sinumerik840d => file_name.strip_prefix("_N_")?.strip_suffix("_MPF")?,
-        Dialect::Fanuc => file_name,
+        Dialect::Fanuc | Dialect::WireIso => file_name,
         Dialect::Linuxcnc => file_name.strip_suffix(".ngc")?,
+        // A 4B program's name keeps its `.4b`.
+        Dialect::Wire3b if file_name.ends_with(".4b") => file_name,
         Dialect::Wire3b => file_name.strip_suffix(".3b")?,
     };
     (naming::file_name(dialect, name).ok()? == file_name).then(|| name.to_string())

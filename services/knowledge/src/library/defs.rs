@@ -722,6 +722,9 @@ pub const LIBRARIES: &[Library] = &[
     super::milling::MILLS,
     super::milling::MILLING_DATA,
     super::milling::MILLING_CASES,
+    super::wire::WIRE_MACHINES,
+    super::wire::WIRES,
+    super::wire::WIRE_DATA,
 ];
 
 /// A library by name.

@@ -33,6 +33,7 @@ mod fields;
 mod milling;
 mod store;
 mod validate;
+mod wire;
 
 pub use defs::{
     library, CASES, CLASSES_LIB, HOBS, JOBS, LIBRARIES, MACHINES, MATERIALS, WEIGHTS, WORKPIECES,
@@ -41,3 +42,4 @@ pub use fields::{cell, parse_value, Check, Def, Field, Kind, Library, Need, Outc
 pub use milling::{MILLING_CASES, MILLING_DATA, MILLS, MILL_MACHINES};
 pub use store::{add, edit, get, keys, list, remove};
 pub use validate::validate;
+pub use wire::{WIRES, WIRE_DATA, WIRE_MACHINES};

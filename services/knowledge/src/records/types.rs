@@ -503,6 +503,8 @@ pub enum JobClass {
     SpiralFace,
     /// Spiral face milling of a planar spiral groove.
     SpiralGroove,
+    /// A punch or die cut by wire EDM.
+    Wire,
 }
 
 impl JobClass {
@@ -511,6 +513,7 @@ impl JobClass {
         match s {
             "spiral-face" => Some(JobClass::SpiralFace),
             "spiral-groove" => Some(JobClass::SpiralGroove),
+            "wire-punch" | "wire-die" => Some(JobClass::Wire),
             _ => GearClass::parse(s).map(JobClass::Gear),
         }
     }

@@ -273,53 +273,63 @@ pub fn family_errors(req: &JobRequest) -> Vec<JobError> {
             format!("no [{section}] section in a {} job", family.as_str()),
             format!("a [{section}] section"),
             format!(
-                "[{section}] belongs to another part family; [job] family = \"{}\" (hobbing: [gear], [hob], [process], [[units]]; spiral-face: [face] or [groove], [mill], [milling])",
+                "[{section}] belongs to another part family; [job] family = \"{}\" (hobbing: [gear], [hob], [process], [[units]]; spiral-face: [face] or [groove], [mill], [milling]; wire-edm: [die], [wire])",
                 family.as_str()
             ),
         )
     };
+    // Each section belongs to one family.
+    let sections = [
+        (Family::Hobbing, "gear", spec.gear.is_some()),
+        (Family::Hobbing, "hob", spec.hob != HobSpec::default()),
+        (
+            Family::Hobbing,
+            "process",
+            spec.process != ProcessOverrides::default(),
+        ),
+        (Family::Hobbing, "units", !spec.units.is_empty()),
+        (Family::SpiralFace, "face", spec.face.is_some()),
+        (Family::SpiralFace, "groove", spec.groove.is_some()),
+        (Family::SpiralFace, "mill", spec.mill != Default::default()),
+        (
+            Family::SpiralFace,
+            "milling",
+            spec.milling != Default::default(),
+        ),
+        (Family::WireEdm, "die", spec.die.is_some()),
+        (Family::WireEdm, "wire", spec.wire != Default::default()),
+    ];
+    for (family, section, present) in sections {
+        if present && family != spec.job.family {
+            errors.push(wrong(section, spec.job.family));
+        }
+    }
     match spec.job.family {
-        Family::Hobbing => {
-            for (section, present) in [
-                ("face", spec.face.is_some()),
-                ("groove", spec.groove.is_some()),
-                ("mill", spec.mill != Default::default()),
-                ("milling", spec.milling != Default::default()),
-            ] {
-                if present {
-                    errors.push(wrong(section, Family::Hobbing));
-                }
-            }
-        }
-        Family::SpiralFace => {
-            for (section, present) in [
-                ("gear", spec.gear.is_some()),
-                ("hob", spec.hob != HobSpec::default()),
-                ("process", spec.process != ProcessOverrides::default()),
-                ("units", !spec.units.is_empty()),
-            ] {
-                if present {
-                    errors.push(wrong(section, Family::SpiralFace));
-                }
-            }
-            match (&spec.face, &spec.groove) {
-                (Some(_), Some(_)) => errors.push(knowledge(
-                    "SECTION_FAMILY",
-                    "groove",
-                    "either [face] or [groove]".into(),
-                    "both".into(),
-                    "a spiral job mills one face or one groove".into(),
-                )),
-                (None, None) => errors.push(knowledge(
-                    "MISSING_SECTION",
-                    "face",
-                    "a [face] (outer_radius_mm, inner_radius_mm, depth_mm, material) or a [groove] section".into(),
-                    "neither".into(),
-                    "a spiral-face job describes the face or the groove it mills".into(),
-                )),
-                _ => {}
-            }
-        }
+        Family::SpiralFace => match (&spec.face, &spec.groove) {
+            (Some(_), Some(_)) => errors.push(knowledge(
+                "SECTION_FAMILY",
+                "groove",
+                "either [face] or [groove]".into(),
+                "both".into(),
+                "a spiral job mills one face or one groove".into(),
+            )),
+            (None, None) => errors.push(knowledge(
+                "MISSING_SECTION",
+                "face",
+                "a [face] (outer_radius_mm, inner_radius_mm, depth_mm, material) or a [groove] section".into(),
+                "neither".into(),
+                "a spiral-face job describes the face or the groove it mills".into(),
+            )),
+            _ => {}
+        },
+        Family::WireEdm if spec.die.is_none() => errors.push(knowledge(
+            "MISSING_SECTION",
+            "die",
+            "a [die] section (part, module_mm, teeth, thickness_mm, material)".into(),
+            "none".into(),
+            "a wire-edm job describes the gear whose punch or die it cuts".into(),
+        )),
+        _ => {}
     }
     errors
 }

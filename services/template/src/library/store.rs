@@ -92,6 +92,7 @@ pub(super) fn dialect_of(s: &str) -> Option<Dialect> {
         Dialect::Fanuc,
         Dialect::Linuxcnc,
         Dialect::Wire3b,
+        Dialect::WireIso,
     ]
     .into_iter()
     .find(|d| d.as_str() == s)
