@@ -10,7 +10,9 @@ pub mod gear;
 pub mod involute;
 pub mod offset;
 pub mod outline;
+pub mod picture;
 pub mod pinion;
+pub mod programs;
 pub mod threeb;
 pub mod verify;
 

@@ -292,6 +292,43 @@ impl Outline {
     }
 }
 
+impl Outline {
+    /// Points of the theoretical outline of the tooth space
+    /// counter-clockwise of the tooth on +Y, from the middle of that tooth
+    /// to the middle of the next: `n` points per piece (root arc, fillet,
+    /// flank, tip arc), each side.
+    pub fn theory_space(&self, n: usize) -> Vec<(f64, f64)> {
+        let z = f64::from(self.teeth);
+        let f = &self.figures;
+        let arc = |r: f64, a0: f64, a1: f64| -> Vec<(f64, f64)> {
+            (0..=n)
+                .map(|i| {
+                    let a = a0 + (a1 - a0) * i as f64 / n as f64;
+                    (r * a.cos(), r * a.sin())
+                })
+                .collect()
+        };
+        let along = |c: &dyn Curve| -> Vec<(f64, f64)> {
+            let (t0, t1) = c.domain();
+            (0..=n)
+                .map(|i| c.point(t0 + (t1 - t0) * i as f64 / n as f64))
+                .collect()
+        };
+        // The right half in the fit's frame, from the space's axis to the
+        // tooth's, then turned so the tooth's axis is +Y.
+        let mut half = arc(f.root_radius_mm, FRAC_PI_2, self.root_from);
+        half.extend(along(&self.fillet));
+        half.extend(along(&self.flank));
+        half.extend(arc(f.tip_radius_mm, self.tip_to, FRAC_PI_2 - PI / z));
+        let right: Vec<(f64, f64)> = half.iter().map(|&p| turn(p, PI / z)).collect();
+        // The left half: the right mirrored about the space's axis.
+        let axis = FRAC_PI_2 + PI / z;
+        let mut out: Vec<(f64, f64)> = right.iter().rev().copied().collect();
+        out.extend(right.iter().map(|&p| mirror(p, axis)));
+        out
+    }
+}
+
 /// An arc spline's arc as a plain [`Arc`] again (for measuring).
 pub fn arc_of(s: &Segment) -> Arc {
     match *s {

@@ -11,7 +11,8 @@
 //!   publishes for its machine (`gearcam/v1/jobs/*/model`, which only the
 //!   model service may publish under `deploy/secure`) and re-runs the NC path
 //!   check (`gearcam_nc::check`; for the spiral family the replay of
-//!   `gearcam_spiral::verify`) of every program against its job's model.
+//!   `gearcam_spiral::verify`, for the wire family the replay of
+//!   `gearcam_wire::programs::check_plan`) of every program against its job's model.
 //!   A finding: `PATH_CHECK_FAILED` (final). No model seen yet (the agent
 //!   started after it was published): `MODEL_UNKNOWN` (the job waits; the
 //!   station's re-drive publishes the model again).
@@ -120,6 +121,25 @@ impl Models {
                     ));
                 }
                 gearcam_spiral::verify::verify(&program.text, form, model).0
+            }
+            AnyModel::Wire(model) => {
+                match gearcam_wire::programs::check_plan(&program.text, &model.plan) {
+                    Ok(_) => gearcam_proto::PathCheck {
+                        ok: true,
+                        findings: vec![],
+                    },
+                    Err(p) => gearcam_proto::PathCheck {
+                        ok: false,
+                        findings: vec![gearcam_proto::PathFinding {
+                            line: 0,
+                            rule: p.code.to_string(),
+                            message: format!(
+                                "{}: expected {}, got {}",
+                                p.message, p.expected, p.got
+                            ),
+                        }],
+                    },
+                }
             }
         };
         match check.findings.first() {

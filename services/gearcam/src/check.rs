@@ -39,7 +39,7 @@ pub struct CaseSummary {
     pub provenance: String,
 }
 
-fn case_summaries(cases: &[gearcam_proto::CaseRef]) -> Vec<CaseSummary> {
+pub(crate) fn case_summaries(cases: &[gearcam_proto::CaseRef]) -> Vec<CaseSummary> {
     cases
         .iter()
         .map(|c| CaseSummary {
@@ -62,7 +62,11 @@ pub struct MachineSummary {
 }
 
 impl MachineSummary {
-    fn of(id: &gearcam_proto::MachineId, name: &str, dialect: gearcam_proto::Dialect) -> Self {
+    pub(crate) fn of(
+        id: &gearcam_proto::MachineId,
+        name: &str,
+        dialect: gearcam_proto::Dialect,
+    ) -> Self {
         MachineSummary {
             id: id.to_string(),
             name: name.to_string(),
@@ -113,7 +117,8 @@ pub struct ProgramSummary {
     pub name: String,
     /// Dialect: the controller's (`sinumerik840d`, `fanuc`) for hobbing;
     /// the program form (`fanuc-macro`, `fanuc-arcs`, `fanuc-chords`,
-    /// `linuxcnc`) for spiral face milling.
+    /// `linuxcnc`) for spiral face milling, (`3b`, `4b`, `iso-wire`) for
+    /// wire EDM.
     pub dialect: String,
     /// Template that made it.
     pub template: TemplateRef,
@@ -134,6 +139,8 @@ pub enum ModelReport {
     Hobbing(Box<Kinematics>),
     /// Spiral face milling.
     Spiral(Box<SpiralReport>),
+    /// Wire EDM: `model.die`.
+    Wire(Box<crate::check_wire::WireReport>),
 }
 
 impl ModelReport {
@@ -141,7 +148,7 @@ impl ModelReport {
     pub fn hobbing(&self) -> Option<&Kinematics> {
         match self {
             ModelReport::Hobbing(k) => Some(k),
-            ModelReport::Spiral(_) => None,
+            ModelReport::Spiral(_) | ModelReport::Wire(_) => None,
         }
     }
 }
@@ -178,15 +185,16 @@ pub struct CheckReport {
     /// Gear geometry.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub geometry: Option<Geometry>,
-    /// Machining model: the hobbing kinematics, or the spiral's figures
-    /// (`model.spiral`, `model.cut`, `model.groove`, `model.part_time_min`).
+    /// Machining model: the hobbing kinematics, the spiral's figures
+    /// (`model.spiral`, `model.cut`, `model.groove`, `model.part_time_min`),
+    /// or the die's figures and certificate (`model.die`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub model: Option<ModelReport>,
     /// The coverage check of a spiral face (or the pitch check of a groove)
     /// and the program's largest deviation from the spiral.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub coverage: Option<CoverageCheck>,
-    /// Where the SVG picture of a spiral job was written.
+    /// Where the SVG picture of a spiral or wire job was written.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub picture: Option<String>,
     /// The NC program.
@@ -224,17 +232,32 @@ fn job_summary(req: &JobRequest) -> CheckReport {
     report
 }
 
+/// The model of a job that has a picture.
+#[derive(Debug, Clone)]
+pub enum Drawing {
+    /// A spiral job's.
+    Spiral(Box<SpiralModel>),
+    /// A wire job's.
+    Wire(Box<gearcam_proto::WireModel>),
+}
+
 /// Runs knowledge → model → program locally for one request of any
-/// family; a spiral job's model comes back too (for its picture).
+/// family; a spiral or wire job's model comes back too (for its picture).
 pub fn check_any(
     conn: &Connection,
     templates: &Templates,
     req: &JobRequest,
-) -> (CheckReport, Option<SpiralModel>) {
-    if req.spec.job.family == Family::SpiralFace {
-        check_spiral(conn, req, job_summary(req))
-    } else {
-        (check(conn, templates, req), None)
+) -> (CheckReport, Option<Drawing>) {
+    match req.spec.job.family {
+        Family::SpiralFace => {
+            let (r, m) = check_spiral(conn, req, job_summary(req));
+            (r, m.map(|m| Drawing::Spiral(Box::new(m))))
+        }
+        Family::WireEdm => {
+            let (r, m) = crate::check_wire::check_wire(conn, req, job_summary(req));
+            (r, m.map(|m| Drawing::Wire(Box::new(m))))
+        }
+        Family::Hobbing => (check(conn, templates, req), None),
     }
 }
 
@@ -242,8 +265,10 @@ pub fn check_any(
 pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> CheckReport {
     let spec = &req.spec;
     let mut report = job_summary(req);
-    if spec.job.family == Family::SpiralFace {
-        return check_spiral(conn, req, report).0;
+    match spec.job.family {
+        Family::SpiralFace => return check_spiral(conn, req, report).0,
+        Family::WireEdm => return crate::check_wire::check_wire(conn, req, report).0,
+        Family::Hobbing => {}
     }
     if let Some(gear) = &spec.gear {
         report.geometry = Some(gearcam_model::geometry_of(gear));
@@ -581,6 +606,9 @@ pub fn format_human(r: &CheckReport) -> String {
                 g.width_mm, g.pitch_mm, g.land_mm
             );
         }
+    }
+    if let Some(ModelReport::Wire(w)) = &r.model {
+        crate::check_wire::format_die(&mut out, &w.die);
     }
     let groove = matches!(&r.model, Some(ModelReport::Spiral(m)) if m.groove.is_some());
     if let Some(c) = &r.coverage {

@@ -63,7 +63,7 @@ pub struct Served {
 pub struct Embedded {
     /// The shared session.
     pub bus: Bus,
-    /// Machines served (hobbing and milling), with their program directories.
+    /// Machines served (hobbing, milling and wire EDM), with their program directories.
     pub machines: Vec<Served>,
     shutdown: CancellationToken,
     tasks: JoinSet<(&'static str, anyhow::Result<()>)>,
@@ -89,7 +89,10 @@ impl Embedded {
             let milling = gearcam_knowledge::spiral::mill_machines(&conn)?
                 .into_iter()
                 .map(|m| (m.id, m.name, m.dialect));
-            hobbing.chain(milling).collect()
+            let wire = gearcam_knowledge::wire::wire_machines(&conn)?
+                .into_iter()
+                .map(|m| (m.id, m.name, m.dialect));
+            hobbing.chain(milling).chain(wire).collect()
         };
         let bus = Bus::open(bus_config).await?;
         let shutdown = CancellationToken::new();

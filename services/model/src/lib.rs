@@ -20,7 +20,8 @@
 //! - [`units`]: multi-gear parts, unit by unit, with hob changes.
 //! - [`explain`]: where each value came from.
 //! - [`spiral`]: the spiral face milling family's model ([`spiral::compute_spiral`]).
-//! - [`service`]: the Zenoh service around [`compute`] and [`spiral::compute_spiral`].
+//! - [`wire`]: the wire EDM family's model ([`wire::compute_wire`]).
+//! - [`service`]: the Zenoh service around [`compute`], [`spiral::compute_spiral`] and [`wire::compute_wire`].
 //!
 //! The entry point is [`compute`].
 #![forbid(unsafe_code)]
@@ -37,6 +38,7 @@ pub mod shift;
 pub mod spiral;
 pub mod units;
 pub mod validate;
+pub mod wire;
 
 use gearcam_proto::{GearClass, GearSpec, Geometry, JobError, MachiningModel, ProcessPlan};
 

@@ -39,6 +39,10 @@ pub async fn run(bus: Bus, shutdown: CancellationToken) -> Result<(), BusError> 
                     let model = compute_spiral(&plan)?;
                     (model.job_id.clone(), model.warnings.clone(), encode(&model))
                 }
+                AnyPlan::Wire(plan) => {
+                    let model = crate::wire::compute_wire(&plan)?;
+                    (model.job_id.clone(), model.warnings.clone(), encode(&model))
+                }
             };
             let payload = payload.map_err(|e| vec![codec_error::<AnyPlan>(Stage::Model, &e)])?;
             Ok(Handled {

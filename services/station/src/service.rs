@@ -437,9 +437,9 @@ async fn known_machine(
         attempts: 1,
         pause: Duration::ZERO,
     };
-    // Hobbing machines and milling machines: every family's library.
+    // Hobbing, milling and wire EDM machines: every family's library.
     let mut ids: Vec<String> = Vec::new();
-    for library in [MACHINES, MILL_MACHINES] {
+    for library in [MACHINES, MILL_MACHINES, WIRE_MACHINES] {
         let key = keys::kb_library(library);
         match bus.call::<KbRequest, KbReply>(&key, None, retry).await {
             Ok(reply) if reply.errors.is_empty() => {
@@ -468,7 +468,7 @@ async fn known_machine(
             "spec.job.machine",
             format!("one of the knowledge base's machines: {}", ids.join(", ")),
             machine.as_str(),
-            "the knowledge base has no such machine (gearcam kb list machines and gearcam kb list mill-machines list them); the job was not journaled",
+            "the knowledge base has no such machine (gearcam kb list machines, mill-machines and wire-machines list them); the job was not journaled",
         ))
     }
 }
@@ -477,6 +477,8 @@ async fn known_machine(
 const MACHINES: &str = "machines";
 /// The knowledge base's library of milling machines.
 const MILL_MACHINES: &str = "mill-machines";
+/// The knowledge base's library of wire EDM machines.
+const WIRE_MACHINES: &str = "wire-machines";
 
 /// The reply to a view query (`jobs` or `jobs/{job}`), computed from the journal.
 fn view_reply(journal: &Journal, key: &str) -> StationReply {

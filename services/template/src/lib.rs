@@ -26,6 +26,8 @@
 //! - [`source`]: reading a directory of template files (the only file I/O
 //!   besides the library).
 //! - [`error`]: [`TemplateError`], a template that cannot be loaded or compiled.
+//! - [`spiral`]: the spiral face milling family's programs.
+//! - [`wire`]: the wire EDM family's programs (3B, 4B, ISO wire), certified by their replay.
 //! - [`service`]: the Zenoh wrapper.
 //!
 //! Why our own expression language rather than a crate: `EXPRESSIONS.md`.
@@ -43,6 +45,7 @@ pub mod similarity;
 pub mod source;
 pub mod spiral;
 pub mod stdcode;
+pub mod wire;
 
 pub use error::TemplateError;
 pub use render::{

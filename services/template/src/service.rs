@@ -60,6 +60,7 @@ pub async fn run(
             let program = match &model {
                 AnyModel::Hobbing(model) => templates.render(model)?,
                 AnyModel::Spiral(model) => crate::spiral::render(model)?,
+                AnyModel::Wire(model) => crate::wire::render(model)?,
             };
             let event = EventKind::Programmed {
                 name: program.name.clone(),

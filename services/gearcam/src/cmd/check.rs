@@ -18,7 +18,7 @@ pub fn template_library(data: &Path) -> anyhow::Result<Templates> {
     )?)
 }
 
-/// Where the picture of a spiral job goes by default: `DATA/pictures/STEM.svg`, STEM the job file's name without `.toml`.
+/// Where the picture of a spiral or wire job goes by default: `DATA/pictures/STEM.svg`, STEM the job file's name without `.toml`.
 fn default_picture(job: &Path, data: &Path) -> std::path::PathBuf {
     let stem = job
         .file_stem()
@@ -26,13 +26,17 @@ fn default_picture(job: &Path, data: &Path) -> std::path::PathBuf {
     data.join("pictures").join(format!("{stem}.svg"))
 }
 
-/// Writes the picture of a spiral model; the path written, or an error line.
-fn write_picture(model: &gearcam_proto::SpiralModel, path: &Path) -> Result<String, String> {
+/// Writes the picture of a spiral or wire model; the path written, or an
+/// error line.
+fn write_picture(model: &check::Drawing, path: &Path) -> Result<String, String> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
-    std::fs::write(path, check::spiral_picture(model))
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+    let svg = match model {
+        check::Drawing::Spiral(m) => check::spiral_picture(m),
+        check::Drawing::Wire(m) => crate::check_wire::die_picture(m)?,
+    };
+    std::fs::write(path, svg).map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(path.display().to_string())
 }
 

@@ -1,0 +1,156 @@
+//! `gearcam check` for a wire EDM job: knowledge → model → program, the
+//! figures and certificate (`model.die`), and the picture of the seed's
+//! graphical check.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use gearcam_proto::{DieFigures, JobRequest, Sourced, WireModel};
+use rusqlite::Connection;
+use serde::Serialize;
+
+use crate::check::{CheckReport, MachineSummary, ModelReport, PlanSummary, ProgramSummary};
+
+/// A wire job's model (`model` in the JSON report).
+#[derive(Debug, Clone, Serialize)]
+pub struct WireReport {
+    /// The die's figures and the program's certificate.
+    pub die: DieFigures,
+}
+
+/// Knowledge → model → program for a wire job; the report and the model
+/// (for the picture).
+pub fn check_wire(
+    conn: &Connection,
+    req: &JobRequest,
+    mut report: CheckReport,
+) -> (CheckReport, Option<WireModel>) {
+    let plan = match gearcam_knowledge::wire::plan_wire(conn, req) {
+        Ok(p) => p,
+        Err(errors) => {
+            report.errors = errors;
+            return (report, None);
+        }
+    };
+    let p = &plan.process;
+    let values: BTreeMap<String, Sourced> = [
+        ("wire_diameter_mm", p.wire_diameter_mm),
+        ("spark_gap_mm", p.spark_gap_mm),
+        ("pulse_on_us", p.pulse_on_us),
+        ("pulse_off_us", p.pulse_off_us),
+        ("current_a", p.current_a),
+        ("cutting_rate_mm2_min", p.cutting_rate_mm2_min),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v))
+    .collect();
+    report.plan = Some(PlanSummary {
+        class: format!("wire-{}", plan.die.part.as_str()),
+        machine: MachineSummary::of(&plan.machine.id, &plan.machine.name, plan.machine.dialect),
+        hob_id: p.wire.clone(),
+        confidence: plan.confidence,
+        cases: crate::check::case_summaries(&plan.cases),
+        overridden: values
+            .iter()
+            .filter(|(_, v)| v.source == gearcam_proto::Source::Job)
+            .map(|(k, _)| k.clone())
+            .collect(),
+        proposed: values
+            .iter()
+            .filter(|(_, v)| v.source != gearcam_proto::Source::Job)
+            .map(|(k, v)| (k.clone(), *v))
+            .collect(),
+        values,
+        tool: None,
+        hob_choice: None,
+        workpiece: None,
+    });
+    let model = match gearcam_model::wire::compute_wire(&plan) {
+        Ok(m) => m,
+        Err(errors) => {
+            report.errors = errors;
+            return (report, None);
+        }
+    };
+    report.model = Some(ModelReport::Wire(Box::new(WireReport {
+        die: model.die.clone(),
+    })));
+    report.warnings = model.warnings.clone();
+    match gearcam_template::wire::render(&model) {
+        Ok(p) => {
+            report.ok = true;
+            report.program = Some(ProgramSummary {
+                name: p.name,
+                dialect: plan.process.program.as_str().into(),
+                template: p.template,
+                sha256: p.sha256,
+                path_check: p.path_check,
+                text: p.text,
+            });
+        }
+        Err(errors) => report.errors = errors,
+    }
+    (report, Some(model))
+}
+
+/// The wire model's lines for a person.
+pub fn format_die(out: &mut String, d: &DieFigures) {
+    let _ = writeln!(
+        out,
+        "{} m {} z {} α {}° x {}  radii base {:.4} tip {:.4} root {:.4} form {:.4} mm{}{}",
+        d.part.as_str(),
+        d.module_mm,
+        d.teeth,
+        d.pressure_angle_deg,
+        d.profile_shift,
+        d.base_radius_mm,
+        d.tip_radius_mm,
+        d.root_radius_mm,
+        d.form_radius_mm,
+        if d.undercut { "  UNDERCUT" } else { "" },
+        d.centre_distance_mm
+            .map_or(String::new(), |a| format!("  centre distance {a:.4} mm"))
+    );
+    let _ = writeln!(
+        out,
+        "  arcs per flank {} (tolerance {} µm)  per fillet {} ({} µm)  outline {} arcs  tip thickness {:.3} mm",
+        d.arcs_per_flank,
+        d.flank_tolerance_um,
+        d.arcs_per_fillet,
+        d.fillet_tolerance_um,
+        d.outline_arcs,
+        d.tip_thickness_mm
+    );
+    let _ = writeln!(
+        out,
+        "  wire offset {:.4} mm  path {:.1} mm  {:.1} min  teeth written {} of {}",
+        d.offset_mm, d.path_length_mm, d.cutting_time_min, d.teeth_written, d.teeth
+    );
+    let _ = writeln!(
+        out,
+        "certificate (the program replayed): max deviation {:.3} µm (flank {:.3}, fillet {:.3})  closure {:.3} µm  {} blocks  {} bytes",
+        d.max_deviation_um,
+        d.flank_deviation_um,
+        d.fillet_deviation_um,
+        d.closure_um,
+        d.blocks,
+        d.bytes
+    );
+}
+
+/// The picture of a wire model: the die made again and drawn.
+pub fn die_picture(model: &WireModel) -> Result<String, String> {
+    let plan = &model.plan;
+    let made = gearcam_wire::programs::make(&plan.die, &plan.process, &[], 1)
+        .map_err(|p| format!("{}: {}", p.code, p.message))?;
+    Ok(gearcam_wire::picture::die_svg(
+        &made,
+        &format!(
+            "{} {} m{} z{}",
+            plan.request.spec.job.part_number,
+            plan.die.part.as_str(),
+            plan.die.module_mm,
+            plan.die.teeth
+        ),
+    ))
+}
