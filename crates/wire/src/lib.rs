@@ -8,6 +8,7 @@
 pub mod fourb;
 pub mod gear;
 pub mod involute;
+pub mod iso;
 pub mod threeb;
 
 /// A piece of a wire path: a line or a circular arc, in mm.
