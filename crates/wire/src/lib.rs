@@ -6,8 +6,10 @@
 #![forbid(unsafe_code)]
 
 pub mod die;
+pub mod fourb;
 pub mod gear;
 pub mod involute;
+pub mod iso;
 pub mod offset;
 pub mod outline;
 pub mod picture;

@@ -422,7 +422,18 @@ pub fn replay(blocks: &[Block], start: (f64, f64)) -> Vec<Segment> {
                 let r = (rx * rx + ry * ry).sqrt();
                 let a0 = ry.atan2(rx);
                 let dir = if ccw { 1.0 } else { -1.0 };
-                let goal = b.j as f64 / UM;
+                // An arc is at most a whole turn, 4 R along either axis; a
+                // larger count (or a zero radius) cannot loop for ever.
+                let goal = (b.j as f64 / UM).min(4.0 * r);
+                if r == 0.0 {
+                    out.push(Segment::Arc {
+                        from: p,
+                        to: p,
+                        centre,
+                        ccw,
+                    });
+                    continue;
+                }
                 // Walk quadrant by quadrant, then solve within the last.
                 let coord = |a: f64| if b.gx { r * a.cos() } else { r * a.sin() };
                 let mut a = a0;

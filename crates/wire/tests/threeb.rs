@@ -94,3 +94,14 @@ fn bad_blocks_name_their_line() {
     assert!(e.message.contains("quadrant"), "{e:?}");
     assert!(read("B1B2B2GXL1\n").is_err(), "no DD");
 }
+
+/// A block a control could not follow ends in finite time: an arc of no
+/// radius stays where it is, a count beyond a whole turn stops after one.
+#[test]
+fn impossible_arcs_end() {
+    let s = replay(&read("B0B0B5000GXNR1\nDD\n").unwrap(), (1.0, 2.0));
+    assert_eq!(s[0].to(), (1.0, 2.0));
+    let s = replay(&read("B1000B0B99999999GYNR1\nDD\n").unwrap(), (1.0, 0.0));
+    let end = s[0].to();
+    assert!((end.0 - 1.0).abs() < 1e-9 && end.1.abs() < 1e-9, "{end:?}");
+}
