@@ -208,6 +208,11 @@ fn with_start(s: &Segment, p: (f64, f64)) -> Segment {
     }
 }
 
+/// The largest gap between two offsets that is a kink of rounded arcs (a
+/// program's arcs meet at a µrad or so), not a corner, mm: 0.1 µm, while a
+/// corner of a gear's outline opens a gap of tenths of the offset.
+pub const KINK_MM: f64 = 1e-4;
+
 /// The closed `outline` set off by `d` to `side`.
 pub fn offset(outline: &[Segment], side: Side, d: f64) -> Result<Vec<Segment>, OffsetError> {
     let s = match side {
@@ -225,8 +230,21 @@ pub fn offset(outline: &[Segment], side: Side, d: f64) -> Result<Vec<Segment>, O
     for i in 0..n {
         let j = (i + 1) % n;
         let (a, b) = (pending[i], moved[j]);
-        if len(sub(a.to(), b.from())) < 1e-9 {
+        let gap = len(sub(a.to(), b.from()));
+        if gap < 1e-9 {
             out.push(a);
+            continue;
+        }
+        if gap < KINK_MM {
+            // Not a corner of the part but the kink of a program's rounded
+            // arcs: the two meet half-way across the gap.
+            let mid = (0.5 * (a.to().0 + b.from().0), 0.5 * (a.to().1 + b.from().1));
+            out.push(with_end(&a, mid));
+            if j == 0 {
+                out[0] = with_start(&out[0], mid);
+            } else {
+                pending[j] = with_start(&moved[j], mid);
+            }
             continue;
         }
         let corner = outline[i].to();
@@ -244,11 +262,15 @@ pub fn offset(outline: &[Segment], side: Side, d: f64) -> Result<Vec<Segment>, O
                 ccw: cross > 0.0,
             });
         } else {
-            // A crossing: both cut back to the one nearest the corner.
+            // A crossing: both cut back to the one nearest the corner. At a
+            // corner it lies within about half the gap of the two ends; a
+            // crossing much further off belongs to two nearly tangent
+            // offsets (a kink of rounded arcs), which meet half-way.
             let x = crossings(&a, &b)
                 .into_iter()
                 .min_by(|p, q| len(sub(*p, corner)).total_cmp(&len(sub(*q, corner))))
-                .unwrap_or(a.to());
+                .filter(|x| len(sub(*x, a.to())) <= 4.0 * gap)
+                .unwrap_or((0.5 * (a.to().0 + b.from().0), 0.5 * (a.to().1 + b.from().1)));
             out.push(with_end(&a, x));
             if j == 0 {
                 out[0] = with_start(&out[0], x);

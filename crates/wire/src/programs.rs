@@ -13,7 +13,9 @@
 use gearcam_proto::{DiePart, WireProgram};
 
 use crate::die::{Cut, Problem};
-use crate::offset::offset;
+use crate::fourb;
+use crate::iso::{self, IsoProgram};
+use crate::offset::{offset, Side};
 use crate::verify::{measure, Measure, SAMPLES};
 use crate::{threeb, Segment};
 
@@ -81,53 +83,63 @@ pub fn write(
     number: u32,
 ) -> Written {
     let teeth = cut.outline.teeth;
-    match form {
-        WireProgram::ThreeB | WireProgram::FourB => {
-            // 3B runs the wire's path; 4B the outline, set off by the control.
-            let (contour, start) = match form {
-                WireProgram::ThreeB => (&cut.path, cut.path[0].from()),
-                _ => (&cut.contour, cut.contour[0].from()),
-            };
-            let part = section(contour, teeth, layout);
-            let mut segments = vec![Segment::Line {
-                from: layout.start_hole,
-                to: start,
-            }];
-            segments.extend(part);
-            // The lead-out leaves from where the last section ends: the start.
-            segments.push(Segment::Line {
-                from: start,
-                to: layout.start_hole,
-            });
-            let mut text = String::new();
-            for h in header {
-                text.push_str("; ");
-                text.push_str(h);
-                text.push('\n');
-            }
-            if layout.sections > 1 {
-                text.push_str(&format!(
-                    "; ROTATE: BLOCK 1, THEN BLOCKS 2-{} {} TIMES TURNED {} DEG CLOCKWISE EACH, THEN BLOCK {}\n",
-                    segments.len() - 1,
-                    layout.sections,
-                    360 / layout.sections,
-                    segments.len()
-                ));
-            }
-            text.push_str(&threeb::program(&segments));
-            Written {
-                text,
-                blocks: segments.len() as u32,
-            }
-        }
-        WireProgram::IsoWire => unimplemented_iso(number),
+    // 3B runs the wire's path; 4B and ISO the outline, set off by the control.
+    let contour = match form {
+        WireProgram::ThreeB => &cut.path,
+        _ => &cut.contour,
+    };
+    let part = section(contour, teeth, layout);
+    let start = contour[0].from();
+    if form == WireProgram::IsoWire {
+        let blocks = part.len() as u32 + 2;
+        let text = iso::program(&IsoProgram {
+            number,
+            header: header.to_vec(),
+            start_hole: layout.start_hole,
+            contour: part,
+            side: match cut.side {
+                Side::Left => iso::Side::Left,
+                Side::Right => iso::Side::Right,
+            },
+            offset_mm: cut.offset_mm,
+            repeat: (layout.sections > 1)
+                .then(|| (layout.sections, -360.0 / f64::from(layout.sections))),
+        });
+        return Written { text, blocks };
     }
-}
-
-fn unimplemented_iso(_number: u32) -> Written {
+    let mut segments = vec![Segment::Line {
+        from: layout.start_hole,
+        to: start,
+    }];
+    segments.extend(part);
+    // The lead-out leaves from where the last section ends: the start.
+    segments.push(Segment::Line {
+        from: start,
+        to: layout.start_hole,
+    });
+    let mut text = String::new();
+    for h in header {
+        text.push_str("; ");
+        text.push_str(h);
+        text.push('\n');
+    }
+    if layout.sections > 1 {
+        text.push_str(&format!(
+            "; ROTATE: BLOCK 1, THEN BLOCKS 2-{} {} TIMES TURNED {} DEG CLOCKWISE EACH, THEN BLOCK {}\n",
+            segments.len() - 1,
+            layout.sections,
+            360 / layout.sections,
+            segments.len()
+        ));
+    }
+    let start_hole = layout.start_hole;
+    text.push_str(&match form {
+        WireProgram::FourB => fourb::program_from(start_hole, &segments),
+        _ => threeb::program_from(start_hole, &segments),
+    });
     Written {
-        text: String::new(),
-        blocks: 0,
+        text,
+        blocks: segments.len() as u32,
     }
 }
 
@@ -181,8 +193,17 @@ pub fn certify(
     };
     let (path, blocks) = match form {
         WireProgram::ThreeB | WireProgram::FourB => {
-            let blocks = threeb::read(&body(text))
-                .map_err(|e| unreadable(format!("line {}: {}", e.line, e.message)))?;
+            let body = body(text);
+            let blocks: Vec<threeb::Block> = if form == WireProgram::FourB {
+                let b4 = fourb::read(&body)
+                    .map_err(|e| unreadable(format!("line {}: {}", e.line, e.message)))?;
+                fourb::check(&b4, fourb::Sense::Clockwise)
+                    .map_err(|e| unreadable(format!("block {}: {}", e.line, e.message)))?;
+                b4.iter().map(|b| b.block).collect()
+            } else {
+                threeb::read(&body)
+                    .map_err(|e| unreadable(format!("line {}: {}", e.line, e.message)))?
+            };
             if blocks.len() < 3 {
                 return Err(unreadable(format!("{} blocks", blocks.len())));
             }
@@ -209,7 +230,34 @@ pub fn certify(
             };
             (path, blocks.len() as u32)
         }
-        WireProgram::IsoWire => return Err(unreadable("ISO not yet".into())),
+        WireProgram::IsoWire => {
+            let r = iso::replay(text)
+                .map_err(|e| unreadable(format!("line {}: {}", e.line, e.message)))?;
+            let moves: Vec<&iso::Move> = r.moves.iter().filter(|m| !m.rapid).collect();
+            if moves.len() < 3 {
+                return Err(unreadable(format!("{} moves", moves.len())));
+            }
+            // Between the lead-in and the lead-out: the contour, set off as
+            // the control's compensation in force says.
+            let inner = &moves[1..moves.len() - 1];
+            let contour: Vec<Segment> = inner.iter().map(|m| m.segment).collect();
+            let (Some(side), Some(d)) = (inner[0].side, inner[0].offset_mm) else {
+                return Err(unreadable("the contour runs without compensation".into()));
+            };
+            let side = match side {
+                iso::Side::Left => Side::Left,
+                iso::Side::Right => Side::Right,
+            };
+            let path = offset(&contour, side, d).map_err(|e| {
+                unreadable(format!(
+                    "the control's offset fails at move {}: {e}",
+                    e.index + 2
+                ))
+            })?;
+            // Blocks of the text (a subprogram's once, however often it runs).
+            let lines: std::collections::BTreeSet<usize> = r.moves.iter().map(|m| m.line).collect();
+            (path, lines.len() as u32)
+        }
     };
     let m = measure(&cut.outline, &path, cut.offset_mm, SAMPLES);
     let (flank_tol, fillet_tol) = tolerances;
@@ -229,7 +277,7 @@ pub fn certify(
             "the replayed program strays from the outline set off by the wire".into(),
         ));
     }
-    if m.closure_mm > flank_tol || (m.turns + 1.0).abs() > 1e-6 {
+    if m.closure_mm > flank_tol || (m.turns + 1.0).abs() > 0.01 {
         return Err(replay_problem(
             "WIRE_CLOSURE",
             format!(
@@ -264,12 +312,12 @@ pub struct Made {
 
 /// The shares of the tolerances the arc fit aims at, tightest last: a
 /// program rounds to the control's resolution (µm for 3B and 4B, 0.1 µm
-/// for ISO), so the fit leaves room for it; when the replay still strays
-/// the fit is tightened.
+/// for ISO, whose 4 decimals round by 0.05 µm at most), so the fit leaves
+/// room for it; when the replay still strays the fit is tightened.
 fn shares(form: WireProgram) -> &'static [f64] {
     match form {
-        WireProgram::IsoWire => &[0.9, 0.7],
-        _ => &[0.7, 0.5, 0.35],
+        WireProgram::IsoWire => &[0.97, 0.8, 0.6],
+        _ => &[0.75, 0.65, 0.55, 0.45, 0.35],
     }
 }
 
