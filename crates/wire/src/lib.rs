@@ -5,6 +5,7 @@
 //! family's place in the system are still to come (docs/wire.md).
 #![forbid(unsafe_code)]
 
+pub mod dxf;
 pub mod fourb;
 pub mod gear;
 pub mod involute;
