@@ -1,8 +1,14 @@
 //! Wire EDM of spur-gear punches and dies (seed 002, issue 15), the pure
-//! part, in progress: the involute of a gear ([`involute`]) and the 3B
-//! program format ([`threeb`]), written and read back. The tooth-space
-//! outline with its root fillet, the offsets, 4B, ISO and DXF, and the
-//! family's place in the system are still to come (docs/wire.md).
+//! part, in progress: the involute of a gear ([`involute`]), the
+//! rack-generated tooth space ([`gear`]), and the program formats written
+//! and read back: 3B ([`threeb`]), 4B ([`fourb`]), ISO wire G-code
+//! ([`iso`]) and the contour as DXF ([`dxf`](mod@crate::dxf)). The whole
+//! outline fitted, the offsets, and the family's place in the system are
+//! still to come (docs/wire.md).
+//!
+//! A contour is a `Vec<Segment>` whose segments join end to start, about
+//! the gear's centre at the origin, running clockwise (the material on the
+//! right of the travel).
 #![forbid(unsafe_code)]
 
 pub mod dxf;
