@@ -115,3 +115,14 @@ fn unknown_words_are_refused_by_line() {
         assert!(e.message.contains(word), "{text}: {e:?}");
     }
 }
+
+proptest::proptest! {
+    /// Any text made of G-code's characters is replayed or refused, never
+    /// a panic or a hang, and a refusal names a line the text has.
+    #[test]
+    fn any_text_is_replayed_or_refused_by_line(text in "[GXYIJRLPDMOF0-9 .()%\n-]{0,300}") {
+        if let Err(e) = replay(&text) {
+            proptest::prop_assert!(e.line <= text.lines().count().max(1), "{e:?}");
+        }
+    }
+}
