@@ -67,6 +67,9 @@ catalogue! {
     ADDENDUM_RANGE: "model",
         "The gear's addendum coefficient ha* is not a positive number.",
         "Correct `gear.addendum_coef` (usually 1).";
+    ARC_FIT: "model",
+        "No tangent-continuous arc spline of the allowed number of arcs holds the flank's or the fillet's tolerance.",
+        "Loosen the tolerance the field names (`[die]` flank_tolerance_um or fillet_tolerance_um).";
     AXIAL_FEED_LIMIT: "model",
         "The computed axial feed of the job or of a rough cut is above the machine's feed limit.",
         "Lower `process.feed_mm_per_rev` or the cutting speed.";
@@ -130,6 +133,9 @@ catalogue! {
     CONE_ANGLE_RANGE: "model",
         "The cone angle is outside (0°, 45°), or so large that the root cone reaches the axis within the face width.",
         "Correct `gear.cone.angle_deg` or `gear.face_width_mm`.";
+    CONFIRM_FAMILY: "knowledge",
+        "A wire EDM job was confirmed; the wire family keeps no cases yet (its technology comes from the wire-data library).",
+        "Tune the technology with `gearcam kb edit wire-data` instead.";
     CONFIRM_VALUES_MISSING: "knowledge",
         "`gearcam confirm --undelivered`: gearcam did not hear the job's delivery, so the plan's values may not be what ran, and the values that ran were not given.",
         "Give the cutting speed and feed that really ran (`--cutting-speed`, `--feed`).";
@@ -157,6 +163,9 @@ catalogue! {
     DEPTH_UNCOUPLED: "template (path check)",
         "Path check finding: the hob moves into the contact zone while the gearbox is uncoupled or the hob is stopped, or stops there.",
         "The program was not sent; correct the template so it couples and starts the hob before the cut.";
+    DIE_RANGE: "model",
+        "A `[die]` value is outside what gearcam cuts: teeth (5 to 1000), module, pressure angle, shift, coefficients, tolerances, thickness, or a pinion cutter without its teeth.",
+        "Correct the field; expected gives the range.";
     DUPLICATE_ID: "knowledge",
         "The library already has a record with this key.",
         "Change it with `gearcam kb edit`, or add the record under a new id.";
@@ -199,6 +208,9 @@ catalogue! {
     FINISH_ALLOWANCE_RANGE: "model",
         "The finish allowance is not between 0 and the whole tooth depth.",
         "Correct `process.finish_allowance_mm` (typically 0.1 to 0.5 mm).";
+    FLANK_UNDERCUT: "model (warning)",
+        "The generating tool undercuts the involute (few teeth, or a negative shift): the outline follows the undercut fillet up to where it crosses the involute.",
+        "Nothing, if the drawing asks for the undercut gear; else raise the profile shift.";
     GEAR_MISSING: "knowledge",
         "The job has no `[gear]` section, and its part number is not in the workpiece library.",
         "Add the `[gear]` section, or add the part with `gearcam kb add workpieces` and name it in `[job] part_number`.";
@@ -308,13 +320,13 @@ catalogue! {
         "The knowledge base could not be read or written.",
         "Check the knowledge service's log and its database file.";
     MACHINE_FAMILY: "knowledge",
-        "A job was sent to a machine of another part family (a spiral face milling job to a hobbing machine, or the reverse).",
+        "A job was sent to a machine of another part family (a spiral face milling or wire EDM job to a hobbing machine, or the reverse).",
         "Choose a machine of the job's family; expected lists them.";
     MACHINE_MODULE_LIMIT: "model",
         "The gear's module is outside the machine's module range.",
         "Choose another machine for this gear.";
     MACHINE_RANGE: "model",
-        "A spiral job's spindle speed, feed or tool-centre reach is beyond the milling machine's limit.",
+        "A spiral job's spindle speed, feed or tool-centre reach is beyond the milling machine's limit, or a wire job's plate thickness or contour is beyond the wire machine's.",
         "Lower the cutting speed or feed given in `[milling]`, or use a machine that reaches; expected gives the limit.";
     MACHINE_SETTING_RANGE: "model",
         "A setting, axis sense, envelope value or parameter block of the machine profile is out of range.",
@@ -338,8 +350,8 @@ catalogue! {
         "A get, edit or remove query has no record id in its key.",
         "Query `gearcam/v1/kb/{library}/{id}`.";
     MISSING_SECTION: "knowledge",
-        "A spiral face milling job has neither a `[face]` nor a `[groove]` section.",
-        "Describe the face (outer_radius_mm, inner_radius_mm, depth_mm, material) or the groove.";
+        "A spiral face milling job has neither a `[face]` nor a `[groove]` section, or a wire EDM job no `[die]`.",
+        "Describe the face (outer_radius_mm, inner_radius_mm, depth_mm, material), the groove, or the die (part, module_mm, teeth, thickness_mm, material).";
     MODEL_UNKNOWN: "agent",
         "The agent checks every program again against the model the model service published for the job and has not seen that model (it started after it was published); the job waits.",
         "Nothing: the station re-drives the job, the model is published again and the program is checked and stored.";
@@ -359,8 +371,8 @@ catalogue! {
         "This library cannot be imported or exported as CSV.",
         "Use workpieces, hobs, cases or materials, which have CSV.";
     NO_CUTTING_DATA: "knowledge",
-        "The knowledge base has neither similar milling cases nor milling data for the job's material group, and the job gives no cutting speed and feed.",
-        "Give `[milling]` cutting_speed_m_min and feed_per_tooth_mm, or add milling data for the group (gearcam kb add milling-data).";
+        "The knowledge base has neither similar milling cases nor milling data for the job's material group, and the job gives no cutting speed and feed; or no wire-data row for the wire's material and the plate's group (nor an `any` row).",
+        "Give `[milling]` cutting_speed_m_min and feed_per_tooth_mm, or add milling data for the group (gearcam kb add milling-data); for wire, add a wire-data row.";
     NO_MATCHING_HOB: "knowledge",
         "No hob in the tool library fits the gear (base pitch, accuracy class, usable length).",
         "Add a fitting hob with `gearcam kb add hobs`, or give the hob inline.";
@@ -389,7 +401,7 @@ catalogue! {
         "The program file at the machine was changed or created there since gearcam stored it; the agent kept the file, and the job waits.",
         "Review the edit, then `gearcam program resolve NAME --machine M --adopt` (the edit becomes the current version) or `--replace` (gearcam's version goes back, the edit is kept in the history); the waiting job is then delivered.";
     PROGRAM_FORM: "model, template",
-        "The program form asked for (`[milling]` program) is not one the machine's control runs.",
+        "The program form asked for (`[milling]` or `[wire]` program) is not one the machine's control runs.",
         "Choose one of the forms expected lists, or another machine.";
     PROGRAM_NAME_TAKEN: "agent",
         "The program name is held at the machine by a program of another part; the agent does not replace it. The error names both parts and a free name.",
@@ -416,7 +428,7 @@ catalogue! {
         "The safety distance is negative.",
         "Correct `process.safety_mm`.";
     SECTION_FAMILY: "knowledge",
-        "A job file carries a section of another part family (`[gear]` in a spiral face milling job, `[face]` in a hobbing job), or both `[face]` and `[groove]`.",
+        "A job file carries a section of another part family (`[gear]` in a spiral face milling job, `[face]` in a hobbing job, `[die]` in either), or both `[face]` and `[groove]`.",
         "Remove the section, or set `[job]` family to the job's family.";
     SETUP: "template (path check)",
         "Path check finding: the program does not set unit, work offset, diameter mode or G-code system as the machine profile needs, or writes a parameter outside the profile's free block.",
@@ -469,6 +481,9 @@ catalogue! {
     TEMPLATE_RENDER_FAILED: "template",
         "The template failed while rendering this model.",
         "Correct the template at the line the message names.";
+    TIP_TOO_SHARP: "model",
+        "The gear's tooth is thinner than 0.2·m at the tip circle (or comes to a point): the profile shift or addendum is too large for the teeth.",
+        "Lower `[die]` profile_shift or addendum_coef.";
     TOOL_RANGE: "knowledge",
         "An inline tool's value is out of range (radius not positive, no flutes, a corner radius above the radius).",
         "Correct the field named.";
@@ -517,6 +532,21 @@ catalogue! {
     UNKNOWN_VERSION: "agent",
         "The program store has no such version (seq) of this program.",
         "Pick a version listed by `gearcam program history`.";
+    UNKNOWN_WIRE: "knowledge",
+        "The wire named in `[wire]` (or the machine's default wire) is not in the knowledge base's wires.",
+        "Name a wire of `gearcam kb list wires`, or add it.";
+    WIRE_CLOSURE: "template, agent (wire replay)",
+        "Wire verification finding: the replayed program does not close on itself within the flank's tolerance, or does not go once round the part.",
+        "The program was not sent; report it, the generator is at fault.";
+    WIRE_DEVIATION: "model, template, agent (wire replay)",
+        "Wire verification finding: the replayed wire path strays from the outline set off by the wire further than the flank's or the fillet's tolerance, even with the tightest fit.",
+        "Loosen the tolerances or choose the ISO form (its 0.1 µm resolution leaves the fit more room); expected and got give the figures.";
+    WIRE_REPLAY_FAILED: "model, template, agent (wire replay)",
+        "Wire verification finding: the program could not be read back or replayed (a block the reader refuses, or the control's offset impossible on it).",
+        "The program was not sent; report it, the generator is at fault.";
+    WIRE_TOO_THICK: "model",
+        "A concave place of the part (the punch's root fillet, the die's flank near its base) has a smaller radius than the wire's radius plus spark gap: the wire cannot follow it. The message names the tooth and the place.",
+        "Choose a thinner wire (`[wire]` wire or wire_diameter_mm).";
     WORKPIECE_INCOMPLETE: "knowledge",
         "The workpiece library's record of the part lacks data its gear class needs.",
         "Give the job's `[gear]` section in full, or complete the workpiece record.";

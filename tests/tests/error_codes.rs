@@ -85,6 +85,7 @@ fn source_roots(root: &Path) -> Vec<PathBuf> {
     roots.push(root.join("proto/src"));
     roots.push(root.join("crates/nc/src"));
     roots.push(root.join("crates/spiral/src"));
+    roots.push(root.join("crates/wire/src"));
     roots
 }
 

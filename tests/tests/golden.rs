@@ -7,8 +7,8 @@
 
 use gearcam_template::Templates;
 
-use gearcam_testkit::examples::{on_machine, valid_hobbing as examples, valid_spiral};
-use gearcam_testkit::pipeline::{model_of, spiral_model_of};
+use gearcam_testkit::examples::{on_machine, valid_hobbing as examples, valid_spiral, valid_wire};
+use gearcam_testkit::pipeline::{model_of, spiral_model_of, wire_model_of};
 
 /// Compares `text` with the golden file `file` (or writes it when blessing);
 /// the first differing line, if any.
@@ -50,6 +50,30 @@ fn every_spiral_example_program_is_unchanged() {
         let program =
             gearcam_template::spiral::render(&model).unwrap_or_else(|e| panic!("{name}: {e:#?}"));
         let file = dir.join(format!("{}.nc", name.trim_end_matches(".toml")));
+        differ.extend(compare(&file, &program.text, bless));
+    }
+    assert!(differ.is_empty(), "{}", differ.join("\n"));
+}
+
+/// Every wire example's program, in the form its job and machine choose
+/// (the header's submission line is the test request's, fixed).
+#[test]
+fn every_wire_example_program_is_unchanged() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("golden");
+    let bless = std::env::var_os("GEARCAM_BLESS").is_some();
+    let mut differ = Vec::new();
+    let all = valid_wire();
+    assert!(all.len() >= 5, "{} wire examples", all.len());
+    for (name, text) in all {
+        let model = wire_model_of(&text).unwrap_or_else(|e| panic!("{name}: {e:#?}"));
+        let program =
+            gearcam_template::wire::render(&model).unwrap_or_else(|e| panic!("{name}: {e:#?}"));
+        let ext = match model.plan.process.program {
+            gearcam_proto::WireProgram::ThreeB => "3b",
+            gearcam_proto::WireProgram::FourB => "4b",
+            gearcam_proto::WireProgram::IsoWire => "iso",
+        };
+        let file = dir.join(format!("{}.{ext}", name.trim_end_matches(".toml")));
         differ.extend(compare(&file, &program.text, bless));
     }
     assert!(differ.is_empty(), "{}", differ.join("\n"));

@@ -47,15 +47,34 @@ pub fn valid() -> Vec<(String, String)> {
         .collect()
 }
 
+/// True for an example of `family` (a `family = "…"` line).
+fn of_family(text: &str, family: &str) -> bool {
+    let line = format!("family=\"{family}\"");
+    text.lines()
+        .any(|l| l.split('#').next().unwrap_or("").replace(' ', "") == line)
+}
+
 /// True for a spiral face milling example (`family = "spiral-face"`).
 pub fn is_spiral(text: &str) -> bool {
-    text.lines()
-        .any(|l| l.split('#').next().unwrap_or("").replace(' ', "") == "family=\"spiral-face\"")
+    of_family(text, "spiral-face")
+}
+
+/// True for a wire EDM example (`family = "wire-edm"`).
+pub fn is_wire(text: &str) -> bool {
+    of_family(text, "wire-edm")
 }
 
 /// The valid hobbing examples.
 pub fn valid_hobbing() -> Vec<(String, String)> {
-    valid().into_iter().filter(|(_, t)| !is_spiral(t)).collect()
+    valid()
+        .into_iter()
+        .filter(|(_, t)| !is_spiral(t) && !is_wire(t))
+        .collect()
+}
+
+/// The valid wire EDM examples.
+pub fn valid_wire() -> Vec<(String, String)> {
+    valid().into_iter().filter(|(_, t)| is_wire(t)).collect()
 }
 
 /// The valid spiral face milling examples.

@@ -36,6 +36,13 @@ pub fn spiral_model_of(text: &str) -> Result<gearcam_proto::SpiralModel, Vec<Job
     gearcam_model::spiral::compute_spiral(&plan)
 }
 
+/// A wire job's model (planned, then computed), or the first refusing stage's errors.
+pub fn wire_model_of(text: &str) -> Result<gearcam_proto::WireModel, Vec<JobError>> {
+    let conn = gearcam_knowledge::db::open_in_memory().expect("an in-memory knowledge base");
+    let plan = gearcam_knowledge::wire::plan_wire(&conn, &request(text, "TEST-1"))?;
+    gearcam_model::wire::compute_wire(&plan)
+}
+
 /// The checked program the shipped templates make of a model.
 pub fn program_of(model: &MachiningModel) -> Result<NcProgram, Vec<JobError>> {
     gearcam_template::Templates::builtin().render(model)

@@ -833,7 +833,9 @@ mod tests {
                 ),
                 None => {
                     assert!(report.ok, "{name}: {}", format_errors(&report.errors));
-                    let model = model.unwrap();
+                    let Some(Drawing::Spiral(model)) = model else {
+                        panic!("{name}: no spiral model")
+                    };
                     assert!(report.coverage.unwrap().ok, "{name}");
                     let p = report.program.unwrap();
                     assert!(p.path_check.ok, "{name}");

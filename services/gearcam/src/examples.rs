@@ -3,8 +3,9 @@
 //! tests read the same list (and check it holds every file of `examples/`).
 
 /// The example jobs `gearcam demo` submits, bundled into the binary: one or
-/// more per gear class, and every spiral face milling variant (circle,
-/// annulus, planar spiral groove; each program form).
+/// more per gear class, every spiral face milling variant (circle,
+/// annulus, planar spiral groove; each program form), and wire EDM punches
+/// and dies (3B, 4B, ISO; a quarter, a whole odd gear, an undercut pinion).
 pub const VALID: &[(&str, &str)] = &[
     (
         "examples/spur_840d.toml",
@@ -86,6 +87,26 @@ pub const VALID: &[(&str, &str)] = &[
         "examples/groove_linuxcnc.toml",
         include_str!("../../../examples/groove_linuxcnc.toml"),
     ),
+    (
+        "examples/die_m2z20_3b.toml",
+        include_str!("../../../examples/die_m2z20_3b.toml"),
+    ),
+    (
+        "examples/punch_m2z20_4b.toml",
+        include_str!("../../../examples/punch_m2z20_4b.toml"),
+    ),
+    (
+        "examples/die_m1z40_iso.toml",
+        include_str!("../../../examples/die_m1z40_iso.toml"),
+    ),
+    (
+        "examples/punch_m15z23_3b.toml",
+        include_str!("../../../examples/punch_m15z23_3b.toml"),
+    ),
+    (
+        "examples/punch_pinion_undercut_iso.toml",
+        include_str!("../../../examples/punch_pinion_undercut_iso.toml"),
+    ),
 ];
 
 /// Invalid jobs `gearcam demo` submits to show typed refusals; each file names
@@ -134,6 +155,18 @@ pub const INVALID: &[(&str, &str)] = &[
     (
         "examples/invalid_face_on_hobbing_machine.toml",
         include_str!("../../../examples/invalid_face_on_hobbing_machine.toml"),
+    ),
+    (
+        "examples/invalid_die_teeth.toml",
+        include_str!("../../../examples/invalid_die_teeth.toml"),
+    ),
+    (
+        "examples/invalid_die_tip_too_sharp.toml",
+        include_str!("../../../examples/invalid_die_tip_too_sharp.toml"),
+    ),
+    (
+        "examples/invalid_die_wire_too_thick.toml",
+        include_str!("../../../examples/invalid_die_wire_too_thick.toml"),
     ),
 ];
 

@@ -118,7 +118,7 @@ pub fn compute_wire(plan: &WirePlan) -> Result<WireModel, Vec<JobError>> {
     let mut warnings = Vec::new();
     if made.cut.outline.undercut {
         warnings.push(gearcam_proto::Warning {
-            code: "UNDERCUT".into(),
+            code: "FLANK_UNDERCUT".into(),
             field: "die.teeth".into(),
             message: format!(
                 "the flank is undercut: the fillet cuts into the involute below {:.3} mm",

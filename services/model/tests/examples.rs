@@ -4,13 +4,17 @@
 //! `# expect: CODE`) is refused with that named error.
 
 use gearcam_proto::{classify, GearClass, MachiningModel, MoveKind};
-use gearcam_testkit::examples::{all, expected_code, is_spiral};
+use gearcam_testkit::examples::{all, expected_code, is_spiral, is_wire};
 use gearcam_testkit::pipeline::{model_of, program_of};
 
-/// The hobbing examples (the spiral family's run through `gearcam check`'s
-/// tests, `services/gearcam/src/check.rs`).
+/// The hobbing examples (the spiral and wire families' run through
+/// `gearcam check`'s tests, `services/gearcam/src/check.rs` and
+/// `check_wire.rs`).
 fn examples() -> Vec<(String, String)> {
-    all().into_iter().filter(|(_, t)| !is_spiral(t)).collect()
+    all()
+        .into_iter()
+        .filter(|(_, t)| !is_spiral(t) && !is_wire(t))
+        .collect()
 }
 
 /// Plan, model and program of one job file, or the errors of the first
