@@ -514,14 +514,14 @@ pub struct JobSpec {
     pub milling: crate::milling::MillingOverrides,
     /// `[die]` (wire family): the gear whose punch or die is cut.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub die: Option<crate::wire::DieSpec>,
+    pub die: Option<crate::die::DieSpec>,
     /// `[wire]` (wire family): the wire and program fixed by the planner.
     #[serde(default, skip_serializing_if = "is_default_wire")]
-    pub wire: crate::wire::WireOverrides,
+    pub wire: crate::die::WireOverrides,
 }
 
-fn is_default_wire(w: &crate::wire::WireOverrides) -> bool {
-    *w == crate::wire::WireOverrides::default()
+fn is_default_wire(w: &crate::die::WireOverrides) -> bool {
+    *w == crate::die::WireOverrides::default()
 }
 
 fn is_default_mill(m: &crate::milling::MillSpec) -> bool {

@@ -14,7 +14,8 @@
 //! - [`cutting`]: what the families share ([`CutMode`]).
 //! - [`milling`]: the spiral face milling family's job sections.
 //! - [`spiral`]: its [`SpiralPlan`] and [`SpiralModel`].
-//! - [`wire`]: the wire EDM family: `[die]`, `[wire]`, [`WirePlan`], [`WireModel`].
+//! - [`die`]: the wire EDM family's job sections (`[die]`, `[wire]`).
+//! - [`wire`]: its [`WirePlan`] and [`WireModel`].
 //! - [`naming`]: controllers' program naming rules.
 //! - [`delivery`]: station journal states and queries, agent replies and program history.
 //! - [`error`]: typed [`JobError`]s and the [`Stage`] that found them, id and codec errors.
@@ -27,6 +28,7 @@ pub mod codec;
 pub mod codes;
 pub mod cutting;
 pub mod delivery;
+pub mod die;
 pub mod error;
 pub mod ids;
 pub mod job;
@@ -45,6 +47,7 @@ pub use delivery::{
     DeliveryReply, JobState, JobStatus, ProgramHistory, ProgramRef, ProgramText, ProgramVersion,
     StationReply, StoreReply, StoreRequest,
 };
+pub use die::{Cutter, DiePart, DieSpec, WireOverrides, WireProgram};
 pub use error::{CodecError, IdError, JobError, Stage};
 pub use ids::{HobId, JobId, MachineId};
 pub use job::{
@@ -74,7 +77,4 @@ pub use spiral::{
     AnyModel, AnyPlan, CoverageCheck, GrooveFigures, MillData, MillProfile, MillingProcess,
     SpiralCut, SpiralFigures, SpiralModel, SpiralPart, SpiralPlan,
 };
-pub use wire::{
-    Cutter, DieFigures, DiePart, DieSpec, WireMachine, WireModel, WireOverrides, WirePlan,
-    WireProcess, WireProgram,
-};
+pub use wire::{DieFigures, WireMachine, WireModel, WirePlan, WireProcess};

@@ -321,7 +321,8 @@ impl Cluster {
     /// Starts the agent of `machine` (a separate process, labelled `agent`
     /// for H01 and `agent-{machine}` otherwise), its store under `{machine}/`;
     /// H02 (hobbing) and M01 (milling) are the seeded FANUC machines, M02
-    /// the LinuxCNC mill, every other an 840D.
+    /// the LinuxCNC mill, W01 the 3B/4B and W02 the ISO wire EDM machine,
+    /// every other an 840D.
     pub fn start_agent_for(&mut self, machine: &str) {
         let label = if machine == "H01" {
             "agent".to_string()
@@ -355,6 +356,8 @@ impl Cluster {
                 match machine {
                     "H02" | "M01" => "fanuc",
                     "M02" => "linuxcnc",
+                    "W01" => "wire3b",
+                    "W02" => "wireiso",
                     _ => "sinumerik840d",
                 },
                 "--program-dir",

@@ -123,10 +123,15 @@ fn shifted(seg: &Segment, index: usize, s: f64) -> Result<Segment, OffsetError> 
 
 /// The crossings of the lines or circles carrying two segments.
 fn crossings(a: &Segment, b: &Segment) -> Vec<(f64, f64)> {
-    fn carrier(s: &Segment) -> Result<((f64, f64), f64), ((f64, f64), (f64, f64))> {
+    /// A segment's circle (centre, radius) or line (point, direction).
+    enum Carrier {
+        Circle((f64, f64), f64),
+        Line((f64, f64), (f64, f64)),
+    }
+    fn carrier(s: &Segment) -> Carrier {
         match *s {
-            Segment::Line { from, to } => Err((from, sub(to, from))),
-            Segment::Arc { from, centre, .. } => Ok((centre, len(sub(from, centre)))),
+            Segment::Line { from, to } => Carrier::Line(from, sub(to, from)),
+            Segment::Arc { from, centre, .. } => Carrier::Circle(centre, len(sub(from, centre))),
         }
     }
     let line_circle = |p: (f64, f64), v: (f64, f64), c: (f64, f64), r: f64| {
@@ -150,7 +155,7 @@ fn crossings(a: &Segment, b: &Segment) -> Vec<(f64, f64)> {
             .collect()
     };
     match (carrier(a), carrier(b)) {
-        (Ok((c1, r1)), Ok((c2, r2))) => {
+        (Carrier::Circle(c1, r1), Carrier::Circle(c2, r2)) => {
             let d = sub(c2, c1);
             let dist = len(d);
             if dist < 1e-15 {
@@ -168,8 +173,9 @@ fn crossings(a: &Segment, b: &Segment) -> Vec<(f64, f64)> {
                 (m.0 + h * u.1, m.1 - h * u.0),
             ]
         }
-        (Err((p, v)), Ok((c, r))) | (Ok((c, r)), Err((p, v))) => line_circle(p, v, c, r),
-        (Err((p, v)), Err((q, w))) => {
+        (Carrier::Line(p, v), Carrier::Circle(c, r))
+        | (Carrier::Circle(c, r), Carrier::Line(p, v)) => line_circle(p, v, c, r),
+        (Carrier::Line(p, v), Carrier::Line(q, w)) => {
             let den = v.0 * w.1 - v.1 * w.0;
             if den.abs() < 1e-15 {
                 return vec![];

@@ -140,7 +140,7 @@ pub enum ModelReport {
     /// Spiral face milling.
     Spiral(Box<SpiralReport>),
     /// Wire EDM: `model.die`.
-    Wire(Box<crate::check_wire::WireReport>),
+    Wire(Box<WireReport>),
 }
 
 impl ModelReport {
@@ -151,6 +151,13 @@ impl ModelReport {
             ModelReport::Spiral(_) | ModelReport::Wire(_) => None,
         }
     }
+}
+
+/// A wire job's model (`model` in the JSON report).
+#[derive(Debug, Clone, Serialize)]
+pub struct WireReport {
+    /// The die's figures and the program's certificate.
+    pub die: gearcam_proto::DieFigures,
 }
 
 /// A spiral job's model (`model` in the JSON report).
@@ -220,7 +227,7 @@ impl CheckReport {
     }
 }
 
-fn job_summary(req: &JobRequest) -> CheckReport {
+pub(crate) fn job_summary(req: &JobRequest) -> CheckReport {
     let spec = &req.spec;
     let mut report = CheckReport::failed(vec![]);
     report.job = Some(JobSummary {
@@ -232,43 +239,13 @@ fn job_summary(req: &JobRequest) -> CheckReport {
     report
 }
 
-/// The model of a job that has a picture.
-#[derive(Debug, Clone)]
-pub enum Drawing {
-    /// A spiral job's.
-    Spiral(Box<SpiralModel>),
-    /// A wire job's.
-    Wire(Box<gearcam_proto::WireModel>),
-}
-
-/// Runs knowledge → model → program locally for one request of any
-/// family; a spiral or wire job's model comes back too (for its picture).
-pub fn check_any(
-    conn: &Connection,
-    templates: &Templates,
-    req: &JobRequest,
-) -> (CheckReport, Option<Drawing>) {
-    match req.spec.job.family {
-        Family::SpiralFace => {
-            let (r, m) = check_spiral(conn, req, job_summary(req));
-            (r, m.map(|m| Drawing::Spiral(Box::new(m))))
-        }
-        Family::WireEdm => {
-            let (r, m) = crate::check_wire::check_wire(conn, req, job_summary(req));
-            (r, m.map(|m| Drawing::Wire(Box::new(m))))
-        }
-        Family::Hobbing => (check(conn, templates, req), None),
-    }
-}
-
-/// Runs knowledge → model → template locally for one request.
+/// Runs knowledge → model → template locally for one hobbing or spiral
+/// request ([`crate::check_wire::check_any`] runs every family).
 pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> CheckReport {
     let spec = &req.spec;
     let mut report = job_summary(req);
-    match spec.job.family {
-        Family::SpiralFace => return check_spiral(conn, req, report).0,
-        Family::WireEdm => return crate::check_wire::check_wire(conn, req, report).0,
-        Family::Hobbing => {}
+    if spec.job.family == Family::SpiralFace {
+        return check_spiral(conn, req, report).0;
     }
     if let Some(gear) = &spec.gear {
         report.geometry = Some(gearcam_model::geometry_of(gear));
@@ -468,6 +445,51 @@ pub fn format_errors(errors: &[JobError]) -> String {
     out
 }
 
+/// The wire model's lines for a person.
+fn format_die(out: &mut String, d: &gearcam_proto::DieFigures) {
+    let _ = writeln!(
+        out,
+        "{} m {} z {} α {}° x {}  radii base {:.4} tip {:.4} root {:.4} form {:.4} mm{}{}",
+        d.part.as_str(),
+        d.module_mm,
+        d.teeth,
+        d.pressure_angle_deg,
+        d.profile_shift,
+        d.base_radius_mm,
+        d.tip_radius_mm,
+        d.root_radius_mm,
+        d.form_radius_mm,
+        if d.undercut { "  UNDERCUT" } else { "" },
+        d.centre_distance_mm
+            .map_or(String::new(), |a| format!("  centre distance {a:.4} mm"))
+    );
+    let _ = writeln!(
+        out,
+        "  arcs per flank {} (tolerance {} µm)  per fillet {} ({} µm)  outline {} arcs  tip thickness {:.3} mm",
+        d.arcs_per_flank,
+        d.flank_tolerance_um,
+        d.arcs_per_fillet,
+        d.fillet_tolerance_um,
+        d.outline_arcs,
+        d.tip_thickness_mm
+    );
+    let _ = writeln!(
+        out,
+        "  wire offset {:.4} mm  path {:.1} mm  {:.1} min  teeth written {} of {}",
+        d.offset_mm, d.path_length_mm, d.cutting_time_min, d.teeth_written, d.teeth
+    );
+    let _ = writeln!(
+        out,
+        "certificate (the program replayed): max deviation {:.3} µm (flank {:.3}, fillet {:.3})  closure {:.3} µm  {} blocks  {} bytes",
+        d.max_deviation_um,
+        d.flank_deviation_um,
+        d.fillet_deviation_um,
+        d.closure_um,
+        d.blocks,
+        d.bytes
+    );
+}
+
 /// The report for a person.
 pub fn format_human(r: &CheckReport) -> String {
     let mut out = String::new();
@@ -608,7 +630,7 @@ pub fn format_human(r: &CheckReport) -> String {
         }
     }
     if let Some(ModelReport::Wire(w)) = &r.model {
-        crate::check_wire::format_die(&mut out, &w.die);
+        format_die(&mut out, &w.die);
     }
     let groove = matches!(&r.model, Some(ModelReport::Spiral(m)) if m.groove.is_some());
     if let Some(c) = &r.coverage {
@@ -706,6 +728,7 @@ pub fn first_stage(r: &CheckReport) -> Option<Stage> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::check_wire::{check_any, Drawing};
 
     /// Every valid hobbing example of `examples/` moved to machine H02 (FANUC).
     fn examples_on_h02() -> Vec<(String, String)> {

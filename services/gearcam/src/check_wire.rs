@@ -1,21 +1,44 @@
 //! `gearcam check` for a wire EDM job: knowledge → model → program, the
 //! figures and certificate (`model.die`), and the picture of the seed's
-//! graphical check.
+//! graphical check; and [`check_any`], the check of a job of any family.
 
 use std::collections::BTreeMap;
-use std::fmt::Write as _;
 
-use gearcam_proto::{DieFigures, JobRequest, Sourced, WireModel};
+use gearcam_proto::{Family, JobRequest, Sourced, SpiralModel, WireModel};
+use gearcam_template::Templates;
 use rusqlite::Connection;
-use serde::Serialize;
 
-use crate::check::{CheckReport, MachineSummary, ModelReport, PlanSummary, ProgramSummary};
+use crate::check::{
+    job_summary, CheckReport, MachineSummary, ModelReport, PlanSummary, ProgramSummary, WireReport,
+};
 
-/// A wire job's model (`model` in the JSON report).
-#[derive(Debug, Clone, Serialize)]
-pub struct WireReport {
-    /// The die's figures and the program's certificate.
-    pub die: DieFigures,
+/// The model of a job that has a picture.
+#[derive(Debug, Clone)]
+pub enum Drawing {
+    /// A spiral job's.
+    Spiral(Box<SpiralModel>),
+    /// A wire job's.
+    Wire(Box<gearcam_proto::WireModel>),
+}
+
+/// Runs knowledge → model → program locally for one request of any
+/// family; a spiral or wire job's model comes back too (for its picture).
+pub fn check_any(
+    conn: &Connection,
+    templates: &Templates,
+    req: &JobRequest,
+) -> (CheckReport, Option<Drawing>) {
+    match req.spec.job.family {
+        Family::SpiralFace => {
+            let (r, m) = crate::check::check_spiral(conn, req, job_summary(req));
+            (r, m.map(|m| Drawing::Spiral(Box::new(m))))
+        }
+        Family::WireEdm => {
+            let (r, m) = check_wire(conn, req, job_summary(req));
+            (r, m.map(|m| Drawing::Wire(Box::new(m))))
+        }
+        Family::Hobbing => (crate::check::check(conn, templates, req), None),
+    }
 }
 
 /// Knowledge → model → program for a wire job; the report and the model
@@ -93,51 +116,6 @@ pub fn check_wire(
     (report, Some(model))
 }
 
-/// The wire model's lines for a person.
-pub fn format_die(out: &mut String, d: &DieFigures) {
-    let _ = writeln!(
-        out,
-        "{} m {} z {} α {}° x {}  radii base {:.4} tip {:.4} root {:.4} form {:.4} mm{}{}",
-        d.part.as_str(),
-        d.module_mm,
-        d.teeth,
-        d.pressure_angle_deg,
-        d.profile_shift,
-        d.base_radius_mm,
-        d.tip_radius_mm,
-        d.root_radius_mm,
-        d.form_radius_mm,
-        if d.undercut { "  UNDERCUT" } else { "" },
-        d.centre_distance_mm
-            .map_or(String::new(), |a| format!("  centre distance {a:.4} mm"))
-    );
-    let _ = writeln!(
-        out,
-        "  arcs per flank {} (tolerance {} µm)  per fillet {} ({} µm)  outline {} arcs  tip thickness {:.3} mm",
-        d.arcs_per_flank,
-        d.flank_tolerance_um,
-        d.arcs_per_fillet,
-        d.fillet_tolerance_um,
-        d.outline_arcs,
-        d.tip_thickness_mm
-    );
-    let _ = writeln!(
-        out,
-        "  wire offset {:.4} mm  path {:.1} mm  {:.1} min  teeth written {} of {}",
-        d.offset_mm, d.path_length_mm, d.cutting_time_min, d.teeth_written, d.teeth
-    );
-    let _ = writeln!(
-        out,
-        "certificate (the program replayed): max deviation {:.3} µm (flank {:.3}, fillet {:.3})  closure {:.3} µm  {} blocks  {} bytes",
-        d.max_deviation_um,
-        d.flank_deviation_um,
-        d.fillet_deviation_um,
-        d.closure_um,
-        d.blocks,
-        d.bytes
-    );
-}
-
 /// The picture of a wire model: the die made again and drawn.
 pub fn die_picture(model: &WireModel) -> Result<String, String> {
     let plan = &model.plan;
@@ -158,8 +136,7 @@ pub fn die_picture(model: &WireModel) -> Result<String, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::check::{check_any, format_errors, Drawing};
-    use gearcam_template::Templates;
+    use crate::check::format_errors;
 
     /// Every wire example of `examples/` through knowledge, model and
     /// program as `gearcam check` runs it: a valid one is certified by its

@@ -420,7 +420,7 @@ mod tests {
             &conn,
             &die(
                 "W01",
-                json!({"gear": {"module_mm": 2.0, "teeth": 20, "face_width_mm": 10.0}}),
+                json!({"gear": {"module_mm": 2.0, "teeth": 20, "face_width_mm": 10.0, "fixture_height_mm": 100.0}}),
             ),
         )
         .unwrap_err();

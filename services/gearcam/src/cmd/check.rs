@@ -28,13 +28,13 @@ fn default_picture(job: &Path, data: &Path) -> std::path::PathBuf {
 
 /// Writes the picture of a spiral or wire model; the path written, or an
 /// error line.
-fn write_picture(model: &check::Drawing, path: &Path) -> Result<String, String> {
+fn write_picture(model: &crate::check_wire::Drawing, path: &Path) -> Result<String, String> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
     let svg = match model {
-        check::Drawing::Spiral(m) => check::spiral_picture(m),
-        check::Drawing::Wire(m) => crate::check_wire::die_picture(m)?,
+        crate::check_wire::Drawing::Spiral(m) => check::spiral_picture(m),
+        crate::check_wire::Drawing::Wire(m) => crate::check_wire::die_picture(m)?,
     };
     std::fs::write(path, svg).map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(path.display().to_string())
@@ -48,7 +48,8 @@ pub fn check(job: &Path, json: bool, data: &Path, svg: Option<&Path>) -> ExitCod
             match gearcam_knowledge::db::open(&data.join("knowledge.db")) {
                 Ok(conn) => match template_library(data) {
                     Ok(templates) => {
-                        let (mut report, model) = check::check_any(&conn, &templates, &req);
+                        let (mut report, model) =
+                            crate::check_wire::check_any(&conn, &templates, &req);
                         if let Some(model) = model {
                             let path =
                                 svg.map_or_else(|| default_picture(job, data), Path::to_path_buf);
