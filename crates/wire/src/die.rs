@@ -196,6 +196,19 @@ pub fn check(die: &DieSpec) -> Vec<Problem> {
         )),
         _ => {}
     }
+    // The rack's tip round must lie on the gear's side of the pitch line
+    // (its centre below it): above it the round's contact with the gear
+    // runs through the pitch point and the envelope degenerates.
+    let limit = die.addendum_coef + die.clearance_coef - die.cutter_tip_radius_coef;
+    if out.is_empty() && die.cutter == Cutter::Rack && die.profile_shift >= limit {
+        out.push(problem(
+            "DIE_RANGE",
+            "die.profile_shift",
+            format!("below ha* + c* − ρ* = {limit:.3} (the rack's tip round inside the pitch circle)"),
+            format!("{}", die.profile_shift),
+            "the rack's tip round would reach past the pitch line: lower the shift or the tip radius",
+        ));
+    }
     if out.is_empty() {
         let sa = tip_thickness_mm(die);
         let least = MIN_TIP_THICKNESS * die.module_mm;

@@ -55,17 +55,17 @@ pub fn program(segments: &[Segment]) -> String {
 
 /// A 4B program of the part outline from `start`, clockwise about the part
 /// (clockwise arcs convex), written without drift as
-/// [`threeb::program_from`]: the same X, Y, J, G, Z, with R the ideal
-/// radius rounded to the µm.
+/// [`threeb::program_from`]: the same X, Y, J, G, Z, with R the radius of
+/// the arc as written, √(X² + Y²) rounded to the µm.
 pub fn program_from(start: (f64, f64), segments: &[Segment]) -> String {
     let mut p = String::new();
     for (s, b) in segments.iter().zip(threeb::blocks_from(start, segments)) {
         let _ = match *s {
             Segment::Line { .. } => writeln!(p, "{b}"),
-            Segment::Arc {
-                from, centre, ccw, ..
-            } => {
-                let r = ((from.0 - centre.0).hypot(from.1 - centre.1) * 1000.0).round() as i64;
+            Segment::Arc { ccw, .. } => {
+                // The radius of the arc as written (its start from its
+                // centre), which the control offsets.
+                let r = (b.x as f64).hypot(b.y as f64).round() as i64;
                 writeln!(p, "L{}{r}{b}", if ccw { 4 } else { 3 })
             }
         };

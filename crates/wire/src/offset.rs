@@ -219,6 +219,10 @@ fn with_start(s: &Segment, p: (f64, f64)) -> Segment {
 /// corner of a gear's outline opens a gap of tenths of the offset.
 pub const KINK_MM: f64 = 1e-4;
 
+/// The largest turn at a junction that is a kink of rounded arcs, not a
+/// corner, radians (0.1°): a gear outline's corners turn by degrees.
+pub const KINK_RAD: f64 = 1.75e-3;
+
 /// The closed `outline` set off by `d` to `side`.
 pub fn offset(outline: &[Segment], side: Side, d: f64) -> Result<Vec<Segment>, OffsetError> {
     let s = match side {
@@ -241,7 +245,11 @@ pub fn offset(outline: &[Segment], side: Side, d: f64) -> Result<Vec<Segment>, O
             out.push(a);
             continue;
         }
-        if gap < KINK_MM {
+        let (ta, tb) = (tangent(&outline[i], true), tangent(&outline[j], false));
+        // Positive: the outline turns left at the junction.
+        let cross = ta.0 * tb.1 - ta.1 * tb.0;
+        let turn = cross.atan2(ta.0 * tb.0 + ta.1 * tb.1);
+        if gap < KINK_MM || turn.abs() < KINK_RAD {
             // Not a corner of the part but the kink of a program's rounded
             // arcs: the two meet half-way across the gap.
             let mid = (0.5 * (a.to().0 + b.from().0), 0.5 * (a.to().1 + b.from().1));
@@ -254,9 +262,6 @@ pub fn offset(outline: &[Segment], side: Side, d: f64) -> Result<Vec<Segment>, O
             continue;
         }
         let corner = outline[i].to();
-        let (ta, tb) = (tangent(&outline[i], true), tangent(&outline[j], false));
-        // Positive: the outline turns left at the corner.
-        let cross = ta.0 * tb.1 - ta.1 * tb.0;
         let turns_away = (cross < 0.0) == (s > 0.0);
         if turns_away {
             // A gap: round the corner on the wire's own radius.

@@ -322,7 +322,8 @@ fn shares(form: WireProgram) -> &'static [f64] {
 }
 
 /// Makes a die job: checks, fits, sets off, writes and certifies, fitting
-/// tighter while the replayed program strays.
+/// tighter while the replayed program strays, and writing every tooth
+/// when a rotated section strays even at the tightest fit.
 pub fn make(
     die: &gearcam_proto::DieSpec,
     process: &gearcam_proto::WireProcess,
@@ -332,25 +333,42 @@ pub fn make(
     let tol = (die.flank_tolerance_um / 1e3, die.fillet_tolerance_um / 1e3);
     let form = process.program;
     let mut last = None;
-    for &share in shares(form) {
-        let mut aimed = die.clone();
-        aimed.flank_tolerance_um *= share;
-        aimed.fillet_tolerance_um *= share;
-        let cut = crate::die::cut(&aimed, process)?;
-        let layout = layout(&cut, die.part, process.whole);
-        let written = write(&cut, form, &layout, header, number);
-        match certify(&written.text, form, &cut, &layout, tol) {
-            Ok(certificate) => {
-                return Ok(Made {
-                    cut,
-                    layout,
-                    written,
-                    certificate,
-                    fit_share: share,
-                })
+    // The fits, tightest last, made once each.
+    let mut cuts: Vec<Cut> = Vec::new();
+    // A quarter or half first; when even the tightest fit strays in its
+    // rotated replay (each section carries its end's rounding into the
+    // next), every tooth.
+    for whole in [process.whole, true] {
+        for (i, &share) in shares(form).iter().enumerate() {
+            if cuts.len() <= i {
+                let mut aimed = die.clone();
+                aimed.flank_tolerance_um *= share;
+                aimed.fillet_tolerance_um *= share;
+                cuts.push(crate::die::cut(&aimed, process)?);
             }
-            Err(p) if p.code == "WIRE_DEVIATION" => last = Some(p),
-            Err(p) => return Err(p),
+            let cut = &cuts[i];
+            let lay = layout(cut, die.part, whole);
+            if whole && !process.whole && lay.sections == layout(cut, die.part, false).sections {
+                // Nothing to fall back to: the first pass wrote every tooth.
+                break;
+            }
+            let written = write(cut, form, &lay, header, number);
+            match certify(&written.text, form, cut, &lay, tol) {
+                Ok(certificate) => {
+                    return Ok(Made {
+                        cut: cut.clone(),
+                        layout: lay,
+                        written,
+                        certificate,
+                        fit_share: share,
+                    })
+                }
+                Err(p) if p.code == "WIRE_DEVIATION" => last = Some(p),
+                Err(p) => return Err(p),
+            }
+        }
+        if process.whole {
+            break;
         }
     }
     Err(last.expect("at least one share"))

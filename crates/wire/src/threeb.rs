@@ -145,20 +145,50 @@ pub(crate) fn blocks_from(start: (f64, f64), segments: &[Segment]) -> Vec<Block>
                 centre,
                 ccw,
             } => {
+                let ideal_centre = centre;
+                let r_ideal = (from.0 - centre.0).hypot(from.1 - centre.1);
                 let centre = onto_bisector(centre, at, to);
-                let (rx, ry) = (um(at.0 - centre.0), um(at.1 - centre.1));
-                // The centre the control will use.
-                let c = (at.0 - rx as f64 / UM, at.1 - ry as f64 / UM);
-                // The ideal sweep decides a whole circle or a sliver; the
-                // simulated start moves it by the small difference of angle.
-                let ideal = sweep_of(from, to, centre, ccw);
-                let a0 = (ry as f64).atan2(rx as f64);
-                let a1 = (to.1 - c.1).atan2(to.0 - c.0);
-                let i0 = (from.1 - centre.1).atan2(from.0 - centre.0);
-                let i1 = (to.1 - centre.1).atan2(to.0 - centre.0);
-                let moved = ((a1 - a0) - (i1 - i0) + PI).rem_euclid(TAU) - PI;
-                let sweep = (ideal + if ccw { moved } else { -moved }).max(0.0);
-                arc_block(rx, ry, (to.0 - c.0, to.1 - c.1), sweep, ccw)
+                let (rx0, ry0) = (um(at.0 - centre.0), um(at.1 - centre.1));
+                // The rounded offset and its eight neighbours: the block
+                // whose replay keeps nearest the ideal arc (its middle, its
+                // quarters and its end against the ideal circle, and the
+                // end against the ideal end) — a µm on a wire's 0.1 mm
+                // corner arc is a µm of the part.
+                let mut best: Option<(f64, Block)> = None;
+                for (dx, dy) in (-1..=1).flat_map(|a| (-1..=1).map(move |b| (a, b))) {
+                    let (rx, ry) = (rx0 + dx, ry0 + dy);
+                    // The centre the control will use.
+                    let c = (at.0 - rx as f64 / UM, at.1 - ry as f64 / UM);
+                    // The ideal sweep decides a whole circle or a sliver;
+                    // the simulated start moves it by the small difference
+                    // of angle.
+                    let ideal = sweep_of(from, to, ideal_centre, ccw);
+                    let a0 = (ry as f64).atan2(rx as f64);
+                    let a1 = (to.1 - c.1).atan2(to.0 - c.0);
+                    let i0 = (from.1 - ideal_centre.1).atan2(from.0 - ideal_centre.0);
+                    let i1 = (to.1 - ideal_centre.1).atan2(to.0 - ideal_centre.0);
+                    let moved = ((a1 - a0) - (i1 - i0) + PI).rem_euclid(TAU) - PI;
+                    let sweep = (ideal + if ccw { moved } else { -moved }).max(0.0);
+                    let b = arc_block(rx, ry, (to.0 - c.0, to.1 - c.1), sweep, ccw);
+                    let seg = replay(&[b], at)[0];
+                    let e = seg.to();
+                    let mut miss = (e.0 - to.0).hypot(e.1 - to.1);
+                    let r = (rx as f64 / UM).hypot(ry as f64 / UM);
+                    let (s0, s1) = ((ry as f64).atan2(rx as f64), (e.1 - c.1).atan2(e.0 - c.0));
+                    let span = if ccw { s1 - s0 } else { s0 - s1 }.rem_euclid(TAU);
+                    let sign = if ccw { 1.0 } else { -1.0 };
+                    for k in 1..4 {
+                        let t = s0 + sign * span * f64::from(k) / 4.0;
+                        let p = (c.0 + r * t.cos(), c.1 + r * t.sin());
+                        let off =
+                            ((p.0 - ideal_centre.0).hypot(p.1 - ideal_centre.1) - r_ideal).abs();
+                        miss = miss.max(off);
+                    }
+                    if best.is_none_or(|(m, _)| miss < m) {
+                        best = Some((miss, b));
+                    }
+                }
+                best.expect("the rounded offset itself").1
             }
         };
         let seg = replay(&[b], at);
