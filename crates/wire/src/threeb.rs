@@ -174,8 +174,9 @@ pub(crate) fn blocks_from(start: (f64, f64), segments: &[Segment]) -> Vec<Block>
                     let e = seg.to();
                     let mut miss = (e.0 - to.0).hypot(e.1 - to.1);
                     let r = (rx as f64 / UM).hypot(ry as f64 / UM);
-                    let (s0, s1) = ((ry as f64).atan2(rx as f64), (e.1 - c.1).atan2(e.0 - c.0));
-                    let span = if ccw { s1 - s0 } else { s0 - s1 }.rem_euclid(TAU);
+                    // Along the arc's own sweep (a whole circle ends where
+                    // it starts: its end says nothing of its middle).
+                    let (s0, span) = ((ry as f64).atan2(rx as f64), sweep);
                     let sign = if ccw { 1.0 } else { -1.0 };
                     for k in 1..4 {
                         let t = s0 + sign * span * f64::from(k) / 4.0;
@@ -493,9 +494,16 @@ pub fn replay(blocks: &[Block], start: (f64, f64)) -> Vec<Segment> {
                     used += piece;
                     a = next;
                 };
-                let to = (
+                // A control moves in µm steps: it stops on the step nearest
+                // the circle where the count runs out (the counted axis
+                // exactly there), a whole number of µm from where it started.
+                let end = (
                     centre.0 + r * end_angle.cos(),
                     centre.1 + r * end_angle.sin(),
+                );
+                let to = (
+                    p.0 + ((end.0 - p.0) * UM).round() / UM,
+                    p.1 + ((end.1 - p.1) * UM).round() / UM,
                 );
                 out.push(Segment::Arc {
                     from: p,
