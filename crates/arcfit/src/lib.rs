@@ -420,7 +420,7 @@ fn spline(curve: &dyn Curve, o: &Options, x: &[f64], k: usize) -> Option<Vec<Arc
 }
 
 /// Samples per arc of the optimiser's cost.
-const COST_SAMPLES: usize = 24;
+const COST_SAMPLES: usize = 12;
 
 /// The optimiser's cost: the largest sampled distance of the spline from
 /// the curve, the end point's gap, the end tangent's miss (as a distance

@@ -55,6 +55,8 @@ pub struct Outline {
     pub fillet_fit_mm: f64,
     flank: Flank,
     fillet: Sampled,
+    /// The fillet's smallest and largest radius, mm.
+    fillet_radii: (f64, f64),
     /// The root arc's polar angles (from the fillet's start to the space's
     /// axis) in the half-space frame.
     root_from: f64,
@@ -84,8 +86,9 @@ impl std::fmt::Display for OutlineError {
 
 impl std::error::Error for OutlineError {}
 
-/// Samples of the fillet for its distance (a sagitta far below 1 nm).
-const FILLET_SAMPLES: usize = 4096;
+/// Samples of the fillet for its distance (a sagitta below 1 nm for the
+/// fillets gearcam cuts: `Sampled::sag`).
+const FILLET_SAMPLES: usize = 1024;
 
 /// A point turned by `angle` about the origin.
 pub fn turn(p: (f64, f64), angle: f64) -> (f64, f64) {
@@ -222,6 +225,19 @@ pub fn outline(gear: &dyn ToothSpace, tol: &Tolerances) -> Result<Outline, Outli
         flank_fit_mm: flank_fit.max_deviation,
         fillet_fit_mm: fillet_fit.max_deviation,
         flank,
+        fillet_radii: {
+            let (t0, t1) = fillet.domain();
+            let (lo, hi) = (0..=200)
+                .map(|i| {
+                    let p = fillet.point(t0 + (t1 - t0) * f64::from(i) / 200.0);
+                    p.0.hypot(p.1)
+                })
+                .fold((f64::INFINITY, 0.0f64), |(lo, hi), r| {
+                    (lo.min(r), hi.max(r))
+                });
+            // A margin for the fillet between the samples.
+            (lo - 0.01, hi + 0.01)
+        },
         fillet,
         root_from: deepest.1.atan2(deepest.0),
         tip_to: edge.1.atan2(edge.0),
@@ -274,12 +290,11 @@ impl Outline {
             }
         };
         let f = &self.figures;
-        [
+        let best = [
             (
                 circle(f.root_radius_mm, self.root_from, FRAC_PI_2),
                 Piece::Root,
             ),
-            (self.fillet.distance(q), Piece::Fillet),
             (self.flank.distance(q), Piece::Flank),
             (
                 circle(f.tip_radius_mm, FRAC_PI_2 - PI / z, self.tip_to),
@@ -288,7 +303,21 @@ impl Outline {
         ]
         .into_iter()
         .min_by(|a, b| a.0.total_cmp(&b.0))
-        .expect("four pieces")
+        .expect("three pieces");
+        // The fillet lies between two radii: a point further from that
+        // band than the best so far is nearer another piece (the fillet's
+        // chord search is the dearest of the four).
+        let (lo, hi) = self.fillet_radii;
+        let bound = (lo - r).max(r - hi).max(0.0);
+        if bound >= best.0 {
+            return best;
+        }
+        let fillet = (self.fillet.distance(q), Piece::Fillet);
+        if fillet.0 < best.0 {
+            fillet
+        } else {
+            best
+        }
     }
 }
 

@@ -310,15 +310,21 @@ pub struct Made {
     pub fit_share: f64,
 }
 
-/// The shares of the tolerances the arc fit aims at, tightest last: a
-/// program rounds to the control's resolution (µm for 3B and 4B, 0.1 µm
-/// for ISO, whose 4 decimals round by 0.05 µm at most), so the fit leaves
-/// room for it; when the replay still strays the fit is tightened.
-fn shares(form: WireProgram) -> &'static [f64] {
-    match form {
-        WireProgram::IsoWire => &[0.97, 0.8, 0.6],
-        _ => &[0.75, 0.65, 0.55, 0.45, 0.35],
-    }
+/// The shares of the flank's tolerance `flank_um` the arc fit aims at,
+/// tightest last: a program rounds to the control's resolution (a 3B
+/// control's µm steps cost up to about 0.45 µm of the path; ISO's 4
+/// decimals 0.05 µm at most), so the fit first leaves room for that, and
+/// tightens while the replay still strays.
+fn shares(form: WireProgram, flank_um: f64) -> Vec<f64> {
+    let grid_um = match form {
+        WireProgram::IsoWire => 0.03,
+        _ => 0.45,
+    };
+    let first = (1.0 - grid_um / flank_um).clamp(0.35, 0.97);
+    [first, first - 0.1, first - 0.2]
+        .into_iter()
+        .filter(|s| *s >= 0.25)
+        .collect()
 }
 
 /// Makes a die job: checks, fits, sets off, writes and certifies, fitting
@@ -339,7 +345,7 @@ pub fn make(
     // rotated replay (each section carries its end's rounding into the
     // next), every tooth.
     for whole in [process.whole, true] {
-        for (i, &share) in shares(form).iter().enumerate() {
+        for (i, &share) in shares(form, die.flank_tolerance_um).iter().enumerate() {
             if cuts.len() <= i {
                 let mut aimed = die.clone();
                 aimed.flank_tolerance_um *= share;

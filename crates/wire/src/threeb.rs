@@ -481,7 +481,8 @@ pub fn replay(blocks: &[Block], start: (f64, f64)) -> Vec<Segment> {
                         // bisect for the angle that uses the rest.
                         let left = goal - used;
                         let (mut lo, mut hi) = (0.0, (next - a).abs());
-                        for _ in 0..80 {
+                        // 60 halvings: far below a nm on any circle.
+                        for _ in 0..60 {
                             let mid = 0.5 * (lo + hi);
                             if (coord(a + dir * mid) - coord(a)).abs() < left {
                                 lo = mid;
