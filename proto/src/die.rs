@@ -112,6 +112,38 @@ pub struct DieSpec {
     pub material: String,
 }
 
+impl DieSpec {
+    /// A die or punch with the job file's defaults: α 20°, no shift, ha* 1,
+    /// c* 0.25, a rack with ρ* 0.38, 1 µm on the flank, 5 µm on the fillet.
+    pub fn new(
+        part: DiePart,
+        module_mm: f64,
+        teeth: u32,
+        thickness_mm: f64,
+        material: &str,
+    ) -> DieSpec {
+        DieSpec {
+            part,
+            module_mm,
+            teeth,
+            pressure_angle_deg: twenty(),
+            profile_shift: 0.0,
+            addendum_coef: one(),
+            clearance_coef: quarter(),
+            cutter: Cutter::Rack,
+            cutter_tip_radius_coef: tip_radius(),
+            cutter_teeth: None,
+            cutter_shift: 0.0,
+            mating_teeth: None,
+            mating_shift: 0.0,
+            flank_tolerance_um: one(),
+            fillet_tolerance_um: five(),
+            thickness_mm,
+            material: material.to_string(),
+        }
+    }
+}
+
 fn twenty() -> f64 {
     20.0
 }

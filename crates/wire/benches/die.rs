@@ -5,31 +5,13 @@
 //! `cargo bench -p gearcam-wire --bench die`
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use gearcam_proto::{Cutter, DiePart, DieSpec, Source, Sourced, WireProcess, WireProgram};
+use gearcam_proto::{DiePart, DieSpec, Source, Sourced, WireProcess, WireProgram};
 use gearcam_wire::die::cut;
 use gearcam_wire::offset::offset;
 use gearcam_wire::programs::{layout, make, write};
 
 fn die() -> DieSpec {
-    DieSpec {
-        part: DiePart::Die,
-        module_mm: 2.0,
-        teeth: 40,
-        pressure_angle_deg: 20.0,
-        profile_shift: 0.0,
-        addendum_coef: 1.0,
-        clearance_coef: 0.25,
-        cutter: Cutter::Rack,
-        cutter_tip_radius_coef: 0.38,
-        cutter_teeth: None,
-        cutter_shift: 0.0,
-        mating_teeth: None,
-        mating_shift: 0.0,
-        flank_tolerance_um: 1.0,
-        fillet_tolerance_um: 5.0,
-        thickness_mm: 20.0,
-        material: "Cr12MoV".into(),
-    }
+    DieSpec::new(DiePart::Die, 2.0, 40, 20.0, "Cr12MoV")
 }
 
 fn process(program: WireProgram) -> WireProcess {

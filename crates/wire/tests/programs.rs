@@ -1,29 +1,13 @@
 //! Die jobs made end to end: the program written, read back, replayed as
 //! the control runs it and measured against the theoretical outline.
 
-use gearcam_proto::{Cutter, DiePart, DieSpec, Source, Sourced, WireProcess, WireProgram};
+use gearcam_proto::{DiePart, DieSpec, Source, Sourced, WireProcess, WireProgram};
 use gearcam_wire::programs::make;
 
 fn die(part: DiePart, m: f64, z: u32, x: f64) -> DieSpec {
-    DieSpec {
-        part,
-        module_mm: m,
-        teeth: z,
-        pressure_angle_deg: 20.0,
-        profile_shift: x,
-        addendum_coef: 1.0,
-        clearance_coef: 0.25,
-        cutter: Cutter::Rack,
-        cutter_tip_radius_coef: 0.38,
-        cutter_teeth: None,
-        cutter_shift: 0.0,
-        mating_teeth: None,
-        mating_shift: 0.0,
-        flank_tolerance_um: 1.0,
-        fillet_tolerance_um: 5.0,
-        thickness_mm: 20.0,
-        material: "Cr12MoV".into(),
-    }
+    let mut d = DieSpec::new(part, m, z, 20.0, "Cr12MoV");
+    d.profile_shift = x;
+    d
 }
 
 fn process(program: WireProgram, whole: bool) -> WireProcess {

@@ -8,31 +8,15 @@
 //! round past the pitch line (x ≥ ha* + c* − ρ*), or a wire too thick for
 //! a concave radius (the radius named is under the offset).
 
-use gearcam_proto::{Cutter, DiePart, DieSpec, Source, Sourced, WireProcess, WireProgram};
+use gearcam_proto::{DiePart, DieSpec, Source, Sourced, WireProcess, WireProgram};
 use gearcam_wire::die::check;
 use gearcam_wire::programs::make;
 use proptest::prelude::*;
 
 fn spec(m: f64, z: u32, x: f64, part: DiePart) -> DieSpec {
-    DieSpec {
-        part,
-        module_mm: m,
-        teeth: z,
-        pressure_angle_deg: 20.0,
-        profile_shift: x,
-        addendum_coef: 1.0,
-        clearance_coef: 0.25,
-        cutter: Cutter::Rack,
-        cutter_tip_radius_coef: 0.38,
-        cutter_teeth: None,
-        cutter_shift: 0.0,
-        mating_teeth: None,
-        mating_shift: 0.0,
-        flank_tolerance_um: 1.0,
-        fillet_tolerance_um: 5.0,
-        thickness_mm: 20.0,
-        material: "Cr12MoV".into(),
-    }
+    let mut d = DieSpec::new(part, m, z, 20.0, "Cr12MoV");
+    d.profile_shift = x;
+    d
 }
 
 fn process(program: WireProgram) -> WireProcess {

@@ -39,7 +39,7 @@ pub struct CaseSummary {
     pub provenance: String,
 }
 
-pub(crate) fn case_summaries(cases: &[gearcam_proto::CaseRef]) -> Vec<CaseSummary> {
+fn case_summaries(cases: &[gearcam_proto::CaseRef]) -> Vec<CaseSummary> {
     cases
         .iter()
         .map(|c| CaseSummary {
@@ -108,6 +108,42 @@ pub struct PlanSummary {
     /// replaced it. Absent when the part is not in the library.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub workpiece: Option<WorkpieceRef>,
+}
+
+impl PlanSummary {
+    /// The plan of a family whose decided values each carry their source:
+    /// the job's are the overridden ones, the rest the proposal.
+    pub(crate) fn of_sourced(
+        class: String,
+        machine: MachineSummary,
+        tool_id: String,
+        confidence: f64,
+        cases: &[gearcam_proto::CaseRef],
+        values: BTreeMap<String, Sourced>,
+        tool: Option<MillData>,
+    ) -> PlanSummary {
+        PlanSummary {
+            class,
+            machine,
+            hob_id: tool_id,
+            confidence,
+            cases: case_summaries(cases),
+            overridden: values
+                .iter()
+                .filter(|(_, v)| v.source == Source::Job)
+                .map(|(k, _)| k.clone())
+                .collect(),
+            proposed: values
+                .iter()
+                .filter(|(_, v)| v.source != Source::Job)
+                .map(|(k, v)| (k.clone(), *v))
+                .collect(),
+            values,
+            tool,
+            hob_choice: None,
+            workpiece: None,
+        }
+    }
 }
 
 /// The program in brief, with its text.
@@ -342,27 +378,15 @@ pub fn check_spiral(
     .filter(|(k, _)| face || !k.ends_with("overtravel_mm"))
     .map(|(k, v)| (k.to_string(), v))
     .collect();
-    report.plan = Some(PlanSummary {
-        class: format!("spiral-{}", plan.part.kind()),
-        machine: MachineSummary::of(&plan.machine.id, &plan.machine.name, plan.machine.dialect),
-        hob_id: plan.tool.id.clone(),
-        confidence: plan.confidence,
-        cases: case_summaries(&plan.cases),
-        overridden: values
-            .iter()
-            .filter(|(_, v)| v.source == Source::Job)
-            .map(|(k, _)| k.clone())
-            .collect(),
-        proposed: values
-            .iter()
-            .filter(|(_, v)| v.source != Source::Job)
-            .map(|(k, v)| (k.clone(), *v))
-            .collect(),
+    report.plan = Some(PlanSummary::of_sourced(
+        format!("spiral-{}", plan.part.kind()),
+        MachineSummary::of(&plan.machine.id, &plan.machine.name, plan.machine.dialect),
+        plan.tool.id.clone(),
+        plan.confidence,
+        &plan.cases,
         values,
-        tool: Some(plan.tool.clone()),
-        hob_choice: None,
-        workpiece: None,
-    });
+        Some(plan.tool.clone()),
+    ));
     let model = match gearcam_model::spiral::compute_spiral(&plan) {
         Ok(m) => m,
         Err(errors) => {

@@ -67,27 +67,15 @@ pub fn check_wire(
     .into_iter()
     .map(|(k, v)| (k.to_string(), v))
     .collect();
-    report.plan = Some(PlanSummary {
-        class: format!("wire-{}", plan.die.part.as_str()),
-        machine: MachineSummary::of(&plan.machine.id, &plan.machine.name, plan.machine.dialect),
-        hob_id: p.wire.clone(),
-        confidence: plan.confidence,
-        cases: crate::check::case_summaries(&plan.cases),
-        overridden: values
-            .iter()
-            .filter(|(_, v)| v.source == gearcam_proto::Source::Job)
-            .map(|(k, _)| k.clone())
-            .collect(),
-        proposed: values
-            .iter()
-            .filter(|(_, v)| v.source != gearcam_proto::Source::Job)
-            .map(|(k, v)| (k.clone(), *v))
-            .collect(),
+    report.plan = Some(PlanSummary::of_sourced(
+        format!("wire-{}", plan.die.part.as_str()),
+        MachineSummary::of(&plan.machine.id, &plan.machine.name, plan.machine.dialect),
+        p.wire.clone(),
+        plan.confidence,
+        &plan.cases,
         values,
-        tool: None,
-        hob_choice: None,
-        workpiece: None,
-    });
+        None,
+    ));
     let model = match gearcam_model::wire::compute_wire(&plan) {
         Ok(m) => m,
         Err(errors) => {

@@ -4,13 +4,14 @@
 //! group, and the program form — each value with its source.
 
 use gearcam_proto::{
-    CaseRef, Dialect, JobError, JobRequest, MachineId, Source, Sourced, Stage, WireMachine,
-    WirePlan, WireProcess, WireProgram,
+    CaseRef, Dialect, JobError, JobRequest, MachineId, Source, Sourced, WireMachine, WirePlan,
+    WireProcess, WireProgram,
 };
 use rusqlite::{Connection, Transaction};
-use serde_json::{json, Value};
+use serde_json::json;
 
 use crate::library::{self, Record};
+use crate::spiral::{add, knowledge, num, text};
 use crate::{records, KnowledgeError};
 
 /// Provenance of the seeded machines.
@@ -24,18 +25,6 @@ pub const WIRES_SEED: &str = "gearcam seed: common wires (molybdenum 0.18 mm for
 pub const DATA_SEED: &str = "gearcam seed: engineering estimate of a first cut's technology \
     (not shop history); tune on a test cut";
 
-fn knowledge(code: &str, field: &str, expected: String, got: String, message: String) -> JobError {
-    Stage::Knowledge.error(code, field, expected, got, message)
-}
-
-fn num(r: &Record, field: &str) -> f64 {
-    r.get(field).and_then(Value::as_f64).unwrap_or(f64::NAN)
-}
-
-fn text<'a>(r: &'a Record, field: &str) -> &'a str {
-    r.get(field).and_then(Value::as_str).unwrap_or("")
-}
-
 fn form(name: &str) -> Option<WireProgram> {
     [
         WireProgram::ThreeB,
@@ -44,15 +33,6 @@ fn form(name: &str) -> Option<WireProgram> {
     ]
     .into_iter()
     .find(|f| f.as_str() == name)
-}
-
-/// Adds a seed record unless one with its key is there.
-fn add(tx: &Transaction<'_>, lib: &library::Library, v: Value) -> Result<(), KnowledgeError> {
-    let key = v.get(lib.key).and_then(Value::as_str).unwrap_or_default();
-    if library::get(tx, lib, key)?.is_some() {
-        return Ok(());
-    }
-    crate::seed::insert(tx, lib, v)
 }
 
 /// Seeds the tables of migration 8.
@@ -342,6 +322,7 @@ mod tests {
     use super::*;
     use crate::db;
     use gearcam_proto::{DiePart, JobId, JobSpec};
+    use serde_json::Value;
 
     fn request(v: Value) -> JobRequest {
         let spec: JobSpec = serde_json::from_value(v).unwrap();

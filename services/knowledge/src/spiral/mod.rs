@@ -46,7 +46,11 @@ pub const DEFAULT_TOLERANCE_MM: f64 = 0.005;
 
 /// Adds a seed record unless one with its key is there (a shop's own
 /// record of the same id is kept; a migration run again adds nothing twice).
-fn add(tx: &Transaction<'_>, lib: &library::Library, v: Value) -> Result<(), KnowledgeError> {
+pub(crate) fn add(
+    tx: &Transaction<'_>,
+    lib: &library::Library,
+    v: Value,
+) -> Result<(), KnowledgeError> {
     let key = v.get(lib.key).and_then(Value::as_str).unwrap_or_default();
     if library::get(tx, lib, key)?.is_some() {
         return Ok(());
@@ -190,11 +194,11 @@ pub fn seed_v7(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     Ok(())
 }
 
-fn num(r: &Record, field: &str) -> f64 {
+pub(crate) fn num(r: &Record, field: &str) -> f64 {
     r.get(field).and_then(Value::as_f64).unwrap_or(f64::NAN)
 }
 
-fn text<'a>(r: &'a Record, field: &str) -> &'a str {
+pub(crate) fn text<'a>(r: &'a Record, field: &str) -> &'a str {
     r.get(field).and_then(Value::as_str).unwrap_or("")
 }
 
@@ -202,7 +206,13 @@ fn form(name: &str) -> Option<SpiralProgram> {
     SpiralProgram::ALL.into_iter().find(|f| f.as_str() == name)
 }
 
-fn knowledge(code: &str, field: &str, expected: String, got: String, message: String) -> JobError {
+pub(crate) fn knowledge(
+    code: &str,
+    field: &str,
+    expected: String,
+    got: String,
+    message: String,
+) -> JobError {
     Stage::Knowledge.error(code, field, expected, got, message)
 }
 
