@@ -240,6 +240,9 @@ pub struct CheckReport {
     /// Where the SVG picture of a spiral or wire job was written.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub picture: Option<String>,
+    /// Where the DXF of a wire job's outline was written.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drawing: Option<String>,
     /// The NC program.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub program: Option<ProgramSummary>,
@@ -258,6 +261,7 @@ impl CheckReport {
             model: None,
             coverage: None,
             picture: None,
+            drawing: None,
             program: None,
         }
     }
@@ -676,6 +680,9 @@ pub fn format_human(r: &CheckReport) -> String {
     }
     if let Some(p) = &r.picture {
         let _ = writeln!(out, "picture: {p}");
+    }
+    if let Some(p) = &r.drawing {
+        let _ = writeln!(out, "outline (DXF): {p}");
     }
     if let Some(ModelReport::Hobbing(m)) = &r.model {
         let _ = writeln!(

@@ -104,12 +104,13 @@ pub fn check_wire(
     (report, Some(model))
 }
 
-/// The picture of a wire model: the die made again and drawn.
-pub fn die_picture(model: &WireModel) -> Result<String, String> {
+/// The picture of a wire model (SVG) and its part outline as DXF: the die
+/// made again and drawn.
+pub fn die_drawings(model: &WireModel) -> Result<(String, Vec<u8>), String> {
     let plan = &model.plan;
     let made = gearcam_wire::programs::make(&plan.die, &plan.process, &[], 1)
         .map_err(|p| format!("{}: {}", p.code, p.message))?;
-    Ok(gearcam_wire::picture::die_svg(
+    let svg = gearcam_wire::picture::die_svg(
         &made,
         &format!(
             "{} {} m{} z{}",
@@ -118,7 +119,9 @@ pub fn die_picture(model: &WireModel) -> Result<String, String> {
             plan.die.module_mm,
             plan.die.teeth
         ),
-    ))
+    );
+    let dxf = gearcam_wire::dxf::drawing(&made.cut.contour).map_err(|e| e.message)?;
+    Ok((svg, dxf))
 }
 
 #[cfg(test)]
@@ -165,8 +168,11 @@ mod tests {
                     if d.undercut {
                         seen.insert("undercut".into());
                     }
-                    let svg = die_picture(&model).unwrap();
+                    let (svg, dxf) = die_drawings(&model).unwrap();
                     assert!(svg.starts_with("<svg") && svg.contains("<path"), "{name}");
+                    // The outline as DXF reads back closed, every tooth.
+                    let back = gearcam_wire::dxf::read_back(&dxf).unwrap();
+                    assert!(back.len() >= d.outline_arcs as usize, "{name}");
                 }
             }
         }

@@ -75,10 +75,14 @@ pub enum Command {
         /// Data directory holding the knowledge base (created and seeded if missing).
         #[arg(long, default_value = "gearcam-data")]
         data: PathBuf,
-        /// Where to write the SVG picture of a spiral face milling job
+        /// Where to write the SVG picture of a spiral or wire job
         /// (default: DATA/pictures/JOBFILE.svg, JOBFILE the job file's name).
         #[arg(long)]
         svg: Option<PathBuf>,
+        /// Where to write the DXF of a wire job's outline (lines and arcs,
+        /// closed; default: the picture's path with `.dxf`).
+        #[arg(long)]
+        dxf: Option<PathBuf>,
     },
     /// Run the planning station service on its own (job journal, re-drives).
     Station {
@@ -145,7 +149,14 @@ pub async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             json,
             data,
             svg,
-        } => Ok(cmd::check::check(&job, json, &data, svg.as_deref())),
+            dxf,
+        } => Ok(cmd::check::check(
+            &job,
+            json,
+            &data,
+            svg.as_deref(),
+            dxf.as_deref(),
+        )),
         Command::Router { bus } => cmd::router::router(&bus).await,
         Command::Kb(args) => Ok(kb::run(args)),
         Command::Confirm(args) => Ok(kb::confirm(args)),

@@ -26,21 +26,54 @@ fn default_picture(job: &Path, data: &Path) -> std::path::PathBuf {
     data.join("pictures").join(format!("{stem}.svg"))
 }
 
-/// Writes the picture of a spiral or wire model; the path written, or an
+/// Writes `bytes` to `path`, making its folder; the path written, or an
 /// error line.
-fn write_picture(model: &crate::check_wire::Drawing, path: &Path) -> Result<String, String> {
+fn write_file(path: &Path, bytes: &[u8]) -> Result<String, String> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
-    let svg = match model {
-        crate::check_wire::Drawing::Spiral(m) => check::spiral_picture(m),
-        crate::check_wire::Drawing::Wire(m) => crate::check_wire::die_picture(m)?,
-    };
-    std::fs::write(path, svg).map_err(|e| format!("{}: {e}", path.display()))?;
+    std::fs::write(path, bytes).map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(path.display().to_string())
 }
 
-pub fn check(job: &Path, json: bool, data: &Path, svg: Option<&Path>) -> ExitCode {
+/// Writes the picture of a spiral or wire model to `svg`, and a wire
+/// job's outline as DXF to `dxf`.
+fn write_drawings(
+    model: &crate::check_wire::Drawing,
+    report: &mut CheckReport,
+    svg: &Path,
+    dxf: &Path,
+) {
+    let files = match model {
+        crate::check_wire::Drawing::Spiral(m) => Ok((check::spiral_picture(m), None)),
+        crate::check_wire::Drawing::Wire(m) => {
+            crate::check_wire::die_drawings(m).map(|(svg, dxf)| (svg, Some(dxf)))
+        }
+    };
+    match files {
+        Ok((picture, outline)) => {
+            match write_file(svg, picture.as_bytes()) {
+                Ok(p) => report.picture = Some(p),
+                Err(e) => eprintln!("gearcam: cannot write the picture {e}"),
+            }
+            if let Some(bytes) = outline {
+                match write_file(dxf, &bytes) {
+                    Ok(p) => report.drawing = Some(p),
+                    Err(e) => eprintln!("gearcam: cannot write the DXF {e}"),
+                }
+            }
+        }
+        Err(e) => eprintln!("gearcam: cannot draw the job: {e}"),
+    }
+}
+
+pub fn check(
+    job: &Path,
+    json: bool,
+    data: &Path,
+    svg: Option<&Path>,
+    dxf: Option<&Path>,
+) -> ExitCode {
     let report = match jobfile::load(job) {
         Err(e) => CheckReport::failed(vec![e]),
         Ok(spec) => {
@@ -51,12 +84,11 @@ pub fn check(job: &Path, json: bool, data: &Path, svg: Option<&Path>) -> ExitCod
                         let (mut report, model) =
                             crate::check_wire::check_any(&conn, &templates, &req);
                         if let Some(model) = model {
-                            let path =
+                            let svg =
                                 svg.map_or_else(|| default_picture(job, data), Path::to_path_buf);
-                            match write_picture(&model, &path) {
-                                Ok(p) => report.picture = Some(p),
-                                Err(e) => eprintln!("gearcam: cannot write the picture {e}"),
-                            }
+                            let dxf =
+                                dxf.map_or_else(|| svg.with_extension("dxf"), Path::to_path_buf);
+                            write_drawings(&model, &mut report, &svg, &dxf);
                         }
                         report
                     }
