@@ -1,4 +1,4 @@
-//! The seed's graphical check as an SVG (docs/wire.md#the-picture): on the
+//! The seed's graphical check as an SVG (docs/wire.md#for-people-gearcam-check): on the
 //! left one tooth space — the theoretical outline, the fitted arcs in
 //! alternating colours with their junctions, the wire's path, and the
 //! deviation of the arcs from the outline magnified; on the right the whole
