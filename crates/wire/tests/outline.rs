@@ -83,6 +83,23 @@ fn the_m2_z20_outline_is_closed_smooth_and_within_its_tolerances() {
     assert_eq!(corners, 2 * 20);
     let worst = worst_ratio(&o, &all);
     assert!(worst <= 1.0, "{worst} of the tolerance");
+    // No inflection artefacts: the half space's fillet arcs all turn one
+    // way and its flank arcs the other (the involute never changes its
+    // sense; the S between them is the true outline's). The period starts
+    // with the tip half, then the mirrored flank, fillet, root arc,
+    // fillet, flank, tip half; take the second half's fillet and flank.
+    let (nf, nk) = (o.arcs_per_fillet, o.arcs_per_flank);
+    let start = 1 + nk + nf + 1;
+    let fillet: Vec<f64> = o.period[start..start + nf]
+        .iter()
+        .map(|s| arc_of(s).curvature)
+        .collect();
+    let flank: Vec<f64> = o.period[start + nf..start + nf + nk]
+        .iter()
+        .map(|s| arc_of(s).curvature)
+        .collect();
+    assert!(fillet.iter().all(|k| *k > 0.0), "fillet {fillet:?}");
+    assert!(flank.iter().all(|k| *k < 0.0), "flank {flank:?}");
 }
 
 /// The distance folds a point into the half tooth space: points of the

@@ -550,9 +550,15 @@ pub fn format_human(r: &CheckReport) -> String {
                 );
             }
             None => {
+                // A wire job's "tool" is its wire.
+                let tool = if p.class.starts_with("wire-") {
+                    "wire"
+                } else {
+                    "hob"
+                };
                 let _ = writeln!(
                     out,
-                    "class {}  hob {}  confidence {:.2}",
+                    "class {}  {tool} {}  confidence {:.2}",
                     p.class, p.hob_id, p.confidence
                 );
             }
