@@ -101,3 +101,36 @@ fn the_python_client_delivers_a_spiral_job_to_the_linuxcnc_mill() {
         "the file's hash {hash} in\n{stdout}"
     );
 }
+
+/// The same client, unchanged, submits a wire EDM die job (a 40-tooth die
+/// in ISO for W02): it reads the stored program back from the agent's store
+/// by its name and checks its hash like any other.
+#[test]
+fn the_python_client_delivers_a_wire_die_to_the_iso_machine() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut cluster = Cluster::start();
+    cluster.start_agent_for("W02");
+    let out = Command::new("python3")
+        .arg(root.join("proto/examples/client.py"))
+        .args(["--connect", &cluster.endpoint, "--job-id", "PY-W1"])
+        .arg(root.join("examples/die_m1z40_iso.toml"))
+        .output()
+        .expect("run the client");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "client failed\nstdout:\n{stdout}\nstderr:\n{}\nlogs:\n{}",
+        String::from_utf8_lossy(&out.stderr),
+        cluster.logs()
+    );
+    assert!(stdout.contains("delivered PY-W1: O4001"), "{stdout}");
+    let on_disk = std::fs::read(cluster.dir().join("W02/programs/O4001")).unwrap();
+    let hash = {
+        use sha2::{Digest, Sha256};
+        hex::encode(Sha256::digest(&on_disk))
+    };
+    assert!(
+        stdout.contains(&hash),
+        "the file's hash {hash} in\n{stdout}"
+    );
+}
