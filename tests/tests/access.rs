@@ -46,8 +46,13 @@ id = "HOB-M3-80"
 "#;
 
 fn submit(dir: &Path, planner: &Path, part: &str) -> serde_json::Value {
+    submit_text(dir, planner, part, &JOB.replace("SEC-0001", part))
+}
+
+/// Submits the job file `text` as `{part}.toml`, waiting for the outcome.
+fn submit_text(dir: &Path, planner: &Path, part: &str, text: &str) -> serde_json::Value {
     let job = dir.join(format!("{part}.toml"));
-    std::fs::write(&job, JOB.replace("SEC-0001", part)).unwrap();
+    std::fs::write(&job, text).unwrap();
     let out = Command::new(bin("gearcam"))
         .args([
             "submit",
@@ -190,6 +195,24 @@ impl Secure {
                 &dir.join("H02/index.db").display().to_string(),
             ]),
         ));
+        // A wire EDM machine's agent, with its own user and rules.
+        procs.push(Proc::start(
+            dir,
+            "agent-W01",
+            "gearcam-agent",
+            &s(&[
+                "--config",
+                &cfg("agent-W01"),
+                "--machine",
+                "W01",
+                "--dialect",
+                "wire3b",
+                "--program-dir",
+                &dir.join("W01/programs").display().to_string(),
+                "--index",
+                &dir.join("W01/index.db").display().to_string(),
+            ]),
+        ));
         Secure { tmp, port, procs }
     }
 
@@ -232,6 +255,13 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
     // The whole pipeline works through TLS, passwords and the ACL.
     let v = submit(dir, &planner, "SEC-0001");
     assert_eq!(v["state"], "delivered", "{v}\n{}", logs());
+    // So does a wire EDM die to W01 under its own agent user.
+    let die = std::fs::read_to_string(gearcam_testkit::examples::dir().join("die_m2z20_3b.toml"))
+        .unwrap()
+        .replace("PD-2001", "SEC-W001");
+    let v = submit_text(dir, &planner, "SEC-W001", &die);
+    assert_eq!(v["state"], "delivered", "{v}\n{}", logs());
+    assert!(dir.join("W01/programs/SEC-W001.3b").is_file(), "{}", logs());
 
     let rt = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
