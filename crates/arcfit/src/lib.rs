@@ -310,7 +310,7 @@ impl std::fmt::Display for FitError {
 impl std::error::Error for FitError {}
 
 /// Samples per arc and per curve piece of [`deviation`].
-pub const CHECK_SAMPLES: usize = 2000;
+pub const CHECK_SAMPLES: usize = 500;
 
 /// The largest distance between `arcs` and `curve`, both ways: `samples`
 /// points along each arc against the curve, and `samples`·n points of the

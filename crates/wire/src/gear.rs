@@ -212,10 +212,10 @@ impl Curve for Fillet {
 /// The right flank of figures: the involute from the form circle to the
 /// tip circle, placed in the gear's frame.
 pub fn flank_from(f: &Figures) -> Flank {
-    Flank {
-        involute: Involute::between_radii(f.base_radius_mm, f.form_radius_mm, f.tip_radius_mm),
-        base_angle: f.base_angle,
-    }
+    Flank::new(
+        Involute::between_radii(f.base_radius_mm, f.form_radius_mm, f.tip_radius_mm),
+        f.base_angle,
+    )
 }
 
 /// A generated tooth space: what the outline needs of a gear, whichever
@@ -343,11 +343,22 @@ pub struct Flank {
     pub involute: Involute,
     /// θb, radians.
     pub base_angle: f64,
+    /// sin θb and cos θb, once.
+    sin_cos: (f64, f64),
 }
 
 impl Flank {
+    /// The involute placed by θb.
+    pub fn new(involute: Involute, base_angle: f64) -> Flank {
+        Flank {
+            involute,
+            base_angle,
+            sin_cos: base_angle.sin_cos(),
+        }
+    }
+
     fn place(&self, p: (f64, f64)) -> (f64, f64) {
-        let (s, c) = self.base_angle.sin_cos();
+        let (s, c) = self.sin_cos;
         (c * p.0 + s * p.1, s * p.0 - c * p.1)
     }
 }

@@ -62,6 +62,9 @@ pub struct Outline {
     root_from: f64,
     /// The tip arc's polar angles (from the tooth's axis to the flank's end).
     tip_to: f64,
+    /// The root and tip arcs' end points in the fit's frame.
+    root_ends: [(f64, f64); 2],
+    tip_ends: [(f64, f64); 2],
 }
 
 /// Why there is no outline.
@@ -241,6 +244,24 @@ pub fn outline(gear: &dyn ToothSpace, tol: &Tolerances) -> Result<Outline, Outli
         fillet,
         root_from: deepest.1.atan2(deepest.0),
         tip_to: edge.1.atan2(edge.0),
+        root_ends: {
+            let at = |b: f64| {
+                (
+                    figures.root_radius_mm * b.cos(),
+                    figures.root_radius_mm * b.sin(),
+                )
+            };
+            [at(deepest.1.atan2(deepest.0)), at(FRAC_PI_2)]
+        },
+        tip_ends: {
+            let at = |b: f64| {
+                (
+                    figures.tip_radius_mm * b.cos(),
+                    figures.tip_radius_mm * b.sin(),
+                )
+            };
+            [at(FRAC_PI_2 - PI / z), at(edge.1.atan2(edge.0))]
+        },
     })
 }
 
@@ -274,30 +295,38 @@ impl Outline {
     /// folded into the half tooth space by the gear's symmetry.
     pub fn distance(&self, q: (f64, f64)) -> (f64, Piece) {
         let z = f64::from(self.teeth);
-        // Back into the fit's frame (the space's axis on +Y), then the
-        // angle from that axis folded into (−π/z, 0].
-        let q = turn(q, -PI / z);
+        // The angle from the first space's axis (π/2 + π/z), folded into
+        // (−π/z, 0] by whole pitches and the mirror about that axis; the
+        // point is then the fit frame's, the space's axis on +Y, on the
+        // circle of its radius.
         let r = q.0.hypot(q.1);
-        let d = (q.1.atan2(q.0) - FRAC_PI_2 + PI / z).rem_euclid(TAU / z) - PI / z;
-        let q = turn((0.0, r), -d.abs());
-        let a = q.1.atan2(q.0);
-        let circle = |radius: f64, lo: f64, hi: f64| {
+        let d = (q.1.atan2(q.0) - FRAC_PI_2).rem_euclid(TAU / z) - PI / z;
+        let a = FRAC_PI_2 - d.abs();
+        let q = (r * a.cos(), r * a.sin());
+        // An arc of the root or tip circle: the radial gap within its
+        // angles, else the nearer end point (the ends computed once).
+        let circle = |radius: f64, lo: f64, hi: f64, ends: &[(f64, f64); 2]| {
             if (lo..=hi).contains(&a) {
                 (r - radius).abs()
             } else {
-                let end = |b: f64| (q.0 - radius * b.cos()).hypot(q.1 - radius * b.sin());
-                end(lo).min(end(hi))
+                let end = |e: &(f64, f64)| (q.0 - e.0).hypot(q.1 - e.1);
+                end(&ends[0]).min(end(&ends[1]))
             }
         };
         let f = &self.figures;
         let best = [
             (
-                circle(f.root_radius_mm, self.root_from, FRAC_PI_2),
+                circle(f.root_radius_mm, self.root_from, FRAC_PI_2, &self.root_ends),
                 Piece::Root,
             ),
             (self.flank.distance(q), Piece::Flank),
             (
-                circle(f.tip_radius_mm, FRAC_PI_2 - PI / z, self.tip_to),
+                circle(
+                    f.tip_radius_mm,
+                    FRAC_PI_2 - PI / z,
+                    self.tip_to,
+                    &self.tip_ends,
+                ),
                 Piece::Tip,
             ),
         ]

@@ -24,7 +24,7 @@ pub struct Measure {
 }
 
 /// Samples per segment of [`measure`].
-pub const SAMPLES: usize = 24;
+pub const SAMPLES: usize = 16;
 
 /// Measures `path` against `outline` set off by `offset_mm`, on
 /// `samples` + 1 points per segment.
