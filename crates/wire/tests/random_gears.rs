@@ -49,7 +49,7 @@ fn tip_thickness(m: f64, z: u32, x: f64) -> f64 {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 100, ..ProptestConfig::default() })]
 
     #[test]
     fn random_gears_are_cut_within_tolerance_or_refused_for_their_reason(
