@@ -190,7 +190,7 @@ pub fn describe(ev: &JobEvent) -> String {
     match &ev.event {
         EventKind::Accepted { machine } => format!("station: journaled for {machine}"),
         EventKind::Planned { hob_id, confidence } => {
-            format!("knowledge: planned with hob {hob_id} (confidence {confidence:.2})")
+            format!("knowledge: planned with tool {hob_id} (confidence {confidence:.2})")
         }
         EventKind::Modelled { warnings } => {
             let mut line = format!(
