@@ -217,6 +217,42 @@ fn given_end_tangents_are_kept() {
     assert!(measured(&inv, &f.arcs) <= 0.002 * 1.001);
 }
 
+/// A closing biarc: asked to end on a point and tangent of its own (here
+/// the involute's end moved 1 µm along its normal, as a neighbouring
+/// piece's start would be), the spline ends exactly there with exactly that
+/// tangent, starts on the given point and tangent, and stays within the
+/// tolerance (brute force).
+#[test]
+fn a_closing_biarc_ends_exactly_on_the_given_point_and_tangent() {
+    let inv = Involute {
+        rb: 20.0,
+        t0: 0.15,
+        t1: 0.55,
+    };
+    let end = inv.point(0.55);
+    let goal = (end.0 + 0.001 * 0.55f64.sin(), end.1 - 0.001 * 0.55f64.cos());
+    let mut o = Options::tolerance(0.003);
+    o.start_point = Some(inv.point(0.15));
+    o.start_angle = Some(0.15);
+    o.end_point = Some(goal);
+    o.end_angle = Some(0.55 + 1e-4);
+    let f = fit(&inv, &o).unwrap();
+    assert!(f.arcs.len() >= 2, "{} arcs", f.arcs.len());
+    let last = f.arcs.last().unwrap();
+    let e = last.end();
+    assert!(
+        (e.0 - goal.0).hypot(e.1 - goal.1) < 1e-9,
+        "{e:?} vs {goal:?}"
+    );
+    assert!((last.end_angle() - (0.55 + 1e-4)).abs() < 1e-9);
+    assert_eq!(f.arcs[0].start_angle, 0.15);
+    for w in f.arcs.windows(2) {
+        let gap = (w[0].end().0 - w[1].start.0).hypot(w[0].end().1 - w[1].start.1);
+        assert!(gap < 1e-12 && (w[0].end_angle() - w[1].start_angle).abs() < 1e-12);
+    }
+    assert!(measured(&inv, &f.arcs) <= 0.003 * 1.001);
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(16))]
 
