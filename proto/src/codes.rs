@@ -490,6 +490,9 @@ catalogue! {
     TRAVEL_LIMIT: "template (path check)",
         "Path check finding: an X or Z target lies outside the machine's travel, or a swivel goes beyond its limit.",
         "The program was not sent; check the machine profile's travel or correct the template.";
+    UNDERCUT_TOO_DEEP: "model",
+        "A barely undercut gear: the generating rack's flank reaches just past the interference point, and the fillet ends off the involute without crossing it; the outline there (the involute's other branch) is not modelled. The scan of z 6–18, x −0.5…+0.8 finds it only at the edge of the undercut region.",
+        "Change the profile shift by a tenth (or the teeth by one) so the gear is clearly undercut or not.";
     UNEXPECTED_REPLY: "station, agent (seen by the CLI)",
         "The station or agent answered a query with another kind of reply than expected; it may run another version.",
         "Run the same gearcam version on the station, the agents and this computer.";

@@ -209,6 +209,15 @@ pub fn check(die: &DieSpec) -> Vec<Problem> {
             "the rack's tip round would reach past the pitch line: lower the shift or the tip radius",
         ));
     }
+    if out.is_empty() && !space_of(die).fillet_meets_involute() {
+        out.push(problem(
+            "UNDERCUT_TOO_DEEP",
+            "die.profile_shift",
+            "a gear clearly undercut or not: the fillet ending on the involute".into(),
+            format!("{} teeth shifted by {}", die.teeth, die.profile_shift),
+            "the rack's flank reaches just past the interference point and the fillet ends off the involute: gearcam does not model that outline; change the shift by a tenth",
+        ));
+    }
     if out.is_empty() {
         let sa = tip_thickness_mm(die);
         let least = MIN_TIP_THICKNESS * die.module_mm;

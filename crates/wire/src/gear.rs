@@ -231,6 +231,24 @@ pub trait ToothSpace {
     fn flank(&self) -> Flank;
     /// Whether the fillet cuts into the involute.
     fn undercut(&self) -> bool;
+    /// Whether the fillet ends on the involute, within 0.1 µm: always,
+    /// but where the tool's flank reaches past the interference point
+    /// without the fillet crossing the involute (some undercut gears):
+    /// there the flank cuts on along the involute's other branch, an
+    /// outline gearcam does not model. The fillet's last point's distance
+    /// from the involute along its circle is R·(θ − (θb − inv αR)).
+    fn fillet_meets_involute(&self) -> bool {
+        let f = self.figures();
+        let fillet = self.fillet_curve();
+        let (_, t1) = fillet.domain();
+        let p = fillet.point(t1);
+        let r = p.0.hypot(p.1);
+        if r < f.base_radius_mm {
+            return false;
+        }
+        let a = (f.base_radius_mm / r).acos();
+        (r * (p.1.atan2(p.0) - (f.base_angle - (a.tan() - a)))).abs() < 1e-4
+    }
 }
 
 impl ToothSpace for RackGear {
