@@ -69,18 +69,17 @@ fn the_python_client_delivers_reads_back_and_sees_typed_refusals() {
     );
 }
 
-/// The same client, unchanged, submits a spiral face milling job (a planar
-/// spiral groove for the LinuxCNC mill M02): the family is a field of the
-/// job file, and the client sees the same events and receipt.
-#[test]
-fn the_python_client_delivers_a_spiral_job_to_the_linuxcnc_mill() {
+/// Runs the client, unchanged, on `example` for `machine` as job `job`:
+/// it must report the delivery of `name`, and the hash it read back from
+/// the agent's store must be the hash of the file `name` on disk.
+fn python_delivers(machine: &str, example: &str, job: &str, name: &str) {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let mut cluster = Cluster::start();
-    cluster.start_agent_for("M02");
+    cluster.start_agent_for(machine);
     let out = Command::new("python3")
         .arg(root.join("proto/examples/client.py"))
-        .args(["--connect", &cluster.endpoint, "--job-id", "PY-S1"])
-        .arg(root.join("examples/groove_linuxcnc.toml"))
+        .args(["--connect", &cluster.endpoint, "--job-id", job])
+        .arg(root.join("examples").join(example))
         .output()
         .expect("run the client");
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -90,8 +89,11 @@ fn the_python_client_delivers_a_spiral_job_to_the_linuxcnc_mill() {
         String::from_utf8_lossy(&out.stderr),
         cluster.logs()
     );
-    assert!(stdout.contains("delivered PY-S1: PT-4002.ngc"), "{stdout}");
-    let on_disk = std::fs::read(cluster.dir().join("M02/programs/PT-4002.ngc")).unwrap();
+    assert!(
+        stdout.contains(&format!("delivered {job}: {name}")),
+        "{stdout}"
+    );
+    let on_disk = std::fs::read(cluster.dir().join(machine).join("programs").join(name)).unwrap();
     let hash = {
         use sha2::{Digest, Sha256};
         hex::encode(Sha256::digest(&on_disk))
@@ -102,35 +104,18 @@ fn the_python_client_delivers_a_spiral_job_to_the_linuxcnc_mill() {
     );
 }
 
+/// The same client, unchanged, submits a spiral face milling job (a planar
+/// spiral groove for the LinuxCNC mill M02): the family is a field of the
+/// job file, and the client sees the same events and receipt.
+#[test]
+fn the_python_client_delivers_a_spiral_job_to_the_linuxcnc_mill() {
+    python_delivers("M02", "groove_linuxcnc.toml", "PY-S1", "PT-4002.ngc");
+}
+
 /// The same client, unchanged, submits a wire EDM die job (a 40-tooth die
 /// in ISO for W02): it reads the stored program back from the agent's store
 /// by its name and checks its hash like any other.
 #[test]
 fn the_python_client_delivers_a_wire_die_to_the_iso_machine() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let mut cluster = Cluster::start();
-    cluster.start_agent_for("W02");
-    let out = Command::new("python3")
-        .arg(root.join("proto/examples/client.py"))
-        .args(["--connect", &cluster.endpoint, "--job-id", "PY-W1"])
-        .arg(root.join("examples/die_m1z40_iso.toml"))
-        .output()
-        .expect("run the client");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "client failed\nstdout:\n{stdout}\nstderr:\n{}\nlogs:\n{}",
-        String::from_utf8_lossy(&out.stderr),
-        cluster.logs()
-    );
-    assert!(stdout.contains("delivered PY-W1: O4001"), "{stdout}");
-    let on_disk = std::fs::read(cluster.dir().join("W02/programs/O4001")).unwrap();
-    let hash = {
-        use sha2::{Digest, Sha256};
-        hex::encode(Sha256::digest(&on_disk))
-    };
-    assert!(
-        stdout.contains(&hash),
-        "the file's hash {hash} in\n{stdout}"
-    );
+    python_delivers("W02", "die_m1z40_iso.toml", "PY-W1", "O4001");
 }

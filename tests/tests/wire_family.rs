@@ -15,7 +15,7 @@ use sha2::{Digest, Sha256};
 fn points(path: &[Segment]) -> Vec<(f64, f64)> {
     path.iter()
         .flat_map(|s| {
-            let a = gearcam_wire::outline::arc_of(s);
+            let a = s.arc();
             (0..20).map(move |i| a.point_at(a.length * f64::from(i) / 20.0))
         })
         .collect()

@@ -4,32 +4,18 @@
 //! and the pieces on their own.
 //! `cargo bench -p gearcam-wire --bench die`
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use common::molybdenum;
 use criterion::{criterion_group, criterion_main, Criterion};
-use gearcam_proto::{DiePart, DieSpec, Source, Sourced, WireProcess, WireProgram};
+use gearcam_proto::{DiePart, DieSpec, WireProgram};
 use gearcam_wire::die::cut;
 use gearcam_wire::offset::offset;
 use gearcam_wire::programs::{layout, make, write};
 
 fn die() -> DieSpec {
     DieSpec::new(DiePart::Die, 2.0, 40, 20.0, "Cr12MoV")
-}
-
-fn process(program: WireProgram) -> WireProcess {
-    let s = |value: f64| Sourced {
-        value,
-        source: Source::Library,
-    };
-    WireProcess {
-        wire: "MO-018".into(),
-        wire_diameter_mm: s(0.18),
-        spark_gap_mm: s(0.01),
-        pulse_on_us: s(24.0),
-        pulse_off_us: s(120.0),
-        current_a: s(3.0),
-        cutting_rate_mm2_min: s(60.0),
-        program,
-        whole: false,
-    }
 }
 
 fn bench(c: &mut Criterion) {
@@ -41,7 +27,7 @@ fn bench(c: &mut Criterion) {
         WireProgram::FourB,
         WireProgram::IsoWire,
     ] {
-        let p = process(form);
+        let p = molybdenum(form, false);
         let made = make(&d, &p, &[], 1).unwrap();
         eprintln!(
             "{}: fit at {} of the tolerances, {} arcs per flank, {} per fillet, {} blocks, {} bytes, flank {:.3} um, fillet {:.3} um",
@@ -58,7 +44,7 @@ fn bench(c: &mut Criterion) {
             b.iter(|| make(&d, &p, &[], 1).unwrap().certificate.blocks)
         });
     }
-    let p = process(WireProgram::ThreeB);
+    let p = molybdenum(WireProgram::ThreeB, false);
     let mut aimed = d.clone();
     aimed.flank_tolerance_um *= 0.75;
     aimed.fillet_tolerance_um *= 0.75;

@@ -8,6 +8,7 @@ use std::f64::consts::PI;
 use gearcam_proto::{Cutter, DiePart, DieSpec, WireProcess};
 
 use crate::gear::{RackGear, ToothSpace};
+use crate::involute::{inv, working_pressure_angle};
 use crate::offset::{offset, Side};
 use crate::outline::{outline, Outline, OutlineError, Piece, Tolerances};
 use crate::pinion::PinionGear;
@@ -83,11 +84,6 @@ pub fn space_of(die: &DieSpec) -> Box<dyn ToothSpace> {
     }
 }
 
-/// inv α = tan α − α.
-fn inv(a: f64) -> f64 {
-    a.tan() - a
-}
-
 /// The tooth's thickness on the tip circle, mm:
 /// s_a = d_a·(s/d + inv α − inv α_a), s = m·(π/2 + 2·x·tan α),
 /// cos α_a = d_b/d_a.
@@ -107,18 +103,8 @@ pub fn centre_distance_mm(die: &DieSpec) -> Option<f64> {
     let z2 = die.mating_teeth?;
     let a = die.pressure_angle_deg.to_radians();
     let z = f64::from(die.teeth + z2);
-    let target = inv(a) + 2.0 * a.tan() * (die.profile_shift + die.mating_shift) / z;
-    // inv is increasing on (0, π/2): bisect.
-    let (mut lo, mut hi) = (1e-6, PI / 2.0 - 1e-6);
-    for _ in 0..100 {
-        let mid = 0.5 * (lo + hi);
-        if inv(mid) < target {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    Some(die.module_mm * z / 2.0 * a.cos() / (0.5 * (lo + hi)).cos())
+    let working = working_pressure_angle(a, z, die.profile_shift + die.mating_shift);
+    Some(die.module_mm * z / 2.0 * a.cos() / working.cos())
 }
 
 /// Every problem of a `[die]` on its own (ranges, the cutter, a pointed
@@ -315,5 +301,5 @@ pub fn cut(die: &DieSpec, process: &WireProcess) -> Result<Cut, Problem> {
 
 /// The length of a path, mm.
 pub fn length_mm(path: &[Segment]) -> f64 {
-    path.iter().map(|s| crate::outline::arc_of(s).length).sum()
+    path.iter().map(|s| s.arc().length).sum()
 }

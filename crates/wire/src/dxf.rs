@@ -14,8 +14,6 @@
 //! about the part (material on the right), starting with the drawing's
 //! first entity.
 
-use std::f64::consts::TAU;
-
 use dxf::entities::{Arc, Entity, EntityType, Line};
 use dxf::enums::{AcadVersion, Units};
 use dxf::tables::Layer;
@@ -99,24 +97,6 @@ pub fn drawing(contour: &[Segment]) -> Result<Vec<u8>, DrawingError> {
     Ok(out)
 }
 
-/// A segment run the other way.
-fn reversed(s: Segment) -> Segment {
-    match s {
-        Segment::Line { from, to } => Segment::Line { from: to, to: from },
-        Segment::Arc {
-            from,
-            to,
-            centre,
-            ccw,
-        } => Segment::Arc {
-            from: to,
-            to: from,
-            centre,
-            ccw: !ccw,
-        },
-    }
-}
-
 /// Twice the area a closed contour encloses, positive when it runs
 /// counter-clockwise: the polygon of its ends plus each arc's circular
 /// segment, r²·(θ − sin θ) for a signed sweep θ.
@@ -130,13 +110,7 @@ fn twice_area(contour: &[Segment]) -> f64 {
                 Segment::Line { .. } => chord,
                 Segment::Arc { centre, ccw, .. } => {
                     let r = (a.0 - centre.0).hypot(a.1 - centre.1);
-                    let a0 = (a.1 - centre.1).atan2(a.0 - centre.0);
-                    let a1 = (b.1 - centre.1).atan2(b.0 - centre.0);
-                    let mut sweep = if ccw { a1 - a0 } else { a0 - a1 }.rem_euclid(TAU);
-                    if sweep < 1e-12 {
-                        sweep = TAU;
-                    }
-                    let theta = if ccw { sweep } else { -sweep };
+                    let theta = if ccw { s.sweep() } else { -s.sweep() };
                     chord + r * r * (theta - theta.sin())
                 }
             }
@@ -208,7 +182,7 @@ pub fn read_back(bytes: &[u8]) -> Result<Vec<Segment>, DrawingError> {
             )));
         }
         let s = left.swap_remove(k);
-        chain.push(if flip { reversed(s) } else { s });
+        chain.push(if flip { s.reversed() } else { s });
     }
     let (first, last) = (chain[0].from(), chain[chain.len() - 1].to());
     if dist(first, last) > JOIN_MM {
@@ -219,8 +193,8 @@ pub fn read_back(bytes: &[u8]) -> Result<Vec<Segment>, DrawingError> {
     }
     if twice_area(&chain) > 0.0 {
         // Counter-clockwise: run it the other way, still from the first.
-        let mut back = vec![reversed(chain[0])];
-        back.extend(chain[1..].iter().rev().map(|s| reversed(*s)));
+        let mut back = vec![chain[0].reversed()];
+        back.extend(chain[1..].iter().rev().map(Segment::reversed));
         chain = back;
     }
     Ok(chain)

@@ -19,6 +19,8 @@
 //! right of the travel).
 #![forbid(unsafe_code)]
 
+use std::f64::consts::{FRAC_PI_2, TAU};
+
 pub mod die;
 pub mod dxf;
 pub mod fourb;
@@ -68,6 +70,117 @@ impl Segment {
     pub fn to(&self) -> (f64, f64) {
         match *self {
             Segment::Line { to, .. } | Segment::Arc { to, .. } => to,
+        }
+    }
+
+    /// An arc's sweep in its own sense, radians: a whole turn when it ends
+    /// where it starts; 0 for a line.
+    pub fn sweep(&self) -> f64 {
+        match *self {
+            Segment::Line { .. } => 0.0,
+            Segment::Arc {
+                from,
+                to,
+                centre,
+                ccw,
+            } => {
+                let a0 = (from.1 - centre.1).atan2(from.0 - centre.0);
+                let a1 = (to.1 - centre.1).atan2(to.0 - centre.0);
+                let w = if ccw { a1 - a0 } else { a0 - a1 }.rem_euclid(TAU);
+                if w < 1e-12 {
+                    TAU
+                } else {
+                    w
+                }
+            }
+        }
+    }
+
+    /// Every point mapped by `f`, a rigid motion (an arc keeps its sense).
+    pub fn map(&self, f: impl Fn((f64, f64)) -> (f64, f64)) -> Segment {
+        match *self {
+            Segment::Line { from, to } => Segment::Line {
+                from: f(from),
+                to: f(to),
+            },
+            Segment::Arc {
+                from,
+                to,
+                centre,
+                ccw,
+            } => Segment::Arc {
+                from: f(from),
+                to: f(to),
+                centre: f(centre),
+                ccw,
+            },
+        }
+    }
+
+    /// Every point mapped by `f`, a reflection: an arc's sense turns.
+    pub fn reflect(&self, f: impl Fn((f64, f64)) -> (f64, f64)) -> Segment {
+        self.map(f).reversed_sense()
+    }
+
+    /// The segment run the other way.
+    pub fn reversed(&self) -> Segment {
+        match *self {
+            Segment::Line { from, to } => Segment::Line { from: to, to: from },
+            Segment::Arc {
+                from,
+                to,
+                centre,
+                ccw,
+            } => Segment::Arc {
+                from: to,
+                to: from,
+                centre,
+                ccw: !ccw,
+            },
+        }
+    }
+
+    /// The same ends and centre, the other sense.
+    fn reversed_sense(&self) -> Segment {
+        match *self {
+            Segment::Arc {
+                from,
+                to,
+                centre,
+                ccw,
+            } => Segment::Arc {
+                from,
+                to,
+                centre,
+                ccw: !ccw,
+            },
+            line => line,
+        }
+    }
+
+    /// The segment as an arc spline's arc (start, tangent, curvature,
+    /// length), to sample or measure it.
+    pub fn arc(&self) -> gearcam_arcfit::Arc {
+        match *self {
+            Segment::Line { from, to } => gearcam_arcfit::Arc {
+                start: from,
+                start_angle: (to.1 - from.1).atan2(to.0 - from.0),
+                curvature: 0.0,
+                length: (to.0 - from.0).hypot(to.1 - from.1),
+            },
+            Segment::Arc {
+                from, centre, ccw, ..
+            } => {
+                let r = (from.0 - centre.0).hypot(from.1 - centre.1);
+                let a0 = (from.1 - centre.1).atan2(from.0 - centre.0);
+                let sense = if ccw { 1.0 } else { -1.0 };
+                gearcam_arcfit::Arc {
+                    start: from,
+                    start_angle: a0 + sense * FRAC_PI_2,
+                    curvature: sense / r,
+                    length: r * self.sweep(),
+                }
+            }
         }
     }
 

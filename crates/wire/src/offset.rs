@@ -10,8 +10,6 @@
 //! (a concave place of the part tighter than the wire) is an error naming
 //! the segment and the radius.
 
-use std::f64::consts::TAU;
-
 use crate::Segment;
 
 /// The side of travel the wire runs on.
@@ -291,26 +289,4 @@ pub fn offset(outline: &[Segment], side: Side, d: f64) -> Result<Vec<Segment>, O
         }
     }
     Ok(out)
-}
-
-/// The sweep of an arc segment, radians (a whole circle when it closes).
-pub fn sweep(s: &Segment) -> f64 {
-    match *s {
-        Segment::Line { .. } => 0.0,
-        Segment::Arc {
-            from,
-            to,
-            centre,
-            ccw,
-        } => {
-            let a0 = (from.1 - centre.1).atan2(from.0 - centre.0);
-            let a1 = (to.1 - centre.1).atan2(to.0 - centre.0);
-            let w = if ccw { a1 - a0 } else { a0 - a1 }.rem_euclid(TAU);
-            if w < 1e-12 {
-                TAU
-            } else {
-                w
-            }
-        }
-    }
 }

@@ -17,7 +17,7 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use gearcam_arcfit::{fit, Arc, Curve, FitError, Options, Sampled};
+use gearcam_arcfit::{fit, Curve, FitError, Options, Sampled};
 
 use crate::gear::{Figures, Flank, ToothSpace};
 use crate::Segment;
@@ -105,45 +105,10 @@ fn mirror(p: (f64, f64), angle: f64) -> (f64, f64) {
     (c * p.0 + s * p.1, s * p.0 - c * p.1)
 }
 
-/// A segment with every point mapped by `f` (a rigid motion).
-pub fn map(s: &Segment, f: impl Fn((f64, f64)) -> (f64, f64)) -> Segment {
-    match *s {
-        Segment::Line { from, to } => Segment::Line {
-            from: f(from),
-            to: f(to),
-        },
-        Segment::Arc {
-            from,
-            to,
-            centre,
-            ccw,
-        } => Segment::Arc {
-            from: f(from),
-            to: f(to),
-            centre: f(centre),
-            ccw,
-        },
-    }
-}
-
 /// A segment mirrored about the line through the origin at `angle` and
-/// run the other way: the reflection turns an arc's sense and running it
-/// backwards turns it again, so the flag stays.
+/// run the other way.
 fn mirrored_back(s: &Segment, angle: f64) -> Segment {
-    match map(s, |p| mirror(p, angle)) {
-        Segment::Line { from, to } => Segment::Line { from: to, to: from },
-        Segment::Arc {
-            from,
-            to,
-            centre,
-            ccw,
-        } => Segment::Arc {
-            from: to,
-            to: from,
-            centre,
-            ccw,
-        },
-    }
+    s.reflect(|p| mirror(p, angle)).reversed()
 }
 
 fn concentric(from: (f64, f64), to: (f64, f64)) -> Segment {
@@ -208,7 +173,7 @@ pub fn outline(gear: &dyn ToothSpace, tol: &Tolerances) -> Result<Outline, Outli
         .rev()
         .map(|s| mirrored_back(s, tooth_axis))
         .collect();
-    let turned: Vec<Segment> = half.iter().map(|s| map(s, |p| turn(p, -pitch))).collect();
+    let turned: Vec<Segment> = half.iter().map(|s| s.map(|p| turn(p, -pitch))).collect();
     let mut rest = turned.into_iter();
     if !on_axis {
         let root = rest.next().expect("a root arc");
@@ -217,7 +182,7 @@ pub fn outline(gear: &dyn ToothSpace, tol: &Tolerances) -> Result<Outline, Outli
     }
     period.extend(rest);
     // Start in the middle of the tooth on +Y.
-    let period = period.iter().map(|s| map(s, |p| turn(p, PI / z))).collect();
+    let period = period.iter().map(|s| s.map(|p| turn(p, PI / z))).collect();
     Ok(Outline {
         period,
         teeth: gear.teeth(),
@@ -285,7 +250,7 @@ impl Outline {
         (0..self.teeth)
             .flat_map(|k| {
                 let a = -pitch * f64::from(k);
-                self.period.iter().map(move |s| map(s, |p| turn(p, a)))
+                self.period.iter().map(move |s| s.map(|p| turn(p, a)))
             })
             .collect()
     }
@@ -384,38 +349,5 @@ impl Outline {
         let mut out: Vec<(f64, f64)> = right.iter().rev().copied().collect();
         out.extend(right.iter().map(|&p| mirror(p, axis)));
         out
-    }
-}
-
-/// An arc spline's arc as a plain [`Arc`] again (for measuring).
-pub fn arc_of(s: &Segment) -> Arc {
-    match *s {
-        Segment::Line { from, to } => Arc {
-            start: from,
-            start_angle: (to.1 - from.1).atan2(to.0 - from.0),
-            curvature: 0.0,
-            length: (to.0 - from.0).hypot(to.1 - from.1),
-        },
-        Segment::Arc {
-            from,
-            to,
-            centre,
-            ccw,
-        } => {
-            let r = (from.0 - centre.0).hypot(from.1 - centre.1);
-            let a0 = (from.1 - centre.1).atan2(from.0 - centre.0);
-            let a1 = (to.1 - centre.1).atan2(to.0 - centre.0);
-            let mut sweep = if ccw { a1 - a0 } else { a0 - a1 }.rem_euclid(TAU);
-            if sweep < 1e-12 {
-                sweep = TAU;
-            }
-            let sense = if ccw { 1.0 } else { -1.0 };
-            Arc {
-                start: from,
-                start_angle: a0 + sense * FRAC_PI_2,
-                curvature: sense / r,
-                length: r * sweep,
-            }
-        }
     }
 }

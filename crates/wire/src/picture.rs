@@ -9,7 +9,7 @@ use svg::node::element::path::Data;
 use svg::node::element::{Circle, Group, Path, Text, SVG};
 use svg::Document;
 
-use crate::outline::{arc_of, turn};
+use crate::outline::turn;
 use crate::programs::Made;
 use crate::Segment;
 
@@ -29,7 +29,7 @@ fn polyline(points: &[(f64, f64)]) -> Data {
 }
 
 fn points_of(s: &Segment, n: usize) -> Vec<(f64, f64)> {
-    let a = arc_of(s);
+    let a = s.arc();
     (0..=n)
         .map(|i| a.point_at(a.length * i as f64 / n as f64))
         .collect()
@@ -66,11 +66,7 @@ pub fn die_svg(made: &Made, title: &str) -> String {
     // pitch lies there (the contour runs clockwise from the tooth on +Y).
     let per = o.period.len();
     let pitch = std::f64::consts::TAU / z;
-    let arcs: Vec<Segment> = o
-        .period
-        .iter()
-        .map(|s| crate::outline::map(s, |p| turn(p, pitch)))
-        .collect();
+    let arcs: Vec<Segment> = o.period.iter().map(|s| s.map(|p| turn(p, pitch))).collect();
     let mut magnified = Vec::new();
     for (i, s) in arcs.iter().enumerate() {
         let pts = points_of(s, 60);
@@ -83,7 +79,7 @@ pub fn die_svg(made: &Made, title: &str) -> String {
                 .set("r", 4.0 * w)
                 .set("fill", "black"),
         );
-        let a = arc_of(s);
+        let a = s.arc();
         for (k, q) in pts.iter().enumerate() {
             let ang = a.start_angle + a.curvature * a.length * k as f64 / 60.0;
             let n = (-ang.sin(), ang.cos());
@@ -100,7 +96,7 @@ pub fn die_svg(made: &Made, title: &str) -> String {
         .path
         .iter()
         .take(made.cut.path.len() / o.teeth as usize)
-        .flat_map(|s| points_of(&crate::outline::map(s, |p| turn(p, pitch)), 30))
+        .flat_map(|s| points_of(&s.map(|p| turn(p, pitch)), 30))
         .collect();
     let dash = stroke(polyline(&path_pts), "#2171b5", 1.5 * w)
         .set("stroke-dasharray", format!("{} {}", 8.0 * w, 4.0 * w));

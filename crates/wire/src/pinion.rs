@@ -49,6 +49,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use gearcam_arcfit::Curve;
 
 use crate::gear::{self, Figures, Flank, RackGear, ToothSpace};
+use crate::involute::{inv, working_pressure_angle};
 
 /// A gear cut by a pinion-type cutter.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -59,10 +60,6 @@ pub struct PinionGear {
     pub cutter_teeth: u32,
     /// Cutter profile shift x0.
     pub cutter_shift: f64,
-}
-
-fn inv(a: f64) -> f64 {
-    a.tan() - a
 }
 
 fn rot(p: (f64, f64), a: f64) -> (f64, f64) {
@@ -94,18 +91,7 @@ impl PinionGear {
         let g = &self.gear;
         let (m, alpha) = (g.module_mm, g.pressure_angle_deg.to_radians());
         let (z, z0) = (f64::from(g.teeth), f64::from(self.cutter_teeth));
-        let target =
-            inv(alpha) + 2.0 * alpha.tan() * (g.profile_shift + self.cutter_shift) / (z + z0);
-        let (mut lo, mut hi) = (1e-9, FRAC_PI_2 - 1e-9);
-        for _ in 0..100 {
-            let mid = 0.5 * (lo + hi);
-            if inv(mid) < target {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        let working = 0.5 * (lo + hi);
+        let working = working_pressure_angle(alpha, z + z0, g.profile_shift + self.cutter_shift);
         let a = m * (z + z0) / 2.0 * alpha.cos() / working.cos();
         let r0 = m * z0 / 2.0;
         let rb0 = r0 * alpha.cos();

@@ -91,7 +91,7 @@ pub fn block(s: &Segment) -> String {
         } => {
             let (sx, sy) = (from.0 - centre.0, from.1 - centre.1);
             let end = (to.0 - centre.0, to.1 - centre.1);
-            arc_block(um(sx), um(sy), end, sweep_of(from, to, centre, ccw), ccw)
+            arc_block(um(sx), um(sy), end, s.sweep(), ccw)
         }
     };
     b.to_string()
@@ -162,7 +162,7 @@ pub(crate) fn blocks_from(start: (f64, f64), segments: &[Segment]) -> Vec<Block>
                     // The ideal sweep decides a whole circle or a sliver;
                     // the simulated start moves it by the small difference
                     // of angle.
-                    let ideal = sweep_of(from, to, ideal_centre, ccw);
+                    let ideal = s.sweep();
                     let a0 = (ry as f64).atan2(rx as f64);
                     let a1 = (to.1 - c.1).atan2(to.0 - c.0);
                     let i0 = (from.1 - ideal_centre.1).atan2(from.0 - ideal_centre.0);
@@ -216,19 +216,6 @@ fn onto_bisector(centre: (f64, f64), at: (f64, f64), to: (f64, f64)) -> (f64, f6
     let m = (0.5 * (at.0 + to.0), 0.5 * (at.1 + to.1));
     let along = (centre.0 - m.0) * ux + (centre.1 - m.1) * uy;
     (centre.0 - along * ux, centre.1 - along * uy)
-}
-
-/// The sweep (positive, radians) of an arc in its own sense; a whole turn
-/// when it ends where it starts.
-fn sweep_of(from: (f64, f64), to: (f64, f64), centre: (f64, f64), ccw: bool) -> f64 {
-    let a0 = (from.1 - centre.1).atan2(from.0 - centre.0);
-    let a1 = (to.1 - centre.1).atan2(to.0 - centre.0);
-    let sweep = if ccw { a1 - a0 } else { a0 - a1 }.rem_euclid(TAU);
-    if sweep < 1e-12 {
-        TAU
-    } else {
-        sweep
-    }
 }
 
 /// The block of a line moving by (dx, dy) µm.

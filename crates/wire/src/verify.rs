@@ -7,7 +7,7 @@
 
 use std::f64::consts::TAU;
 
-use crate::outline::{arc_of, Outline, Piece};
+use crate::outline::{Outline, Piece};
 use crate::Segment;
 
 /// What a path measured.
@@ -33,7 +33,7 @@ pub fn measure(outline: &Outline, path: &[Segment], offset_mm: f64, samples: usi
     let mut angle = 0.0;
     let mut last: Option<f64> = None;
     for s in path {
-        let a = arc_of(s);
+        let a = s.arc();
         for i in 0..=samples {
             let p = a.point_at(a.length * i as f64 / samples as f64);
             let (d, piece) = outline.distance(p);

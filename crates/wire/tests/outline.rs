@@ -6,7 +6,7 @@ use std::f64::consts::TAU;
 
 use gearcam_arcfit::Curve;
 use gearcam_wire::gear::RackGear;
-use gearcam_wire::outline::{arc_of, outline, turn, Piece, Tolerances};
+use gearcam_wire::outline::{outline, turn, Piece, Tolerances};
 use gearcam_wire::Segment;
 
 fn gear(m: f64, z: u32, x: f64) -> RackGear {
@@ -37,7 +37,7 @@ fn gap(a: (f64, f64), b: (f64, f64)) -> f64 {
 fn worst_ratio(o: &gearcam_wire::outline::Outline, segments: &[Segment]) -> f64 {
     let mut worst: f64 = 0.0;
     for s in segments {
-        let a = arc_of(s);
+        let a = s.arc();
         for i in 0..=400 {
             let (d, piece) = o.distance(a.point_at(a.length * f64::from(i) / 400.0));
             let tol = match piece {
@@ -74,7 +74,7 @@ fn the_m2_z20_outline_is_closed_smooth_and_within_its_tolerances() {
     // Corners only at the tooth's tip edges: two per pitch.
     let corners = (0..all.len())
         .filter(|&i| {
-            let (a, b) = (arc_of(&all[i]), arc_of(&all[(i + 1) % all.len()]));
+            let (a, b) = (all[i].arc(), all[(i + 1) % all.len()].arc());
             let turn = (b.start_angle - a.end_angle() + 3.0 * std::f64::consts::PI).rem_euclid(TAU)
                 - std::f64::consts::PI;
             turn.abs() > 1e-7
@@ -92,11 +92,11 @@ fn the_m2_z20_outline_is_closed_smooth_and_within_its_tolerances() {
     let start = 1 + nk + nf + 1;
     let fillet: Vec<f64> = o.period[start..start + nf]
         .iter()
-        .map(|s| arc_of(s).curvature)
+        .map(|s| s.arc().curvature)
         .collect();
     let flank: Vec<f64> = o.period[start + nf..start + nf + nk]
         .iter()
-        .map(|s| arc_of(s).curvature)
+        .map(|s| s.arc().curvature)
         .collect();
     assert!(fillet.iter().all(|k| *k > 0.0), "fillet {fillet:?}");
     assert!(flank.iter().all(|k| *k < 0.0), "flank {flank:?}");
@@ -174,7 +174,7 @@ fn a_square_sets_off_outside_round_and_inside_sharp() {
         assert_eq!(path.len(), blocks, "{side:?}");
         for (i, s) in path.iter().enumerate() {
             assert!(gap(s.to(), path[(i + 1) % path.len()].from()) < 1e-12);
-            let a = arc_of(s);
+            let a = s.arc();
             for k in 0..=50 {
                 let d = square_distance(a.point_at(a.length * f64::from(k) / 50.0));
                 assert!((d - 0.13).abs() < 1e-12, "{side:?} {i}: {d}");

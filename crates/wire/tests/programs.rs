@@ -1,31 +1,16 @@
 //! Die jobs made end to end: the program written, read back, replayed as
 //! the control runs it and measured against the theoretical outline.
 
-use gearcam_proto::{DiePart, DieSpec, Source, Sourced, WireProcess, WireProgram};
+mod common;
+
+use common::molybdenum;
+use gearcam_proto::{DiePart, DieSpec, WireProgram};
 use gearcam_wire::programs::make;
 
 fn die(part: DiePart, m: f64, z: u32, x: f64) -> DieSpec {
     let mut d = DieSpec::new(part, m, z, 20.0, "Cr12MoV");
     d.profile_shift = x;
     d
-}
-
-fn process(program: WireProgram, whole: bool) -> WireProcess {
-    let s = |value: f64| Sourced {
-        value,
-        source: Source::Library,
-    };
-    WireProcess {
-        wire: "MO-018".into(),
-        wire_diameter_mm: s(0.18),
-        spark_gap_mm: s(0.01),
-        pulse_on_us: s(24.0),
-        pulse_off_us: s(120.0),
-        current_a: s(3.0),
-        cutting_rate_mm2_min: s(60.0),
-        program,
-        whole,
-    }
 }
 
 /// m2 z20 as punch and die in every form, whole and in quarters: each
@@ -41,7 +26,7 @@ fn every_form_replays_within_its_tolerances_whole_and_in_quarters() {
         for part in [DiePart::Die, DiePart::Punch] {
             for whole in [true, false] {
                 let d = die(part, 2.0, 20, 0.0);
-                let made = make(&d, &process(form, whole), &["TEST".into()], 1234).unwrap();
+                let made = make(&d, &molybdenum(form, whole), &["TEST".into()], 1234).unwrap();
                 let c = &made.certificate;
                 eprintln!(
                     "m2 z20 {part:?} {} whole {whole}: {} sections, {} blocks, {} bytes, flank {:.3} um, fillet {:.3} um, closure {:.3} um, share {}, {} arcs/flank",

@@ -10,7 +10,10 @@
 //! round past the pitch line (x ≥ ha* + c* − ρ*), or a wire too thick for
 //! a concave radius (the radius named is under the offset).
 
-use gearcam_proto::{DiePart, DieSpec, Source, Sourced, WireProcess, WireProgram};
+mod common;
+
+use common::molybdenum;
+use gearcam_proto::{DiePart, DieSpec, WireProgram};
 use gearcam_wire::die::check;
 use gearcam_wire::programs::make;
 use proptest::prelude::*;
@@ -19,24 +22,6 @@ fn spec(m: f64, z: u32, x: f64, part: DiePart) -> DieSpec {
     let mut d = DieSpec::new(part, m, z, 20.0, "Cr12MoV");
     d.profile_shift = x;
     d
-}
-
-fn process(program: WireProgram) -> WireProcess {
-    let s = |value: f64| Sourced {
-        value,
-        source: Source::Library,
-    };
-    WireProcess {
-        wire: "MO-018".into(),
-        wire_diameter_mm: s(0.18),
-        spark_gap_mm: s(0.01),
-        pulse_on_us: s(24.0),
-        pulse_off_us: s(120.0),
-        current_a: s(3.0),
-        cutting_rate_mm2_min: s(60.0),
-        program,
-        whole: false,
-    }
 }
 
 /// The tooth's thickness on the tip circle by the involute function,
@@ -83,7 +68,7 @@ proptest! {
         }
         prop_assert!(x < 1.25 - 0.38);
         prop_assert!(tip_thickness(m, z, x) >= 0.2 * m);
-        match make(&d, &process(form), &[], 1) {
+        match make(&d, &molybdenum(form, false), &[], 1) {
             Ok(made) => {
                 let c = &made.certificate.measure;
                 prop_assert!(c.flank_mm <= 0.001, "flank {} mm", c.flank_mm);
@@ -102,7 +87,7 @@ proptest! {
                     .filter_map(|w| w.parse().ok())
                     .collect();
                 prop_assert!(figures[0] <= 1.0 + 0.71 && figures[1] <= 5.0 + 0.71, "{:?}", p);
-                let made = make(&d, &process(WireProgram::IsoWire), &[], 1);
+                let made = make(&d, &molybdenum(WireProgram::IsoWire, false), &[], 1);
                 prop_assert!(made.is_ok(), "ISO too: {:?}", made.err());
             }
             Err(p) => {

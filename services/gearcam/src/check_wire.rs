@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 
 use gearcam_proto::{Family, JobRequest, Sourced, SpiralModel, WireModel};
 use gearcam_template::Templates;
+use gearcam_wire::programs::Made;
 use rusqlite::Connection;
 
 use crate::check::{
@@ -17,8 +18,8 @@ use crate::check::{
 pub enum Drawing {
     /// A spiral job's.
     Spiral(Box<SpiralModel>),
-    /// A wire job's.
-    Wire(Box<gearcam_proto::WireModel>),
+    /// A wire job's, with its die as made (outline, path, program).
+    Wire(Box<WireModel>, Box<Made>),
 }
 
 /// Runs knowledge → model → program locally for one request of any
@@ -35,19 +36,22 @@ pub fn check_any(
         }
         Family::WireEdm => {
             let (r, m) = check_wire(conn, req, job_summary(req));
-            (r, m.map(|m| Drawing::Wire(Box::new(m))))
+            (
+                r,
+                m.map(|(model, made)| Drawing::Wire(Box::new(model), Box::new(made))),
+            )
         }
         Family::Hobbing => (crate::check::check(conn, templates, req), None),
     }
 }
 
-/// Knowledge → model → program for a wire job; the report and the model
-/// (for the picture).
+/// Knowledge → model → program for a wire job; the report, and the model
+/// with its die as made (for the picture).
 pub fn check_wire(
     conn: &Connection,
     req: &JobRequest,
     mut report: CheckReport,
-) -> (CheckReport, Option<WireModel>) {
+) -> (CheckReport, Option<(WireModel, Made)>) {
     let plan = match gearcam_knowledge::wire::plan_wire(conn, req) {
         Ok(p) => p,
         Err(errors) => {
@@ -76,13 +80,14 @@ pub fn check_wire(
         values,
         None,
     ));
-    let model = match gearcam_model::wire::compute_wire(&plan) {
+    let made = match gearcam_model::wire::made(&plan) {
         Ok(m) => m,
         Err(errors) => {
             report.errors = errors;
             return (report, None);
         }
     };
+    let model = gearcam_model::wire::model_of(&plan, &made);
     report.model = Some(ModelReport::Wire(Box::new(WireReport {
         die: model.die.clone(),
     })));
@@ -101,17 +106,14 @@ pub fn check_wire(
         }
         Err(errors) => report.errors = errors,
     }
-    (report, Some(model))
+    (report, Some((model, made)))
 }
 
-/// The picture of a wire model (SVG) and its part outline as DXF: the die
-/// made again and drawn.
-pub fn die_drawings(model: &WireModel) -> Result<(String, Vec<u8>), String> {
+/// The picture of a wire model's die (SVG) and its part outline as DXF.
+pub fn die_drawings(model: &WireModel, made: &Made) -> Result<(String, Vec<u8>), String> {
     let plan = &model.plan;
-    let made = gearcam_wire::programs::make(&plan.die, &plan.process, &[], 1)
-        .map_err(|p| format!("{}: {}", p.code, p.message))?;
     let svg = gearcam_wire::picture::die_svg(
-        &made,
+        made,
         &format!(
             "{} {} m{} z{}",
             plan.request.spec.job.part_number,
@@ -155,7 +157,7 @@ mod tests {
                 ),
                 None => {
                     assert!(report.ok, "{name}: {}", format_errors(&report.errors));
-                    let Some(Drawing::Wire(model)) = model else {
+                    let Some(Drawing::Wire(model, made)) = model else {
                         panic!("{name}: no wire model")
                     };
                     let d = &model.die;
@@ -168,7 +170,7 @@ mod tests {
                     if d.undercut {
                         seen.insert("undercut".into());
                     }
-                    let (svg, dxf) = die_drawings(&model).unwrap();
+                    let (svg, dxf) = die_drawings(&model, &made).unwrap();
                     assert!(svg.starts_with("<svg") && svg.contains("<path"), "{name}");
                     // The outline as DXF reads back closed, every tooth.
                     let back = gearcam_wire::dxf::read_back(&dxf).unwrap();

@@ -43,6 +43,24 @@ pub mod wire;
 use gearcam_proto::{GearClass, GearSpec, Geometry, JobError, MachiningModel, ProcessPlan};
 
 /// Version of the model code, written into every [`MachiningModel`].
+/// `PROGRAM_FORM`: the job's program form is not one the machine's
+/// control runs (the milling and the wire families' models).
+pub fn program_form_error(
+    field: &str,
+    machine: &gearcam_proto::MachineId,
+    controller: &str,
+    forms: &[&str],
+    got: &str,
+) -> gearcam_proto::JobError {
+    gearcam_proto::Stage::Model.error(
+        "PROGRAM_FORM",
+        field,
+        format!("a form {machine} runs: {}", forms.join(", ")),
+        got,
+        format!("{machine} is a {controller} control"),
+    )
+}
+
 pub const MODEL_VERSION: &str = concat!("gearcam-model ", env!("CARGO_PKG_VERSION"));
 
 /// The ISO 21771 geometry of a gear (see [`geometry::geometry`]).

@@ -159,20 +159,13 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
     let rt = plan.tool.radius_mm;
     let mut errors = Vec::new();
     if !m.programs.contains(&p.program) {
-        errors.push(Stage::Model.error(
-            "PROGRAM_FORM",
+        let forms: Vec<&str> = m.programs.iter().map(|f| f.as_str()).collect();
+        errors.push(crate::program_form_error(
             "milling.program",
-            format!(
-                "a form {} runs: {}",
-                m.id,
-                m.programs
-                    .iter()
-                    .map(|f| f.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
+            &m.id,
+            &m.controller,
+            &forms,
             p.program.as_str(),
-            format!("{} is a {} control", m.id, m.controller),
         ));
     }
     if p.passes == 0 {

@@ -21,20 +21,13 @@ pub fn made(plan: &WirePlan) -> Result<Made, Vec<JobError>> {
     let die = &plan.die;
     let mut errors: Vec<JobError> = check(die).into_iter().map(error).collect();
     if !m.programs.contains(&p.program) {
-        errors.push(Stage::Model.error(
-            "PROGRAM_FORM",
+        let forms: Vec<&str> = m.programs.iter().map(|f| f.as_str()).collect();
+        errors.push(crate::program_form_error(
             "wire.program",
-            format!(
-                "a form {} runs: {}",
-                m.id,
-                m.programs
-                    .iter()
-                    .map(|f| f.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
+            &m.id,
+            &m.controller,
+            &forms,
             p.program.as_str(),
-            format!("{} is a {} control", m.id, m.controller),
         ));
     }
     if die.thickness_mm > m.max_thickness_mm {
@@ -114,7 +107,11 @@ pub fn figures(plan: &WirePlan, made: &Made) -> DieFigures {
 
 /// The machining model of a wire job.
 pub fn compute_wire(plan: &WirePlan) -> Result<WireModel, Vec<JobError>> {
-    let made = made(plan)?;
+    Ok(model_of(plan, &made(plan)?))
+}
+
+/// The machining model of a wire job from its die made ([`made`]).
+pub fn model_of(plan: &WirePlan, made: &Made) -> WireModel {
     let mut warnings = Vec::new();
     if made.cut.outline.undercut {
         warnings.push(gearcam_proto::Warning {
@@ -126,11 +123,11 @@ pub fn compute_wire(plan: &WirePlan) -> Result<WireModel, Vec<JobError>> {
             ),
         });
     }
-    Ok(WireModel {
+    WireModel {
         job_id: plan.job_id.clone(),
         plan: plan.clone(),
-        die: figures(plan, &made),
+        die: figures(plan, made),
         warnings,
         model_version: MODEL_VERSION.to_string(),
-    })
+    }
 }

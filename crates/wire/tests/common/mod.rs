@@ -1,8 +1,30 @@
 //! Contours shared by the format tests, built here independently of the
-//! writers under test.
+//! writers under test, and the wire process the die tests and the bench
+//! cut with.
 #![allow(dead_code)]
 
+use gearcam_proto::{Source, Sourced, WireProcess, WireProgram};
 use gearcam_wire::Segment;
+
+/// W01's molybdenum wire (0.18 mm, spark gap 0.01 mm: offset 0.1 mm) with
+/// the seeded tool-steel technology, writing `program`.
+pub(crate) fn molybdenum(program: WireProgram, whole: bool) -> WireProcess {
+    let s = |value: f64| Sourced {
+        value,
+        source: Source::Library,
+    };
+    WireProcess {
+        wire: "MO-018".into(),
+        wire_diameter_mm: s(0.18),
+        spark_gap_mm: s(0.01),
+        pulse_on_us: s(24.0),
+        pulse_off_us: s(120.0),
+        current_a: s(3.0),
+        cutting_rate_mm2_min: s(60.0),
+        program,
+        whole,
+    }
+}
 
 /// A point at `r` mm and `deg` degrees about the origin.
 pub(crate) fn polar(r: f64, deg: f64) -> (f64, f64) {

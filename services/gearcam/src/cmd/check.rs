@@ -46,8 +46,8 @@ fn write_drawings(
 ) {
     let files = match model {
         crate::check_wire::Drawing::Spiral(m) => Ok((check::spiral_picture(m), None)),
-        crate::check_wire::Drawing::Wire(m) => {
-            crate::check_wire::die_drawings(m).map(|(svg, dxf)| (svg, Some(dxf)))
+        crate::check_wire::Drawing::Wire(m, made) => {
+            crate::check_wire::die_drawings(m, made).map(|(svg, dxf)| (svg, Some(dxf)))
         }
     };
     match files {
