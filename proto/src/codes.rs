@@ -382,6 +382,9 @@ catalogue! {
     NO_TOOL: "knowledge",
         "No tool of the library fits: no end mill of the groove's width, or an empty tool library.",
         "Add a tool (gearcam kb add mills) or give `[mill]`.";
+    PLUNGE_IN_MATERIAL: "template, agent (spiral replay)",
+        "Spiral verification finding: a feed move goes down below the face where the tool's disc overlaps the face's material, so the pass would start inside it.",
+        "The program was not sent; report it, the generator is at fault.";
     PARSE: "template (path check)",
         "Path check finding: a program line lies outside the NC subset gearcam emits, or its arithmetic fails.",
         "The program was not sent; correct the template line named in the error.";
@@ -416,7 +419,7 @@ catalogue! {
         "Path check finding: a rapid move passes through the zone where the hob can touch the blank.",
         "The program was not sent; correct the template's rapid moves or the safety distance.";
     RAPID_IN_MATERIAL: "template, agent (spiral replay)",
-        "Spiral verification finding: the replayed program moves at rapid below the face.",
+        "Spiral verification finding: the replayed program moves at rapid below the face, or across X/Y while the tool is below it (no retract first).",
         "The program was not sent; report it, the generator is at fault.";
     REPLAY_FAILED: "template, agent (spiral replay)",
         "Spiral verification finding: the program could not be replayed by the Macro B / LinuxCNC subset interpreter (a syntax error, an unset variable, a runaway loop); the line is given.",
@@ -538,12 +541,21 @@ catalogue! {
     UNKNOWN_WIRE: "knowledge",
         "The wire named in `[wire]` (or the machine's default wire) is not in the knowledge base's wires.",
         "Name a wire of `gearcam kb list wires`, or add it.";
+    UNSAFE_APPROACH: "template, agent (spiral replay)",
+        "Spiral verification finding: the replayed program moves in X/Y before a move has taken the tool up to the safe height (where the tool starts is not known).",
+        "The program was not sent; report it, the generator is at fault.";
     WIRE_CLOSURE: "template, agent (wire replay)",
         "Wire verification finding: the replayed program does not close on itself within the flank's tolerance, or does not go once round the part.",
         "The program was not sent; report it, the generator is at fault.";
     WIRE_DEVIATION: "model, template, agent (wire replay)",
         "Wire verification finding: the replayed wire path strays from the outline set off by the wire further than the flank's or the fillet's tolerance, even with the tightest fit.",
         "Loosen the tolerances or choose the ISO form (its 0.1 µm resolution leaves the fit more room); expected and got give the figures.";
+    WIRE_LEAD_CROSSES_PART: "model, template, agent (wire replay)",
+        "Wire verification finding: the replayed lead-in or lead-out runs through the part that is kept (the die plate, the punch), or starts from a hole inside it; the message names the block and the place.",
+        "The program was not sent; report it, the generator is at fault.";
+    WIRE_LEAD_OUT: "model, template, agent (wire replay)",
+        "Wire verification finding: the replayed program, every block run as the control runs it (lead-in, turned sections, lead-out), does not end at its start hole; the message says where it ends.",
+        "The program was not sent; report it, the generator is at fault.";
     WIRE_REPLAY_FAILED: "model, template, agent (wire replay)",
         "Wire verification finding: the program could not be read back or replayed (a block the reader refuses, or the control's offset impossible on it).",
         "The program was not sent; report it, the generator is at fault.";

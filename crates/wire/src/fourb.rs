@@ -58,15 +58,26 @@ pub fn program(segments: &[Segment]) -> String {
 /// [`threeb::program_from`]: the same X, Y, J, G, Z, with R the radius of
 /// the arc as written, √(X² + Y²) rounded to the µm.
 pub fn program_from(start: (f64, f64), segments: &[Segment]) -> String {
+    text(&threeb::blocks_from(start, segments))
+}
+
+/// The 4B text of 3B `blocks` (a contour run clockwise about the part):
+/// each arc with its kind, L3 for a clockwise arc (convex), L4 for a
+/// counter-clockwise one, and R, its radius as written, √(X² + Y²)
+/// rounded to the µm; lines as they are; then `DD`.
+pub fn text(blocks: &[Block]) -> String {
     let mut p = String::new();
-    for (s, b) in segments.iter().zip(threeb::blocks_from(start, segments)) {
-        let _ = match *s {
-            Segment::Line { .. } => writeln!(p, "{b}"),
-            Segment::Arc { ccw, .. } => {
-                // The radius of the arc as written (its start from its
-                // centre), which the control offsets.
+    for b in blocks {
+        let _ = match b.kind {
+            Kind::Line => writeln!(p, "{b}"),
+            Kind::Clockwise | Kind::CounterClockwise => {
                 let r = (b.x as f64).hypot(b.y as f64).round() as i64;
-                writeln!(p, "L{}{r}{b}", if ccw { 4 } else { 3 })
+                let kind = if b.kind == Kind::CounterClockwise {
+                    4
+                } else {
+                    3
+                };
+                writeln!(p, "L{kind}{r}{b}")
             }
         };
     }

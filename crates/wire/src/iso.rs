@@ -176,6 +176,8 @@ pub struct Move {
 /// A program followed as the control does.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Replay {
+    /// Where the program starts: the last `G92` before the first move.
+    pub start: (f64, f64),
     /// Every move, in order.
     pub moves: Vec<Move>,
 }
@@ -315,7 +317,11 @@ fn run(
         pc += 1;
         match statement(s, &mut st, &mut moves)? {
             Flow::Next => {}
-            Flow::End => return Ok(Replay { moves }),
+            Flow::End => {
+                // Before its first move only G92 sets where the wire is.
+                let start = moves.first().map_or(st.at, |m: &Move| m.segment.from());
+                return Ok(Replay { start, moves });
+            }
             Flow::Call(p) => {
                 let Some(&at) = programs.get(&p) else {
                     return Err(ReadError {

@@ -25,6 +25,7 @@ pub mod die;
 pub mod dxf;
 pub mod fourb;
 pub mod gear;
+pub mod intersect;
 pub mod involute;
 pub mod iso;
 pub mod offset;

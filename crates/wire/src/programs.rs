@@ -107,40 +107,173 @@ pub fn write(
         });
         return Written { text, blocks };
     }
-    let mut segments = vec![Segment::Line {
+    let lead_in = Segment::Line {
         from: layout.start_hole,
         to: start,
-    }];
+    };
+    let mut segments = vec![lead_in];
     segments.extend(part);
-    // The lead-out leaves from where the last section ends: the start.
-    segments.push(Segment::Line {
-        from: start,
-        to: layout.start_hole,
+    let mut blocks = threeb::blocks_from(layout.start_hole, &segments);
+    let rotation = (layout.sections > 1).then(|| Rotation {
+        last_turned: blocks.len(),
+        times: layout.sections,
+        quarters_clockwise: 4 / layout.sections,
     });
+    // The lead-out leaves from where the control is after the last
+    // section: the written section turned as often as the rotation turns
+    // it, not the written section's own end.
+    let at = run_blocks(&blocks, rotation.as_ref(), layout.start_hole)
+        .last()
+        .map_or(layout.start_hole, |s| s.segment.to());
+    blocks.push(threeb::line_to(at, layout.start_hole));
     let mut text = String::new();
     for h in header {
         text.push_str("; ");
         text.push_str(h);
         text.push('\n');
     }
-    if layout.sections > 1 {
-        text.push_str(&format!(
-            "; ROTATE: BLOCK 1, THEN BLOCKS 2-{} {} TIMES TURNED {} DEG CLOCKWISE EACH, THEN BLOCK {}\n",
-            segments.len() - 1,
-            layout.sections,
-            360 / layout.sections,
-            segments.len()
-        ));
+    if let Some(r) = &rotation {
+        text.push_str(&r.header_line(blocks.len()));
+        text.push('\n');
     }
-    let start_hole = layout.start_hole;
     text.push_str(&match form {
-        WireProgram::FourB => fourb::program_from(start_hole, &segments),
-        _ => threeb::program_from(start_hole, &segments),
+        WireProgram::FourB => fourb::text(&blocks),
+        _ => threeb::text(&blocks),
     });
     Written {
         text,
-        blocks: segments.len() as u32,
+        blocks: blocks.len() as u32,
     }
+}
+
+/// How a 3B or 4B control runs a program with a rotation: block 1 once,
+/// blocks 2 to `last_turned` `times` times, the k-th time (k from 0)
+/// turned clockwise by k × `quarters_clockwise` × 90° about the start of
+/// the section, then every block after `last_turned` once, unturned
+/// (docs/wire.md#programs). The program's header states it in one line,
+/// `; ROTATE: BLOCK 1, THEN BLOCKS 2-N k TIMES TURNED d DEG CLOCKWISE
+/// EACH, THEN BLOCK N+1`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rotation {
+    /// The last block (1-based) of the turned section.
+    pub last_turned: usize,
+    /// How often the section runs.
+    pub times: u32,
+    /// Quarter turns clockwise from one run of the section to the next.
+    pub quarters_clockwise: u32,
+}
+
+/// The header's words before and after the numbers of a rotation.
+const ROTATE: &str = "; ROTATE: BLOCK 1, THEN BLOCKS 2-";
+
+impl Rotation {
+    /// The header line stating the rotation of a program of `blocks` blocks.
+    fn header_line(&self, blocks: usize) -> String {
+        format!(
+            "{ROTATE}{} {} TIMES TURNED {} DEG CLOCKWISE EACH, THEN BLOCK {}",
+            self.last_turned,
+            self.times,
+            90 * self.quarters_clockwise,
+            blocks
+        )
+    }
+
+    /// The rotation a program's text states, if any; an error names what
+    /// does not read (a control that cannot read the line would not run
+    /// the program as written).
+    pub fn of_text(text: &str) -> Result<Option<Rotation>, String> {
+        let Some(line) = text
+            .lines()
+            .find(|l| l.trim_start().starts_with("; ROTATE"))
+        else {
+            return Ok(None);
+        };
+        let bad = || {
+            format!("a rotation line of the form {ROTATE}N k TIMES TURNED d DEG CLOCKWISE EACH, THEN BLOCK N+1: {line}")
+        };
+        let rest = line.trim().strip_prefix(ROTATE).ok_or_else(bad)?;
+        let words: Vec<&str> = rest.split([' ', ',']).filter(|w| !w.is_empty()).collect();
+        let num = |i: usize| -> Result<u32, String> {
+            words.get(i).and_then(|w| w.parse().ok()).ok_or_else(bad)
+        };
+        let shape = [
+            "",
+            "",
+            "TIMES",
+            "TURNED",
+            "",
+            "DEG",
+            "CLOCKWISE",
+            "EACH",
+            "THEN",
+            "BLOCK",
+            "",
+        ];
+        if words.len() != shape.len()
+            || shape
+                .iter()
+                .zip(&words)
+                .any(|(s, w)| !s.is_empty() && s != w)
+        {
+            return Err(bad());
+        }
+        let (last, times, deg, after) = (num(0)?, num(1)?, num(4)?, num(10)?);
+        if last < 2 || after != last + 1 || times == 0 || deg % 90 != 0 || deg == 0 {
+            return Err(bad());
+        }
+        Ok(Some(Rotation {
+            last_turned: last as usize,
+            times,
+            quarters_clockwise: deg / 90,
+        }))
+    }
+}
+
+/// A replayed block: the segment the control moved along and the 1-based
+/// block it ran.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ran {
+    /// The block, 1-based, as written.
+    pub block: usize,
+    /// Its motion.
+    pub segment: Segment,
+}
+
+/// Every block of a 3B or 4B program in the order the control runs it,
+/// from `start`: each block from where the one before really ended, the
+/// turned section's blocks turned as `rotation` says.
+pub fn run_blocks(
+    blocks: &[threeb::Block],
+    rotation: Option<&Rotation>,
+    start: (f64, f64),
+) -> Vec<Ran> {
+    let mut order: Vec<(usize, u8)> = Vec::new();
+    match rotation {
+        None => order.extend((0..blocks.len()).map(|i| (i, 0))),
+        Some(r) => {
+            order.push((0, 0));
+            let last = r.last_turned.min(blocks.len());
+            for k in 0..r.times {
+                // Clockwise by k quarters: counter-clockwise by 4 − k.
+                let ccw = ((4 - (k * r.quarters_clockwise) % 4) % 4) as u8;
+                order.extend((1..last).map(|i| (i, ccw)));
+            }
+            order.extend((last..blocks.len()).map(|i| (i, 0)));
+        }
+    }
+    let mut at = start;
+    order
+        .into_iter()
+        .map(|(i, quarters)| {
+            let turned = threeb::rotate_quarter(&blocks[i..=i], quarters);
+            let segment = threeb::replay(&turned, at)[0];
+            at = segment.to();
+            Ran {
+                block: i + 1,
+                segment,
+            }
+        })
+        .collect()
 }
 
 /// The certificate of a program: its replay measured.
@@ -172,10 +305,16 @@ fn body(text: &str) -> String {
         .collect()
 }
 
-/// Reads `text` back, replays it as the control would (sections turned,
-/// the outline set off for 4B and ISO) and measures the wire's path against
-/// the theoretical outline: a program over its tolerances, not closed, or
-/// not once round the part fails.
+/// Reads `text` back, replays every block in the order the control runs
+/// it — the lead-in, the sections turned as the program's rotation says
+/// (3B, 4B) or its subprogram calls under `G68` (ISO), the lead-out — and
+/// checks the whole of it: the wire ends at its start hole
+/// (`WIRE_LEAD_OUT`), the lead-in and lead-out run through the scrap only
+/// (`WIRE_LEAD_CROSSES_PART`), ISO's compensation is switched on by the
+/// lead-in and off by the lead-out, and the contour between them, set off
+/// as the control sets it off (4B, ISO), is measured against the
+/// theoretical outline: over its tolerances, not closed, or not once round
+/// the part fails.
 pub fn certify(
     text: &str,
     form: WireProgram,
@@ -191,74 +330,74 @@ pub fn certify(
             "the program cannot be read back".into(),
         )
     };
-    let (path, blocks) = match form {
-        WireProgram::ThreeB | WireProgram::FourB => {
-            let body = body(text);
-            let blocks: Vec<threeb::Block> = if form == WireProgram::FourB {
-                let b4 = fourb::read(&body)
-                    .map_err(|e| unreadable(format!("line {}: {}", e.line, e.message)))?;
-                fourb::check(&b4, fourb::Sense::Clockwise)
-                    .map_err(|e| unreadable(format!("block {}: {}", e.line, e.message)))?;
-                b4.iter().map(|b| b.block).collect()
-            } else {
-                threeb::read(&body)
-                    .map_err(|e| unreadable(format!("line {}: {}", e.line, e.message)))?
-            };
-            if blocks.len() < 3 {
-                return Err(unreadable(format!("{} blocks", blocks.len())));
-            }
-            let inner = &blocks[1..blocks.len() - 1];
-            let lead_in = threeb::replay(&blocks[..1], layout.start_hole);
-            let mut at = lead_in[0].to();
-            let mut contour = Vec::new();
-            for k in 0..layout.sections {
-                // Clockwise by 360°/n: counter-clockwise by 4 − 4k/n quarters.
-                let quarters = ((4 - 4 * k / layout.sections) % 4) as u8;
-                let turned = threeb::rotate_quarter(inner, quarters);
-                let part = threeb::replay(&turned, at);
-                at = part.last().map_or(at, Segment::to);
-                contour.extend(part);
-            }
-            let path = match form {
-                WireProgram::ThreeB => contour,
-                _ => offset(&contour, cut.side, cut.offset_mm).map_err(|e| {
-                    unreadable(format!(
-                        "the control's offset fails at block {}: {e}",
-                        e.index + 2
-                    ))
-                })?,
-            };
-            (path, blocks.len() as u32)
-        }
-        WireProgram::IsoWire => {
-            let r = iso::replay(text)
-                .map_err(|e| unreadable(format!("line {}: {}", e.line, e.message)))?;
-            let moves: Vec<&iso::Move> = r.moves.iter().filter(|m| !m.rapid).collect();
-            if moves.len() < 3 {
-                return Err(unreadable(format!("{} moves", moves.len())));
-            }
-            // Between the lead-in and the lead-out: the contour, set off as
-            // the control's compensation in force says.
-            let inner = &moves[1..moves.len() - 1];
-            let contour: Vec<Segment> = inner.iter().map(|m| m.segment).collect();
-            let (Some(side), Some(d)) = (inner[0].side, inner[0].offset_mm) else {
-                return Err(unreadable("the contour runs without compensation".into()));
-            };
-            let side = match side {
-                iso::Side::Left => Side::Left,
-                iso::Side::Right => Side::Right,
-            };
-            let path = offset(&contour, side, d).map_err(|e| {
-                unreadable(format!(
-                    "the control's offset fails at move {}: {e}",
-                    e.index + 2
-                ))
-            })?;
-            // Blocks of the text (a subprogram's once, however often it runs).
-            let lines: std::collections::BTreeSet<usize> = r.moves.iter().map(|m| m.line).collect();
-            (path, lines.len() as u32)
-        }
+    let replayed = match form {
+        WireProgram::ThreeB | WireProgram::FourB => replay_b(text, form, layout.start_hole),
+        WireProgram::IsoWire => replay_iso(text),
+    }
+    .map_err(unreadable)?;
+    if distance(replayed.start, layout.start_hole) > END_MM {
+        return Err(unreadable(format!(
+            "the program starts at ({:.4}, {:.4}), the job's start hole is ({:.4}, {:.4})",
+            replayed.start.0, replayed.start.1, layout.start_hole.0, layout.start_hole.1
+        )));
+    }
+    let Replayed {
+        start,
+        lead_in,
+        contour,
+        lead_out,
+        blocks,
+    } = replayed;
+    let path = match form {
+        WireProgram::ThreeB => contour.clone(),
+        _ => offset(&contour, cut.side, cut.offset_mm).map_err(|e| {
+            unreadable(format!(
+                "the control's offset fails at contour move {}: {e}",
+                e.index + 1
+            ))
+        })?,
     };
+    let end = lead_out.segment.to();
+    if distance(end, start) > END_MM {
+        return Err(replay_problem(
+            "WIRE_LEAD_OUT",
+            format!(
+                "the wire back at its start hole ({:.3}, {:.3}) after the last block",
+                start.0, start.1
+            ),
+            format!(
+                "the lead-out (block {}) ends at ({:.3}, {:.3}), {:.3} mm away",
+                lead_out.block,
+                end.0,
+                end.1,
+                distance(end, start)
+            ),
+            "the program does not end where it began: the lead-out would cut elsewhere".into(),
+        ));
+    }
+    // 3B is the wire's path; 4B and ISO the outline the control sets off.
+    let scrap_inside = cut.side == Side::Right;
+    for (name, lead, join) in [
+        ("lead-in", &lead_in, contour[0].from()),
+        ("lead-out", &lead_out, contour[contour.len() - 1].to()),
+    ] {
+        if let Some(place) = lead_crossing(&lead.segment, join, &contour, scrap_inside) {
+            let kept = if scrap_inside {
+                "the die plate"
+            } else {
+                "the punch"
+            };
+            return Err(replay_problem(
+                "WIRE_LEAD_CROSSES_PART",
+                format!("the {name} through the scrap only, clear of {kept}"),
+                format!(
+                    "the {name} (block {}) enters {kept} at ({:.3}, {:.3})",
+                    lead.block, place.0, place.1
+                ),
+                format!("the {name} would cut into {kept}"),
+            ));
+        }
+    }
     let m = measure(&cut.outline, &path, cut.offset_mm, SAMPLES);
     let (flank_tol, fillet_tol) = tolerances;
     if m.flank_mm > flank_tol || m.fillet_mm > fillet_tol {
@@ -293,6 +432,182 @@ pub fn certify(
         blocks,
         bytes: text.len() as u32,
     })
+}
+
+/// How far the replayed end may lie from the start hole, mm: the 3B/4B
+/// replay runs on the control's µm grid, ISO writes 0.1 µm.
+const END_MM: f64 = 0.0005;
+
+fn distance(a: (f64, f64), b: (f64, f64)) -> f64 {
+    (a.0 - b.0).hypot(a.1 - b.1)
+}
+
+/// A program replayed block by block, cut into its three parts.
+#[derive(Debug)]
+struct Replayed {
+    /// Where the wire starts (and must end).
+    start: (f64, f64),
+    /// The first motion.
+    lead_in: Ran,
+    /// Every motion between, in order.
+    contour: Vec<Segment>,
+    /// The last motion.
+    lead_out: Ran,
+    /// Blocks of the text (a section's or subprogram's once, however often
+    /// it runs).
+    blocks: u32,
+}
+
+impl Replayed {
+    fn of(start: (f64, f64), mut ran: Vec<Ran>, blocks: u32) -> Result<Replayed, String> {
+        if ran.len() < 3 {
+            return Err(format!(
+                "{} motions: a program is a lead-in, a contour and a lead-out",
+                ran.len()
+            ));
+        }
+        let lead_out = ran.pop().expect("three motions");
+        let lead_in = ran.remove(0);
+        for (name, lead) in [("lead-in", &lead_in), ("lead-out", &lead_out)] {
+            if !matches!(lead.segment, Segment::Line { .. }) {
+                return Err(format!("block {}: the {name} is a line", lead.block));
+            }
+        }
+        Ok(Replayed {
+            start,
+            lead_in,
+            contour: ran.into_iter().map(|r| r.segment).collect(),
+            lead_out,
+            blocks,
+        })
+    }
+}
+
+/// A 3B or 4B program replayed from `start`: its comment lines skipped,
+/// its rotation line followed, every block run.
+fn replay_b(text: &str, form: WireProgram, start: (f64, f64)) -> Result<Replayed, String> {
+    let rotation = Rotation::of_text(text)?;
+    let body = body(text);
+    let blocks: Vec<threeb::Block> = if form == WireProgram::FourB {
+        let b4 = fourb::read(&body).map_err(|e| format!("line {}: {}", e.line, e.message))?;
+        fourb::check(&b4, fourb::Sense::Clockwise)
+            .map_err(|e| format!("block {}: {}", e.line, e.message))?;
+        b4.iter().map(|b| b.block).collect()
+    } else {
+        threeb::read(&body).map_err(|e| format!("line {}: {}", e.line, e.message))?
+    };
+    if let Some(r) = rotation {
+        if r.last_turned >= blocks.len() {
+            return Err(format!(
+                "the rotation turns blocks 2-{} of {}: no lead-out after it",
+                r.last_turned,
+                blocks.len()
+            ));
+        }
+    }
+    let ran = run_blocks(&blocks, rotation.as_ref(), start);
+    Replayed::of(start, ran, blocks.len() as u32)
+}
+
+/// An ISO program replayed: every move from the `G92` start to `M02`/`M30`
+/// through its subprogram calls. No rapid (a wire cuts wherever it moves);
+/// the lead-in switches the compensation on, every contour move keeps it,
+/// the lead-out switches it off.
+fn replay_iso(text: &str) -> Result<Replayed, String> {
+    let r = iso::replay(text).map_err(|e| format!("line {}: {}", e.line, e.message))?;
+    if let Some(m) = r.moves.iter().find(|m| m.rapid) {
+        return Err(format!(
+            "line {}: a rapid move (G00); a wire cuts wherever it moves",
+            m.line
+        ));
+    }
+    let ran: Vec<Ran> = r
+        .moves
+        .iter()
+        .map(|m| Ran {
+            block: m.line,
+            segment: m.segment,
+        })
+        .collect();
+    let (Some(first), Some(last)) = (r.moves.first(), r.moves.last()) else {
+        return Err("no motion".into());
+    };
+    let (Some(_), Some(_)) = (first.side, first.offset_mm) else {
+        return Err(format!(
+            "line {}: the lead-in switches the compensation on (G41/G42 with D)",
+            first.line
+        ));
+    };
+    if last.side.is_some() {
+        return Err(format!(
+            "line {}: the lead-out switches the compensation off (G40)",
+            last.line
+        ));
+    }
+    let inner = &r.moves[1..r.moves.len() - 1];
+    if let Some(m) = inner
+        .iter()
+        .find(|m| m.side != first.side || m.offset_mm != first.offset_mm)
+    {
+        return Err(format!(
+            "line {}: the compensation changes along the contour",
+            m.line
+        ));
+    }
+    let blocks: std::collections::BTreeSet<usize> = r.moves.iter().map(|m| m.line).collect();
+    Replayed::of(r.start, ran, blocks.len() as u32)
+}
+
+/// Where a lead — a line from the start hole to the contour's point `join`
+/// — enters the kept part: the start hole itself when it lies in the part
+/// (inside the contour for a punch, outside for a die's opening), else the
+/// first point where the line meets the contour away from `join` (2 µm).
+fn lead_crossing(
+    lead: &Segment,
+    join: (f64, f64),
+    contour: &[Segment],
+    scrap_inside: bool,
+) -> Option<(f64, f64)> {
+    let (a, b) = (lead.from(), lead.to());
+    let hole = if distance(a, join) < distance(b, join) {
+        b
+    } else {
+        a
+    };
+    let inside = winding(hole, contour).abs() > 0.5;
+    if inside != scrap_inside {
+        return Some(hole);
+    }
+    let mut hits: Vec<(f64, f64)> = contour
+        .iter()
+        .flat_map(|s| crate::intersect::line_segment(a, b, s))
+        .filter(|&p| distance(p, join) > 0.002)
+        .collect();
+    hits.sort_by(|p, q| distance(*p, hole).total_cmp(&distance(*q, hole)));
+    hits.first().copied()
+}
+
+/// Turns of the closed `path` about `p` (counter-clockwise positive), from
+/// points 1° apart at most on every arc.
+fn winding(p: (f64, f64), path: &[Segment]) -> f64 {
+    let mut angle = 0.0;
+    let mut last: Option<f64> = None;
+    let mut add = |q: (f64, f64)| {
+        let a = (q.1 - p.1).atan2(q.0 - p.0);
+        if let Some(l) = last {
+            angle += (a - l + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI;
+        }
+        last = Some(a);
+    };
+    for s in path {
+        let arc = s.arc();
+        let n = (s.sweep().to_degrees().ceil() as usize).max(1);
+        for i in 0..=n {
+            add(arc.point_at(arc.length * i as f64 / n as f64));
+        }
+    }
+    angle / std::f64::consts::TAU
 }
 
 /// A die job made: the cut, the program and its certificate.

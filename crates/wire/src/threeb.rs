@@ -123,12 +123,23 @@ pub fn program(segments: &[Segment]) -> String {
 /// passing on to the next block; the arc's shape moves by about the start's
 /// error, a µm or two.
 pub fn program_from(start: (f64, f64), segments: &[Segment]) -> String {
+    text(&blocks_from(start, segments))
+}
+
+/// The text of `blocks`: one a line, then `DD`.
+pub fn text(blocks: &[Block]) -> String {
     let mut p = String::new();
-    for b in blocks_from(start, segments) {
+    for b in blocks {
         let _ = writeln!(p, "{b}");
     }
     p.push_str("DD\n");
     p
+}
+
+/// The line block from `at` to `to`, both on the µm grid of the program's
+/// start.
+pub fn line_to(at: (f64, f64), to: (f64, f64)) -> Block {
+    line_block(um(to.0 - at.0), um(to.1 - at.1))
 }
 
 /// The blocks of [`program_from`], each with the position the control is at
