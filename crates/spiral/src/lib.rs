@@ -101,8 +101,10 @@ fn refuse(code: &str, field: &str, expected: String, got: String, message: &str)
 /// R2 = max(Ri + rt − L − inner overtravel, 0): the spiral is a step-over
 /// further out one turn before its end, so this is the largest end radius
 /// that leaves no ring at the inner edge (on a full circle, Ri = 0, no
-/// centre island and no useless path around the centre). Inside-out swaps
-/// R1 and R2. n = ⌈|R1 − R2| / L⌉.
+/// centre island and no useless path around the centre). Inside-out starts
+/// in the hole, R1 = Ri − rt − inner overtravel (the tool plunges clear of
+/// the material; a hole too small for that is refused), and ends at
+/// Ro + rt + outer overtravel. n = ⌈|R1 − R2| / L⌉.
 pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
     let mut errors = Vec::new();
     let Region {
@@ -214,11 +216,30 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
             "the spiral has no length",
         )]);
     }
-    let turns = ((outer - inner) / l - 1e-9).ceil().max(1.0) as u32;
     let (r1, r2) = match spec.direction {
         Direction::OutsideIn => (outer, inner),
-        Direction::InsideOut => (inner, outer),
+        Direction::InsideOut => {
+            // The tool plunges in the hole, clear of the material, as
+            // outside-in it plunges clear of the outer edge: its centre
+            // rt plus the inner overtravel inside the inner edge. A hole
+            // smaller than that leaves no place to plunge.
+            let start = ri - rt - spec.inner_overtravel_mm;
+            if start < 0.0 {
+                return Err(vec![refuse(
+                    "SPIRAL_RANGE",
+                    "milling.direction",
+                    format!(
+                        "outside-in, or inside-out on a hole of radius at least the tool's radius plus the inner overtravel, {} mm",
+                        rt + spec.inner_overtravel_mm
+                    ),
+                    format!("inside-out with an inner radius of {ri} mm"),
+                    "inside-out the tool plunges in the hole; in a smaller hole it would plunge into the face's material",
+                )]);
+            }
+            (start, outer)
+        }
     };
+    let turns = ((r1 - r2).abs() / l - 1e-9).ceil().max(1.0) as u32;
     Ok(Spiral {
         start_radius_mm: r1,
         end_radius_mm: r2,
@@ -485,10 +506,19 @@ mod tests {
             ..spec(100.0, 20.0, 10.0, 15.0)
         })
         .unwrap();
+        // Ri − rt − inner overtravel: the tool plunges in the hole.
         assert_eq!(
             (inside_out.start_radius_mm, inside_out.end_radius_mm),
-            (14.0, 112.0)
+            (9.0, 112.0)
         );
+        assert_eq!(inside_out.turns, 7); // ⌈103 / 15⌉
+                                         // A hole smaller than the tool leaves no place to plunge.
+        let e = plan(&SpiralSpec {
+            direction: Direction::InsideOut,
+            ..spec(100.0, 10.0, 10.0, 15.0)
+        })
+        .unwrap_err();
+        assert_eq!(e[0].field, "milling.direction");
     }
 
     #[test]

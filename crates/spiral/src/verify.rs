@@ -107,19 +107,86 @@ pub fn verify(
     )
 }
 
+/// The rules every move of the program keeps, from the first block to
+/// `M30`, as the control runs them (the replay's start, the machine's
+/// unknown position, counts as below the safe height):
+///
+/// - **approach**: no X/Y move before a move has taken the tool up to the
+///   safe height;
+/// - **rapids**: none ends below the face, and none moves in X/Y while the
+///   tool is below it (a rapid straight up out of the cut is a retract);
+/// - **plunges**: a feed down below the face (a plunge, or a ramp) ends
+///   where the tool's disc is clear of the face's material (outside Ro +
+///   rt or inside Ri − rt), so every pass starts clear of it; a groove is
+///   cut into the face, so its plunge is its own first cut, at the plunge
+///   feed, and is not held to this;
+/// - **retracts** between passes follow from the rapid and plunge rules;
+///   the final retract is `NO_RETRACT`.
+fn every_move(moves: &[Move], model: &SpiralModel) -> Vec<PathFinding> {
+    let mut findings = Vec::new();
+    let f = &model.spiral;
+    let (ri, ro, rt) = (f.inner_radius_mm, f.outer_radius_mm, f.tool_radius_mm);
+    let safe = model.cut.safe_z_mm - 1e-9;
+    let clear = |x: f64, y: f64| {
+        let r = x.hypot(y);
+        r - rt >= ro - 1e-6 || r + rt <= ri + 1e-6
+    };
+    let mut at = (0.0, 0.0, 0.0);
+    let mut up = false;
+    for (i, m) in moves.iter().enumerate() {
+        let n = i + 1;
+        let xy = (m.x - at.0).abs() + (m.y - at.1).abs() > 1e-12;
+        if xy && !up {
+            findings.push(finding(
+                0,
+                "UNSAFE_APPROACH",
+                format!(
+                    "move {n} moves in X/Y before the tool is at the safe height Z{}",
+                    model.cut.safe_z_mm
+                ),
+            ));
+        }
+        if !m.feed && m.z < 0.0 {
+            findings.push(finding(
+                0,
+                "RAPID_IN_MATERIAL",
+                format!("move {n} is a rapid to Z{:.4}, below the face", m.z),
+            ));
+        } else if !m.feed && xy && at.2 < 0.0 {
+            findings.push(finding(
+                0,
+                "RAPID_IN_MATERIAL",
+                format!(
+                    "move {n} is a rapid across X/Y at Z{:.4}, below the face: no retract before it",
+                    at.2
+                ),
+            ));
+        }
+        if m.feed && m.z < at.2 - 1e-9 && m.z < 0.0 && model.groove.is_none() && !clear(m.x, m.y) {
+            findings.push(finding(
+                0,
+                "PLUNGE_IN_MATERIAL",
+                format!(
+                    "move {n} feeds down to Z{:.4} at X{:.4} Y{:.4}, where the tool (radius {rt} mm, {:.4} mm from the centre) is in the face's material between R{ri} and R{ro}",
+                    m.z,
+                    m.x,
+                    m.y,
+                    m.x.hypot(m.y)
+                ),
+            ));
+        }
+        up |= m.z >= safe;
+        at = (m.x, m.y, m.z);
+    }
+    findings
+}
+
 fn compare(moves: &[Move], model: &SpiralModel) -> (Vec<PathFinding>, Replayed) {
     let mut findings = Vec::new();
     let spiral = spiral_of(model);
     let tol = model.cut.tolerance_mm;
     let total = std::f64::consts::TAU * f64::from(spiral.turns);
-    // Rapids below the face.
-    if let Some((i, m)) = moves.iter().enumerate().find(|(_, m)| !m.feed && m.z < 0.0) {
-        findings.push(finding(
-            0,
-            "RAPID_IN_MATERIAL",
-            format!("move {} is a rapid to Z{:.4}, below the face", i + 1, m.z),
-        ));
-    }
+    findings.extend(every_move(moves, model));
     // The passes: runs of feed moves at one depth below the face.
     let mut passes: Vec<(f64, Vec<Piece>, (f64, f64))> = Vec::new();
     let mut from = (0.0, 0.0, 0.0);

@@ -8,7 +8,7 @@ use gearcam_spiral::{chord_deviation, plan, Direction, Region, SpiralSpec};
 
 #[test]
 fn the_macro_replays_onto_the_model() {
-    for (ri, direction) in [(15.0, Direction::OutsideIn), (0.0, Direction::InsideOut)] {
+    for (ri, direction) in [(15.0, Direction::OutsideIn), (20.0, Direction::InsideOut)] {
         let spiral = plan(&SpiralSpec {
             region: Region {
                 outer_radius_mm: 60.0,

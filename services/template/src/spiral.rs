@@ -384,6 +384,52 @@ mod tests {
         );
     }
 
+    /// Every block counts, not only the passes: the retract between two
+    /// passes dropped (the next pass's rapid then crosses the face at
+    /// depth), the first retract dropped (the tool moves in X/Y before it is
+    /// known to be up), and the plunge moved into the face's material are
+    /// each refused; the final retract is `NO_RETRACT` above.
+    #[test]
+    fn every_block_is_checked_approach_plunges_and_retracts_between_passes() {
+        let m = model(
+            "M01",
+            annulus(),
+            json!({"program": "fanuc-macro", "passes": 2}),
+        );
+        let good = instantiate(&m).unwrap().text;
+        let check = |text: &str| verify(text, SpiralProgram::FanucMacro, &m).0;
+        assert!(check(&good).ok);
+        let rules = |text: &str| -> Vec<String> {
+            check(text).findings.into_iter().map(|f| f.rule).collect()
+        };
+        // The retract inside the pass loop, before the pass counter.
+        let between = "G15\nG00 Z#17\n#30=#30+1";
+        assert!(good.contains(between));
+        let bad = good.replace(between, "G15\n#30=#30+1");
+        assert!(
+            rules(&bad).contains(&"RAPID_IN_MATERIAL".to_string()),
+            "{:?}",
+            rules(&bad)
+        );
+        // The first retract, before the first move in X/Y.
+        let first = "S#11 M03\nG00 Z#17\n";
+        assert!(good.contains(first));
+        let bad = good.replacen(first, "S#11 M03\n", 1);
+        assert!(
+            rules(&bad).contains(&"UNSAFE_APPROACH".to_string()),
+            "{:?}",
+            rules(&bad)
+        );
+        // The plunge at the outer edge of the face, not clear of it: R1
+        // replaced by the face's outer radius.
+        let bad = good.replacen("\n#1=", "\n#1=-8.0+", 1);
+        assert!(
+            rules(&bad).contains(&"PLUNGE_IN_MATERIAL".to_string()),
+            "{:?}",
+            rules(&bad)
+        );
+    }
+
     #[test]
     fn linuxcnc_names_keep_what_the_control_accepts() {
         assert_eq!(program_name_linuxcnc("FL-3004"), "FL-3004");
