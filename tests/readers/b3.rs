@@ -993,7 +993,7 @@ mod tests {
         assert_between(&moves, (0.0, 0.0), 17.4 - 0.001, 21.9 + 0.001);
         // The last block, the lead-out, runs from where the fourth section ended straight back
         // to the start hole.
-        assert_eq!(moves[341].line, 100);
+        assert_eq!(moves[341].line, 101);
         assert_eq!(moves[341].to, (0.0, 0.0));
         // Written from where the *first* quarter ended, (21.9, 0), as it once was, the same
         // block leaves the wire at (-21.9, 21.9), 30.97 mm from the start hole.
@@ -1038,7 +1038,7 @@ mod tests {
         assert_between(&moves, centre, 17.5 - 0.001, 22.0 + 0.001);
         // The lead-out runs from where the fourth section ended, (0, -5), back up to the start
         // hole.
-        assert_eq!(moves[341].line, 100);
+        assert_eq!(moves[341].line, 101);
         assert_eq!(moves[341].to, (0.0, 0.0));
         // Written from the first quarter's end (22, -27), as it once was, the lead-out
         // B22000B27000B27000GYL2 ends at (-22, 22) instead.

@@ -135,6 +135,13 @@ pub fn write(
     if let Some(r) = &rotation {
         text.push_str(&r.header_line(blocks.len()));
         text.push('\n');
+        // For a control whose rotate instruction asks for a centre.
+        let (x, y) = (-layout.start_hole.0, -layout.start_hole.1);
+        text.push_str(&format!(
+            "; TURNS ABOUT THE GEAR'S CENTRE X{:.3} Y{:.3} FROM THE START HOLE\n",
+            x + 0.0,
+            y + 0.0
+        ));
     }
     text.push_str(&match form {
         WireProgram::FourB => fourb::text(&blocks),
