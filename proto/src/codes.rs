@@ -382,9 +382,6 @@ catalogue! {
     NO_TOOL: "knowledge",
         "No tool of the library fits: no end mill of the groove's width, or an empty tool library.",
         "Add a tool (gearcam kb add mills) or give `[mill]`.";
-    PLUNGE_IN_MATERIAL: "template, agent (spiral replay)",
-        "Spiral verification finding: a feed move goes down below the face where the tool's disc overlaps the face's material, so the pass would start inside it.",
-        "The program was not sent; report it, the generator is at fault.";
     PARSE: "template (path check)",
         "Path check finding: a program line lies outside the NC subset gearcam emits, or its arithmetic fails.",
         "The program was not sent; correct the template line named in the error.";
@@ -394,6 +391,9 @@ catalogue! {
     PATH_CHECK_FAILED: "template, agent",
         "The path check of the rendered program found a line that breaks a rule; the rule is in expected, one error per finding.",
         "The program was not sent; look up the rule in this table and correct the template or the job.";
+    PLUNGE_IN_MATERIAL: "template, agent (spiral replay)",
+        "Spiral verification finding: a feed move goes down below the face where the tool's disc overlaps the face's material, so the pass would start inside it.",
+        "The program was not sent; report it, the generator is at fault.";
     POSITION_TRAVEL_LIMIT: "model",
         "A computed position or move end lies outside the machine's X or Z travel.",
         "Check the blank and hob diameters, fixture height, face width and safety distance, as the message says.";
@@ -403,8 +403,8 @@ catalogue! {
     PROGRAM_CHANGED_AT_MACHINE: "agent",
         "The program file at the machine was changed or created there since gearcam stored it; the agent kept the file, and the job waits.",
         "Review the edit, then `gearcam program resolve NAME --machine M --adopt` (the edit becomes the current version) or `--replace` (gearcam's version goes back, the edit is kept in the history); the waiting job is then delivered.";
-    PROGRAM_FORM: "model, template",
-        "The program form asked for (`[milling]` or `[wire]` program) is not one the machine's control runs.",
+    PROGRAM_FORM: "knowledge, model, template",
+        "The program form asked for (`[milling]` or `[wire]` program) is not one the machine's control runs, or a turned wire program (`[wire]` whole = false) is asked of a control that cannot turn a section of blocks.",
         "Choose one of the forms expected lists, or another machine.";
     PROGRAM_NAME_TAKEN: "agent",
         "The program name is held at the machine by a program of another part; the agent does not replace it. The error names both parts and a free name.",

@@ -178,7 +178,9 @@ pub struct WireOverrides {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub program: Option<WireProgram>,
     /// Write every tooth even when a quarter or half program with the
-    /// control's rotation would do (default false).
-    #[serde(default)]
-    pub whole: bool,
+    /// control's rotation would do. Default: false where the machine's
+    /// control turns a section of blocks (its profile's `rotates`), true
+    /// where it does not; false there is refused.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub whole: Option<bool>,
 }

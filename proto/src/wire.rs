@@ -43,6 +43,16 @@ pub struct WireMachine {
     /// Largest contour the X/Y travel reaches about the start hole, mm
     /// (a radius).
     pub max_radius_mm: f64,
+    /// The control repeats a section of blocks turned (a 3B/4B rotate
+    /// instruction, ISO `G68`); without it every program is written whole.
+    /// Absent in a message of an older writer: true, as every wire machine
+    /// then was.
+    #[serde(default = "rotates_by_default")]
+    pub rotates: bool,
+}
+
+fn rotates_by_default() -> bool {
+    true
 }
 
 /// The wire and the starting technology, each with its provenance.

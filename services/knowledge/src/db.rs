@@ -286,6 +286,18 @@ CREATE TABLE IF NOT EXISTS wire_data (
     source                TEXT NOT NULL
 );
 "#,
+    // Version 9: whether a wire EDM control turns a section of blocks (a
+    // 3B/4B rotate instruction, ISO G68); one that does not is given whole
+    // programs. The seeded W01 and W02 do. The column is added by
+    // `add_rotates` (SQLite has no ADD COLUMN IF NOT EXISTS); the audit
+    // triggers name every column, so they are dropped here and made again
+    // with it by the migration's audit install.
+    r#"
+DROP TRIGGER IF EXISTS kb_audit_wire_machines_edit;
+DROP TRIGGER IF EXISTS kb_audit_wire_machines_add;
+DROP TRIGGER IF EXISTS kb_audit_wire_machines_update;
+DROP TRIGGER IF EXISTS kb_audit_wire_machines_remove;
+"#,
 ];
 
 /// Opens (creating and seeding if new) the knowledge base at `path`.
@@ -333,15 +345,38 @@ fn migrate(conn: &mut Connection) -> Result<(), KnowledgeError> {
                 crate::audit::install(&tx)?;
                 crate::spiral::seed_v7(&tx)?;
             }
-            7 => {
+            // The wire tables' seed goes in once they have every column of
+            // the library (version 9 adds `rotates`), for a database that
+            // did not have them yet.
+            7 => crate::audit::install(&tx)?,
+            8 => {
+                add_rotates(&tx)?;
                 crate::audit::install(&tx)?;
-                crate::wire::seed_v8(&tx)?;
+                if version < 8 {
+                    crate::wire::seed_v8(&tx)?;
+                }
             }
             _ => {}
         }
         tx.pragma_update(None, "user_version", (i + 1) as i64)?;
     }
     tx.commit()?;
+    Ok(())
+}
+
+/// Adds `wire_machines.rotates` (true for every machine there) unless the
+/// table has it.
+fn add_rotates(conn: &Connection) -> Result<(), KnowledgeError> {
+    let has: bool = conn.query_row(
+        "SELECT COUNT(*) > 0 FROM pragma_table_info('wire_machines') WHERE name = 'rotates'",
+        [],
+        |r| r.get(0),
+    )?;
+    if !has {
+        conn.execute_batch(
+            "ALTER TABLE wire_machines ADD COLUMN rotates INTEGER NOT NULL DEFAULT 1 CHECK (rotates IN (0, 1));",
+        )?;
+    }
     Ok(())
 }
 
@@ -415,6 +450,51 @@ mod tests {
             .contains("machine-builder specific"));
     }
 
+    /// A version-8 database (wire machines without `rotates`, W01 edited
+    /// by the shop) gains the column, every machine rotating, and keeps its
+    /// rows: nothing is seeded again.
+    #[test]
+    fn a_knowledge_base_of_version_8_gains_rotates_and_keeps_its_wire_machines() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("knowledge.db");
+        let conn = open(&path).unwrap();
+        // As version 8 left it: no column, audit triggers without it.
+        conn.execute_batch(
+            "DROP TRIGGER kb_audit_wire_machines_edit;
+             DROP TRIGGER kb_audit_wire_machines_add;
+             DROP TRIGGER kb_audit_wire_machines_update;
+             DROP TRIGGER kb_audit_wire_machines_remove;
+             ALTER TABLE wire_machines DROP COLUMN rotates;",
+        )
+        .unwrap();
+        crate::audit::install(&conn).unwrap();
+        conn.execute_batch(
+            "UPDATE wire_machines SET max_radius_mm = 123 WHERE id = 'W01';
+             DELETE FROM wire_machines WHERE id = 'W02';",
+        )
+        .unwrap();
+        conn.pragma_update(None, "user_version", 8).unwrap();
+        drop(conn);
+        let conn = open(&path).unwrap();
+        assert_eq!(schema_version(&conn).unwrap(), 9);
+        let rows = library::list(&conn, &library::WIRE_MACHINES).unwrap();
+        assert_eq!(rows.len(), 1, "{rows:?}");
+        assert_eq!(rows[0]["id"], "W01");
+        assert_eq!(rows[0]["max_radius_mm"], 123.0);
+        assert_eq!(rows[0]["rotates"], true);
+        // A change of the new column is in the audit trail.
+        conn.execute("UPDATE wire_machines SET rotates = 0 WHERE id = 'W01'", [])
+            .unwrap();
+        let new: String = conn
+            .query_row(
+                "SELECT new_json FROM kb_changes WHERE library = 'wire_machines' ORDER BY rowid DESC LIMIT 1",
+                [],
+                |r| r.get(0),
+            )
+            .unwrap();
+        assert!(new.contains("\"rotates\":0"), "{new}");
+    }
+
     #[test]
     fn a_knowledge_base_of_version_2_gains_h02_and_keeps_a_shops_own_h02() {
         let dir = tempfile::tempdir().unwrap();
@@ -431,7 +511,7 @@ mod tests {
         conn.pragma_update(None, "user_version", 2).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
-        assert_eq!(schema_version(&conn).unwrap(), 8);
+        assert_eq!(schema_version(&conn).unwrap(), 9);
         let id = MachineId::new("H02").unwrap();
         assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h02()));
         // The version-2 seed record of HG-3003-L gains its profile shift.
@@ -484,7 +564,7 @@ mod tests {
         conn.pragma_update(None, "user_version", 3).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
-        assert_eq!(schema_version(&conn).unwrap(), 8);
+        assert_eq!(schema_version(&conn).unwrap(), 9);
         assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h01()));
         let sp = library::get(&conn, &library::WORKPIECES, "SP-1001")
             .unwrap()

@@ -145,6 +145,10 @@ fn profile(r: &Record) -> Result<WireMachine, KnowledgeError> {
         default_program: form(text(r, "default_program")).ok_or_else(|| bad("default_program"))?,
         max_thickness_mm: num(r, "max_thickness_mm"),
         max_radius_mm: num(r, "max_radius_mm"),
+        rotates: r
+            .get("rotates")
+            .and_then(serde_json::Value::as_bool)
+            .ok_or_else(|| bad("rotates"))?,
     })
 }
 
@@ -259,6 +263,22 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
     };
     let from_data = |field: &str| sourced(num(data, field), Source::Case);
     let program = o.program.unwrap_or(machine.default_program);
+    // A control that cannot turn a section runs every block once: it is
+    // given the whole part unless the job asks otherwise, and a job that
+    // asks for a turned program there is refused rather than sent.
+    if o.whole == Some(false) && !machine.rotates {
+        return Err(Failed::Job(vec![knowledge(
+            "PROGRAM_FORM",
+            "wire.whole",
+            format!(
+                "true, or no whole key: the control of {} ({}) does not turn a section of blocks",
+                machine.id, machine.controller
+            ),
+            "false".into(),
+            "a quarter or half program needs the control's rotation".into(),
+        )]));
+    }
+    let whole = o.whole.unwrap_or(!machine.rotates);
     let process = WireProcess {
         wire: if o.wire_diameter_mm.is_some() {
             "job".into()
@@ -272,7 +292,7 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
         current_a: from_data("current_a"),
         cutting_rate_mm2_min: from_data("cutting_rate_mm2_min"),
         program,
-        whole: o.whole,
+        whole,
     };
     let confidence = num(data, "confidence");
     Ok(WirePlan {
@@ -388,6 +408,31 @@ mod tests {
         assert_eq!(plan.process.wire, "BR-025");
         assert_eq!(plan.cases[0].id, "WD-BR-ANY");
         assert_eq!(plan.process.program, WireProgram::IsoWire);
+    }
+
+    /// A machine whose control cannot turn a section of blocks gets whole
+    /// programs by default, and a job asking it for a turned one is refused
+    /// on `wire.whole`; a machine that turns them gets a quarter unless the
+    /// job asks for the whole part.
+    #[test]
+    fn a_control_without_rotation_gets_whole_programs() {
+        let conn = db::open_in_memory().unwrap();
+        let plan = plan_wire(&conn, &die("W01", json!({}))).unwrap();
+        assert!(plan.machine.rotates);
+        assert!(!plan.process.whole);
+        let plan = plan_wire(&conn, &die("W01", json!({"wire": {"whole": true}}))).unwrap();
+        assert!(plan.process.whole);
+        conn.execute("UPDATE wire_machines SET rotates = 0 WHERE id = 'W01'", [])
+            .unwrap();
+        let plan = plan_wire(&conn, &die("W01", json!({}))).unwrap();
+        assert!(!plan.machine.rotates);
+        assert!(plan.process.whole);
+        let e = plan_wire(&conn, &die("W01", json!({"wire": {"whole": false}}))).unwrap_err();
+        assert_eq!(
+            (e[0].code.as_str(), e[0].field.as_str(), e[0].got.as_str()),
+            ("PROGRAM_FORM", "wire.whole", "false")
+        );
+        assert!(e[0].expected.contains("W01"), "{:?}", e[0]);
     }
 
     /// A die job for a hobbing machine, a [gear] section in it, or no [die].

@@ -5,7 +5,7 @@ use super::defs::f;
 use super::fields::{Check, Def, Kind, Library, Need};
 
 use Check::{Any, Id, OneOf, Positive, Range};
-use Kind::{Real, Text};
+use Kind::{Bool, Real, Text};
 use Need::Required;
 
 const WIRE_DIALECTS: &[&str] = &["wire3b", "wireiso"];
@@ -71,6 +71,13 @@ pub const WIRE_MACHINES: Library = Library {
             Required,
             Positive,
             "largest contour radius about the start hole the X/Y travel reaches, mm",
+        ),
+        f(
+            "rotates",
+            Bool,
+            Need::Default(Def::Bool(true)),
+            Any,
+            "whether the control repeats a section of blocks turned (3B/4B rotate, ISO G68); without it every program is written whole",
         ),
         SOURCE,
     ],
