@@ -130,6 +130,7 @@ impl Codes {
                 self.per_minute = true;
                 self.feed_code = Some(if digits == b"94" { 94 } else { 98 });
             }
+            b"18" => self.setup.plane_zx = true,
             b"21" => self.setup.metric = true,
             [b'5', d @ b'4'..=b'9'] => self.setup.work_offset = Some(50 + (d - b'0')),
             _ => return Err(format!("{} is not in the FANUC subset", g(digits))),

@@ -174,6 +174,9 @@ pub struct Setup {
     pub work_offset: Option<u8>,
     /// 840D `DIAMOF`: X is a radius (the centre distance).
     pub radius_x: bool,
+    /// FANUC `G18`: arcs in the Z–X plane. A FANUC control starts in `G17`
+    /// (the X–Y plane), where `G02 X… Z… R…` is not the arc in X and Z.
+    pub plane_zx: bool,
 }
 
 impl Setup {
@@ -181,6 +184,7 @@ impl Setup {
     pub fn merge(&mut self, other: Setup) {
         self.metric |= other.metric;
         self.radius_x |= other.radius_x;
+        self.plane_zx |= other.plane_zx;
         if other.work_offset.is_some() {
             self.work_offset = other.work_offset;
         }

@@ -306,6 +306,7 @@ fn motion(c: &mut Cursor<'_>, slot: &mut Op) -> Result<(), String> {
                             metric: false,
                             work_offset: None,
                             radius_x: false,
+                            plane_zx: false,
                         },
                     ..
                 },

@@ -30,7 +30,7 @@ main :: (HOB {upper(comment(hob.id))} Z0={hob.starts} DA0={nc(hob.od)} MN0={nc(h
 main :: (CUT {upper(kin.cut_mode)} VC={nc(process.cutting_speed)} FA={nc(process.feed)} H={nc(kin.depth)} L={nc(kin.centre_distance)})
 main :: (TIME {nc(kin.part_time)} MIN PER PART, {kin.cuts} CUT[S])
 main :: {N()} G21 (METRIC INPUT)
-main :: {N()} G90 G94 {machine.work_offset} (ABSOLUTE, FEED PER MINUTE IN G-CODE SYSTEM {upper(machine.gcode_system)}, WORK OFFSET: Z0 ON THE TABLE PLANE, X0 ON THE TABLE AXIS)
+main :: {N()} G90 G94 G18 {machine.work_offset} (ABSOLUTE, FEED PER MINUTE IN G-CODE SYSTEM {upper(machine.gcode_system)}, ARCS IN THE Z-X PLANE, WORK OFFSET: Z0 ON THE TABLE PLANE, X0 ON THE TABLE AXIS)
 motion :: (A TO B: RETRACT RADIALLY, UP TO THE START HEIGHT, SWIVEL THE HOB HEAD, THEN APPROACH)
 motion :: {N()} G00 G90 {ax.radial}{nc(A.x)} (RADIAL RETRACT FIRST, FROM WHEREVER THE HOB STANDS)
 motion :: {N()} G00 G90 {ax.axial}{nc(A.z)}

@@ -1027,3 +1027,25 @@ proptest! {
         }
     }
 }
+
+/// A FANUC crowning arc (`G03 X… Z… R…`) is an arc in X and Z only in the
+/// Z–X plane: the program selects it with `G18` in its set-up, and without
+/// it the control, which starts in `G17`, would not cut the crown. The
+/// check refuses the arc then, naming its line.
+#[test]
+fn a_fanuc_arc_before_g18_is_a_setup_finding() {
+    let m = model("crowned_840d", &example("crowned_840d.toml"), "H02");
+    let text = program("crowned_840d", &m);
+    let (check, _) = nc::check(&text, &m);
+    assert_clean("crowned on H02", &text, &check);
+    assert!(text.contains(" G90 G94 G18 "), "{text}");
+    let bad = text.replacen(" G90 G94 G18 ", " G90 G94 ", 1);
+    let (check, _) = nc::check(&bad, &m);
+    let arc = bad
+        .lines()
+        .position(|l| l.contains(" G03 ") || l.contains(" G02 "))
+        .unwrap() as u32
+        + 1;
+    assert_eq!(found(&check), vec![(rules::SETUP, arc)]);
+    assert!(check.findings[0].message.contains("G18"));
+}

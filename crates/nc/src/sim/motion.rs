@@ -145,6 +145,14 @@ impl<'m> Sim<'m> {
                 }
             }
             Interp::ArcCw | Interp::ArcCcw => {
+                if self.dialect == Dialect::Fanuc && !self.setup.plane_zx {
+                    self.push(
+                        line,
+                        rules::SETUP,
+                        "an arc in X and Z before G18: a FANUC control starts in G17, the X-Y plane, and would not cut this arc in X and Z".into(),
+                    );
+                    return;
+                }
                 let Some(r) = m.radius.map(|r| r.value) else {
                     self.push(
                         line,
