@@ -411,6 +411,14 @@ mod tests {
             "{:?}",
             rules(&bad)
         );
+        // The retract made a rapid that also moves sideways out of the cut:
+        // it ends above the face, but drags the tool through the material.
+        let diagonal = good.replace(between, "G15\nG00 X0 Y0 Z#17\n#30=#30+1");
+        assert!(
+            rules(&diagonal).contains(&"RAPID_IN_MATERIAL".to_string()),
+            "{:?}",
+            rules(&diagonal)
+        );
         // The first retract, before the first move in X/Y.
         let first = "S#11 M03\nG00 Z#17\n";
         assert!(good.contains(first));
