@@ -318,6 +318,20 @@ fn run(
         match statement(s, &mut st, &mut moves)? {
             Flow::Next => {}
             Flow::End => {
+                if st.turn.is_some() {
+                    return Err(ReadError {
+                        line: s.line,
+                        message:
+                            "the program ends with G68 in force (no G69 after the turned section)"
+                                .into(),
+                    });
+                }
+                if !calls.is_empty() {
+                    return Err(ReadError {
+                        line: s.line,
+                        message: "M02/M30 in a subprogram (it returns with M99)".into(),
+                    });
+                }
                 // Before its first move only G92 sets where the wire is.
                 let start = moves.first().map_or(st.at, |m: &Move| m.segment.from());
                 return Ok(Replay { start, moves });

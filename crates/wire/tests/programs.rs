@@ -192,6 +192,12 @@ fn an_iso_lead_out_switches_compensation_off_and_returns_to_the_hole() {
     let short = text.replace("G40 G01 X0.0000 Y0.0000", "G40 G01 X0.0000 Y5.0000");
     let p = certify(&short, WireProgram::IsoWire, &made.cut, &made.layout, tol).unwrap_err();
     assert_eq!(p.code, "WIRE_LEAD_OUT");
+    // The last turned call left without its G69.
+    let last_g69 = text.rfind("G69\n").unwrap();
+    let turned = format!("{}{}", &text[..last_g69], &text[last_g69 + 4..]);
+    let p = certify(&turned, WireProgram::IsoWire, &made.cut, &made.layout, tol).unwrap_err();
+    assert_eq!(p.code, "WIRE_REPLAY_FAILED");
+    assert!(p.got.contains("G68"), "{}", p.got);
     let rapid = text.replace("G40 G01 X0.0000 Y0.0000", "G40 G00 X0.0000 Y0.0000");
     let p = certify(&rapid, WireProgram::IsoWire, &made.cut, &made.layout, tol).unwrap_err();
     assert!(p.got.contains("rapid"), "{}", p.got);
