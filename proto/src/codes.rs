@@ -76,6 +76,9 @@ catalogue! {
     BAD_ARGUMENT: "knowledge (`gearcam kb`)",
         "A `--set` argument of `gearcam kb` is not of the form FIELD=VALUE.",
         "Write each `--set` as field=value, e.g. `--set module_mm=3`.";
+    BAD_CANCEL_REQUEST: "station",
+        "A cancellation (`gearcam cancel`) does not say who cancels: `by` must be 1 to 64 characters on one line.",
+        "Give `--by NAME`, or run it as a user with a login name.";
     BAD_HOB_ID: "any",
         "A hob id breaks the id rule (1 to 32 characters from A-Z a-z 0-9 _ -, starting with a letter or digit); got is the id.",
         "Use a hob id that follows the rule.";
@@ -283,6 +286,9 @@ catalogue! {
     INVALID_PROGRAM_NAME: "template",
         "The 840D program name made from the part number is not valid on the controller.",
         "Change `job.part_number` so that it makes a valid 840D program name.";
+    JOB_CANCELLED: "station, agent",
+        "A person cancelled the job before it was delivered (`gearcam cancel`); got says who. The job ends `cancelled`, and the agent never stores its program after.",
+        "Nothing, or submit the job again under a new id.";
     JOB_FILE_INVALID: "station",
         "The job file is not valid TOML, or a value has the wrong type.",
         "Fix the job file at the line the message names.";
@@ -295,6 +301,9 @@ catalogue! {
     JOB_FILE_UNREADABLE: "station",
         "The job file cannot be read.",
         "Check the path and the file's permissions.";
+    JOB_FINAL: "station",
+        "The job to cancel has ended already (delivered, failed or superseded); got gives its state.",
+        "Nothing to cancel; a delivered program is changed at the machine with `gearcam program rollback` or by a new job.";
     JOB_ID_EXISTS: "station",
         "The job id is already journaled with a different job spec.",
         "Use a new job id; a resubmission must carry the same spec.";
@@ -307,6 +316,9 @@ catalogue! {
     JOB_STATE: "knowledge",
         "The job cannot be confirmed in its state: it is not delivered yet, already confirmed, or refused by a later stage (no program was delivered for it).",
         "Confirm a job once, after delivery; pass `--undelivered` with the values that ran for a job cut from a program delivered another way; a refused job is fixed and submitted again.";
+    JOB_SUPERSEDED: "agent",
+        "An operator adopted the edit at the machine of the program this job waited to replace (`gearcam program resolve --adopt`); got names the adopted version and who. The job ends `superseded` and is never delivered over the edit.",
+        "Nothing, if the edit is to stay; for gearcam's program, submit the job again (a new job, under a new id).";
     JOURNAL_ERROR: "station",
         "The station could not read or write its job journal.",
         "See the station's log; check the journal's database file and disk.";

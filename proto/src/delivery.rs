@@ -26,6 +26,13 @@ pub enum JobState {
     Delivered,
     /// A stage refused the job (final).
     Failed,
+    /// An operator adopted an edit at the machine of the program the job
+    /// waited to replace (final): the job is never delivered over it; its
+    /// `errors` hold `JOB_SUPERSEDED`, naming the adopted version and who.
+    Superseded,
+    /// A person cancelled the job before it was delivered (final); its
+    /// `errors` hold `JOB_CANCELLED`, naming who.
+    Cancelled,
 }
 
 impl JobState {
@@ -39,6 +46,8 @@ impl JobState {
             JobState::Waiting => "waiting",
             JobState::Delivered => "delivered",
             JobState::Failed => "failed",
+            JobState::Superseded => "superseded",
+            JobState::Cancelled => "cancelled",
         }
     }
 
@@ -52,15 +61,24 @@ impl JobState {
             JobState::Waiting,
             JobState::Delivered,
             JobState::Failed,
+            JobState::Superseded,
+            JobState::Cancelled,
         ]
         .into_iter()
         .find(|st| st.as_str() == s)
     }
 
-    /// True for delivered and failed.
+    /// True for delivered, failed, superseded and cancelled: nothing moves
+    /// the job on.
     pub fn is_final(self) -> bool {
-        matches!(self, JobState::Delivered | JobState::Failed)
+        matches!(
+            self,
+            JobState::Delivered | JobState::Failed | JobState::Superseded | JobState::Cancelled
+        )
     }
+
+    /// The final states, as an SQL list: `('delivered', …)`.
+    pub const FINAL_SQL: &'static str = "('delivered', 'failed', 'superseded', 'cancelled')";
 }
 
 /// A delivered program in brief.
@@ -194,6 +212,19 @@ impl Message for StoreRequest {
     const KIND: &'static str = "store_request";
 }
 
+/// Message: a person cancels a journaled job that is not yet final
+/// (`gearcam cancel JOB`). Key [`crate::keys::station_cancel`]; the station
+/// answers with the job's status.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CancelRequest {
+    /// Who cancels it.
+    pub by: String,
+}
+
+impl Message for CancelRequest {
+    const KIND: &'static str = "cancel_request";
+}
+
 /// Every answer of an agent's store queryables (`…/store/programs[/{name}]`,
 /// `…/versions/{seq}`, `…/store/changes/{name}`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -213,6 +244,10 @@ pub enum StoreReply {
     Changed {
         /// The receipt.
         receipt: DeliveryReceipt,
+        /// The jobs that waited to replace the adopted edit and now end
+        /// `superseded` (an adoption only).
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        superseded: Vec<JobId>,
     },
     /// Refused: unknown program or version, bad key or request, store error.
     Refused {

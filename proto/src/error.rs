@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 pub use crate::ids::IdError;
-use crate::ids::JobId;
+use crate::ids::{JobId, MachineId};
 
 /// A message that could not be encoded or decoded.
 #[derive(Debug, Error)]
@@ -165,6 +165,34 @@ impl JobError {
 }
 
 impl JobError {
+    /// `JOB_SUPERSEDED`: an operator adopted the edit at `machine` of program
+    /// `name` (now its version `seq`) that the job waited to replace; the
+    /// job ends and is never delivered over it.
+    pub fn superseded(machine: &MachineId, name: &str, seq: u64, by: &str) -> JobError {
+        JobError::new(
+            Stage::Agent,
+            "JOB_SUPERSEDED",
+            "job",
+            "a job no operator's decision has ended",
+            format!("version {seq} of {name} at {machine}, adopted by {by}"),
+            format!(
+                "{by} adopted the edit of {name} at {machine} that this job waited to replace; the job is not delivered over it (submit it again for gearcam's program)"
+            ),
+        )
+    }
+
+    /// `JOB_CANCELLED`: `by` cancelled the job before it was delivered.
+    pub fn cancelled(by: &str) -> JobError {
+        JobError::new(
+            Stage::Station,
+            "JOB_CANCELLED",
+            "job",
+            "a job not cancelled",
+            format!("cancelled by {by}"),
+            format!("{by} cancelled the job; it is never delivered"),
+        )
+    }
+
     /// `BAD_JOB_ID`, `BAD_MACHINE_ID` or `BAD_HOB_ID`: the id in `field` breaks
     /// the id rule; `got` is the id as given.
     pub fn bad_id(stage: Stage, field: &str, err: &IdError) -> JobError {

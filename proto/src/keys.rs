@@ -74,6 +74,8 @@ pub fn reporter_owns(reporter: &str, event: &crate::JobEvent, machine: &MachineI
             EventKind::Delivered { receipt } => {
                 event.stage == Stage::Agent && receipt.machine == *machine
             }
+            EventKind::Superseded { .. } => event.stage == Stage::Agent,
+            EventKind::Cancelled { .. } => event.stage == Stage::Station,
             EventKind::Waiting { .. } | EventKind::Failed { .. } => true,
         }
 }
@@ -196,6 +198,22 @@ pub fn station_job(job: &JobId) -> String {
 /// Pattern of the station's per-job status queryable (`**`, so that a bad id
 /// with a `/` in it still reaches the station and is refused by name).
 pub const STATION_JOB_ANY: &str = "gearcam/v1/station/jobs/**";
+
+/// `gearcam/v1/station/cancel/{job}`: queryable of the planning station;
+/// the query carries a [`crate::CancelRequest`], the reply is the job's
+/// [`crate::StationReply::Status`] (now `cancelled`) or a refusal.
+pub fn station_cancel(job: &JobId) -> String {
+    format!("{PREFIX}/station/cancel/{job}")
+}
+
+/// Pattern of the station's cancel queryable (`**`: a bad id still reaches
+/// the station and is refused by name).
+pub const STATION_CANCEL_ANY: &str = "gearcam/v1/station/cancel/**";
+
+/// The raw job id of a station cancel key.
+pub fn station_cancel_of(key: &str) -> Option<&str> {
+    key.strip_prefix(PREFIX)?.strip_prefix("/station/cancel/")
+}
 
 /// The liveliness name of the planning station service.
 pub const STATION_SERVICE: &str = "station";

@@ -44,8 +44,8 @@ pub mod wire;
 pub use class::{classify, GearClass};
 pub use codec::{decode, encode, Incoming, Message, MAX_MESSAGE_BYTES, SCHEMA_VERSION};
 pub use delivery::{
-    DeliveryReply, JobState, JobStatus, ProgramHistory, ProgramRef, ProgramText, ProgramVersion,
-    StationReply, StoreReply, StoreRequest,
+    CancelRequest, DeliveryReply, JobState, JobStatus, ProgramHistory, ProgramRef, ProgramText,
+    ProgramVersion, StationReply, StoreReply, StoreRequest,
 };
 pub use die::{Cutter, DiePart, DieSpec, WireOverrides, WireProgram};
 pub use error::{CodecError, IdError, JobError, Stage};

@@ -154,6 +154,22 @@ pub enum EventKind {
         /// Every error found.
         errors: Vec<JobError>,
     },
+    /// The machine's agent: an operator adopted the edit at the machine of
+    /// the program this job waited to replace; the job ends and is never
+    /// delivered over the edit.
+    Superseded {
+        /// Program name.
+        name: String,
+        /// The adopted version in the machine's store.
+        seq: u64,
+        /// Who adopted it.
+        by: String,
+    },
+    /// The planning station: a person cancelled the job.
+    Cancelled {
+        /// Who cancelled it.
+        by: String,
+    },
 }
 
 /// Message: an event of a job.

@@ -378,6 +378,10 @@ impl Tracker {
                 .map(|e| format!("{} {} {}: {}", e.stage.as_str(), e.code, e.field, e.message))
                 .collect::<Vec<_>>()
                 .join("; "))),
+            EventKind::Superseded { name, .. } => {
+                Some(Err(format!("superseded by an edit of {name}")))
+            }
+            EventKind::Cancelled { by } => Some(Err(format!("cancelled by {by}"))),
         };
         if let Some(end) = end {
             if let Some(tx) = job.end.take() {

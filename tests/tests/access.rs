@@ -357,7 +357,7 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
             .expect("the agent answers a supervisor");
         let sample = reply.result().expect("a typed reply");
         match decode::<StoreReply>(&sample.payload().to_bytes()).unwrap() {
-            StoreReply::Changed { receipt } => assert_eq!(receipt.name, "SEC_0001"),
+            StoreReply::Changed { receipt, .. } => assert_eq!(receipt.name, "SEC_0001"),
             other => panic!("a supervisor's rollback: {other:?}"),
         }
         // Issue 13 point 10: a planner cannot write the knowledge base.

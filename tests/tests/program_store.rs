@@ -222,7 +222,10 @@ fn point_2_an_edit_at_the_machine_is_resolved_and_kept() {
         "the edit was overwritten"
     );
 
-    // Adopt the edit: it becomes a version, with who; the job goes through.
+    // Adopt the edit: it becomes a version, with who. The decision is
+    // final: the job that waited to replace it ends superseded, and no
+    // re-drive ever writes over the adopted edit (the station re-drives
+    // every second here: several pass).
     let (code, out, err) = gearcam(&[
         "program",
         "resolve",
@@ -236,18 +239,36 @@ fn point_2_an_edit_at_the_machine_is_resolved_and_kept() {
         &c.endpoint,
     ]);
     assert_eq!(code, Some(0), "{out}{err}");
-    let v = c.wait_status(&id, |v| v["state"] == "delivered");
-    assert_eq!(v["program"]["name"], "SP_1001");
+    assert!(out.contains("end superseded") && out.contains(&id), "{out}");
+    let v = c.wait_status(&id, |v| v["state"] == "superseded");
+    assert_eq!(v["errors"][0]["code"], "JOB_SUPERSEDED", "{v}");
+    assert!(
+        v["errors"][0]["got"]
+            .as_str()
+            .unwrap()
+            .contains("adopted by operator Li"),
+        "{v}"
+    );
+    std::thread::sleep(std::time::Duration::from_secs(4));
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap(),
+        edited,
+        "a re-drive overwrote the adopted edit"
+    );
+    let v = c.wait_status(&id, |_| true);
+    assert_eq!(v["state"], "superseded", "{v}");
     let h = history(&c, "H01");
     let states: Vec<(&str, &str)> = h
         .iter()
         .map(|v| (v["state"].as_str().unwrap(), v["by"].as_str().unwrap_or("")))
         .collect();
-    assert_eq!(
-        states,
-        [("stored", ""), ("adopted", "operator Li"), ("stored", "")]
+    assert_eq!(states, [("adopted", "operator Li"), ("stored", "")]);
+    let (_, jobs, _) = gearcam(&["jobs", "--connect", &c.endpoint]);
+    assert!(
+        jobs.contains("superseded") && jobs.contains("JOB_SUPERSEDED"),
+        "{jobs}"
     );
-    let adopted = h[1]["seq"].as_u64().unwrap().to_string();
+    let adopted = h[0]["seq"].as_u64().unwrap().to_string();
     let (_, text, _) = gearcam(&[
         "program",
         "show",
@@ -260,8 +281,18 @@ fn point_2_an_edit_at_the_machine_is_resolved_and_kept() {
     ]);
     assert_eq!(text, edited);
 
-    // Replace: gearcam's version goes back, the edit stays in the history.
+    // Replace: gearcam's version goes back, the edit stays in the history,
+    // and a job that waited on it is delivered.
     std::fs::write(&path, "; a second edit\n").unwrap();
+    let third = gearcam_testkit::examples::example("spur_840d.toml")
+        .replace("quantity = 20", "quantity = 22");
+    let v = c.submit(&c.job_file("third.toml", &third));
+    let third_id = v["job"].as_str().unwrap().to_string();
+    c.wait_status(&third_id, |v| {
+        v["waiting_for"]
+            .as_str()
+            .is_some_and(|w| w.contains("PROGRAM_CHANGED_AT_MACHINE"))
+    });
     let (code, out, err) = gearcam(&[
         "program",
         "resolve",
@@ -275,11 +306,13 @@ fn point_2_an_edit_at_the_machine_is_resolved_and_kept() {
         &c.endpoint,
     ]);
     assert_eq!(code, Some(0), "{out}{err}");
+    assert!(out.contains("delivered at their next re-drive"), "{out}");
+    let v = c.wait_status(&third_id, |v| v["state"] == "delivered");
+    assert_eq!(v["program"]["name"], "SP_1001");
     let h = history(&c, "H01");
-    assert_eq!(
-        (h[0]["state"].as_str(), h[1]["state"].as_str()),
-        (Some("restored"), Some("machine-edit"))
-    );
+    let states: Vec<&str> = h.iter().map(|v| v["state"].as_str().unwrap()).collect();
+    assert_eq!(states[..3], ["stored", "restored", "machine-edit"]);
+    assert_eq!(h[0]["job"], third_id.as_str());
     assert_eq!(
         std::fs::read(&path).unwrap().len() as u64,
         h[0]["size_bytes"].as_u64().unwrap()
@@ -297,4 +330,118 @@ fn point_2_an_edit_at_the_machine_is_resolved_and_kept() {
     ]);
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("NO_CONFLICT"), "{err}");
+}
+
+/// `gearcam cancel`: a journaled job not yet delivered ends `cancelled`,
+/// with who, and is never stored after — not by a re-drive once its
+/// conflict is resolved, not by a program of it that reaches the agent
+/// late. A delivered job cannot be cancelled (`JOB_FINAL`), an unknown one
+/// is not found, a second cancel answers the same.
+#[test]
+fn a_cancelled_job_is_never_stored() {
+    let c = Cluster::start();
+    let text = gearcam_testkit::examples::example("spur_840d.toml");
+    let (_, v) = c.submit_wait(&c.job_file("first.toml", &text));
+    assert_eq!(v["state"], "delivered", "{v}");
+    let first = v["job"].as_str().unwrap().to_string();
+    let path = c.program_dir().join("_N_SP_1001_MPF");
+    let edited = std::fs::read_to_string(&path).unwrap() + "; EDITED\n";
+    std::fs::write(&path, &edited).unwrap();
+    let second = text.replace("quantity = 20", "quantity = 21");
+    let v = c.submit(&c.job_file("second.toml", &second));
+    let id = v["job"].as_str().unwrap().to_string();
+    c.wait_status(&id, |v| {
+        v["waiting_for"]
+            .as_str()
+            .is_some_and(|w| w.contains("PROGRAM_CHANGED_AT_MACHINE"))
+    });
+
+    let cancel = |job: &str| {
+        gearcam(&[
+            "cancel",
+            job,
+            "--by",
+            "planner Wang",
+            "--connect",
+            &c.endpoint,
+        ])
+    };
+    let (code, out, err) = cancel(&id);
+    assert_eq!(code, Some(0), "{out}{err}");
+    assert!(out.contains("cancelled"), "{out}");
+    let v = c.wait_status(&id, |_| true);
+    assert_eq!(v["state"], "cancelled", "{v}");
+    assert_eq!(v["errors"][0]["code"], "JOB_CANCELLED");
+    assert!(v["errors"][0]["got"]
+        .as_str()
+        .unwrap()
+        .contains("planner Wang"));
+    // Again: the same answer. A delivered job: JOB_FINAL. An unknown one: 3.
+    assert_eq!(cancel(&id).0, Some(0));
+    let (code, _, err) = cancel(&first);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("JOB_FINAL"), "{err}");
+    assert_eq!(cancel("NO-SUCH-JOB").0, Some(3));
+
+    // The conflict resolved: the cancelled job is not re-driven onto the
+    // machine.
+    let (code, out, err) = gearcam(&[
+        "program",
+        "resolve",
+        "SP_1001",
+        "--machine",
+        "H01",
+        "--replace",
+        "--by",
+        "operator Li",
+        "--connect",
+        &c.endpoint,
+    ]);
+    assert_eq!(code, Some(0), "{out}{err}");
+    std::thread::sleep(Duration::from_secs(4));
+    let stored: Vec<serde_json::Value> = history(&c, "H01")
+        .into_iter()
+        .filter(|v| v["job"] == id.as_str() && v["state"] == "stored")
+        .collect();
+    assert!(stored.is_empty(), "{stored:?}");
+
+    // Its program, made again from the journaled request exactly as the
+    // services make it, delivered straight to the agent as a late sender
+    // would: refused, JOB_CANCELLED, nothing written.
+    let request: Vec<u8> = rusqlite::Connection::open(c.dir().join("station.db"))
+        .unwrap()
+        .query_row("SELECT request FROM jobs WHERE job = ?1", [&id], |r| {
+            r.get(0)
+        })
+        .unwrap();
+    let request: JobRequest = decode(&request).unwrap();
+    let conn = gearcam_knowledge::db::open_in_memory().unwrap();
+    let plan = gearcam_knowledge::plan::plan(&conn, &request).unwrap();
+    let model = gearcam_model::compute(&plan).unwrap();
+    let program = gearcam_testkit::pipeline::program_of(&model).unwrap();
+    let before = std::fs::read(&path).unwrap();
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    let reply = rt.block_on(async {
+        let session = zenoh::open(gearcam_testkit::client_config(&c.endpoint))
+            .await
+            .unwrap();
+        let replies = session
+            .get(keys::machine_program(&program.machine, &program.job_id))
+            .payload(encode(&program).unwrap())
+            .timeout(Duration::from_secs(10))
+            .await
+            .unwrap();
+        let reply = replies.recv_async().await.expect("the agent answers");
+        decode::<gearcam_proto::DeliveryReply>(
+            &reply.result().expect("a reply").payload().to_bytes(),
+        )
+        .unwrap()
+    });
+    match reply {
+        gearcam_proto::DeliveryReply::Refused { error } => {
+            assert_eq!(error.code, "JOB_CANCELLED", "{error:?}")
+        }
+        other => panic!("a cancelled job's program was answered {other:?}"),
+    }
+    assert_eq!(std::fs::read(&path).unwrap(), before);
 }

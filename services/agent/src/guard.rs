@@ -5,7 +5,8 @@
 //!
 //! - **Journaled**: the station is asked for the job's status
 //!   (`gearcam/v1/station/jobs/{job}`): it must exist, be for this machine and
-//!   not be failed. No such job: `JOB_NOT_JOURNALED` (final). No answer:
+//!   not be failed, superseded or cancelled (`JOB_CANCELLED`: a cancelled
+//!   job is never stored, even when its program was on its way). No such job: `JOB_NOT_JOURNALED` (final). No answer:
 //!   `STATION_UNREACHABLE` (the job waits and is re-driven).
 //! - **Path check**: the agent follows the models the model service
 //!   publishes for its machine (`gearcam/v1/jobs/*/model`, which only the
@@ -188,8 +189,20 @@ pub async fn journaled(
                 .call::<JobRequest, StationReply>(&keys::station_job(&job), None, retry)
                 .await;
             let verdict = match reply {
+                // A cancelled job is never stored, whatever reached the
+                // agent before the cancellation did.
                 Ok(StationReply::Status { status })
-                    if status.machine == machine && status.state != JobState::Failed =>
+                    if status.machine == machine && status.state == JobState::Cancelled =>
+                {
+                    Err(status
+                        .errors
+                        .first()
+                        .cloned()
+                        .unwrap_or_else(|| JobError::cancelled("unknown")))
+                }
+                Ok(StationReply::Status { status })
+                    if status.machine == machine
+                        && !matches!(status.state, JobState::Failed | JobState::Superseded) =>
                 {
                     Ok(())
                 }

@@ -88,7 +88,7 @@ pub async fn run(
             }
             let programs: Vec<NcProgram> = checked.iter().map(|(_, p)| p.clone()).collect();
             for ((i, program), result) in checked.into_iter().zip(store.store_batch(&programs)) {
-                answers[i] = Some(delivered(program, result));
+                answers[i] = Some(delivered(&store, program, result));
             }
             for (i, (key, payload)) in batch.iter().enumerate() {
                 if answers[i].is_none() {
@@ -265,19 +265,46 @@ fn answer_store_query(store: &mut Store, key: &str, payload: &[u8]) -> Answer {
                 return refuse(error);
             }
             let result = match &request {
-                StoreRequest::Rollback { seq } => store.rollback(name, *seq),
-                StoreRequest::Adopt { by } => store.resolve(name, Resolution::Adopt, by),
-                StoreRequest::Replace { by } => store.resolve(name, Resolution::Replace, by),
+                StoreRequest::Rollback { seq } => store.rollback(name, *seq).map(|r| (r, None)),
+                StoreRequest::Adopt { by } => store
+                    .resolve(name, Resolution::Adopt, by)
+                    .map(|r| (r.receipt, Some((r.seq, r.superseded)))),
+                StoreRequest::Replace { by } => store
+                    .resolve(name, Resolution::Replace, by)
+                    .map(|r| (r.receipt, None)),
             };
             match result {
-                Ok(receipt) => {
+                Ok((receipt, adopted)) => {
                     tracing::info!(
                         program = name,
                         ?request,
                         sha256 = receipt.sha256,
                         "current program changed"
                     );
-                    Answer::message(&StoreReply::Changed { receipt })
+                    let superseded = adopted
+                        .as_ref()
+                        .map(|(_, jobs)| jobs.clone())
+                        .unwrap_or_default();
+                    let mut a = Answer::message(&StoreReply::Changed {
+                        receipt,
+                        superseded: superseded.clone(),
+                    });
+                    // The jobs the adoption ended, to the station now (and
+                    // again to any re-drive of them).
+                    if let (Some((seq, _)), StoreRequest::Adopt { by }) = (&adopted, &request) {
+                        for job in superseded {
+                            tracing::info!(%job, program = name, "job superseded by the adopted edit");
+                            a.events.push((
+                                job,
+                                EventKind::Superseded {
+                                    name: name.to_string(),
+                                    seq: *seq,
+                                    by: by.clone(),
+                                },
+                            ));
+                        }
+                    }
+                    a
                 }
                 Err(error) => refuse(error),
             }
@@ -408,6 +435,7 @@ fn decode_delivery(job: &str, payload: &[u8]) -> Result<NcProgram, Answer> {
 
 /// The answer to a delivery once the store has decided.
 fn delivered(
+    store: &Store,
     program: NcProgram,
     result: Result<gearcam_proto::DeliveryReceipt, JobError>,
 ) -> Answer {
@@ -423,6 +451,19 @@ fn delivered(
         }
         Err(error) => {
             tracing::info!(job = %program.job_id, code = error.code, "program refused");
+            // A job an adoption ended ends `superseded`, not `failed`.
+            if let Ok(Some(s)) = store.superseded(program.job_id.as_str()) {
+                let mut a = Answer::message(&DeliveryReply::Refused { error });
+                a.events.push((
+                    program.job_id,
+                    EventKind::Superseded {
+                        name: s.name,
+                        seq: s.seq,
+                        by: s.by,
+                    },
+                ));
+                return a;
+            }
             refused(Some(program.job_id), error)
         }
     }

@@ -28,7 +28,7 @@ mod write;
 use write::{remove_stale_temporaries, write_atomically, Pending, Prepared};
 
 pub use rebuild::Rebuilt;
-pub use resolve::Resolution;
+pub use resolve::{Resolution, Resolved, Superseded};
 
 /// Largest program the store accepts, bytes.
 pub const MAX_PROGRAM_BYTES: usize = 1024 * 1024;
@@ -114,7 +114,22 @@ impl Store {
                  text         TEXT NOT NULL
              );
              CREATE UNIQUE INDEX IF NOT EXISTS programs_by_job ON programs (job, revision) WHERE state = 'stored';
-             CREATE INDEX IF NOT EXISTS programs_by_file ON programs (file_name, seq);",
+             CREATE INDEX IF NOT EXISTS programs_by_file ON programs (file_name, seq);
+             -- Jobs refused because their program was changed at the machine:
+             -- an adoption of that edit ends them.
+             CREATE TABLE IF NOT EXISTS held (
+                 job       TEXT NOT NULL PRIMARY KEY,
+                 file_name TEXT NOT NULL,
+                 at_ms     INTEGER NOT NULL
+             );
+             -- Jobs an adopted edit ended: never stored after.
+             CREATE TABLE IF NOT EXISTS superseded (
+                 job     TEXT NOT NULL PRIMARY KEY,
+                 name    TEXT NOT NULL,
+                 seq     INTEGER NOT NULL,
+                 by_user TEXT NOT NULL,
+                 at_ms   INTEGER NOT NULL
+             );",
         )?;
         // Columns added after the first release: the part a program name
         // belongs to, and who resolved an edit at the machine.
@@ -268,6 +283,15 @@ impl Store {
     /// Checks a program and decides whether it must be written.
     fn prepare(&self, p: &NcProgram) -> Result<Prepared, JobError> {
         let file_name = self.check_program(p)?;
+        // An operator's adoption ended this job: it is never stored.
+        if let Some(s) = self.superseded(p.job_id.as_str())? {
+            return Err(JobError::superseded(
+                &self.config.machine,
+                &s.name,
+                s.seq,
+                &s.by,
+            ));
+        }
         let hash = p.sha256.clone();
         // Idempotency: the same job and revision.
         let existing = self
@@ -288,7 +312,8 @@ impl Store {
             if stored_hash == hash {
                 // A repeat: the original receipt, once the machine is seen
                 // to hold it (or a later version superseded it).
-                self.check_still_held(&file_name, &hash)?;
+                self.check_still_held(&file_name, &hash)
+                    .inspect_err(|e| self.hold(p, &file_name, e))?;
                 return Ok(Prepared::Stored(receipt));
             }
             return Err(Stage::Agent.error(
@@ -302,7 +327,9 @@ impl Store {
         // A program name belongs to one part.
         self.check_owner(p, &file_name)?;
         // A program changed at the machine is never overwritten silently.
-        let seen = self.check_unchanged_at_machine(&file_name, &hash)?;
+        let seen = self
+            .check_unchanged_at_machine(&file_name, &hash)
+            .inspect_err(|e| self.hold(p, &file_name, e))?;
         Ok(Prepared::Write(Pending {
             index: 0,
             file_name,

@@ -113,6 +113,21 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Cancel a journaled job that is not yet delivered: it ends `cancelled`
+    /// (on the bus too, with who), and the machine's agent never stores its
+    /// program after.
+    Cancel {
+        /// The job id.
+        job: JobId,
+        /// Who cancels it (default: the login name).
+        #[arg(long)]
+        by: Option<String>,
+        #[command(flatten)]
+        bus: ClientArgs,
+        /// Print the job's status as JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// A machine's stored programs: history, show a version, roll back, resolve an edit at the machine.
     Program {
         #[command(subcommand)]
@@ -168,6 +183,10 @@ pub async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         } => cmd::station::station(journal, redrive_ms, &bus).await,
         Command::Jobs { bus, json } => cmd::jobs::jobs(&bus.bus_args(), json).await,
         Command::Status { job, bus, json } => cmd::jobs::status(&job, &bus.bus_args(), json).await,
+        Command::Cancel { job, by, bus, json } => {
+            let by = by.unwrap_or_else(crate::jobfile::user);
+            cmd::jobs::cancel(&job, &by, &bus.bus_args(), json).await
+        }
         Command::Program { action } => cmd::program::program(action).await,
     }
 }
@@ -179,7 +198,8 @@ impl Cli {
             Command::Submit { json, .. }
             | Command::Check { json, .. }
             | Command::Jobs { json, .. }
-            | Command::Status { json, .. } => *json,
+            | Command::Status { json, .. }
+            | Command::Cancel { json, .. } => *json,
             Command::Program { action } => action.json(),
             Command::Kb(args) => args.json,
             Command::Confirm(args) => args.json,

@@ -7,8 +7,8 @@ use std::time::Duration;
 use gearcam_bus::query::{CallError, Retry};
 use gearcam_bus::Bus;
 use gearcam_proto::{
-    decode, keys, DeliveryReceipt, EventKind, JobError, JobEvent, JobId, JobRequest, JobState,
-    JobStatus, StationReply,
+    decode, keys, CancelRequest, DeliveryReceipt, EventKind, JobError, JobEvent, JobId, JobRequest,
+    JobState, JobStatus, StationReply,
 };
 
 /// How to submit.
@@ -32,6 +32,10 @@ pub enum Outcome {
     Delivered(Box<DeliveryReceipt>, Vec<gearcam_proto::Warning>),
     /// The station or a stage refused the job.
     Failed(Vec<JobError>),
+    /// A person's decision ended the job before delivery: `superseded` (an
+    /// operator adopted the edit at the machine it waited to replace) or
+    /// `cancelled`; the errors say who and what.
+    Ended(JobState, Vec<JobError>),
     /// Not finished within the timeout; the job stays journaled and the station
     /// keeps driving it.
     TimedOut(Box<JobStatus>),
@@ -137,6 +141,9 @@ fn final_outcome(s: &JobStatus) -> Option<Outcome> {
             .clone()
             .map(|r| Outcome::Delivered(Box::new(r), s.warnings.clone())),
         JobState::Failed => Some(Outcome::Failed(s.errors.clone())),
+        JobState::Superseded | JobState::Cancelled => {
+            Some(Outcome::Ended(s.state, s.errors.clone()))
+        }
         _ => None,
     }
 }
@@ -154,6 +161,28 @@ async fn status_with(
 ) -> Result<Result<JobStatus, Vec<JobError>>, CallError> {
     let reply = bus
         .call::<JobRequest, StationReply>(&keys::station_job(job), None, retry)
+        .await?;
+    Ok(match reply {
+        StationReply::Status { status } => Ok(*status),
+        StationReply::Refused { errors } => Err(errors),
+        other => Err(vec![unexpected(&other)]),
+    })
+}
+
+/// Cancels a job (`by` is who); its status after, or the station's typed
+/// refusal (`UNKNOWN_JOB`, `JOB_FINAL`, `BAD_CANCEL_REQUEST`).
+pub async fn cancel(
+    bus: &Bus,
+    job: &JobId,
+    by: &str,
+) -> Result<Result<JobStatus, Vec<JobError>>, CallError> {
+    let request = CancelRequest { by: by.to_string() };
+    let reply = bus
+        .call::<CancelRequest, StationReply>(
+            &keys::station_cancel(job),
+            Some(&request),
+            Retry::default(),
+        )
         .await?;
     Ok(match reply {
         StationReply::Status { status } => Ok(*status),
@@ -223,6 +252,11 @@ pub fn describe(ev: &JobEvent) -> String {
             ev.stage.as_str(),
             errors.len()
         ),
+        EventKind::Superseded { name, seq, by } => format!(
+            "{}: superseded — {by} adopted the edit at the machine of {name} (version {seq}); the job is not delivered over it",
+            ev.stage.as_str()
+        ),
+        EventKind::Cancelled { by } => format!("station: cancelled by {by}"),
     }
 }
 
@@ -256,8 +290,13 @@ pub fn describe_status(s: &JobStatus) -> String {
             &p.sha256[..12.min(p.sha256.len())]
         ));
     }
-    if let Some(e) = s.errors.first() {
-        line.push_str(&format!("  {} {}", e.code, e.field));
+    match (s.state, s.errors.first()) {
+        // Ended by a person's decision: who and what.
+        (JobState::Superseded | JobState::Cancelled, Some(e)) => {
+            line.push_str(&format!("  {}: {}", e.code, e.got));
+        }
+        (_, Some(e)) => line.push_str(&format!("  {} {}", e.code, e.field)),
+        (_, None) => {}
     }
     line.push_str(&format_warnings(&s.warnings));
     line

@@ -5,8 +5,8 @@
 use gearcam_bus::query::{CallError, Retry};
 use gearcam_bus::Bus;
 use gearcam_proto::{
-    keys, DeliveryReceipt, JobError, JobRequest, MachineId, ProgramHistory, ProgramText, Stage,
-    StoreReply, StoreRequest,
+    keys, DeliveryReceipt, JobError, JobId, JobRequest, MachineId, ProgramHistory, ProgramText,
+    Stage, StoreReply, StoreRequest,
 };
 
 /// What a store query gives: the answer, or the store's refusal.
@@ -44,16 +44,20 @@ pub async fn version(
 }
 
 /// Changes the machine's current program `name`: a rollback to a stored
-/// version, or the resolution of an edit at the machine.
+/// version, or the resolution of an edit at the machine. The version now
+/// current, and the jobs an adoption ended (`superseded`).
 pub async fn change(
     bus: &Bus,
     machine: &MachineId,
     name: &str,
     request: &StoreRequest,
-) -> Result<Answer<DeliveryReceipt>, CallError> {
+) -> Result<Answer<(DeliveryReceipt, Vec<JobId>)>, CallError> {
     Ok(
         match ask(bus, &keys::store_change(machine, name), Some(request)).await? {
-            StoreReply::Changed { receipt } => Ok(receipt),
+            StoreReply::Changed {
+                receipt,
+                superseded,
+            } => Ok((receipt, superseded)),
             other => Err(refusal(other)),
         },
     )

@@ -214,8 +214,8 @@ impl Journal {
         let Some(current) = JobState::parse(&current) else {
             return Ok(false);
         };
-        let owned = MachineId::new(machine)
-            .is_ok_and(|m| gearcam_proto::keys::reporter_owns(reporter, ev, &m));
+        let machine = MachineId::new(machine).map_err(|e| corrupt("machine", e))?;
+        let owned = gearcam_proto::keys::reporter_owns(reporter, ev, &machine);
         if !owned {
             tracing::warn!(job = %ev.job_id, reporter, stage = ev.stage.as_str(), "ignored an event its reporter does not own");
             return Ok(false);
@@ -245,12 +245,55 @@ impl Journal {
                 params![job, reason, now as i64, next],
             )?,
             EventKind::Delivered { receipt } => self.delivered(receipt, now)?,
-            EventKind::Failed { errors } => self.conn.execute(
-                "UPDATE jobs SET state = 'failed', errors_json = ?2, updated_at_ms = ?3, waiting_for = NULL WHERE job = ?1",
-                params![job, serde_json::to_string(errors).unwrap_or_default(), now as i64],
-            )?,
+            EventKind::Failed { errors } => self.ended(job, JobState::Failed, errors, now)?,
+            EventKind::Superseded { name, seq, by } => {
+                let why = JobError::superseded(&machine, name, *seq, by);
+                self.ended(job, JobState::Superseded, &[why], now)?
+            }
+            // The station's own: never from another reporter (refused above).
+            EventKind::Cancelled { .. } => 0,
         };
         Ok(n > 0)
+    }
+
+    /// Ends a job in the final `state`, with why.
+    fn ended(
+        &self,
+        job: &str,
+        state: JobState,
+        why: &[JobError],
+        now: u64,
+    ) -> Result<usize, JournalError> {
+        Ok(self.conn.execute(
+            "UPDATE jobs SET state = ?2, errors_json = ?3, updated_at_ms = ?4, waiting_for = NULL WHERE job = ?1",
+            params![
+                job,
+                state.as_str(),
+                serde_json::to_string(why).unwrap_or_default(),
+                now as i64
+            ],
+        )?)
+    }
+
+    /// Cancels a job that is not final (`cancelled`, with who); the job's
+    /// status after, or `None` for an unknown job. A final job is left as it
+    /// is: the caller sees its state.
+    pub fn cancel(
+        &self,
+        job: &JobId,
+        by: &str,
+        now: u64,
+    ) -> Result<Option<JobStatus>, JournalError> {
+        self.conn.execute(
+            "UPDATE jobs SET state = 'cancelled', errors_json = ?2, updated_at_ms = ?3, waiting_for = NULL
+             WHERE job = ?1 AND state NOT IN ('delivered', 'failed', 'superseded', 'cancelled')",
+            params![
+                job.as_str(),
+                serde_json::to_string(&[JobError::cancelled(by)]).unwrap_or_default(),
+                now as i64
+            ],
+        )?;
+        self.status(job)
     }
 
     fn set_state(
@@ -270,7 +313,7 @@ impl Journal {
     pub fn delivered(&self, receipt: &DeliveryReceipt, now: u64) -> Result<usize, JournalError> {
         Ok(self.conn.execute(
             "UPDATE jobs SET state = 'delivered', receipt_json = ?2, waiting_for = NULL, updated_at_ms = ?3
-             WHERE job = ?1 AND state NOT IN ('delivered', 'failed')",
+             WHERE job = ?1 AND state NOT IN ('delivered', 'failed', 'superseded', 'cancelled')",
             params![
                 receipt.job_id.as_str(),
                 serde_json::to_string(receipt).unwrap_or_default(),
@@ -300,7 +343,7 @@ impl Journal {
     ) -> Result<(), JournalError> {
         self.conn.execute(
             "UPDATE jobs SET state = 'waiting', waiting_for = ?2, updated_at_ms = ?3, next_attempt_ms = ?4
-             WHERE job = ?1 AND state NOT IN ('delivered', 'failed')",
+             WHERE job = ?1 AND state NOT IN ('delivered', 'failed', 'superseded', 'cancelled')",
             params![job.as_str(), reason, now as i64, next_attempt as i64],
         )?;
         Ok(())
@@ -309,7 +352,7 @@ impl Journal {
     /// Makes every unfinished job of `machine` (or of every machine) due now.
     pub fn wake(&self, machine: Option<&str>, now: u64) -> Result<usize, JournalError> {
         Ok(self.conn.execute(
-            "UPDATE jobs SET next_attempt_ms = ?2 WHERE state NOT IN ('delivered', 'failed') AND (?1 IS NULL OR machine = ?1)",
+            "UPDATE jobs SET next_attempt_ms = ?2 WHERE state NOT IN ('delivered', 'failed', 'superseded', 'cancelled') AND (?1 IS NULL OR machine = ?1)",
             params![machine, now as i64],
         )?)
     }
@@ -318,7 +361,7 @@ impl Journal {
     pub fn due(&self, now: u64, limit: usize) -> Result<Vec<Due>, JournalError> {
         let mut stmt = self.conn.prepare_cached(
             "SELECT job, machine, state, attempts, request, waiting_for FROM jobs
-             WHERE state NOT IN ('delivered', 'failed') AND next_attempt_ms <= ?1 ORDER BY seq LIMIT ?2",
+             WHERE state NOT IN ('delivered', 'failed', 'superseded', 'cancelled') AND next_attempt_ms <= ?1 ORDER BY seq LIMIT ?2",
         )?;
         let rows = stmt.query_map(params![now as i64, limit as i64], |r| {
             Ok((

@@ -9,6 +9,11 @@
 //!   job's status; the same id with another spec is refused.
 //! - `gearcam/v1/station/jobs[/{job}]` (query): the journal's view, always a
 //!   typed `StationReply`.
+//! - `gearcam/v1/station/cancel/{job}` (query with a `CancelRequest`): a job
+//!   not yet final ends `cancelled`, with who, and a `cancelled` event is
+//!   published; the agent, which asks the station before it stores, never
+//!   stores it after. A final job is refused (`JOB_FINAL`), a cancelled one
+//!   answered with its status again.
 //! - Events of every job update the journal. Jobs without progress for
 //!   `redrive` are re-driven with backoff: first the agent's store is asked for
 //!   the job (a lost receipt), then the request is published again (every stage
@@ -27,8 +32,9 @@ use gearcam_bus::query::Retry;
 use gearcam_bus::{Bus, BusError, CancellationToken};
 use gearcam_proto::plan::{KbReply, KbRequest, KbValue};
 use gearcam_proto::{
-    codes, decode, encode, keys, now_ms, part_number_problem, DeliveryReply, EventKind, JobError,
-    JobEvent, JobId, JobRequest, MachineId, Stage, StationReply, MAX_PART_NUMBER,
+    codes, decode, encode, keys, now_ms, part_number_problem, CancelRequest, DeliveryReply,
+    EventKind, JobError, JobEvent, JobId, JobRequest, JobState, MachineId, Stage, StationReply,
+    MAX_PART_NUMBER,
 };
 use zenoh::query::Query;
 use zenoh::sample::SampleKind;
@@ -85,6 +91,10 @@ pub async fn run(
         .declare_queryable(keys::STATION_JOBS)
         .await
         .map_err(zerr("declare queryable"))?;
+    let cancels = session
+        .declare_queryable(keys::STATION_CANCEL_ANY)
+        .await
+        .map_err(zerr("declare queryable"))?;
     let events = session
         .declare_subscriber(keys::ALL_JOB_EVENTS)
         .await
@@ -123,6 +133,16 @@ pub async fn run(
             q = list_view.recv_async() => if let Ok(q) = q {
                 let reply = view_reply(&journal, q.key_expr().as_str());
                 reply_message(q, &reply).await
+            },
+            q = cancels.recv_async() => if let Ok(q) = q {
+                let (reply, cancelled) = cancel_reply(&journal, &q);
+                reply_message(q, &reply).await;
+                if let Some((job, by)) = cancelled {
+                    tracing::info!(%job, by, "job cancelled");
+                    if let Err(e) = bus.event(&job, Stage::Station, EventKind::Cancelled { by }).await {
+                        tracing::warn!(%job, error = %e, "cannot publish the cancelled event");
+                    }
+                }
             },
             s = alive_sub.recv_async() => if let Ok(s) = s {
                 let name = keys::alive_of(s.key_expr().as_str()).unwrap_or_default().to_string();
@@ -480,21 +500,117 @@ const MILL_MACHINES: &str = "mill-machines";
 /// The knowledge base's library of wire EDM machines.
 const WIRE_MACHINES: &str = "wire-machines";
 
+/// The reply to a cancel query, and the job and who when it was cancelled
+/// now (the event to publish).
+fn cancel_reply(journal: &Journal, q: &Query) -> (StationReply, Option<(JobId, String)>) {
+    let refused = |error: JobError| {
+        (
+            StationReply::Refused {
+                errors: vec![error],
+            },
+            None,
+        )
+    };
+    let key = q.key_expr().as_str();
+    let raw = keys::station_cancel_of(key).unwrap_or(key);
+    let job = match JobId::new(raw) {
+        Ok(job) => job,
+        Err(e) => return refused(JobError::bad_id(Stage::Station, "job_id", &e)),
+    };
+    let payload = q
+        .payload()
+        .map(|p| p.to_bytes().into_owned())
+        .unwrap_or_default();
+    let by = match decode::<CancelRequest>(&payload) {
+        Ok(r) => r.by,
+        Err(e) => {
+            return refused(gearcam_bus::stage::codec_error::<CancelRequest>(
+                Stage::Station,
+                &e,
+            ))
+        }
+    };
+    if by.trim().is_empty() || by.chars().any(char::is_control) || by.chars().count() > 64 {
+        return refused(Stage::Station.error(
+            codes::BAD_CANCEL_REQUEST,
+            "by",
+            "who cancels the job: 1 to 64 characters on one line",
+            by.chars().take(80).collect::<String>(),
+            "a cancellation is recorded with the name of the person who decided",
+        ));
+    }
+    let before = match journal.status(&job) {
+        Ok(s) => s,
+        Err(e) => return refused(journal_error(e)),
+    };
+    let Some(before) = before else {
+        return refused(unknown_job(&job));
+    };
+    if before.state == JobState::Cancelled {
+        return (
+            StationReply::Status {
+                status: Box::new(before),
+            },
+            None,
+        );
+    }
+    if before.state.is_final() {
+        return refused(Stage::Station.error(
+            codes::JOB_FINAL,
+            "job_id",
+            "a job not yet delivered, failed or superseded",
+            format!("{job}: {}", before.state.as_str()),
+            "the job has ended already; there is nothing to cancel",
+        ));
+    }
+    match journal.cancel(&job, &by, now_ms()) {
+        Ok(Some(status)) if status.state == JobState::Cancelled => (
+            StationReply::Status {
+                status: Box::new(status),
+            },
+            Some((job, by)),
+        ),
+        // It ended on its own in between: its status says how.
+        Ok(Some(status)) => refused(Stage::Station.error(
+            codes::JOB_FINAL,
+            "job_id",
+            "a job not yet delivered, failed or superseded",
+            format!("{job}: {}", status.state.as_str()),
+            "the job has ended already; there is nothing to cancel",
+        )),
+        Ok(None) => refused(unknown_job(&job)),
+        Err(e) => refused(journal_error(e)),
+    }
+}
+
+fn unknown_job(job: &JobId) -> JobError {
+    JobError::new(
+        Stage::Station,
+        "UNKNOWN_JOB",
+        "job_id",
+        "a job in this station's journal (gearcam jobs)",
+        job.as_str(),
+        "the station has no such job",
+    )
+}
+
+fn journal_error(e: JournalError) -> JobError {
+    JobError::new(
+        Stage::Station,
+        "JOURNAL_ERROR",
+        "-",
+        "a readable journal",
+        e.to_string(),
+        "the station could not read its journal; see its log",
+    )
+}
+
 /// The reply to a view query (`jobs` or `jobs/{job}`), computed from the journal.
 fn view_reply(journal: &Journal, key: &str) -> StationReply {
     let refused = |error: JobError| StationReply::Refused {
         errors: vec![error],
     };
-    let unreadable = |e: JournalError| {
-        refused(JobError::new(
-            Stage::Station,
-            "JOURNAL_ERROR",
-            "-",
-            "a readable journal",
-            e.to_string(),
-            "the station could not read its journal; see its log",
-        ))
-    };
+    let unreadable = |e: JournalError| refused(journal_error(e));
     if key == keys::STATION_JOBS {
         return match journal.list() {
             Ok(jobs) => StationReply::Jobs { jobs },
@@ -510,14 +626,7 @@ fn view_reply(journal: &Journal, key: &str) -> StationReply {
         Ok(Some(status)) => StationReply::Status {
             status: Box::new(status),
         },
-        Ok(None) => refused(JobError::new(
-            Stage::Station,
-            "UNKNOWN_JOB",
-            "job_id",
-            "a job in this station's journal (gearcam jobs)",
-            job.as_str(),
-            "the station has no such job",
-        )),
+        Ok(None) => refused(unknown_job(&job)),
         Err(e) => unreadable(e),
     }
 }

@@ -2,12 +2,14 @@
 //! program changed at the machine (`PROGRAM_CHANGED_AT_MACHINE`); a person who
 //! reviewed the edit decides: adopt it as the current version, or replace it
 //! with gearcam's version and keep the edit in the history. Either way the
-//! edit becomes a version with who and when, and the jobs waiting on the
-//! conflict are delivered at their next re-drive.
+//! edit becomes a version with who and when. The decision is final: an
+//! adoption ends the jobs that waited to replace the edit (`superseded`,
+//! never stored after, whatever re-drives them); after a replacement they
+//! are delivered at their next re-drive.
 
 use std::fs;
 
-use gearcam_proto::{now_ms, DeliveryReceipt, JobError, JobId, Stage};
+use gearcam_proto::{now_ms, DeliveryReceipt, JobError, JobId, NcProgram, Stage};
 use rusqlite::{params, OptionalExtension};
 
 use super::{index_error, sha256_hex, write_atomically, Store};
@@ -20,6 +22,28 @@ pub enum Resolution {
     /// gearcam's current version is written back (`restored`); the edit is
     /// kept as a `machine-edit` version.
     Replace,
+}
+
+/// A job an adoption ended: the program, the adopted version and who.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Superseded {
+    /// Program name.
+    pub name: String,
+    /// The adopted version.
+    pub seq: u64,
+    /// Who adopted it.
+    pub by: String,
+}
+
+/// A resolution done.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Resolved {
+    /// The version now current, as a receipt.
+    pub receipt: DeliveryReceipt,
+    /// Its sequence number in the store.
+    pub seq: u64,
+    /// The jobs the adoption ended (none for a replacement).
+    pub superseded: Vec<JobId>,
 }
 
 /// The newest version of a program, as the index has it.
@@ -36,13 +60,13 @@ struct Latest {
 impl Store {
     /// Resolves the conflict between the file of program `name` at the
     /// machine and the newest version the index knows; `by` is who decided.
-    /// Returns the receipt of the version now current.
+    /// Returns the version now current and the jobs an adoption ended.
     pub fn resolve(
         &mut self,
         name: &str,
         resolution: Resolution,
         by: &str,
-    ) -> Result<DeliveryReceipt, JobError> {
+    ) -> Result<Resolved, JobError> {
         if by.trim().is_empty() || by.chars().any(char::is_control) || by.chars().count() > 64 {
             return Err(Stage::Agent.error(
                 "BAD_STORE_REQUEST",
@@ -132,6 +156,7 @@ impl Store {
             None => None,
         };
         let now = now_ms();
+        let dialect = self.config.dialect.as_str();
         let insert = |conn: &rusqlite::Connection, state: &str, text: &str| {
             conn.execute(
                 "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text, part, by_user)
@@ -143,7 +168,7 @@ impl Store {
                     latest.revision,
                     sha256_hex(text.as_bytes()),
                     text.len() as i64,
-                    self.config.dialect.as_str(),
+                    dialect,
                     now as i64,
                     state,
                     text,
@@ -152,9 +177,18 @@ impl Store {
                 ],
             )
         };
+        let mut superseded = Vec::new();
         let current = match (resolution, edit) {
             (Resolution::Adopt, Some(edit)) => {
-                insert(&self.conn, "adopted", &edit).map_err(index_error)?;
+                // The adopted version and the end of the jobs that waited to
+                // replace it, in one transaction: no crash leaves the edit
+                // adopted and a waiting job free to overwrite it.
+                let tx = self.conn.transaction().map_err(index_error)?;
+                insert(&tx, "adopted", &edit).map_err(index_error)?;
+                let seq = tx.last_insert_rowid();
+                superseded =
+                    supersede(&tx, &latest.file_name, name, seq, by, now).map_err(index_error)?;
+                tx.commit().map_err(index_error)?;
                 edit
             }
             (Resolution::Adopt, None) => unreachable!("refused above"),
@@ -172,10 +206,23 @@ impl Store {
                 )
                 .map_err(io_error)?;
                 insert(&self.conn, "restored", &latest.text).map_err(index_error)?;
+                // gearcam's version is current again: the jobs that waited
+                // are delivered at their next re-drive.
+                self.conn
+                    .execute("DELETE FROM held WHERE file_name = ?1", [&latest.file_name])
+                    .map_err(index_error)?;
                 latest.text.clone()
             }
         };
-        Ok(DeliveryReceipt {
+        let seq = self
+            .conn
+            .query_row(
+                "SELECT MAX(seq) FROM programs WHERE file_name = ?1 AND state != 'pending'",
+                [&latest.file_name],
+                |r| r.get::<_, i64>(0),
+            )
+            .map_err(index_error)? as u64;
+        let receipt = DeliveryReceipt {
             job_id: JobId::new(latest.job.clone()).map_err(|e| {
                 Stage::Agent.error(
                     "STORE_INDEX_ERROR",
@@ -194,8 +241,72 @@ impl Store {
             size_bytes: current.len() as u64,
             stored_at_ms: now,
             duplicate: false,
+        };
+        Ok(Resolved {
+            receipt,
+            seq,
+            superseded,
         })
     }
+
+    /// Records that job `p` waits on the edit at the machine of `file_name`
+    /// (its delivery was refused with `PROGRAM_CHANGED_AT_MACHINE`), so that
+    /// an adoption of the edit ends it. Other refusals are not recorded.
+    pub(super) fn hold(&self, p: &NcProgram, file_name: &str, error: &JobError) {
+        if error.code != gearcam_proto::codes::PROGRAM_CHANGED_AT_MACHINE {
+            return;
+        }
+        if let Err(e) = self.conn.execute(
+            "INSERT OR REPLACE INTO held (job, file_name, at_ms) VALUES (?1, ?2, ?3)",
+            params![p.job_id.as_str(), file_name, now_ms() as i64],
+        ) {
+            tracing::error!(job = %p.job_id, error = %e, "cannot record the job waiting on the edit at the machine");
+        }
+    }
+
+    /// Whether an adoption ended `job`, and by which version.
+    pub fn superseded(&self, job: &str) -> Result<Option<Superseded>, JobError> {
+        self.conn
+            .query_row(
+                "SELECT name, seq, by_user FROM superseded WHERE job = ?1",
+                [job],
+                |r| {
+                    Ok(Superseded {
+                        name: r.get(0)?,
+                        seq: r.get::<_, i64>(1)? as u64,
+                        by: r.get(2)?,
+                    })
+                },
+            )
+            .optional()
+            .map_err(index_error)
+    }
+}
+
+/// Ends the jobs held on `file_name`: superseded by version `seq` of `name`,
+/// adopted by `by`. Returns them.
+fn supersede(
+    conn: &rusqlite::Connection,
+    file_name: &str,
+    name: &str,
+    seq: i64,
+    by: &str,
+    now: u64,
+) -> rusqlite::Result<Vec<JobId>> {
+    let jobs: Vec<String> = conn
+        .prepare("SELECT job FROM held WHERE file_name = ?1 ORDER BY at_ms")?
+        .query_map([file_name], |r| r.get(0))?
+        .collect::<rusqlite::Result<_>>()?;
+    conn.execute(
+        "INSERT OR REPLACE INTO superseded (job, name, seq, by_user, at_ms)
+         SELECT job, ?2, ?3, ?4, ?5 FROM held WHERE file_name = ?1",
+        params![file_name, name, seq, by, now as i64],
+    )?;
+    conn.execute("DELETE FROM held WHERE file_name = ?1", [file_name])?;
+    Ok(jobs
+        .into_iter()
+        .filter_map(|j| JobId::new(j).ok())
+        .collect())
 }
 
 #[cfg(test)]
@@ -216,11 +327,13 @@ mod tests {
         let blocked = s.store(&program("J2", "SP_1", "second\n")).unwrap_err();
         assert_eq!(blocked.code, "PROGRAM_CHANGED_AT_MACHINE");
 
-        let receipt = s.resolve("SP_1", Resolution::Adopt, "operator Li").unwrap();
+        let resolved = s.resolve("SP_1", Resolution::Adopt, "operator Li").unwrap();
         assert_eq!(
-            receipt.sha256,
+            resolved.receipt.sha256,
             sha256_hex(b"first, feed lowered by the operator\n")
         );
+        // The job that waited to replace the edit ends with the adoption.
+        assert_eq!(resolved.superseded, [JobId::new("J2").unwrap()]);
         let h = s.history(Some("SP_1")).unwrap();
         assert_eq!(
             (h[0].state.as_str(), h[0].current, h[0].by.as_str()),
@@ -228,13 +341,54 @@ mod tests {
         );
         let text = s.version("SP_1", h[0].seq).unwrap().unwrap().text;
         assert_eq!(text, "first, feed lowered by the operator\n");
-        // Nothing left to resolve, and the waiting delivery now goes through.
+        // Nothing left to resolve. The waiting job, re-driven, is refused
+        // for good: the adopted edit stays at the machine.
         assert_eq!(
             s.resolve("SP_1", Resolution::Adopt, "x").unwrap_err().code,
             "NO_CONFLICT"
         );
+        let e = s.store(&program("J2", "SP_1", "second\n")).unwrap_err();
+        assert_eq!(e.code, "JOB_SUPERSEDED");
+        assert!(
+            e.got.contains(&format!("version {} of SP_1", resolved.seq))
+                && e.got.contains("operator Li"),
+            "{e:?}"
+        );
+        assert_eq!(
+            fs::read_to_string(&path).unwrap(),
+            "first, feed lowered by the operator\n"
+        );
+        assert_eq!(
+            s.superseded("J2").unwrap().map(|x| (x.name, x.seq, x.by)),
+            Some(("SP_1".to_string(), resolved.seq, "operator Li".to_string()))
+        );
+        // A job submitted again after the decision is a new job: delivered.
+        s.store(&program("J3", "SP_1", "second\n")).unwrap();
+        assert_eq!(fs::read_to_string(&path).unwrap(), "second\n");
+    }
+
+    /// After a replacement the job that waited is delivered: nothing
+    /// superseded it.
+    #[test]
+    fn a_replacement_lets_the_waiting_job_through() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = store(dir.path());
+        s.store(&program("J1", "SP_1", "first\n")).unwrap();
+        let path = dir.path().join("programs/_N_SP_1_MPF");
+        fs::write(&path, "operator edit\n").unwrap();
+        assert_eq!(
+            s.store(&program("J2", "SP_1", "second\n"))
+                .unwrap_err()
+                .code,
+            "PROGRAM_CHANGED_AT_MACHINE"
+        );
+        let resolved = s
+            .resolve("SP_1", Resolution::Replace, "planner Wang")
+            .unwrap();
+        assert!(resolved.superseded.is_empty());
         s.store(&program("J2", "SP_1", "second\n")).unwrap();
         assert_eq!(fs::read_to_string(&path).unwrap(), "second\n");
+        assert_eq!(s.superseded("J2").unwrap(), None);
     }
 
     #[test]

@@ -1,4 +1,5 @@
-//! `gearcam jobs` and `gearcam status`: the station's journal.
+//! `gearcam jobs`, `gearcam status` and `gearcam cancel`: the station's
+//! journal.
 
 use std::process::ExitCode;
 
@@ -49,4 +50,29 @@ pub async fn status(job: &JobId, bus_args: &BusArgs, json: bool) -> anyhow::Resu
     } else {
         ExitCode::SUCCESS
     })
+}
+
+pub async fn cancel(
+    job: &JobId,
+    by: &str,
+    bus_args: &BusArgs,
+    json: bool,
+) -> anyhow::Result<ExitCode> {
+    let bus = join_bus(bus_args).await?;
+    let status = station::cancel(&bus, job, by).await;
+    bus.close().await;
+    let status = match status.context("asking the station")? {
+        Ok(status) => status,
+        Err(errors) => return Ok(refused(&errors)),
+    };
+    if json {
+        crate::outln!("{}", serde_json::to_string_pretty(&status)?);
+    } else {
+        crate::outln!("{}", station::describe_status(&status));
+        crate::outln!(
+            "job {job} is cancelled: the agent of {} will not store its program",
+            status.machine
+        );
+    }
+    Ok(ExitCode::SUCCESS)
 }

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 use crate::bus_config::ClientArgs;
 use anyhow::Context;
 use clap::Subcommand;
-use gearcam_proto::{MachineId, StoreRequest};
+use gearcam_proto::{JobId, MachineId, StoreRequest};
 
 use crate::cmd::{join_bus, refused};
 use crate::store;
@@ -60,7 +60,9 @@ pub enum ProgramAction {
     ///
     /// A delivery to a program changed at the machine is refused
     /// (PROGRAM_CHANGED_AT_MACHINE) and its job waits. Either way the edit is
-    /// kept in the history with who and when, and the waiting jobs are
+    /// kept in the history with who and when. --adopt is final: the jobs that
+    /// waited to replace the edit end superseded and are never delivered over
+    /// it (submit again for gearcam's program); after --replace they are
     /// delivered at their next re-drive.
     Resolve {
         /// The machine, e.g. H01.
@@ -148,8 +150,8 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             let r = store::change(&bus, &machine, &name, &StoreRequest::Rollback { seq }).await;
             bus.close().await;
             match r.context(format!("asking the agent of {machine}"))? {
-                Ok(receipt) if json => print_json(&receipt),
-                Ok(receipt) => {
+                Ok((receipt, _)) if json => print_json(&receipt),
+                Ok((receipt, _)) => {
                     crate::outln!(
                         "{} is version {seq} again: {} (sha256 {})",
                         name,
@@ -180,8 +182,12 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             let r = store::change(&bus, &machine, &name, &request).await;
             bus.close().await;
             match r.context(format!("asking the agent of {machine}"))? {
-                Ok(receipt) if json => print_json(&receipt),
-                Ok(receipt) => {
+                Ok((receipt, superseded)) if json => {
+                    let mut v = serde_json::to_value(&receipt)?;
+                    v["superseded"] = serde_json::to_value(&superseded)?;
+                    print_json(&v)
+                }
+                Ok((receipt, superseded)) => {
                     let what = if adopt {
                         "the edit at the machine is now the current version"
                     } else {
@@ -192,7 +198,18 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
                         receipt.path,
                         receipt.sha256
                     );
-                    crate::outln!("jobs waiting on this program are delivered at their next re-drive (gearcam jobs)");
+                    if !adopt {
+                        crate::outln!("jobs waiting on this program are delivered at their next re-drive (gearcam jobs)");
+                    } else if superseded.is_empty() {
+                        crate::outln!("no job was waiting to replace it");
+                    } else {
+                        let jobs: Vec<&str> = superseded.iter().map(JobId::as_str).collect();
+                        crate::outln!(
+                            "{} job(s) that waited to replace it end superseded and are never delivered over it: {}; submit again for gearcam's program",
+                            jobs.len(),
+                            jobs.join(", ")
+                        );
+                    }
                     Ok(ExitCode::SUCCESS)
                 }
                 Err(error) => Ok(refused(&[error])),

@@ -112,6 +112,10 @@ pub async fn submit(
             json!({"job": req.job_id, "state": "failed", "errors": errors}),
             ExitCode::FAILURE,
         ),
+        Outcome::Ended(state, errors) => (
+            json!({"job": req.job_id, "state": state.as_str(), "errors": errors}),
+            ExitCode::FAILURE,
+        ),
         Outcome::TimedOut(s) => (
             serde_json::to_value(s)?,
             crate::exit::code(crate::exit::UNFINISHED),
@@ -132,6 +136,12 @@ pub async fn submit(
             Outcome::Failed(errors) => {
                 eprintln!("job {} refused with {} error(s):\n{}", req.job_id, errors.len(), check::format_errors(errors))
             }
+            Outcome::Ended(state, errors) => eprintln!(
+                "job {} {}, not delivered:\n{}",
+                req.job_id,
+                state.as_str(),
+                check::format_errors(errors)
+            ),
             Outcome::TimedOut(s) => eprintln!(
                 "job {}: not finished within {timeout} s; it stays journaled and the station keeps driving it\n  {}",
                 s.job,
