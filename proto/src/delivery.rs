@@ -193,6 +193,10 @@ pub enum StoreRequest {
     Rollback {
         /// The version.
         seq: u64,
+        /// Who rolled it back (`unknown` when a client of an older release
+        /// does not say).
+        #[serde(default = "unknown_user")]
+        by: String,
     },
     /// Take the program as it now is at the machine (an operator's edit) as
     /// the current version, recorded with who and when.
@@ -206,6 +210,10 @@ pub enum StoreRequest {
         /// Who reviewed and replaced the edit.
         by: String,
     },
+}
+
+fn unknown_user() -> String {
+    "unknown".into()
 }
 
 impl Message for StoreRequest {

@@ -330,7 +330,11 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
         // A planner may not change a machine's current program; a supervisor may.
         let h01 = MachineId::new("H01").unwrap();
         let change = keys::store_change(&h01, "SEC_0001");
-        let rollback = encode(&StoreRequest::Rollback { seq: 1 }).unwrap();
+        let rollback = encode(&StoreRequest::Rollback {
+            seq: 1,
+            by: "supervisor".into(),
+        })
+        .unwrap();
         let replies = session
             .get(&change)
             .payload(rollback.clone())

@@ -445,3 +445,105 @@ fn a_cancelled_job_is_never_stored() {
     }
     assert_eq!(std::fs::read(&path).unwrap(), before);
 }
+
+/// `gearcam` with the environment of a user, or with no login name at all.
+fn gearcam_as(user: Option<&str>, args: &[&str]) -> (Option<i32>, String, String) {
+    let mut cmd = std::process::Command::new(gearcam_testkit::bin("gearcam"));
+    cmd.args(args)
+        .env_remove("USER")
+        .env_remove("LOGNAME")
+        .stdin(std::process::Stdio::null());
+    if let Some(u) = user {
+        cmd.env("USER", u);
+    }
+    let out = cmd.output().expect("gearcam runs");
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// Who did it, one rule everywhere: the login name, else `unknown` (not
+/// `gearcam`, `planner` or no one), written with every change — an
+/// adoption, a rollback, a cancellation, a knowledge-base edit.
+#[test]
+fn who_did_it_is_the_login_name_else_unknown() {
+    let c = Cluster::start();
+    let text = gearcam_testkit::examples::example("spur_840d.toml");
+    let (_, v) = c.submit_wait(&c.job_file("first.toml", &text));
+    assert_eq!(v["state"], "delivered", "{v}");
+    let path = c.program_dir().join("_N_SP_1001_MPF");
+    std::fs::write(&path, std::fs::read_to_string(&path).unwrap() + "; EDIT\n").unwrap();
+    let e = &c.endpoint;
+    let (code, out, err) = gearcam_as(
+        None,
+        &[
+            "program",
+            "resolve",
+            "SP_1001",
+            "--machine",
+            "H01",
+            "--adopt",
+            "--connect",
+            e,
+        ],
+    );
+    assert_eq!(code, Some(0), "{out}{err}");
+    let first = history(&c, "H01").last().unwrap()["seq"].as_u64().unwrap();
+    let (code, out, err) = gearcam_as(
+        Some("alice"),
+        &[
+            "program",
+            "rollback",
+            "SP_1001",
+            &first.to_string(),
+            "--machine",
+            "H01",
+            "--connect",
+            e,
+        ],
+    );
+    assert_eq!(code, Some(0), "{out}{err}");
+    let h = history(&c, "H01");
+    let by: Vec<(&str, &str)> = h
+        .iter()
+        .map(|v| (v["state"].as_str().unwrap(), v["by"].as_str().unwrap_or("")))
+        .collect();
+    assert_eq!(by[..2], [("rollback", "alice"), ("adopted", "unknown")]);
+
+    // A cancellation.
+    std::fs::write(&path, "; another edit\n").unwrap();
+    let v = c.submit(&c.job_file(
+        "second.toml",
+        &text.replace("quantity = 20", "quantity = 21"),
+    ));
+    let id = v["job"].as_str().unwrap().to_string();
+    let (code, out, err) = gearcam_as(None, &["cancel", &id, "--connect", e]);
+    assert_eq!(code, Some(0), "{out}{err}");
+    let v = c.wait_status(&id, |_| true);
+    assert_eq!(v["errors"][0]["got"], "cancelled by unknown", "{v}");
+
+    // A knowledge-base edit, in a data directory of its own.
+    let data = c.dir().join("local");
+    let d = data.display().to_string();
+    let (code, out, err) = gearcam_as(
+        None,
+        &[
+            "kb",
+            "edit",
+            "wire-machines",
+            "W01",
+            "--set",
+            "rotates=false",
+            "--data",
+            &d,
+        ],
+    );
+    assert_eq!(code, Some(0), "{out}{err}");
+    let (_, out, _) = gearcam_as(
+        None,
+        &["kb", "changes", "--limit", "1", "--json", "--data", &d],
+    );
+    assert!(out.contains("\"unknown\""), "{out}");
+}

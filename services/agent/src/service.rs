@@ -265,7 +265,9 @@ fn answer_store_query(store: &mut Store, key: &str, payload: &[u8]) -> Answer {
                 return refuse(error);
             }
             let result = match &request {
-                StoreRequest::Rollback { seq } => store.rollback(name, *seq).map(|r| (r, None)),
+                StoreRequest::Rollback { seq, by } => {
+                    store.rollback(name, *seq, by).map(|r| (r, None))
+                }
                 StoreRequest::Adopt { by } => store
                     .resolve(name, Resolution::Adopt, by)
                     .map(|r| (r.receipt, Some((r.seq, r.superseded)))),

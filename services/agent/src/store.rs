@@ -513,7 +513,12 @@ impl Store {
 
     /// Makes version `seq` of program `name` current again: writes its text to
     /// the program directory (atomically) and records a `rollback` version.
-    pub fn rollback(&mut self, name: &str, seq: u64) -> Result<DeliveryReceipt, JobError> {
+    pub fn rollback(
+        &mut self,
+        name: &str,
+        seq: u64,
+        by: &str,
+    ) -> Result<DeliveryReceipt, JobError> {
         let v = self
             .version(name, seq)
             .map_err(|e| {
@@ -549,8 +554,8 @@ impl Store {
         let stored_at = now_ms();
         self.conn
             .execute(
-                "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text, part)
-                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'rollback', ?9, ?10)",
+                "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text, part, by_user)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'rollback', ?9, ?10, ?11)",
                 params![
                     v.version.name,
                     file_name,
@@ -561,7 +566,8 @@ impl Store {
                     self.config.dialect.as_str(),
                     stored_at as i64,
                     v.text,
-                    v.version.part_number
+                    v.version.part_number,
+                    by
                 ],
             )
             .map_err(index_error)?;
@@ -784,7 +790,7 @@ mod tests {
         assert!(h[0].current && !h[1].current);
         let first = h[1].seq;
         assert_eq!(s.version("SP_1", first).unwrap().unwrap().text, "first\n");
-        let r = s.rollback("SP_1", first).unwrap();
+        let r = s.rollback("SP_1", first, "operator Li").unwrap();
         assert_eq!(fs::read_to_string(&path).unwrap(), "first\n");
         assert_eq!(r.sha256, sha256_hex(b"first\n"));
         let h = s.history(Some("SP_1")).unwrap();
@@ -792,7 +798,10 @@ mod tests {
             (h.len(), h[0].state.as_str(), h[0].current),
             (3, "rollback", true)
         );
-        assert_eq!(s.rollback("SP_1", 999).unwrap_err().code, "UNKNOWN_VERSION");
+        assert_eq!(
+            s.rollback("SP_1", 999, "x").unwrap_err().code,
+            "UNKNOWN_VERSION"
+        );
         // The receipt of a job can be asked for again.
         assert_eq!(
             s.stored_receipt("J2").unwrap().unwrap().sha256,

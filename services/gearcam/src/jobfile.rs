@@ -212,8 +212,9 @@ pub fn load(path: &Path) -> Result<JobSpec, JobError> {
 
 static COUNTER: AtomicU32 = AtomicU32::new(0);
 
-/// The job id: the file's `[job] id`, or `{part}-{ms}-{n}` made unique per
-/// process and millisecond.
+/// The job id: the file's `[job] id`, or `{part}-{ms}-{pid}-{n}`: the part,
+/// the milliseconds, the process (its id mod 1000) and a counter of the
+/// process, each after its own `-` so that no two of them run together.
 pub fn job_id(spec: &JobSpec) -> JobId {
     if let Some(id) = &spec.job.id {
         return id.clone();
@@ -233,7 +234,7 @@ pub fn job_id(spec: &JobSpec) -> JobId {
     let part = if part.is_empty() { "job" } else { part };
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
     JobId::new(format!(
-        "{part}-{}-{}{n}",
+        "{part}-{}-{}-{n}",
         now_ms(),
         std::process::id() % 1000
     ))
@@ -250,11 +251,18 @@ pub fn request(spec: JobSpec) -> JobRequest {
     }
 }
 
-/// Who submits: the login name (`$USER`), or `gearcam`. The one place the
-/// command's library reads the environment.
+/// Who acts — submits, cancels, resolves, rolls back, confirms, edits the
+/// knowledge base: the login name (`$USER`, else `$LOGNAME`), else
+/// `unknown`; one rule for every command that records who. The one place
+/// the command's library reads the environment.
 #[allow(clippy::disallowed_methods)]
 pub fn user() -> String {
-    std::env::var("USER").unwrap_or_else(|_| "gearcam".into())
+    ["USER", "LOGNAME"]
+        .iter()
+        .filter_map(|v| std::env::var(v).ok())
+        .map(|v| v.trim().to_string())
+        .find(|v| !v.is_empty())
+        .unwrap_or_else(|| "unknown".into())
 }
 
 #[cfg(test)]
@@ -280,6 +288,14 @@ fixture_height_mm = 100.0
         assert!(spec.options.coolant);
         let id = job_id(&spec);
         assert!(id.as_str().starts_with("SP-1-"), "{id}");
+        // Part, milliseconds, process, counter: four fields, the last two
+        // apart, so a counter of 10 after process 692 is not process 69's 210.
+        let next = job_id(&spec);
+        let fields: Vec<&str> = next.as_str().rsplitn(4, '-').collect();
+        assert_eq!(fields.len(), 4, "{next}");
+        assert_eq!(fields[1], (std::process::id() % 1000).to_string(), "{next}");
+        assert!(fields[0].parse::<u64>().is_ok(), "{next}");
+        assert_ne!(id, next);
     }
 
     #[test]

@@ -135,9 +135,9 @@ pub struct ConfirmArgs {
     /// How far to trust the new case, 0–1.
     #[arg(long, default_value_t = 0.8)]
     pub confidence: f64,
-    /// Who confirms (default: $USER).
-    #[arg(long, env = "USER", default_value = "planner")]
-    pub by: String,
+    /// Who confirms (default: the login name, else `unknown`).
+    #[arg(long)]
+    pub by: Option<String>,
     /// Accept a job whose delivery the knowledge service did not hear.
     #[arg(long)]
     pub undelivered: bool,
@@ -646,7 +646,7 @@ pub fn confirm(args: ConfirmArgs) -> ExitCode {
         quality_achieved: args.quality,
         notes: args.notes,
         confidence: args.confidence,
-        by: args.by,
+        by: args.by.unwrap_or_else(crate::jobfile::user),
         at_ms: gearcam_proto::now_ms(),
         allow_undelivered: args.undelivered,
     };

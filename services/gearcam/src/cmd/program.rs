@@ -50,6 +50,9 @@ pub enum ProgramAction {
         name: String,
         /// Version number (from `history`).
         seq: u64,
+        /// Who rolls it back (default: the login name, else `unknown`).
+        #[arg(long)]
+        by: Option<String>,
         #[command(flatten)]
         bus: ClientArgs,
         /// Print the receipt of the version now current as JSON.
@@ -76,7 +79,7 @@ pub enum ProgramAction {
         /// gearcam's current version is written back; the edit stays in the history.
         #[arg(long)]
         replace: bool,
-        /// Who reviewed the edit (default: the login name).
+        /// Who reviewed the edit (default: the login name, else `unknown`).
         #[arg(long)]
         by: Option<String>,
         #[command(flatten)]
@@ -143,11 +146,13 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             machine,
             name,
             seq,
+            by,
             bus,
             json,
         } => {
+            let by = by.unwrap_or_else(crate::jobfile::user);
             let bus = join_bus(&bus.bus_args()).await?;
-            let r = store::change(&bus, &machine, &name, &StoreRequest::Rollback { seq }).await;
+            let r = store::change(&bus, &machine, &name, &StoreRequest::Rollback { seq, by }).await;
             bus.close().await;
             match r.context(format!("asking the agent of {machine}"))? {
                 Ok((receipt, _)) if json => print_json(&receipt),
