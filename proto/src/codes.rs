@@ -295,6 +295,9 @@ catalogue! {
     JOB_FILE_MISSING_KEY: "station",
         "The job file lacks a required key.",
         "Add the key; for `[gear]` keys you may instead leave the whole section out and name a library part number.";
+    JOB_FILE_NOT_FOUND: "station",
+        "The job file named on the command line does not exist; got is the path.",
+        "Check the path (relative to the working directory), e.g. examples/spur_840d.toml.";
     JOB_FILE_UNKNOWN_KEY: "station",
         "The job file has a key gearcam does not know (often a typo).",
         "Correct or remove the key; the error lists the expected ones.";

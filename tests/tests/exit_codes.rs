@@ -112,3 +112,84 @@ fn point_7_status_exit_codes_say_failed_unknown_and_unreachable() {
     let (code, _, err) = gearcam(&["status", "NO-SUCH-JOB", "--connect", e]);
     assert_eq!(code, Some(2), "{err}");
 }
+
+/// Not found is 3 wherever the thing asked for does not exist — a job
+/// file, a library, a template — and a malformed endpoint is a usage
+/// error (64) with a sentence that names the form, not an unreachable bus.
+#[test]
+fn missing_things_are_3_and_a_bad_endpoint_is_64() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data").display().to_string();
+    let missing = dir.path().join("no-such-job.toml").display().to_string();
+    let (code, _, err) = gearcam(&["check", &missing, "--data", &data]);
+    assert_eq!(code, Some(3), "{err}");
+    let (code, out, _) = gearcam(&["check", &missing, "--data", &data, "--json"]);
+    assert_eq!(code, Some(3));
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(
+        (v["ok"].as_bool(), v["exit"].as_u64()),
+        (Some(false), Some(3)),
+        "{v}"
+    );
+    assert_eq!(v["errors"][0]["code"], "JOB_FILE_NOT_FOUND", "{v}");
+    let (code, _, err) = gearcam(&["submit", &missing]);
+    assert_eq!(code, Some(3), "{err}");
+    let (code, _, err) = gearcam(&["kb", "list", "nosuch", "--data", &data]);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(err.contains("UNKNOWN_LIBRARY"), "{err}");
+    let (code, _, err) = gearcam(&["templates", "show", "nosuch", "--data", &data]);
+    assert_eq!(code, Some(3), "{err}");
+    for bad in ["garbage", "udp/127.0.0.1:7447", "tcp/127.0.0.1"] {
+        let (code, _, err) = gearcam(&["jobs", "--connect", bad]);
+        assert_eq!(code, Some(64), "{bad}: {err}");
+        assert!(err.contains("PROTOCOL/ADDRESS:PORT"), "{bad}: {err}");
+        assert!(!err.contains("Json5Err"), "{bad}: {err}");
+    }
+}
+
+/// One JSON shape for every failure: `ok` false, `exit` the exit code and
+/// typed `errors`, beside what the command adds (the job and its state).
+#[test]
+fn every_json_failure_has_ok_exit_and_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data").display().to_string();
+    let shape = |out: &str, exit: u64| -> serde_json::Value {
+        let v: serde_json::Value =
+            serde_json::from_str(out.trim()).unwrap_or_else(|e| panic!("{e}: {out}"));
+        assert_eq!(v["ok"], false, "{v}");
+        assert_eq!(v["exit"], exit, "{v}");
+        assert!(
+            v["errors"]
+                .as_array()
+                .is_some_and(|e| !e.is_empty() && e[0]["code"].is_string()),
+            "{v}"
+        );
+        v
+    };
+    // Nothing listens on this port: unreachable, 2.
+    let spur = gearcam_testkit::examples::dir().join("spur_840d.toml");
+    let spur = spur.display().to_string();
+    let (code, out, _) = gearcam(&["submit", &spur, "--json", "--connect", "tcp/127.0.0.1:9"]);
+    assert_eq!(code, Some(2));
+    let v = shape(&out, 2);
+    assert_eq!(v["state"], "unreachable", "{v}");
+    // A job file that does not parse: refused, 1.
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "[job\n").unwrap();
+    let (code, out, _) = gearcam(&["submit", &bad.display().to_string(), "--json"]);
+    assert_eq!(code, Some(1));
+    let v = shape(&out, 1);
+    assert_eq!(v["state"], "rejected", "{v}");
+    // A job the model refuses, checked locally: refused, 1.
+    let invalid = gearcam_testkit::examples::dir().join("invalid_base_pitch.toml");
+    let (code, out, _) = gearcam(&[
+        "check",
+        &invalid.display().to_string(),
+        "--json",
+        "--data",
+        &data,
+    ]);
+    assert_eq!(code, Some(1));
+    let v = shape(&out, 1);
+    assert_eq!(v["errors"][0]["code"], "BASE_PITCH_MISMATCH", "{v}");
+}

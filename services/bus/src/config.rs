@@ -108,6 +108,31 @@ fn json_list(items: &[String]) -> String {
     format!("[{}]", quoted.join(","))
 }
 
+/// An endpoint of the command line, checked before anything is opened:
+/// `PROTOCOL/ADDRESS:PORT` with a protocol this build carries (`tcp` or
+/// `tls`). A wrong one is a usage error with this sentence, not a bus that
+/// cannot be reached.
+pub fn parse_endpoint(s: &str) -> Result<String, String> {
+    let expected =
+        "an endpoint PROTOCOL/ADDRESS:PORT, e.g. tcp/127.0.0.1:7447 or tls/planning-office:7447";
+    let ep: zenoh::config::EndPoint = s
+        .parse()
+        .map_err(|_| format!("expected {expected}; got {s:?}"))?;
+    let protocol = ep.protocol();
+    let protocol = protocol.as_str();
+    if !["tcp", "tls"].contains(&protocol) {
+        return Err(format!(
+            "expected {expected} (this build carries tcp and tls); got the protocol {protocol:?} in {s:?}"
+        ));
+    }
+    if !ep.address().as_str().contains(':') {
+        return Err(format!(
+            "expected {expected}: the port is missing; got {s:?}"
+        ));
+    }
+    Ok(s.to_string())
+}
+
 /// Command-line arguments every gearcam program shares (after Zenoh's own
 /// examples): `--config`, `--mode`, `--connect`, `--listen`, `--no-multicast-scouting`.
 #[derive(Debug, Clone, Default, clap::Args)]
@@ -119,10 +144,10 @@ pub struct BusArgs {
     #[arg(long, value_enum)]
     pub mode: Option<Mode>,
     /// Endpoint to connect to (repeatable), e.g. tcp/127.0.0.1:7447.
-    #[arg(short = 'e', long = "connect", value_name = "ENDPOINT")]
+    #[arg(short = 'e', long = "connect", value_name = "ENDPOINT", value_parser = parse_endpoint)]
     pub connect: Vec<String>,
     /// Endpoint to listen on (repeatable), e.g. tcp/127.0.0.1:7447.
-    #[arg(short = 'l', long = "listen", value_name = "ENDPOINT")]
+    #[arg(short = 'l', long = "listen", value_name = "ENDPOINT", value_parser = parse_endpoint)]
     pub listen: Vec<String>,
     /// Turn multicast scouting off (use only the given endpoints).
     #[arg(long)]

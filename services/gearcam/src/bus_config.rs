@@ -69,7 +69,7 @@ pub struct ClientArgs {
     #[arg(long = "config", value_name = "FILE", env = "GEARCAM_ZENOH_CONFIG")]
     pub config: Option<PathBuf>,
     /// The router or `gearcam up` to connect to (repeatable; default tcp/127.0.0.1:7447).
-    #[arg(short = 'e', long = "connect", value_name = "ENDPOINT")]
+    #[arg(short = 'e', long = "connect", value_name = "ENDPOINT", value_parser = gearcam_bus::config::parse_endpoint)]
     pub connect: Vec<String>,
 }
 

@@ -215,6 +215,10 @@ pub struct SpiralReport {
 pub struct CheckReport {
     /// True when a program was produced without errors.
     pub ok: bool,
+    /// The command's exit code when not ok (the shape of every failure:
+    /// `ok`, `exit`, `errors`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub exit: Option<u8>,
     /// Every error found, each with stage, code, field, expected, got, message.
     pub errors: Vec<JobError>,
     /// Warnings.
@@ -253,6 +257,7 @@ impl CheckReport {
     pub fn failed(errors: Vec<JobError>) -> CheckReport {
         CheckReport {
             ok: false,
+            exit: None,
             errors,
             warnings: vec![],
             job: None,

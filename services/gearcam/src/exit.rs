@@ -5,7 +5,7 @@
 //! | 0 | done (delivered, journaled, printed) |
 //! | 1 | refused: a stage or the local knowledge base answered with typed errors (a failed job's status too) |
 //! | 2 | unreachable: the bus, a service, or the local data directory |
-//! | 3 | not found: an unknown job, program, version or record |
+//! | 3 | not found: an unknown job, program, version, record, library or template, or a job file that does not exist |
 //! | 4 | not finished in time (`submit --wait`): the job stays journaled and the station keeps driving it |
 //! | 64 | usage: the command line itself is wrong |
 
@@ -27,7 +27,7 @@ pub const USAGE: u8 = 64;
 /// The codes as `--help` shows them.
 pub const HELP: &str = "Exit codes: 0 done; 1 refused with typed errors (also the status of a \
 failed job); 2 bus, services or data directory unreachable; 3 not found (unknown job, program, \
-version or record); 4 not finished in time (submit --wait; the job stays journaled); 64 usage error.";
+version, record, library or template; no such job file); 4 not finished in time (submit --wait; the job stays journaled); 64 usage error.";
 
 /// The exit code `code`.
 pub fn code(code: u8) -> ExitCode {
@@ -35,10 +35,12 @@ pub fn code(code: u8) -> ExitCode {
 }
 
 /// The error codes that mean "no such thing".
-const NOT_FOUND_CODES: [&str; 4] = [
+const NOT_FOUND_CODES: [&str; 6] = [
     "UNKNOWN_JOB",
     "UNKNOWN_PROGRAM",
     "UNKNOWN_VERSION",
+    "UNKNOWN_LIBRARY",
+    "JOB_FILE_NOT_FOUND",
     "NOT_FOUND",
 ];
 

@@ -199,8 +199,13 @@ fn join_path(path: &str, key: &str) -> String {
 pub fn load(path: &Path) -> Result<JobSpec, JobError> {
     let origin = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| {
+        let code = if e.kind() == std::io::ErrorKind::NotFound {
+            "JOB_FILE_NOT_FOUND"
+        } else {
+            "JOB_FILE_UNREADABLE"
+        };
         station_error(
-            "JOB_FILE_UNREADABLE",
+            code,
             "-",
             "a readable TOML job file",
             &origin,

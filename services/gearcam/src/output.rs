@@ -48,6 +48,30 @@ pub fn fail(exit: u8, errors: &[gearcam_proto::JobError], text: &str) -> ExitCod
     crate::exit::code(exit)
 }
 
+/// The JSON of a failure that carries more than its errors (`submit`: the
+/// job and its state): `{"ok": false, "exit": N, "errors": [...]}` with the
+/// fields of `extra`. Without typed errors, one error named after the exit
+/// code, with `message`.
+pub fn failure_json(
+    exit: u8,
+    errors: &[gearcam_proto::JobError],
+    message: &str,
+    extra: serde_json::Value,
+) -> serde_json::Value {
+    let errors = if errors.is_empty() {
+        serde_json::json!([{"code": exit_name(exit), "message": message}])
+    } else {
+        serde_json::json!(errors)
+    };
+    let mut v = serde_json::json!({"ok": false, "exit": exit, "errors": errors});
+    if let (Some(v), serde_json::Value::Object(extra)) = (v.as_object_mut(), extra) {
+        for (k, x) in extra {
+            v.entry(k).or_insert(x);
+        }
+    }
+    v
+}
+
 /// The name of an exit code in a JSON failure.
 fn exit_name(exit: u8) -> &'static str {
     match exit {

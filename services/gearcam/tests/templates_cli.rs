@@ -177,9 +177,9 @@ fn analyze_import_list_show_and_versions() {
     let o = gearcam(&data, &["show", "cylindrical_840d"]);
     assert!(stdout(&o).contains("G1 G91"), "{}", stdout(&o));
 
-    // Unknown template: refused with what the library holds.
+    // Unknown template: not found (3), with what the library holds.
     let o = gearcam(&data, &["show", "spur_840d"]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(3));
     assert!(
         stderr(&o).contains("it holds conical_840d v1, cylindrical_840d v1 v2"),
         "{}",

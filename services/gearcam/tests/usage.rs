@@ -32,8 +32,13 @@ fn submit_to_an_unreachable_bus_exits_2_and_names_the_endpoint() {
     );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["state"], "unreachable");
+    assert_eq!(
+        (v["ok"].as_bool(), v["exit"].as_u64()),
+        (Some(false), Some(2))
+    );
+    assert_eq!(v["errors"][0]["code"], "UNREACHABLE", "{v}");
     assert!(
-        v["message"]
+        v["errors"][0]["message"]
             .as_str()
             .unwrap()
             .contains(&format!("tcp/127.0.0.1:{port}")),
@@ -45,6 +50,16 @@ fn submit_to_an_unreachable_bus_exits_2_and_names_the_endpoint() {
 fn submit_refuses_an_unreadable_job_file_before_touching_the_bus() {
     let out = Command::new(env!("CARGO_BIN_EXE_gearcam"))
         .args(["submit", "/nonexistent/job.toml", "--json"])
+        .output()
+        .unwrap();
+    // No such file: not found (3).
+    assert_eq!(out.status.code(), Some(3));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["errors"][0]["code"], "JOB_FILE_NOT_FOUND");
+    // A file that is there but cannot be read (a directory): refused (1).
+    let dir = std::env::temp_dir();
+    let out = Command::new(env!("CARGO_BIN_EXE_gearcam"))
+        .args(["submit", &dir.display().to_string(), "--json"])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(1));

@@ -114,6 +114,15 @@ pub fn check(
             }
         }
     };
+    let mut report = report;
+    let code = if report.ok {
+        0
+    } else {
+        crate::exit::for_errors(&report.errors)
+    };
+    if !report.ok {
+        report.exit = Some(code);
+    }
     if json {
         match serde_json::to_string_pretty(&report) {
             Ok(s) => crate::outln!("{s}"),
@@ -125,9 +134,5 @@ pub fn check(
     } else {
         crate::out!("{}", check::format_human(&report));
     }
-    if report.ok {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::FAILURE
-    }
+    crate::exit::code(code)
 }

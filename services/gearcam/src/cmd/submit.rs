@@ -12,6 +12,7 @@ use crate::bus_config;
 use crate::check;
 use crate::cmd::progress;
 use crate::jobfile;
+use crate::output::failure_json;
 use crate::station::{self, Outcome, SubmitOptions};
 
 pub async fn submit(
@@ -25,15 +26,16 @@ pub async fn submit(
     let mut spec = match jobfile::load(job) {
         Ok(s) => s,
         Err(e) => {
+            let code = crate::exit::for_errors(std::slice::from_ref(&e));
             if json {
                 crate::outln!(
                     "{}",
-                    json!({"job": null, "state": "rejected", "errors": [e]})
+                    failure_json(code, &[e], "", json!({"job": null, "state": "rejected"}))
                 );
             } else {
                 eprintln!("gearcam: job file refused\n{}", check::format_errors(&[e]));
             }
-            return Ok(ExitCode::FAILURE);
+            return Ok(crate::exit::code(code));
         }
     };
     if let Some(id) = id {
@@ -65,7 +67,12 @@ pub async fn submit(
             if json {
                 crate::outln!(
                     "{}",
-                    json!({"job": req.job_id, "state": "unreachable", "message": message})
+                    failure_json(
+                        crate::exit::UNREACHABLE,
+                        &[],
+                        &message,
+                        json!({"job": req.job_id, "state": "unreachable"})
+                    )
                 );
             } else {
                 eprintln!("gearcam: {message}");
@@ -94,7 +101,12 @@ pub async fn submit(
             if json {
                 crate::outln!(
                     "{}",
-                    json!({"job": req.job_id, "state": "unreachable", "message": e.to_string(), "retry": retry_hint})
+                    failure_json(
+                        crate::exit::UNREACHABLE,
+                        &[],
+                        &e.to_string(),
+                        json!({"job": req.job_id, "state": "unreachable", "retry": retry_hint})
+                    )
                 );
             } else {
                 eprintln!("gearcam: {e}\n{retry_hint}");
@@ -108,16 +120,31 @@ pub async fn submit(
             json!({"job": r.job_id, "state": "delivered", "program": {"name": r.name, "sha256": r.sha256, "path": r.path}, "receipt": r, "warnings": warnings}),
             ExitCode::SUCCESS,
         ),
-        Outcome::Failed(errors) => (
-            json!({"job": req.job_id, "state": "failed", "errors": errors}),
-            ExitCode::FAILURE,
-        ),
+        Outcome::Failed(errors) => {
+            let code = crate::exit::for_errors(errors);
+            (
+                failure_json(code, errors, "", json!({"job": req.job_id, "state": "failed"})),
+                crate::exit::code(code),
+            )
+        }
         Outcome::Ended(state, errors) => (
-            json!({"job": req.job_id, "state": state.as_str(), "errors": errors}),
-            ExitCode::FAILURE,
+            failure_json(
+                crate::exit::REFUSED,
+                errors,
+                "",
+                json!({"job": req.job_id, "state": state.as_str()}),
+            ),
+            crate::exit::code(crate::exit::REFUSED),
         ),
         Outcome::TimedOut(s) => (
-            serde_json::to_value(s)?,
+            failure_json(
+                crate::exit::UNFINISHED,
+                &[],
+                &format!(
+                    "not finished within {timeout} s; the job stays journaled and the station keeps driving it"
+                ),
+                serde_json::to_value(s)?,
+            ),
             crate::exit::code(crate::exit::UNFINISHED),
         ),
     };

@@ -117,7 +117,10 @@ fn refusal(e: LibraryError, files: Option<&[Source]>) -> Failure {
         | LibraryError::VersionBehind { id, .. }
         | LibraryError::NotItsSource { id, .. }
         | LibraryError::Duplicate { id } => refused(format!("{}{e}", file(id))),
-        LibraryError::NotFound { .. } => refused(e.to_string()),
+        LibraryError::NotFound { .. } => Failure {
+            code: crate::exit::NOT_FOUND,
+            message: e.to_string(),
+        },
         _ => unavailable(e.to_string()),
     }
 }
