@@ -45,6 +45,10 @@ use gearcam_proto::codes::{CodeInfo, CATALOGUE};
 /// Literals and `codes::` names of that shape that are not error codes.
 const NOT_CODES: &[(&str, &str)] = &[
     (
+        "GEARCAM_DATA",
+        "services/gearcam/src/data_dir.rs: the environment variable naming the data directory",
+    ),
+    (
         "GC_PART",
         "proto/src/naming.rs: the 840D program name of a part number without usable characters",
     ),

@@ -31,7 +31,7 @@ pub enum Command {
     /// Run every service and one agent per configured machine in this process.
     Up {
         /// Data directory (knowledge base, machines' program stores).
-        #[arg(long, default_value = "gearcam-data")]
+        #[arg(long, env = "GEARCAM_DATA", default_value = "gearcam-data")]
         data: PathBuf,
         #[command(flatten)]
         bus: BusArgs,
@@ -39,7 +39,7 @@ pub enum Command {
     /// Start what `up` starts, submit the bundled example jobs, show the programs, stop.
     Demo {
         /// Data directory (knowledge base, machines' program stores).
-        #[arg(long, default_value = "gearcam-data")]
+        #[arg(long, env = "GEARCAM_DATA", default_value = "gearcam-data")]
         data: PathBuf,
     },
     /// Submit a job file over the bus.
@@ -73,7 +73,7 @@ pub enum Command {
         #[arg(long)]
         json: bool,
         /// Data directory holding the knowledge base (created and seeded if missing).
-        #[arg(long, default_value = "gearcam-data")]
+        #[arg(long, env = "GEARCAM_DATA", default_value = "gearcam-data")]
         data: PathBuf,
         /// Where to write the SVG picture of a spiral or wire job
         /// (default: DATA/pictures/JOBFILE.svg, JOBFILE the job file's name).

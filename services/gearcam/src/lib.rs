@@ -20,6 +20,7 @@ pub mod check;
 pub mod check_wire;
 pub mod cli;
 pub mod cmd;
+pub mod data_dir;
 pub mod embedded;
 pub mod examples;
 pub mod exit;

@@ -74,6 +74,7 @@ pub fn check(
     svg: Option<&Path>,
     dxf: Option<&Path>,
 ) -> ExitCode {
+    let data = &crate::data_dir::announce(data);
     let report = match jobfile::load(job) {
         Err(e) => CheckReport::failed(vec![e]),
         Ok(spec) => {

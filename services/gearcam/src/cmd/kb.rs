@@ -21,7 +21,12 @@ use serde_json::Value;
 #[derive(Debug, Args)]
 pub struct KbArgs {
     /// Data directory holding the knowledge base (created and seeded if missing).
-    #[arg(long, default_value = "gearcam-data", global = true)]
+    #[arg(
+        long,
+        env = "GEARCAM_DATA",
+        default_value = "gearcam-data",
+        global = true
+    )]
     pub data: PathBuf,
     /// Print records as JSON.
     #[arg(long, global = true)]
@@ -107,7 +112,7 @@ pub struct ConfirmArgs {
     /// The job id (as planned by the knowledge service; `gearcam kb list jobs`).
     pub job: String,
     /// Data directory holding the knowledge base.
-    #[arg(long, default_value = "gearcam-data")]
+    #[arg(long, env = "GEARCAM_DATA", default_value = "gearcam-data")]
     pub data: PathBuf,
     /// Parts actually cut (default: the job's quantity).
     #[arg(long)]
@@ -164,6 +169,7 @@ fn open(data: &Path) -> Result<rusqlite::Connection, ExitCode> {
 }
 
 fn open_db(data: &Path) -> Result<rusqlite::Connection, ExitCode> {
+    let data = &crate::data_dir::announce(data);
     db::open(&data.join("knowledge.db")).map_err(|e| {
         crate::output::fail(
             crate::exit::UNREACHABLE,

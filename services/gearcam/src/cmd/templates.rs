@@ -24,7 +24,12 @@ use serde::Serialize;
 #[derive(Debug, Args)]
 pub struct TemplatesArgs {
     /// Data directory holding the template library (`templates.db`, created if missing).
-    #[arg(long, default_value = "gearcam-data", global = true)]
+    #[arg(
+        long,
+        env = "GEARCAM_DATA",
+        default_value = "gearcam-data",
+        global = true
+    )]
     pub data: PathBuf,
     /// Print JSON.
     #[arg(long, global = true)]
@@ -152,6 +157,8 @@ fn print_json<T: Serialize + ?Sized>(value: &T) -> Result<(), Failure> {
 }
 
 fn open(data: &Path) -> Result<Library, Failure> {
+    let data = &crate::data_dir::absolute(data);
+    eprintln!("gearcam: data directory {}", data.display());
     Library::open(&data.join("templates.db")).map_err(|e| {
         unavailable(format!(
             "cannot open the template library in {}: {e}",

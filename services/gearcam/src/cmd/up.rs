@@ -12,6 +12,7 @@ use crate::embedded::Embedded;
 use crate::DEFAULT_ENDPOINT;
 
 pub async fn up(data: &Path, bus: &BusArgs) -> anyhow::Result<ExitCode> {
+    let data = &crate::data_dir::announce(data);
     let config = bus_config::embedded(bus, DEFAULT_ENDPOINT);
     let mut services = Embedded::start(&config, data, template_library(data)?)
         .await
