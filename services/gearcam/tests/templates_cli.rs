@@ -224,3 +224,43 @@ fn a_template_that_does_not_parse_is_named_with_file_line_expected_and_got() {
         stderr(&o)
     );
 }
+
+/// The spiral and wire families' programs name their form as a template
+/// (`template spiral-fanuc-macro v1`); `templates list` and `show` know
+/// them too, beside the library's templates.
+#[test]
+fn templates_of_every_family_are_listed_and_shown() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let o = gearcam(&data, &["list"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    for id in [
+        "spiral-fanuc-macro",
+        "spiral-linuxcnc",
+        "wire-3b",
+        "wire-iso-wire",
+    ] {
+        assert!(out.contains(id), "{id}: {out}");
+    }
+    let o = gearcam(&data, &["list", "--json"]);
+    let list: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(
+        list.as_array()
+            .unwrap()
+            .iter()
+            .any(|t| t["id"] == "wire-iso-wire"
+                && t["generated"] == true
+                && t["family"] == "wire-edm"),
+        "{list}"
+    );
+    let o = gearcam(&data, &["show", "spiral-fanuc-macro"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("spiral-fanuc-macro version 1 (family spiral-face, fanuc)"),
+        "{}",
+        stdout(&o)
+    );
+    let o = gearcam(&data, &["show", "wire-iso-wire", "--version", "2"]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+}

@@ -28,6 +28,8 @@
 //! - [`error`]: [`TemplateError`], a template that cannot be loaded or compiled.
 //! - [`spiral`]: the spiral face milling family's programs.
 //! - [`wire`]: the wire EDM family's programs (3B, 4B, ISO wire), certified by their replay.
+//! - [`forms`]: the program forms written by code (spiral and wire), listed
+//!   beside the library's templates.
 //! - [`service`]: the Zenoh wrapper.
 //!
 //! Why our own expression language rather than a crate: `EXPRESSIONS.md`.
@@ -37,6 +39,7 @@ pub mod builtin;
 pub mod engine;
 pub mod error;
 pub mod expr;
+pub mod forms;
 pub mod library;
 pub mod params;
 pub mod render;

@@ -214,7 +214,7 @@ pub fn instantiate(model: &SpiralModel) -> Result<NcProgram, Vec<JobError>> {
         text,
         sha256,
         template: TemplateRef {
-            id: format!("spiral-{}", form.as_str()),
+            id: crate::forms::spiral_id(form),
             version: SPIRAL_FORMS_VERSION,
         },
         part_number: plan.request.spec.job.part_number.clone(),

@@ -203,7 +203,7 @@ pub fn render(model: &WireModel) -> Result<NcProgram, Vec<JobError>> {
         text,
         sha256,
         template: TemplateRef {
-            id: format!("wire-{}", form.as_str()),
+            id: crate::forms::wire_id(form),
             version: WIRE_FORMS_VERSION,
         },
         part_number: plan.request.spec.job.part_number.clone(),

@@ -15,6 +15,7 @@ use std::process::ExitCode;
 
 use clap::{Args, Subcommand};
 use gearcam_template::builtin::builtin_sources;
+use gearcam_template::forms::generated;
 use gearcam_template::library::{Library, LibraryError, TemplateSummary};
 use gearcam_template::similarity::analyze;
 use gearcam_template::stdcode::{self, TemplateFile};
@@ -53,11 +54,13 @@ pub enum TemplatesCommand {
         /// Directory of `*.tpl` template sources (default: the shipped standard code).
         dir: Option<PathBuf>,
     },
-    /// Every template in the library with its latest version.
+    /// Every template in the library with its latest version, then the
+    /// program forms written by code (spiral and wire families).
     List,
-    /// A template's decision table ((ID, P, S, T, N), (O)).
+    /// A template's decision table ((ID, P, S, T, N), (O)), or what a form
+    /// written by code writes and what checks it.
     Show {
-        /// Template id, e.g. cylindrical_840d.
+        /// Template id, e.g. cylindrical_840d or spiral-fanuc-macro.
         id: String,
         /// The version (default: the latest).
         #[arg(long)]
@@ -74,17 +77,52 @@ pub fn run(args: TemplatesArgs) -> ExitCode {
             print(json, &analyze(&files))
         }),
         TemplatesCommand::Import { dir } => import(&args.data, dir.as_deref(), json),
+        // The library's templates, then the forms written by code (the
+        // spiral and wire families), which programs name the same way.
         TemplatesCommand::List => open(&args.data).and_then(|lib| match lib.list() {
-            Ok(list) if json => print_json(&list),
-            Ok(list) => emit(&list_table(&list)),
+            Ok(list) if json => {
+                let mut all = serde_json::to_value(&list)
+                    .map_err(|e| unavailable(format!("cannot write JSON: {e}")))?;
+                if let Some(all) = all.as_array_mut() {
+                    all.extend(
+                        generated()
+                            .into_iter()
+                            .filter_map(|f| serde_json::to_value(f).ok()),
+                    );
+                }
+                print_json(&all)
+            }
+            Ok(list) => emit(&(list_table(&list) + "\n" + &generated_table(&generated()))),
             Err(e) => Err(refusal(e, None)),
         }),
-        TemplatesCommand::Show { id, version } => {
-            open(&args.data).and_then(|lib| match lib.show(&id, version) {
+        TemplatesCommand::Show { id, version } => match gearcam_template::forms::find(&id) {
+            Some(form) if version.is_none_or(|v| v == form.version) => {
+                if json {
+                    print_json(&form)
+                } else {
+                    emit(&format!(
+                        "{} version {} (family {}, {}), written by gearcam's code, not a template of the library\n  writes {}\n  checked by {}\n",
+                        form.id,
+                        form.version,
+                        form.family,
+                        form.dialect.as_str(),
+                        form.writes,
+                        form.checked_by
+                    ))
+                }
+            }
+            Some(form) => Err(Failure {
+                code: crate::exit::NOT_FOUND,
+                message: format!(
+                    "{} has only version {} (it is written by gearcam's code)",
+                    form.id, form.version
+                ),
+            }),
+            None => open(&args.data).and_then(|lib| match lib.show(&id, version) {
                 Ok(table) => print(json, &table),
                 Err(e) => Err(refusal(e, None)),
-            })
-        }
+            }),
+        },
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -265,6 +303,24 @@ fn import(data: &Path, dir: Option<&Path>, json: bool) -> Result<(), Failure> {
 }
 
 /// The library as a table, one line per template.
+/// The forms written by code, as a table.
+fn generated_table(forms: &[gearcam_template::forms::GeneratedForm]) -> String {
+    let mut out = String::from(
+        "program forms written by gearcam's code (not in the library; versioned with gearcam):\n",
+    );
+    let w = forms.iter().map(|f| f.id.len()).max().unwrap_or(0);
+    for f in forms {
+        out.push_str(&format!(
+            "{:<w$}  {:<11}  {:<13}  v{}\n",
+            f.id,
+            f.family,
+            f.dialect.as_str(),
+            f.version
+        ));
+    }
+    out
+}
+
 fn list_table(list: &[TemplateSummary]) -> String {
     if list.is_empty() {
         return "the template library is empty; store the standard code with \
