@@ -154,6 +154,9 @@ catalogue! {
     CSV_ROW: "knowledge",
         "A row of the CSV file cannot be read (for example, it has the wrong number of cells).",
         "Fix the row named in the error and import again; nothing was imported.";
+    CSV_UNREADABLE: "knowledge (`gearcam kb import`)",
+        "The file given to `gearcam kb import` is not UTF-8 CSV text (a binary or mis-encoded file); got says where it stops reading. Nothing was imported.",
+        "Give the CSV file of the library (`gearcam kb export LIBRARY` writes one to start from).";
     CUTS_RANGE: "model",
         "The number of cuts is outside 1 to 6.",
         "Correct `process.cuts`.";
@@ -373,8 +376,8 @@ catalogue! {
     MODULE_RANGE: "model",
         "The gear's normal module is not a positive length.",
         "Correct `gear.module_mm`.";
-    NOT_FINITE: "model",
-        "A value that must be a number (profile shift, OD correction, fixture height) is NaN or infinite.",
+    NOT_FINITE: "station (job file), model",
+        "A value that must be a number (a job file's number, profile shift, OD correction, fixture height) is NaN or infinite.",
         "Give a finite value for the field named.";
     NOT_FOUND: "knowledge",
         "The library has no record with this id.",

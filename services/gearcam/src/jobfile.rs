@@ -19,17 +19,96 @@ pub fn parse(text: &str, origin: &str) -> Result<JobSpec, JobError> {
         let path = e.path().to_string();
         let inner = e.into_inner();
         let detail = inner.message().to_string();
-        let location = inner
-            .span()
-            .map(|s| {
-                let line = text[..s.start.min(text.len())].matches('\n').count() + 1;
-                format!(" (line {line})")
-            })
+        let at = inner.span().map(|s| {
+            let before = &text[..s.start.min(text.len())];
+            let line = before.matches('\n').count() + 1;
+            let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+            (line, column)
+        });
+        // Not a key's value but the file's own syntax (an unclosed header, a
+        // stray character): no field to name; the line and column, and the
+        // parser's sentence on one line.
+        if path == "." {
+            if let Some((line, column)) = at {
+                return syntax_error(text, origin, line, column, &detail);
+            }
+        }
+        let location = at
+            .map(|(line, _)| format!(" (line {line})"))
             .unwrap_or_default();
         file_error(&path, &detail, &format!("{origin}{location}"))
     })?;
     check_part_number(&spec)?;
+    check_finite(text, origin)?;
     Ok(spec)
+}
+
+/// `NOT_FINITE` for the first number of the file that is `inf` or `nan`
+/// (TOML allows both): no stage can plan with it, and the first to meet it
+/// would blame something else (no hob of module `inf`).
+fn check_finite(text: &str, origin: &str) -> Result<(), JobError> {
+    fn walk(v: &toml::Value, path: &str) -> Option<(String, f64)> {
+        match v {
+            toml::Value::Float(f) if !f.is_finite() => Some((path.to_string(), *f)),
+            toml::Value::Table(t) => t.iter().find_map(|(k, v)| walk(v, &join_path(path, k))),
+            toml::Value::Array(a) => a
+                .iter()
+                .enumerate()
+                .find_map(|(i, v)| walk(v, &format!("{path}[{i}]"))),
+            _ => None,
+        }
+    }
+    let Ok(value) = text.parse::<toml::Value>() else {
+        return Ok(());
+    };
+    match walk(&value, ".") {
+        None => Ok(()),
+        Some((field, f)) => Err(station_error(
+            "NOT_FINITE",
+            &field,
+            "a finite number",
+            &f.to_string(),
+            format!("{origin}: {field} is {f}; give a finite number"),
+        )),
+    }
+}
+
+/// `JOB_FILE_INVALID` for TOML that does not parse, at `line` and `column`
+/// (1-based): expected is what the parser expected there, got the line's
+/// text, the message the parser's sentence, each on one line.
+fn syntax_error(text: &str, origin: &str, line: usize, column: usize, detail: &str) -> JobError {
+    let sentence: Vec<&str> = detail
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect();
+    let (what, wanted) = match sentence.split_first() {
+        Some((first, rest)) => (first.to_string(), rest.join("; ")),
+        None => ("the file is not TOML".to_string(), String::new()),
+    };
+    let wanted = wanted
+        .strip_prefix("expected ")
+        .unwrap_or(&wanted)
+        .to_string();
+    let got = text.lines().nth(line - 1).unwrap_or("").trim().to_string();
+    station_error(
+        "JOB_FILE_INVALID",
+        &format!("line {line}, column {column}"),
+        &if wanted.is_empty() {
+            "TOML (see docs and examples/)".to_string()
+        } else {
+            wanted.clone()
+        },
+        &got,
+        format!(
+            "{origin} (line {line}, column {column}): {what}{}",
+            if wanted.is_empty() {
+                String::new()
+            } else {
+                format!("; expected {wanted}")
+            }
+        ),
+    )
 }
 
 /// The typed error of a job file serde refused, in a planner's words: the
@@ -89,7 +168,12 @@ fn file_error(path: &str, detail: &str, place: &str) -> JobError {
                 .or_else(|| head.split('"').nth(1))
                 .unwrap_or(head)
                 .to_string();
-            let expected = plain_type(wanted);
+            // The number of parts takes 1 or more (0 is refused later).
+            let expected = if path.ends_with("quantity") {
+                "a whole number of parts, 1 or more".to_string()
+            } else {
+                plain_type(wanted)
+            };
             station_error(
                 "JOB_FILE_INVALID",
                 path,

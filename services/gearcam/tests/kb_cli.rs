@@ -295,3 +295,44 @@ fn point_8_kb_libraries_and_export_print_json_with_json() {
         .iter()
         .any(|r| r["id"] == "HOB-M3-80"));
 }
+
+/// A file that is not CSV text is blamed, not the knowledge base: a binary
+/// file given to `kb import` is CSV_UNREADABLE on the file, and nothing is
+/// imported.
+#[test]
+fn a_binary_import_file_is_blamed_not_the_database() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let binary = dir.path().join("binary.toml");
+    std::fs::write(&binary, [0xff_u8, 0xfe, 0x00, 0x9c, 0x80, 0xc3, 0x28]).unwrap();
+    let before = stdout(&gearcam(&data, &["kb", "list", "hobs", "--json"]));
+    let o = gearcam(
+        &data,
+        &[
+            "kb",
+            "import",
+            "hobs",
+            &binary.display().to_string(),
+            "--json",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(
+        (
+            v["errors"][0]["code"].as_str(),
+            v["errors"][0]["field"].as_str()
+        ),
+        (Some("CSV_UNREADABLE"), Some("file")),
+        "{v}"
+    );
+    assert!(
+        !stderr(&o).contains("KNOWLEDGE_BASE_ERROR"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(
+        stdout(&gearcam(&data, &["kb", "list", "hobs", "--json"])),
+        before
+    );
+}

@@ -1,5 +1,6 @@
 //! The `gearcam` binary against a bus where nothing answers, run as a process.
 
+use std::path::Path;
 use std::process::Command;
 
 #[test]
@@ -168,7 +169,8 @@ fn point_10_job_file_errors_name_the_key_and_suggest() {
         &spur.replacen("quantity = 20", "quantity = -5", 1),
     );
     assert_eq!(e["field"], "job.quantity", "{e}");
-    assert_eq!(e["expected"], "a whole number from 0 to 4294967295", "{e}");
+    // Parts start at 1: the expected value says so (0 is refused too).
+    assert_eq!(e["expected"], "a whole number of parts, 1 or more", "{e}");
     assert_eq!(e["got"], "-5", "{e}");
 
     // An absurd number of teeth is refused on that field, not later on the
@@ -197,4 +199,68 @@ fn point_10_job_file_errors_name_the_key_and_suggest() {
     );
     assert_eq!(e["field"], "job.part_number", "{e}");
     assert!(e["got"].as_str().unwrap().contains("200 characters"), "{e}");
+}
+
+/// Input errors say what is wrong where: a TOML syntax error gives the line,
+/// the column and the parser's sentence on one line; `inf` is `NOT_FINITE`
+/// on its key before any stage plans with it; a negative quantity is told
+/// that parts start at 1; `resolve` without a decision names both.
+#[test]
+fn input_errors_name_the_place_and_the_real_cause() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data").display().to_string();
+    let run = |file: &str, text: &str| {
+        let path = dir.path().join(file);
+        std::fs::write(&path, text).unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_gearcam"))
+            .args([
+                "check",
+                &path.display().to_string(),
+                "--json",
+                "--data",
+                &data,
+            ])
+            .output()
+            .unwrap();
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        (out.status.code(), v["errors"][0].clone())
+    };
+    let (code, e) = run("syntax.toml", "[job]\nmachine = \"H01\"\n[gear\n");
+    assert_eq!(code, Some(1));
+    assert_eq!(e["field"], "line 3, column 6", "{e}");
+    let message = e["message"].as_str().unwrap();
+    assert!(
+        message.contains("(line 3, column 6): invalid table header; expected"),
+        "{e}"
+    );
+    assert!(
+        !message.contains('\n') && e["expected"] != "see message",
+        "{e}"
+    );
+    assert_eq!(e["got"], "[gear");
+
+    let spur = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/spur_840d.toml"),
+    )
+    .unwrap();
+    let (code, e) = run(
+        "inf.toml",
+        &spur.replace("module_mm = 3.0", "module_mm = inf"),
+    );
+    assert_eq!(code, Some(1));
+    assert_eq!(
+        (e["code"].as_str(), e["field"].as_str(), e["got"].as_str()),
+        (Some("NOT_FINITE"), Some("gear.module_mm"), Some("inf")),
+        "{e}"
+    );
+    let (_, e) = run("qty.toml", &spur.replace("quantity = 20", "quantity = -1"));
+    assert_eq!(e["expected"], "a whole number of parts, 1 or more", "{e}");
+
+    let out = Command::new(env!("CARGO_BIN_EXE_gearcam"))
+        .args(["program", "resolve", "SP_1001", "--machine", "H01"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(64));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--adopt|--replace"), "{err}");
 }

@@ -4,11 +4,18 @@
 //! spiral-fanuc-macro v1`), so `gearcam templates list` and `show` list them
 //! beside the library's templates, with what they write and what checks
 //! them. Their version moves with gearcam's (a change of what a form
-//! writes bumps [`crate::spiral::SPIRAL_FORMS_VERSION`] or
-//! [`crate::wire::WIRE_FORMS_VERSION`]).
+//! writes bumps [`SPIRAL_FORMS_VERSION`] or [`WIRE_FORMS_VERSION`]).
 
 use gearcam_proto::{Dialect, SpiralProgram, WireProgram};
 use serde::Serialize;
+
+/// The generator's version of the spiral forms, written into the program's
+/// template reference (`spiral-{form}` v1).
+pub const SPIRAL_FORMS_VERSION: u32 = 1;
+
+/// The generator's version of the wire forms, written into the program's
+/// template reference (`wire-{form}` v1).
+pub const WIRE_FORMS_VERSION: u32 = 1;
 
 /// A program form written by code.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -65,7 +72,7 @@ pub fn generated() -> Vec<GeneratedForm> {
             id: spiral_id(form),
             family: "spiral-face",
             dialect,
-            version: crate::spiral::SPIRAL_FORMS_VERSION,
+            version: SPIRAL_FORMS_VERSION,
             writes,
             checked_by: "its replay against the model: every move from the first block to M30 (docs/spiral.md)",
             generated: true,
@@ -93,7 +100,7 @@ pub fn generated() -> Vec<GeneratedForm> {
         id: wire_id(form),
         family: "wire-edm",
         dialect,
-        version: crate::wire::WIRE_FORMS_VERSION,
+        version: WIRE_FORMS_VERSION,
         writes,
         checked_by: "its certificate: every block replayed as the control runs it, measured against the outline (docs/wire.md)",
         generated: true,

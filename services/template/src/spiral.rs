@@ -16,9 +16,7 @@ use sha2::{Digest, Sha256};
 
 use crate::render::GENERATOR;
 
-/// The generator's version of the spiral forms, written into the program's
-/// template reference (`spiral-{form}` v1).
-pub const SPIRAL_FORMS_VERSION: u32 = 1;
+pub use crate::forms::SPIRAL_FORMS_VERSION;
 
 /// A LinuxCNC program name from a part number: letters, digits, `_` and `-`
 /// kept, everything else `_`, at most 64 characters.

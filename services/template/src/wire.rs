@@ -15,9 +15,7 @@ use sha2::{Digest, Sha256};
 use crate::render::GENERATOR;
 use crate::spiral::program_name_linuxcnc;
 
-/// The generator's version of the wire forms, written into the program's
-/// template reference (`wire-{form}` v1).
-pub const WIRE_FORMS_VERSION: u32 = 1;
+pub use crate::forms::WIRE_FORMS_VERSION;
 
 fn template_error(
     code: &str,

@@ -67,16 +67,21 @@ pub enum ProgramAction {
     /// waited to replace the edit end superseded and are never delivered over
     /// it (submit again for gearcam's program); after --replace they are
     /// delivered at their next re-drive.
+    #[command(group(
+        clap::ArgGroup::new("decision")
+            .required(true)
+            .args(["adopt", "replace"])
+    ))]
     Resolve {
         /// The machine, e.g. H01.
         #[arg(long)]
         machine: MachineId,
         /// Program name, e.g. SP_1001.
         name: String,
-        /// The edit at the machine becomes the current version.
-        #[arg(long, conflicts_with = "replace", required_unless_present = "replace")]
+        /// Decision: the edit at the machine becomes the current version (one of --adopt, --replace).
+        #[arg(long)]
         adopt: bool,
-        /// gearcam's current version is written back; the edit stays in the history.
+        /// Decision: gearcam's current version is written back; the edit stays in the history.
         #[arg(long)]
         replace: bool,
         /// Who reviewed the edit (default: the login name, else `unknown`).

@@ -138,6 +138,16 @@ impl Library {
 pub type Outcome<T> = Result<T, Vec<JobError>>;
 
 fn internal(e: KnowledgeError) -> Vec<JobError> {
+    // A file that is not CSV is the file's fault, not the database's.
+    if let KnowledgeError::Csv(csv) = &e {
+        return vec![Stage::Knowledge.error(
+            "CSV_UNREADABLE",
+            "file",
+            "a UTF-8 CSV file with a header of the library's columns (gearcam kb export LIBRARY shows one)",
+            csv.to_string(),
+            "the file given is not CSV text the library can import; nothing was imported",
+        )];
+    }
     vec![Stage::Knowledge.error(
         "KNOWLEDGE_BASE_ERROR",
         "-",
