@@ -284,6 +284,16 @@ pub(crate) fn job_summary(req: &JobRequest) -> CheckReport {
     report
 }
 
+/// True when the figures are those of a gear: every diameter, the depth
+/// and the tooth thickness finite and positive, the root inside the tip.
+fn describes_a_gear(g: &Geometry) -> bool {
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    [g.d_mm, g.db_mm, g.da_mm, g.df_mm, g.whole_depth_mm, g.sn_mm]
+        .into_iter()
+        .all(positive)
+        && g.df_mm < g.da_mm
+}
+
 /// Runs knowledge → model → template locally for one hobbing or spiral
 /// request ([`crate::check_wire::check_any`] runs every family).
 pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> CheckReport {
@@ -292,8 +302,10 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
     if spec.job.family == Family::SpiralFace {
         return check_spiral(conn, req, report).0;
     }
+    // Before the model has validated the gear, its figures are shown only
+    // when they describe a gear (a module of -3 gives d -75 mm: no figures).
     if let Some(gear) = &spec.gear {
-        report.geometry = Some(gearcam_model::geometry_of(gear));
+        report.geometry = Some(gearcam_model::geometry_of(gear)).filter(describes_a_gear);
     }
     let plan = match gearcam_knowledge::plan::plan(conn, req) {
         Ok(p) => p,
@@ -304,7 +316,7 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
     };
     // The plan's gear: the job's, or the workpiece library's for a job that
     // names its part only.
-    report.geometry = Some(gearcam_model::geometry_of(&plan.gear));
+    report.geometry = Some(gearcam_model::geometry_of(&plan.gear)).filter(describes_a_gear);
     report.plan = Some(PlanSummary {
         class: plan.class.to_string(),
         machine: MachineSummary::of(&plan.machine.id, &plan.machine.name, plan.machine.dialect),

@@ -330,6 +330,28 @@ pub fn job_id(spec: &JobSpec) -> JobId {
     .expect("generated job ids are valid")
 }
 
+/// `MESSAGE_TOO_LARGE` when the request is larger than a message on the bus
+/// may be: the station would refuse it, so `check` says so too and
+/// `submit` says so before sending.
+pub fn check_size(req: &JobRequest) -> Result<(), JobError> {
+    let limit = gearcam_proto::codec::MAX_MESSAGE_BYTES;
+    let bytes = gearcam_proto::encode(req)
+        .map(|b| b.len())
+        .unwrap_or(usize::MAX);
+    if bytes <= limit {
+        return Ok(());
+    }
+    Err(station_error(
+        "MESSAGE_TOO_LARGE",
+        "-",
+        &format!("a job request of at most {limit} bytes"),
+        &format!("{bytes} bytes"),
+        format!(
+            "the job is larger than a message on the bus may be ({bytes} of {limit} bytes); the station refuses it"
+        ),
+    ))
+}
+
 /// Wraps a spec into a request from this station, submitted by [`user`].
 pub fn request(spec: JobSpec) -> JobRequest {
     JobRequest {

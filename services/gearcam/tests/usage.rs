@@ -264,3 +264,73 @@ fn input_errors_name_the_place_and_the_real_cause() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("--adopt|--replace"), "{err}");
 }
+
+/// `check` holds a job to the same size limit as the bus: a job the
+/// station would refuse as too large is refused by `check` too, and by
+/// `submit` before it sends anything.
+#[test]
+fn check_and_submit_hold_a_job_to_the_bus_size_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data").display().to_string();
+    let die = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/die_m1z40_iso.toml"),
+    )
+    .unwrap();
+    let huge = die.replace(
+        "material = \"SKD11\"",
+        &format!("material = \"{}\"", "S".repeat(5 * 1024 * 1024)),
+    );
+    let path = dir.path().join("huge.toml");
+    std::fs::write(&path, huge).unwrap();
+    let path = path.display().to_string();
+    for args in [
+        vec!["check", path.as_str(), "--json", "--data", data.as_str()],
+        // Nothing listens there: the refusal comes before the bus.
+        vec![
+            "submit",
+            path.as_str(),
+            "--json",
+            "--connect",
+            "tcp/127.0.0.1:9",
+        ],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_gearcam"))
+            .args(&args)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(v["errors"][0]["code"], "MESSAGE_TOO_LARGE", "{args:?}");
+    }
+}
+
+/// A job refused for its gear shows no figures of a gear it is not: a
+/// module of -3 mm is MODULE_RANGE, without a pitch diameter of -75 mm.
+#[test]
+fn an_invalid_gear_prints_no_geometry() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data").display().to_string();
+    let spur = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/spur_840d.toml"),
+    )
+    .unwrap();
+    let path = dir.path().join("negative.toml");
+    std::fs::write(&path, spur.replace("module_mm = 3.0", "module_mm = -3.0")).unwrap();
+    let path = path.display().to_string();
+    let out = Command::new(env!("CARGO_BIN_EXE_gearcam"))
+        .args(["check", &path, "--data", &data])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("MODULE_RANGE"), "{text}");
+    assert!(
+        !text.contains("-75") && !text.contains("geometry"),
+        "{text}"
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_gearcam"))
+        .args(["check", &path, "--data", &data, "--json"])
+        .output()
+        .unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(v.get("geometry").is_none(), "{v}");
+}

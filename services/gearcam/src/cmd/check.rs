@@ -79,6 +79,9 @@ pub fn check(
         Err(e) => CheckReport::failed(vec![e]),
         Ok(spec) => {
             let req = jobfile::request(spec);
+            if let Err(e) = jobfile::check_size(&req) {
+                return finish(CheckReport::failed(vec![e]), json);
+            }
             match gearcam_knowledge::db::open(&data.join("knowledge.db")) {
                 Ok(conn) => match template_library(data) {
                     Ok(templates) => {
@@ -115,7 +118,12 @@ pub fn check(
             }
         }
     };
-    let mut report = report;
+    finish(report, json)
+}
+
+/// Prints the report (JSON or for people) and gives the exit code: 0, or
+/// the failure's, which the JSON carries as `exit`.
+fn finish(mut report: CheckReport, json: bool) -> ExitCode {
     let code = if report.ok {
         0
     } else {

@@ -51,6 +51,22 @@ pub async fn submit(
         spec.job.id = Some(id);
     }
     let req = jobfile::request(spec);
+    if let Err(e) = jobfile::check_size(&req) {
+        if json {
+            crate::outln!(
+                "{}",
+                failure_json(
+                    crate::exit::REFUSED,
+                    std::slice::from_ref(&e),
+                    "",
+                    json!({"job": req.job_id, "state": "rejected"})
+                )
+            );
+        } else {
+            eprintln!("gearcam: job refused\n{}", check::format_errors(&[e]));
+        }
+        return Ok(crate::exit::code(crate::exit::REFUSED));
+    }
     let retry_hint = format!(
         "the station may have journaled job {id} before the answer was lost; submit again with `--id {id}`: \
          the same id and job file is a resubmission, answered with the job's real state, never a second job",
