@@ -67,6 +67,9 @@ catalogue! {
     ADDENDUM_RANGE: "model",
         "The gear's addendum coefficient ha* is not a positive number.",
         "Correct `gear.addendum_coef` (usually 1).";
+    AGENT_OFFLINE: "agent (`gearcam program`)",
+        "No agent of the machine named answers on the bus: the machine is not one of the knowledge base's, or its agent does not run. expected lists the machines whose agents are there.",
+        "Check the machine id (`gearcam kb list machines`, `mill-machines`, `wire-machines`) and start its agent.";
     ARC_FIT: "model",
         "No tangent-continuous arc spline of the allowed number of arcs holds the flank's or the fillet's tolerance.",
         "Loosen the tolerance the field names (`[die]` flank_tolerance_um or fillet_tolerance_um).";

@@ -624,6 +624,23 @@ fn unspecified() -> String {
     "unspecified".into()
 }
 
+/// The machines of every family, as the station and the knowledge service
+/// both name them when a job names a machine that is not there:
+/// `H01, H02 (hobbing); M01, M02 (spiral face milling); W01, W02 (wire
+/// EDM)` — a family without machines is left out.
+pub fn machines_by_family(hobbing: &[String], mills: &[String], wires: &[String]) -> String {
+    [
+        (hobbing, "hobbing"),
+        (mills, "spiral face milling"),
+        (wires, "wire EDM"),
+    ]
+    .into_iter()
+    .filter(|(ids, _)| !ids.is_empty())
+    .map(|(ids, family)| format!("{} ({family})", ids.join(", ")))
+    .collect::<Vec<_>>()
+    .join("; ")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -193,3 +193,58 @@ fn every_json_failure_has_ok_exit_and_errors() {
     let v = shape(&out, 1);
     assert_eq!(v["errors"][0]["code"], "BASE_PITCH_MISMATCH", "{v}");
 }
+
+/// An unknown machine is named the same way by `check` (the knowledge
+/// service, locally) and `submit` (the station): every family's machines,
+/// each family named, so neither lists only the hobbing machines.
+#[test]
+fn check_and_submit_list_the_same_machines_for_an_unknown_one() {
+    let c = Cluster::start();
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data").display().to_string();
+    let job = c.job_file(
+        "h99.toml",
+        &gearcam_testkit::examples::example("spur_840d.toml")
+            .replace("machine = \"H01\"", "machine = \"H99\""),
+    );
+    let job = job.display().to_string();
+    let (_, out, _) = gearcam(&["check", &job, "--json", "--data", &data]);
+    let checked: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let (_, out, _) = gearcam(&["submit", &job, "--json", "--connect", &c.endpoint]);
+    let submitted: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let list = |v: &serde_json::Value| -> String {
+        let e = v["errors"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|e| e["code"] == "UNKNOWN_MACHINE")
+            .unwrap_or_else(|| panic!("{v}"));
+        let expected = e["expected"].as_str().unwrap();
+        expected
+            .split_once("the knowledge base's machines: ")
+            .unwrap_or_else(|| panic!("{expected}"))
+            .1
+            .to_string()
+    };
+    assert_eq!(list(&checked), list(&submitted));
+    assert_eq!(
+        list(&checked),
+        "H01, H02 (hobbing); M01, M02 (spiral face milling); W01, W02 (wire EDM)"
+    );
+    // A program of a machine without an agent on the bus: the hint names
+    // the machines whose agents are there, not `gearcam up`.
+    let (code, _, err) = gearcam(&[
+        "program",
+        "history",
+        "--machine",
+        "H99",
+        "--connect",
+        &c.endpoint,
+    ]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("AGENT_OFFLINE") && err.contains("whose agent is on the bus: H01"),
+        "{err}"
+    );
+    assert!(!err.contains("gearcam up"), "{err}");
+}

@@ -44,9 +44,19 @@ const NOT_FOUND_CODES: [&str; 6] = [
     "NOT_FOUND",
 ];
 
+/// The error codes that mean "nothing there answers".
+const UNREACHABLE_CODES: [&str; 1] = ["AGENT_OFFLINE"];
+
 /// [`NOT_FOUND`] when every error says the thing asked for does not exist,
-/// else [`REFUSED`].
+/// [`UNREACHABLE`] when every one says nothing answers, else [`REFUSED`].
 pub fn for_errors(errors: &[JobError]) -> u8 {
+    if !errors.is_empty()
+        && errors
+            .iter()
+            .all(|e| UNREACHABLE_CODES.contains(&e.code.as_str()))
+    {
+        return UNREACHABLE;
+    }
     let not_found = !errors.is_empty()
         && errors
             .iter()

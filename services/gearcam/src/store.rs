@@ -22,7 +22,7 @@ pub async fn history(
         Some(n) => keys::store_program(machine, n),
         None => keys::store_programs(machine),
     };
-    Ok(match ask(bus, &key, None).await? {
+    Ok(match ask(bus, machine, &key, None).await? {
         StoreReply::History { history } => Ok(history),
         other => Err(refusal(other)),
     })
@@ -36,7 +36,7 @@ pub async fn version(
     seq: u64,
 ) -> Result<Answer<ProgramText>, CallError> {
     Ok(
-        match ask(bus, &keys::store_version(machine, name, seq), None).await? {
+        match ask(bus, machine, &keys::store_version(machine, name, seq), None).await? {
             StoreReply::Version { program } => Ok(*program),
             other => Err(refusal(other)),
         },
@@ -53,7 +53,14 @@ pub async fn change(
     request: &StoreRequest,
 ) -> Result<Answer<(DeliveryReceipt, Vec<JobId>)>, CallError> {
     Ok(
-        match ask(bus, &keys::store_change(machine, name), Some(request)).await? {
+        match ask(
+            bus,
+            machine,
+            &keys::store_change(machine, name),
+            Some(request),
+        )
+        .await?
+        {
             StoreReply::Changed {
                 receipt,
                 superseded,
@@ -63,12 +70,17 @@ pub async fn change(
     )
 }
 
+/// Asks the store of `machine`. When nothing answers and the machine has
+/// no agent on the bus, the answer is the refusal `AGENT_OFFLINE` naming
+/// the machines whose agents are there (an unknown machine, or its agent
+/// not running), not a question whether `gearcam up` runs.
 async fn ask(
     bus: &Bus,
+    machine: &MachineId,
     key: &str,
     request: Option<&StoreRequest>,
 ) -> Result<StoreReply, CallError> {
-    match request {
+    let reply = match request {
         Some(r) => {
             bus.call::<StoreRequest, StoreReply>(key, Some(r), Retry::default())
                 .await
@@ -77,7 +89,60 @@ async fn ask(
             bus.call::<JobRequest, StoreReply>(key, None, Retry::default())
                 .await
         }
+    };
+    match reply {
+        Err(e)
+            if !bus
+                .is_alive(&keys::agent_service(machine))
+                .await
+                .unwrap_or(true) =>
+        {
+            let agents = agents_on_the_bus(bus).await;
+            Ok(StoreReply::Refused {
+                error: JobError::new(
+                    Stage::Agent,
+                    "AGENT_OFFLINE",
+                    "machine",
+                    if agents.is_empty() {
+                        "a machine whose agent is on the bus (none is: is `gearcam up` or the machine's agent running?)".to_string()
+                    } else {
+                        format!("a machine whose agent is on the bus: {}", agents.join(", "))
+                    },
+                    machine.as_str(),
+                    format!(
+                        "no agent of machine {machine} is on the bus ({e}); check the machine's id (gearcam kb list machines, mill-machines, wire-machines) and that its agent runs"
+                    ),
+                ),
+            })
+        }
+        other => other,
     }
+}
+
+/// The machines whose agents have a liveliness token on the bus, sorted.
+async fn agents_on_the_bus(bus: &Bus) -> Vec<String> {
+    let Ok(replies) = bus
+        .session()
+        .liveliness()
+        .get(keys::alive("agent/*"))
+        .timeout(std::time::Duration::from_millis(500))
+        .await
+    else {
+        return Vec::new();
+    };
+    let mut machines = Vec::new();
+    while let Ok(reply) = replies.recv_async().await {
+        if let Ok(sample) = reply.result() {
+            if let Some(m) =
+                keys::alive_of(sample.key_expr().as_str()).and_then(keys::agent_machine_of)
+            {
+                machines.push(m.to_string());
+            }
+        }
+    }
+    machines.sort();
+    machines.dedup();
+    machines
 }
 
 fn refusal(reply: StoreReply) -> JobError {

@@ -194,22 +194,7 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
     let machine = match record {
         Some(ref r) => Some(profile(r)?),
         None => {
-            let wires = library::keys(conn, &library::WIRE_MACHINES)?;
-            let other = library::keys(conn, &library::MACHINES)?
-                .into_iter()
-                .chain(library::keys(conn, &library::MILL_MACHINES)?)
-                .any(|m| m == machine_id);
-            errors.push(knowledge(
-                if other { "MACHINE_FAMILY" } else { "UNKNOWN_MACHINE" },
-                "job.machine",
-                format!("a wire EDM machine: one of {}", wires.join(", ")),
-                if other {
-                    format!("{machine_id} (a machine of another family)")
-                } else {
-                    machine_id.to_string()
-                },
-                "wire EDM runs on a wire machine of the knowledge base (gearcam kb list wire-machines)".into(),
-            ));
+            errors.push(library::machine_error(conn, machine_id, "wire EDM")?);
             None
         }
     };

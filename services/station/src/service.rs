@@ -458,16 +458,20 @@ async fn known_machine(
         pause: Duration::ZERO,
     };
     // Hobbing, milling and wire EDM machines: every family's library.
-    let mut ids: Vec<String> = Vec::new();
+    let mut families: Vec<Vec<String>> = Vec::new();
     for library in [MACHINES, MILL_MACHINES, WIRE_MACHINES] {
         let key = keys::kb_library(library);
         match bus.call::<KbRequest, KbReply>(&key, None, retry).await {
-            Ok(reply) if reply.errors.is_empty() => {
-                ids.extend(reply.records.iter().filter_map(|r| match r.get("id") {
-                    Some(KbValue::Text(id)) => Some(id.clone()),
-                    _ => None,
-                }))
-            }
+            Ok(reply) if reply.errors.is_empty() => families.push(
+                reply
+                    .records
+                    .iter()
+                    .filter_map(|r| match r.get("id") {
+                        Some(KbValue::Text(id)) => Some(id.clone()),
+                        _ => None,
+                    })
+                    .collect(),
+            ),
             Ok(reply) => {
                 tracing::warn!(library, errors = ?reply.errors, "the knowledge base refused the machine list");
                 return Ok(());
@@ -478,7 +482,12 @@ async fn known_machine(
             }
         }
     }
-    known.extend(ids.iter().filter_map(|id| MachineId::new(id.as_str()).ok()));
+    known.extend(
+        families
+            .iter()
+            .flatten()
+            .filter_map(|id| MachineId::new(id.as_str()).ok()),
+    );
     if known.contains(machine) {
         Ok(())
     } else {
@@ -486,7 +495,10 @@ async fn known_machine(
             Stage::Station,
             "UNKNOWN_MACHINE",
             "spec.job.machine",
-            format!("one of the knowledge base's machines: {}", ids.join(", ")),
+            format!(
+                "one of the knowledge base's machines: {}",
+                gearcam_proto::job::machines_by_family(&families[0], &families[1], &families[2])
+            ),
             machine.as_str(),
             "the knowledge base has no such machine (gearcam kb list machines, mill-machines and wire-machines list them); the job was not journaled",
         ))

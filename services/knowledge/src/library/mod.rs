@@ -40,6 +40,6 @@ pub use defs::{
 };
 pub use fields::{cell, parse_value, Check, Def, Field, Kind, Library, Need, Outcome, Record};
 pub use milling::{MILLING_CASES, MILLING_DATA, MILLS, MILL_MACHINES};
-pub use store::{add, edit, get, keys, list, remove};
+pub use store::{add, edit, get, keys, list, machine_error, remove};
 pub use validate::validate;
 pub use wire::{WIRES, WIRE_DATA, WIRE_MACHINES};

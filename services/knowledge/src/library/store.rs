@@ -259,3 +259,51 @@ pub fn remove(conn: &Connection, lib: &Library, id: &str) -> Outcome<Record> {
     .map_err(KnowledgeError::from)?;
     Ok(rec)
 }
+
+/// The refusal of a job whose machine `machine` is not one of `family`'s
+/// (`hobbing`, `spiral face milling` or `wire EDM`): `MACHINE_FAMILY` when
+/// another family's library has it, else `UNKNOWN_MACHINE`; either way
+/// naming the family's machines, and for an unknown one every family's, in
+/// the words the station uses.
+pub fn machine_error(
+    conn: &Connection,
+    machine: &str,
+    family: &str,
+) -> Result<gearcam_proto::JobError, KnowledgeError> {
+    let hobbing = keys(conn, &super::MACHINES)?;
+    let mills = keys(conn, &super::MILL_MACHINES)?;
+    let wires = keys(conn, &super::WIRE_MACHINES)?;
+    let families = [
+        ("hobbing", &hobbing, "machines"),
+        ("spiral face milling", &mills, "mill-machines"),
+        ("wire EDM", &wires, "wire-machines"),
+    ];
+    let (own, library) = families
+        .iter()
+        .find(|(f, _, _)| *f == family)
+        .map_or((&hobbing, "machines"), |(_, ids, lib)| (*ids, *lib));
+    let other = families
+        .iter()
+        .find(|(f, ids, _)| *f != family && ids.iter().any(|m| m == machine))
+        .map(|(f, _, _)| *f);
+    let wanted = format!("a {family} machine: one of {}", own.join(", "));
+    Ok(match other {
+        Some(other) => gearcam_proto::Stage::Knowledge.error(
+            "MACHINE_FAMILY",
+            "job.machine",
+            wanted,
+            format!("{machine} (a {other} machine)"),
+            format!("a {family} job runs on a {family} machine (gearcam kb list {library})"),
+        ),
+        None => gearcam_proto::Stage::Knowledge.error(
+            "UNKNOWN_MACHINE",
+            "job.machine",
+            format!(
+                "{wanted}; the knowledge base's machines: {}",
+                gearcam_proto::job::machines_by_family(&hobbing, &mills, &wires)
+            ),
+            machine,
+            "the knowledge base has no such machine; pick a configured machine or add it",
+        ),
+    })
+}

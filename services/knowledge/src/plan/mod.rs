@@ -187,14 +187,11 @@ fn resolve_gear_and_machine(
         (resolved, machine) => {
             let mut errors: Vec<JobError> = resolved.err().into_iter().collect();
             if machine.is_none() {
-                let known = library::keys(conn, &library::MACHINES)?;
-                errors.push(Stage::Knowledge.error(
-                    "UNKNOWN_MACHINE",
-                    "job.machine",
-                    format!("one of {}", known.join(", ")),
-                    req.spec.job.machine.to_string(),
-                    "the machine is not in the knowledge base; pick a configured machine or add it",
-                ));
+                errors.push(library::machine_error(
+                    conn,
+                    req.spec.job.machine.as_str(),
+                    "hobbing",
+                )?);
             }
             Err(PlanError::Job(errors))
         }

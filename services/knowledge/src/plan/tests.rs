@@ -493,9 +493,20 @@ fn unknown_machine_and_hob_errors_name_the_field_and_the_choices() {
     );
     req.spec.job.machine = MachineId::new("H99").unwrap();
     let errors = plan(&conn, &req).unwrap_err();
+    // The family's machines, then every family's, in the station's words.
     assert_eq!(
         (errors[0].code.as_str(), errors[0].expected.as_str()),
-        ("UNKNOWN_MACHINE", "one of H01, H02")
+        (
+            "UNKNOWN_MACHINE",
+            "a hobbing machine: one of H01, H02; the knowledge base's machines: H01, H02 (hobbing); M01, M02 (spiral face milling); W01, W02 (wire EDM)"
+        )
+    );
+    // A mill for a hobbing job: the family is wrong, not the machine.
+    req.spec.job.machine = MachineId::new("M01").unwrap();
+    let errors = plan(&conn, &req).unwrap_err();
+    assert_eq!(
+        (errors[0].code.as_str(), errors[0].got.as_str()),
+        ("MACHINE_FAMILY", "M01 (a spiral face milling machine)")
     );
 }
 

@@ -413,20 +413,11 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<SpiralPlan, Failed>
     let machine = match library::get(conn, &library::MILL_MACHINES, machine_id)? {
         Some(r) => Some(profile(&r)?),
         None => {
-            let mills = library::keys(conn, &library::MILL_MACHINES)?;
-            let hobbing =
-                library::keys(conn, &library::MACHINES)?.contains(&machine_id.to_string());
-            errors.push(knowledge(
-                if hobbing { "MACHINE_FAMILY" } else { "UNKNOWN_MACHINE" },
-                "job.machine",
-                format!("a milling machine: one of {}", mills.join(", ")),
-                if hobbing {
-                    format!("{machine_id} (a hobbing machine)")
-                } else {
-                    machine_id.to_string()
-                },
-                "spiral face milling runs on a milling machine of the knowledge base (gearcam kb list mill-machines)".into(),
-            ));
+            errors.push(library::machine_error(
+                conn,
+                machine_id,
+                "spiral face milling",
+            )?);
             None
         }
     };
