@@ -423,7 +423,7 @@ catalogue! {
         "Correct `gear.pressure_angle_deg` (usually 20°).";
     PROGRAM_CHANGED_AT_MACHINE: "agent",
         "The program file at the machine was changed or created there since gearcam stored it; the agent kept the file, and the job waits.",
-        "Review the edit, then `gearcam program resolve NAME --machine M --adopt` (the edit becomes the current version) or `--replace` (gearcam's version goes back, the edit is kept in the history); the waiting job is then delivered.";
+        "Review the edit, then `gearcam program resolve NAME --machine M --adopt` (the edit becomes the current version) or `--replace` (gearcam's version goes back, the edit is kept in the history). After --replace the waiting job is delivered; after --adopt it ends superseded (submit it again for gearcam's program).";
     PROGRAM_FORM: "knowledge, model, template",
         "The program form asked for (`[milling]` or `[wire]` program) is not one the machine's control runs, or a turned wire program (`[wire]` whole = false) is asked of a control that cannot turn a section of blocks.",
         "Choose one of the forms expected lists, or another machine.";

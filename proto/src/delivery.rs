@@ -76,9 +76,6 @@ impl JobState {
             JobState::Delivered | JobState::Failed | JobState::Superseded | JobState::Cancelled
         )
     }
-
-    /// The final states, as an SQL list: `('delivered', …)`.
-    pub const FINAL_SQL: &'static str = "('delivered', 'failed', 'superseded', 'cancelled')";
 }
 
 /// A delivered program in brief.
@@ -218,6 +215,12 @@ fn unknown_user() -> String {
 
 impl Message for StoreRequest {
     const KIND: &'static str = "store_request";
+}
+
+/// True when `by` can be recorded as who decided (a resolution, a
+/// rollback, a cancellation): 1 to 64 characters on one line.
+pub fn valid_by(by: &str) -> bool {
+    !by.trim().is_empty() && !by.chars().any(char::is_control) && by.chars().count() <= 64
 }
 
 /// Message: a person cancels a journaled job that is not yet final

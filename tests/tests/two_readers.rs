@@ -61,6 +61,10 @@ fn dist(a: (f64, f64), b: (f64, f64)) -> f64 {
     (a.0 - b.0).hypot(a.1 - b.1)
 }
 
+/// A wire move of a second reader: start, end, and an arc's centre and
+/// sense.
+type TheirMove = ((f64, f64), (f64, f64), Option<((f64, f64), bool)>);
+
 /// The largest disagreement between two replays of one program, with the
 /// move where it is.
 #[derive(Debug, Default)]
@@ -73,6 +77,22 @@ impl Worst {
     fn see(&mut self, d: f64, at: usize) {
         if d > self.mm {
             *self = Worst { mm: d, at };
+        }
+    }
+
+    /// Move `i` of a wire program as gearcam replayed it against the second
+    /// reader's (start, end, arc centre and sense): the ends and the centre
+    /// counted, a line against an arc or another sense refused.
+    fn see_move(&mut self, name: &str, i: usize, ours: &Segment, (from, to, arc): TheirMove) {
+        self.see(dist(ours.from(), from), i);
+        self.see(dist(ours.to(), to), i);
+        match (*ours, arc) {
+            (Segment::Line { .. }, None) => {}
+            (Segment::Arc { centre, ccw, .. }, Some((c, t_ccw))) => {
+                assert_eq!(ccw, t_ccw, "{name}: move {i}'s sense");
+                self.see(dist(centre, c), i);
+            }
+            _ => panic!("{name}: move {i} is a line in one reader, an arc in the other"),
         }
     }
 }
@@ -107,16 +127,7 @@ fn three_b_and_four_b_programs_replay_alike_in_both_readers() {
             assert_eq!(ours.len(), theirs.len(), "{name}: moves");
             let mut worst = Worst::default();
             for (i, (o, t)) in ours.iter().zip(&theirs).enumerate() {
-                worst.see(dist(o.segment.from(), t.from), i);
-                worst.see(dist(o.segment.to(), t.to), i);
-                match (o.segment, t.arc) {
-                    (Segment::Line { .. }, None) => {}
-                    (Segment::Arc { centre, ccw, .. }, Some((c, t_ccw))) => {
-                        assert_eq!(ccw, t_ccw, "{name}: move {i}'s sense");
-                        worst.see(dist(centre, c), i);
-                    }
-                    _ => panic!("{name}: move {i} is a line in one reader, an arc in the other"),
-                }
+                worst.see_move(&name, i, &o.segment, (t.from, t.to, t.arc));
             }
             eprintln!(
                 "{name}: {} moves, largest disagreement {:.4} µm (move {})",
@@ -157,16 +168,7 @@ fn iso_wire_programs_replay_alike_in_both_readers() {
             };
             assert_eq!(side, t.comp, "{name}: move {i}'s compensation");
             assert!((o.offset_mm.unwrap_or(0.0) - t.offset_mm).abs() < 1e-12);
-            worst.see(dist(o.segment.from(), t.from), i);
-            worst.see(dist(o.segment.to(), t.to), i);
-            match (o.segment, t.arc) {
-                (Segment::Line { .. }, None) => {}
-                (Segment::Arc { centre, ccw, .. }, Some((c, t_ccw))) => {
-                    assert_eq!(ccw, t_ccw, "{name}: move {i}'s sense");
-                    worst.see(dist(centre, c), i);
-                }
-                _ => panic!("{name}: move {i} is a line in one reader, an arc in the other"),
-            }
+            worst.see_move(&name, i, &o.segment, (t.from, t.to, t.arc));
         }
         eprintln!(
             "{name}: {} moves, largest disagreement {:.6} µm (move {})",

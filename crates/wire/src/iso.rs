@@ -437,12 +437,20 @@ fn statement(s: &Statement, st: &mut State, moves: &mut Vec<Move>) -> Result<Flo
         if st.turn.is_some() {
             return Err(err("G92 under G68".into()));
         }
+        // A control shifts its coordinates by a later G92; the programs in
+        // this subset set the start once, before any move.
+        if !moves.is_empty() {
+            return Err(err("G92 after the first move".into()));
+        }
         st.at = (
             take(&mut val, 'X').unwrap_or(st.at.0),
             take(&mut val, 'Y').unwrap_or(st.at.1),
         );
     }
     if has(68) {
+        if st.turn.is_some() {
+            return Err(err("G68 while a G68 is in force (no G69 before it)".into()));
+        }
         let c = (
             take(&mut val, 'X').unwrap_or(st.at.0),
             take(&mut val, 'Y').unwrap_or(st.at.1),

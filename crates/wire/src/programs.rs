@@ -354,16 +354,43 @@ pub fn certify(
         contour,
         lead_out,
         blocks,
+        compensation,
     } = replayed;
+    // 3B is the wire's path; 4B is set off by the control for the job's
+    // wire (each arc's R and L3/L4 as written); ISO by the side and D value
+    // the program itself sets.
+    let (side, d) = compensation.unwrap_or((cut.side, cut.offset_mm));
     let path = match form {
         WireProgram::ThreeB => contour.clone(),
-        _ => offset(&contour, cut.side, cut.offset_mm).map_err(|e| {
+        _ => offset(&contour, side, d).map_err(|e| {
             unreadable(format!(
                 "the control's offset fails at contour move {}: {e}",
                 e.index + 1
             ))
         })?,
     };
+    // The measure below is a distance from the outline: blind to the side.
+    // The wire runs in the scrap — inside a die's opening, outside a punch —
+    // or the part comes out a wire's width too large or too small.
+    let scrap_inside = cut.side == Side::Right;
+    if let Some(p) = path
+        .iter()
+        .step_by((path.len() / 16).max(1))
+        .map(|s| s.arc().point_at(s.arc().length / 2.0))
+        .find(|&p| (winding(p, &cut.contour).abs() > 0.5) != scrap_inside)
+    {
+        let (part, want) = if scrap_inside {
+            ("a die", "inside the opening")
+        } else {
+            ("a punch", "outside the punch")
+        };
+        return Err(replay_problem(
+            "WIRE_DEVIATION",
+            format!("the wire of {part} {want}, on the scrap side of the outline"),
+            format!("the wire at ({:.3}, {:.3}), on the part's side", p.0, p.1),
+            "the replayed program sets the wire off to the wrong side of the outline (G41/G42, or the path itself)".into(),
+        ));
+    }
     let end = lead_out.segment.to();
     if distance(end, start) > END_MM {
         return Err(replay_problem(
@@ -383,7 +410,6 @@ pub fn certify(
         ));
     }
     // 3B is the wire's path; 4B and ISO the outline the control sets off.
-    let scrap_inside = cut.side == Side::Right;
     for (name, lead, join) in [
         ("lead-in", &lead_in, contour[0].from()),
         ("lead-out", &lead_out, contour[contour.len() - 1].to()),
@@ -463,6 +489,9 @@ struct Replayed {
     /// Blocks of the text (a section's or subprogram's once, however often
     /// it runs).
     blocks: u32,
+    /// The compensation the program itself sets (ISO: `G41`/`G42` and its
+    /// `D` register's value); the control sets the outline off by it.
+    compensation: Option<(Side, f64)>,
 }
 
 impl Replayed {
@@ -472,6 +501,17 @@ impl Replayed {
                 "{} motions: a program is a lead-in, a contour and a lead-out",
                 ran.len()
             ));
+        }
+        // The control runs each move from where the one before ended: a
+        // gap is a block the replay cannot account for.
+        for pair in ran.windows(2) {
+            let gap = distance(pair[0].segment.to(), pair[1].segment.from());
+            if gap > END_MM {
+                return Err(format!(
+                    "block {} starts {gap:.4} mm from where block {} ended",
+                    pair[1].block, pair[0].block
+                ));
+            }
         }
         let lead_out = ran.pop().expect("three motions");
         let lead_in = ran.remove(0);
@@ -486,6 +526,7 @@ impl Replayed {
             contour: ran.into_iter().map(|r| r.segment).collect(),
             lead_out,
             blocks,
+            compensation: None,
         })
     }
 }
@@ -539,11 +580,15 @@ fn replay_iso(text: &str) -> Result<Replayed, String> {
     let (Some(first), Some(last)) = (r.moves.first(), r.moves.last()) else {
         return Err("no motion".into());
     };
-    let (Some(_), Some(_)) = (first.side, first.offset_mm) else {
+    let (Some(side), Some(offset_mm)) = (first.side, first.offset_mm) else {
         return Err(format!(
             "line {}: the lead-in switches the compensation on (G41/G42 with D)",
             first.line
         ));
+    };
+    let side = match side {
+        iso::Side::Left => Side::Left,
+        iso::Side::Right => Side::Right,
     };
     if last.side.is_some() {
         return Err(format!(
@@ -562,7 +607,9 @@ fn replay_iso(text: &str) -> Result<Replayed, String> {
         ));
     }
     let blocks: std::collections::BTreeSet<usize> = r.moves.iter().map(|m| m.line).collect();
-    Replayed::of(r.start, ran, blocks.len() as u32)
+    let mut replayed = Replayed::of(r.start, ran, blocks.len() as u32)?;
+    replayed.compensation = Some((side, offset_mm));
+    Ok(replayed)
 }
 
 /// Where a lead — a line from the start hole to the contour's point `join`

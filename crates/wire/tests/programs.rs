@@ -202,3 +202,35 @@ fn an_iso_lead_out_switches_compensation_off_and_returns_to_the_hole() {
     let p = certify(&rapid, WireProgram::IsoWire, &made.cut, &made.layout, tol).unwrap_err();
     assert!(p.got.contains("rapid"), "{}", p.got);
 }
+
+/// The ISO certificate sets the outline off as the program tells the
+/// control to — its G41/G42 and its D register's value — not as the job
+/// would: a program with the wrong register value, or the wrong side, is
+/// refused. A G92 after the first move (a control would shift its frame)
+/// and a second G68 without its G69 are refused too.
+#[test]
+fn an_iso_program_is_certified_with_its_own_compensation() {
+    let tol = (0.001, 0.005);
+    let made = quarter(DiePart::Die, WireProgram::IsoWire);
+    let text = &made.written.text;
+    let check = |t: &str| certify(t, WireProgram::IsoWire, &made.cut, &made.layout, tol);
+    assert!(check(text).is_ok());
+    let register = text
+        .lines()
+        .find(|l| l.starts_with("G10 L12 P1 R"))
+        .unwrap();
+    let wrong = text.replace(register, "G10 L12 P1 R0.2000");
+    assert_eq!(check(&wrong).unwrap_err().code, "WIRE_DEVIATION");
+    let side = text.replace("G42 D1 G01", "G41 D1 G01");
+    assert!(check(&side).is_err());
+    let shifted = text.replacen(
+        "G68 X0 Y0 R-90.0000",
+        "G92 X1.0000 Y0.0000\nG68 X0 Y0 R-90.0000",
+        1,
+    );
+    let p = check(&shifted).unwrap_err();
+    assert!(p.got.contains("G92 after the first move"), "{}", p.got);
+    let nested = text.replacen("G69\nG68 X0 Y0 R-90.0000", "G68 X0 Y0 R-90.0000", 1);
+    let p = check(&nested).unwrap_err();
+    assert!(p.got.contains("G68 while a G68"), "{}", p.got);
+}

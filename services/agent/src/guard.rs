@@ -253,7 +253,7 @@ fn not_journaled(job: &JobId, machine: &MachineId, got: &str) -> JobError {
     Stage::Agent.error(
         "JOB_NOT_JOURNALED",
         "job_id",
-        format!("a job the station journaled for machine {machine}, not failed"),
+        format!("a job the station journaled for machine {machine}, not failed or superseded"),
         got.to_string(),
         format!("the agent stores only programs of journaled jobs of its machine; job {job} is not one, so nothing was stored"),
     )

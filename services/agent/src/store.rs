@@ -519,6 +519,15 @@ impl Store {
         seq: u64,
         by: &str,
     ) -> Result<DeliveryReceipt, JobError> {
+        if !gearcam_proto::delivery::valid_by(by) {
+            return Err(Stage::Agent.error(
+                "BAD_STORE_REQUEST",
+                "by",
+                "who rolls back: 1 to 64 characters on one line",
+                by.chars().take(80).collect::<String>(),
+                "a rollback is recorded with the name of the person who decided",
+            ));
+        }
         let v = self
             .version(name, seq)
             .map_err(|e| {
@@ -801,6 +810,10 @@ mod tests {
         assert_eq!(
             s.rollback("SP_1", 999, "x").unwrap_err().code,
             "UNKNOWN_VERSION"
+        );
+        assert_eq!(
+            s.rollback("SP_1", first, " ").unwrap_err().code,
+            "BAD_STORE_REQUEST"
         );
         // The receipt of a job can be asked for again.
         assert_eq!(

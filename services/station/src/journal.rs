@@ -108,7 +108,8 @@ impl Journal {
                  receipt_json    TEXT,
                  errors_json     TEXT
              );
-             CREATE INDEX IF NOT EXISTS jobs_due ON jobs (next_attempt_ms) WHERE state NOT IN ('delivered', 'failed');",
+             DROP INDEX IF EXISTS jobs_due;
+             CREATE INDEX jobs_due ON jobs (next_attempt_ms) WHERE state NOT IN ('delivered', 'failed', 'superseded', 'cancelled');",
         )?;
         // The model's warnings, kept since issue 12: a journal from before
         // gains the column (its jobs have none recorded).
@@ -219,6 +220,21 @@ impl Journal {
         if !owned {
             tracing::warn!(job = %ev.job_id, reporter, stage = ev.stage.as_str(), "ignored an event its reporter does not own");
             return Ok(false);
+        }
+        // A cancelled job whose program the agent stored all the same (the
+        // cancellation reached the station while the agent was storing it):
+        // the job stays cancelled, and its status shows what the machine
+        // holds.
+        if let (JobState::Cancelled, EventKind::Delivered { receipt }) = (current, &ev.event) {
+            tracing::warn!(job = %ev.job_id, file = receipt.file_name, "a cancelled job's program was stored before the agent heard of the cancellation");
+            return Ok(self.conn.execute(
+                "UPDATE jobs SET receipt_json = ?2, updated_at_ms = ?3 WHERE job = ?1 AND receipt_json IS NULL",
+                params![
+                    ev.job_id.as_str(),
+                    serde_json::to_string(receipt).unwrap_or_default(),
+                    now as i64
+                ],
+            )? > 0);
         }
         if current.is_final() {
             return Ok(false);

@@ -542,7 +542,7 @@ fn cancel_reply(journal: &Journal, q: &Query) -> (StationReply, Option<(JobId, S
             ))
         }
     };
-    if by.trim().is_empty() || by.chars().any(char::is_control) || by.chars().count() > 64 {
+    if !gearcam_proto::delivery::valid_by(&by) {
         return refused(Stage::Station.error(
             codes::BAD_CANCEL_REQUEST,
             "by",

@@ -67,7 +67,7 @@ impl Store {
         resolution: Resolution,
         by: &str,
     ) -> Result<Resolved, JobError> {
-        if by.trim().is_empty() || by.chars().any(char::is_control) || by.chars().count() > 64 {
+        if !gearcam_proto::delivery::valid_by(by) {
             return Err(Stage::Agent.error(
                 "BAD_STORE_REQUEST",
                 "by",
@@ -293,6 +293,12 @@ fn supersede(
     by: &str,
     now: u64,
 ) -> rusqlite::Result<Vec<JobId>> {
+    // A job held once but stored since (the file was put back as it was)
+    // waits for nothing: it is not superseded.
+    conn.execute(
+        "DELETE FROM held WHERE file_name = ?1 AND job IN (SELECT job FROM programs WHERE state = 'stored')",
+        [file_name],
+    )?;
     let jobs: Vec<String> = conn
         .prepare("SELECT job FROM held WHERE file_name = ?1 ORDER BY at_ms")?
         .query_map([file_name], |r| r.get(0))?
@@ -365,6 +371,26 @@ mod tests {
         // A job submitted again after the decision is a new job: delivered.
         s.store(&program("J3", "SP_1", "second\n")).unwrap();
         assert_eq!(fs::read_to_string(&path).unwrap(), "second\n");
+    }
+
+    /// A job held on an edit, then stored once the file was put back as it
+    /// was, is not superseded by a later adoption: it waits for nothing.
+    #[test]
+    fn a_job_stored_since_it_was_held_is_not_superseded() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = store(dir.path());
+        s.store(&program("J1", "SP_1", "first\n")).unwrap();
+        let path = dir.path().join("programs/_N_SP_1_MPF");
+        fs::write(&path, "operator edit\n").unwrap();
+        assert!(s.store(&program("J2", "SP_1", "second\n")).is_err());
+        // The operator puts the file back; J2 goes through.
+        fs::write(&path, "first\n").unwrap();
+        s.store(&program("J2", "SP_1", "second\n")).unwrap();
+        fs::write(&path, "another edit\n").unwrap();
+        let resolved = s.resolve("SP_1", Resolution::Adopt, "operator Li").unwrap();
+        assert!(resolved.superseded.is_empty(), "{:?}", resolved.superseded);
+        // Its receipt stands.
+        assert!(s.superseded("J2").unwrap().is_none());
     }
 
     /// After a replacement the job that waited is delivered: nothing
