@@ -80,6 +80,18 @@ impl Worst {
         }
     }
 
+    /// Prints the largest disagreement of `moves` moves of program `name`
+    /// (the figure the closing notes report) and requires it within
+    /// `bound_mm`.
+    fn within(&self, name: &str, moves: usize, bound_mm: f64) {
+        eprintln!(
+            "{name}: {moves} moves, largest disagreement {:.6} µm (move {})",
+            self.mm * 1e3,
+            self.at
+        );
+        assert!(self.mm <= bound_mm, "{name}: {self:?}");
+    }
+
     /// Move `i` of a wire program as gearcam replayed it against the second
     /// reader's (start, end, arc centre and sense): the ends and the centre
     /// counted, a line against an arc or another sense refused.
@@ -129,13 +141,7 @@ fn three_b_and_four_b_programs_replay_alike_in_both_readers() {
             for (i, (o, t)) in ours.iter().zip(&theirs).enumerate() {
                 worst.see_move(&name, i, &o.segment, (t.from, t.to, t.arc));
             }
-            eprintln!(
-                "{name}: {} moves, largest disagreement {:.4} µm (move {})",
-                ours.len(),
-                worst.mm * 1e3,
-                worst.at
-            );
-            assert!(worst.mm <= 0.001 + 1e-9, "{name}: {worst:?}");
+            worst.within(&name, ours.len(), 0.001 + 1e-9);
             let end = theirs.last().unwrap().to;
             assert!(dist(end, (0.0, 0.0)) < 1e-9, "{name}: ends at {end:?}");
             assert!(dist(ours.last().unwrap().segment.to(), (0.0, 0.0)) < 1e-9);
@@ -170,13 +176,7 @@ fn iso_wire_programs_replay_alike_in_both_readers() {
             assert!((o.offset_mm.unwrap_or(0.0) - t.offset_mm).abs() < 1e-12);
             worst.see_move(&name, i, &o.segment, (t.from, t.to, t.arc));
         }
-        eprintln!(
-            "{name}: {} moves, largest disagreement {:.6} µm (move {})",
-            ours.moves.len(),
-            worst.mm * 1e3,
-            worst.at
-        );
-        assert!(worst.mm <= 1e-4, "{name}: {worst:?}");
+        worst.within(&name, ours.moves.len(), 1e-4);
         let end = theirs.moves.last().unwrap().to;
         assert!(dist(end, theirs.start) < 1e-9, "{name}: ends at {end:?}");
         seen += 1;
@@ -219,13 +219,7 @@ fn fanuc_spiral_programs_replay_alike_in_both_readers() {
                 _ => panic!("{name}: move {i} is an arc in one reader only"),
             }
         }
-        eprintln!(
-            "{name}: {} moves, largest disagreement {:.6} µm (move {})",
-            ours.len(),
-            worst.mm * 1e3,
-            worst.at
-        );
-        assert!(worst.mm <= 1e-4, "{name}: {worst:?}");
+        worst.within(&name, ours.len(), 1e-4);
         assert_eq!(theirs.ended_by, "M30", "{name}");
         let last = theirs.moves.last().unwrap();
         assert!(last.rapid && last.to.2 >= 5.0 - 1e-9, "{name}: {last:?}");
@@ -345,13 +339,11 @@ fn hobbing_programs_replay_alike_in_both_readers() {
                     .max((o.4 - t.4).abs());
                 worst.see(d, i);
             }
-            eprintln!(
-                "{name} on {machine}: {} moves, largest disagreement {:.4} µm (move {}), {ended_by}",
+            worst.within(
+                &format!("{name} on {machine} ({ended_by})"),
                 ours.len(),
-                worst.mm * 1e3,
-                worst.at
+                0.0005 + 1e-9,
             );
-            assert!(worst.mm <= 0.0005 + 1e-9, "{name} on {machine}: {worst:?}");
             let last = theirs.last().unwrap();
             assert!(
                 (last.2 - home.0).abs() < 1e-9 && (last.3 - home.1).abs() < 1e-9,

@@ -35,14 +35,10 @@ pub fn set_json(on: bool) {
 pub fn fail(exit: u8, errors: &[gearcam_proto::JobError], text: &str) -> ExitCode {
     eprintln!("{text}");
     if JSON.load(Ordering::Relaxed) {
-        let errors = if errors.is_empty() {
-            serde_json::json!([{"code": exit_name(exit), "message": text.trim_start_matches("gearcam: ")}])
-        } else {
-            serde_json::json!(errors)
-        };
+        let message = text.trim_start_matches("gearcam: ");
         emit(&format!(
             "{}\n",
-            serde_json::json!({"ok": false, "exit": exit, "errors": errors})
+            failure_json(exit, errors, message, serde_json::json!({}))
         ));
     }
     crate::exit::code(exit)

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use gearcam_bus::BusArgs;
-use gearcam_proto::JobId;
+use gearcam_proto::{JobId, JobStatus};
 
 use crate::check;
 use crate::cmd::{join_bus, refused};
@@ -32,11 +32,11 @@ pub async fn jobs(bus_args: &BusArgs, json: bool) -> anyhow::Result<ExitCode> {
 
 pub async fn status(job: &JobId, bus_args: &BusArgs, json: bool) -> anyhow::Result<ExitCode> {
     let bus = join_bus(bus_args).await?;
-    let status = station::status(&bus, job).await;
+    let answer = station::status(&bus, job).await;
     bus.close().await;
-    let status = match status.context("asking the station")? {
+    let status = match answered(answer)? {
         Ok(status) => status,
-        Err(errors) => return Ok(refused(&errors)),
+        Err(code) => return Ok(code),
     };
     if json {
         crate::outln!("{}", serde_json::to_string_pretty(&status)?);
@@ -59,11 +59,11 @@ pub async fn cancel(
     json: bool,
 ) -> anyhow::Result<ExitCode> {
     let bus = join_bus(bus_args).await?;
-    let status = station::cancel(&bus, job, by).await;
+    let answer = station::cancel(&bus, job, by).await;
     bus.close().await;
-    let status = match status.context("asking the station")? {
+    let status = match answered(answer)? {
         Ok(status) => status,
-        Err(errors) => return Ok(refused(&errors)),
+        Err(code) => return Ok(code),
     };
     if json {
         crate::outln!("{}", serde_json::to_string_pretty(&status)?);
@@ -75,4 +75,15 @@ pub async fn cancel(
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The station's answer about one job: its status, or the refusal printed
+/// and its exit code; an error when the station did not answer.
+fn answered(
+    answer: Result<Result<JobStatus, Vec<gearcam_proto::JobError>>, gearcam_bus::query::CallError>,
+) -> anyhow::Result<Result<JobStatus, ExitCode>> {
+    Ok(match answer.context("asking the station")? {
+        Ok(status) => Ok(status),
+        Err(errors) => Err(refused(&errors)),
+    })
 }
