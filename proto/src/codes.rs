@@ -169,6 +169,9 @@ catalogue! {
     CUT_DEPTH: "model",
         "The cut depth is not positive, or cuts the root deeper than the whole depth plus the machine's allowance.",
         "Correct `process.depth_mm`, or leave it out to use the theoretical depth.";
+    DATA_DIR_NOT_WRITABLE: "station (`gearcam` commands with a data directory)",
+        "The data directory (`--data`, else `GEARCAM_DATA`, else `./gearcam-data`) cannot be made or written by this user; got is the directory, the message the operating system's reason. Nothing was read or changed.",
+        "Give `--data` or `GEARCAM_DATA` a directory you can write, or change the directory's owner or permissions.";
     DEPTH_UNCOUPLED: "template (path check)",
         "Path check finding: the hob moves into the contact zone while the gearbox is uncoupled or the hob is stopped, or stops there.",
         "The program was not sent; correct the template so it couples and starts the hob before the cut.";

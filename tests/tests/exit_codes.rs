@@ -248,3 +248,111 @@ fn check_and_submit_list_the_same_machines_for_an_unknown_one() {
     );
     assert!(!err.contains("gearcam up"), "{err}");
 }
+
+/// Runs the real `gearcam` binary with `args` in `cwd` as a user who cannot
+/// write `dir`'s files: as root (who writes anything) the binary is copied
+/// into `dir` and run by `setpriv` as the unprivileged user 65534; as any
+/// other user the binary runs as is and the read-only modes stop it.
+fn gearcam_as_other_user(
+    dir: &std::path::Path,
+    cwd: &std::path::Path,
+    args: &[&str],
+) -> (Option<i32>, String, String) {
+    use std::os::unix::fs::PermissionsExt;
+    let root = std::process::Command::new("id")
+        .arg("-u")
+        .output()
+        .is_ok_and(|o| o.stdout.trim_ascii() == b"0");
+    let mut cmd = if root {
+        let copy = dir.join("gearcam");
+        if !copy.exists() {
+            std::fs::copy(gearcam_testkit::process::bin("gearcam"), &copy).unwrap();
+        }
+        std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o755)).unwrap();
+        let mut cmd = std::process::Command::new("setpriv");
+        cmd.args(["--reuid=65534", "--regid=65534", "--clear-groups"])
+            .arg(&copy);
+        cmd
+    } else {
+        std::process::Command::new(gearcam_testkit::process::bin("gearcam"))
+    };
+    let out = cmd
+        .args(args)
+        .current_dir(cwd)
+        .stdin(std::process::Stdio::null())
+        .output()
+        .expect("setpriv (util-linux) runs the binary as another user");
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A data directory this user cannot write is exit 2 with "not writable"
+/// and the reason, before any database complains, for the commands that
+/// read as well as those that write; and `gearcam up` in a working
+/// directory it cannot write says so instead of asking whether it runs.
+#[test]
+fn a_data_directory_that_cannot_be_written_is_2_not_writable() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let spur = gearcam_testkit::examples::dir().join("spur_840d.toml");
+    let spur = spur.display().to_string();
+    // A knowledge base made while the directory was writable, then every
+    // file and the directory made read-only.
+    let (code, _, err) = gearcam(&[
+        "kb",
+        "list",
+        "machines",
+        "--data",
+        &data.display().to_string(),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    for entry in std::fs::read_dir(&data).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o444)).unwrap();
+    }
+    std::fs::set_permissions(&data, std::fs::Permissions::from_mode(0o555)).unwrap();
+    let d = data.display().to_string();
+    for args in [
+        vec!["kb", "list", "machines", "--data", &d],
+        vec!["templates", "list", "--data", &d],
+        vec!["check", &spur, "--data", &d],
+    ] {
+        let (code, _, err) = gearcam_as_other_user(dir.path(), dir.path(), &args);
+        assert_eq!(code, Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains(&format!("data directory {d} is not writable"))
+                && err.contains("permission denied"),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("readonly database"), "{args:?}: {err}");
+    }
+    let (code, out, _) = gearcam_as_other_user(
+        dir.path(),
+        dir.path(),
+        &["check", &spur, "--data", &d, "--json"],
+    );
+    assert_eq!(code, Some(2));
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(v["errors"][0]["code"], "DATA_DIR_NOT_WRITABLE", "{v}");
+    assert_eq!(v["errors"][0]["got"], d.as_str(), "{v}");
+    // `gearcam up` in a working directory it cannot write: the default
+    // data directory there cannot be made.
+    let cwd = dir.path().join("readonly-cwd");
+    std::fs::create_dir(&cwd).unwrap();
+    std::fs::set_permissions(&cwd, std::fs::Permissions::from_mode(0o555)).unwrap();
+    let (code, _, err) =
+        gearcam_as_other_user(dir.path(), &cwd, &["up", "--listen", "tcp/127.0.0.1:0"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("gearcam-data is not writable: cannot make it: permission denied")
+            && err.contains("--data or GEARCAM_DATA"),
+        "{err}"
+    );
+    assert!(!err.contains("is `gearcam up`"), "{err}");
+    // Writable again, so the temporary directory can be removed.
+    std::fs::set_permissions(&data, std::fs::Permissions::from_mode(0o755)).unwrap();
+}

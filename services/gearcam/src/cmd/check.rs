@@ -74,7 +74,10 @@ pub fn check(
     svg: Option<&Path>,
     dxf: Option<&Path>,
 ) -> ExitCode {
-    let data = &crate::data_dir::announce(data);
+    let data = &match crate::data_dir::open(data) {
+        Ok(data) => data,
+        Err(code) => return code,
+    };
     let report = match jobfile::load(job) {
         Err(e) => CheckReport::failed(vec![e]),
         Ok(spec) => {

@@ -19,7 +19,10 @@ use crate::jobfile;
 use crate::station::{self, Outcome, SubmitOptions};
 
 pub async fn demo(data: &Path) -> anyhow::Result<ExitCode> {
-    let data = &crate::data_dir::announce(data);
+    let data = &match crate::data_dir::open(data) {
+        Ok(data) => data,
+        Err(code) => return Ok(code),
+    };
     let config = bus_config::embedded(&BusArgs::default(), "tcp/127.0.0.1:0");
     let services = Embedded::start(&config, data, template_library(data)?).await?;
     crate::outln!(

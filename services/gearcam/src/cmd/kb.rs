@@ -169,7 +169,7 @@ fn open(data: &Path) -> Result<rusqlite::Connection, ExitCode> {
 }
 
 fn open_db(data: &Path) -> Result<rusqlite::Connection, ExitCode> {
-    let data = &crate::data_dir::announce(data);
+    let data = &crate::data_dir::open(data)?;
     db::open(&data.join("knowledge.db")).map_err(|e| {
         crate::output::fail(
             crate::exit::UNREACHABLE,

@@ -197,6 +197,13 @@ fn print_json<T: Serialize + ?Sized>(value: &T) -> Result<(), Failure> {
 fn open(data: &Path) -> Result<Library, Failure> {
     let data = &crate::data_dir::absolute(data);
     eprintln!("gearcam: data directory {}", data.display());
+    crate::data_dir::writable(data).map_err(|e| {
+        unavailable(format!(
+            "{}; {}",
+            e.message,
+            crate::data_dir::NOT_WRITABLE_HINT
+        ))
+    })?;
     Library::open(&data.join("templates.db")).map_err(|e| {
         unavailable(format!(
             "cannot open the template library in {}: {e}",

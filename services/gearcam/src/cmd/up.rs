@@ -12,7 +12,10 @@ use crate::embedded::Embedded;
 use crate::DEFAULT_ENDPOINT;
 
 pub async fn up(data: &Path, bus: &BusArgs) -> anyhow::Result<ExitCode> {
-    let data = &crate::data_dir::announce(data);
+    let data = &match crate::data_dir::open(data) {
+        Ok(data) => data,
+        Err(code) => return Ok(code),
+    };
     let config = bus_config::embedded(bus, DEFAULT_ENDPOINT);
     let mut services = Embedded::start(&config, data, template_library(data)?)
         .await
