@@ -292,9 +292,9 @@ catalogue! {
     INVALID_PART_NUMBER: "station",
         "The job's part number is empty, longer than 64 characters or has a line break; it names the program and its history at the machine.",
         "Give the part (drawing) number as on the drawing, on one line.";
-    INVALID_PROGRAM_NAME: "template",
-        "The 840D program name made from the part number is not valid on the controller.",
-        "Change `job.part_number` so that it makes a valid 840D program name.";
+    INVALID_PROGRAM_NAME: "knowledge, template",
+        "The program name breaks the machine's control's naming rule: the job's own (`job.program_name`), or one made from the part number. The knowledge service checks it before it plans, the template service when it names the program, by the same rule; the message states the rule.",
+        "Give the job a name the control accepts in `[job] program_name` (docs/programs.md, program names and files).";
     JOB_CANCELLED: "station, agent",
         "A person cancelled the job before it was delivered (`gearcam cancel`); got says who. The job ends `cancelled`, and the agent never stores its program after.",
         "Nothing, or submit the job again under a new id.";

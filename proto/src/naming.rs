@@ -84,49 +84,160 @@ fn check_plain(name: &str, max: usize) -> Result<(), String> {
     Ok(())
 }
 
-/// The 840D program name for a part number (docs/programs.md#program-names-and-files).
-///
-/// Letters and digits are kept and upper-cased; every other ASCII character
-/// (`-`, `.`, spaces, ...) becomes `_`, runs of `_` collapse to one and leading
-/// and trailing `_` are dropped, so a generated name always starts with a
-/// letter. A name that would not start with two letters gets the prefix `GC_`.
-///
-/// When that would lose what tells two parts apart (the name is over
-/// [`MAX_840D_NAME`] characters, the part number has characters outside ASCII,
-/// or nothing usable is left), the name is cut to 18 characters and ends in `_`
-/// and a five-character tag of the whole part number ([`part_tag`]), so
-/// `GEARBOX-OUTPUT-SHAFT-PINION-STAGE2-A` and `…-B` get different names. The
-/// agent's store keeps the part of every name and refuses a name held by
-/// another part, so a collision the rule still allows is refused, never merged.
+/// The 840D program name for a part number ([`name_from_part`] with the
+/// 840D alphabet: upper case, `_` the only separator, at most
+/// [`MAX_840D_NAME`] characters, starting with two letters).
 ///
 /// `SP-1001` → `SP_1001`; `123` → `GC_123`; `a1.b` → `GC_A1_B`.
 pub fn program_name_840d(part: &str) -> String {
+    name_from_part(part, Alphabet::Siemens)
+}
+
+/// Longest name made from a part number for the plain-name controls
+/// (LinuxCNC allows 64).
+pub const MAX_PLAIN_NAME: usize = 64;
+
+/// Longest name made from a part number for a wire 3B/4B program, without
+/// the `.4b` of a 4B program: 29, so that both forms fit the 32 the control
+/// reads.
+pub const MAX_WIRE_NAME: usize = 29;
+
+/// What a control allows in a program name, for [`name_from_part`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Alphabet {
+    /// SINUMERIK 840D: `A–Z 0–9 _`, the first two letters, at most
+    /// [`MAX_840D_NAME`].
+    Siemens,
+    /// LinuxCNC and wire 3B/4B: `A–Z a–z 0–9 _ -`, the first a letter or
+    /// digit, at most the given number of characters.
+    Plain(usize),
+}
+
+/// The program name made from a part number, by one rule for every control
+/// that names programs by text (docs/programs.md#program-names-and-files):
+///
+/// 1. letters and digits are kept (upper-cased for 840D), `-` is kept where
+///    the control allows it, every other character becomes `_`;
+/// 2. runs of `_` collapse to one, and leading and trailing `_` and `-` are
+///    dropped, so `../../etc/x` is `ETC_X` on an 840D and `etc_x` on
+///    LinuxCNC or a wire control, and `<script>` is `SCRIPT` or `script`;
+/// 3. an 840D name that would not start with two letters gets `GC_`;
+/// 4. when that would lose what tells two parts apart (the name is over the
+///    control's length, the part number has characters outside ASCII, or
+///    nothing usable is left), the name is cut and ends in `_` and a
+///    five-character tag of the whole part number ([`part_tag`]), so
+///    `GEARBOX-OUTPUT-SHAFT-PINION-STAGE2-A` and `…-B` get different names.
+///
+/// The agent's store keeps the part of every name and refuses a name held
+/// by another part, so a collision the rule still allows is refused, never
+/// merged. FANUC controls name programs by number ([`program_name_fanuc`]).
+pub fn name_from_part(part: &str, alphabet: Alphabet) -> String {
+    let (siemens, max) = match alphabet {
+        Alphabet::Siemens => (true, MAX_840D_NAME),
+        Alphabet::Plain(max) => (false, max),
+    };
     let mut name = String::with_capacity(part.len() + 3);
     for c in part.chars() {
-        let c = if c.is_ascii_alphanumeric() {
-            c.to_ascii_uppercase()
-        } else {
-            '_'
+        let c = match c {
+            c if c.is_ascii_alphanumeric() && siemens => c.to_ascii_uppercase(),
+            c if c.is_ascii_alphanumeric() => c,
+            '-' if !siemens => '-',
+            _ => '_',
         };
         if !(c == '_' && name.ends_with('_')) {
             name.push(c);
         }
     }
-    let mut name = name.trim_matches('_').to_string();
+    let mut name = name.trim_matches(['_', '-']).to_string();
     if name.is_empty() {
         name = "GC_PART".into();
-    } else if !starts_840d(&name) {
+    } else if siemens && !starts_840d(&name) {
         name.insert_str(0, "GC_");
     }
-    let lossy = !part.is_ascii()
-        || name.len() > MAX_840D_NAME
-        || !part.chars().any(|c| c.is_ascii_alphanumeric());
+    let lossy =
+        !part.is_ascii() || name.len() > max || !part.chars().any(|c| c.is_ascii_alphanumeric());
     if lossy {
-        name.truncate(MAX_840D_NAME - 6);
-        let name = name.trim_end_matches('_');
+        name.truncate(max - 6);
+        let name = name.trim_end_matches(['_', '-']);
         return format!("{name}_{}", part_tag(part));
     }
     name
+}
+
+/// Why a program name cannot be used: the job's own, or the one made from
+/// its part number.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct NameProblem {
+    /// The job's field the name comes from: `job.program_name` or
+    /// `job.part_number`.
+    pub field: &'static str,
+    /// The name.
+    pub name: String,
+    /// The control's rule it breaks.
+    pub reason: String,
+}
+
+impl NameProblem {
+    /// The problem as a typed error of `stage`, naming the field, the rule
+    /// and the way out (`[job] program_name`).
+    pub fn error(&self, stage: crate::Stage, dialect: Dialect) -> crate::JobError {
+        stage.error(
+            crate::codes::INVALID_PROGRAM_NAME,
+            self.field,
+            format!("a program name {} accepts", dialect.as_str()),
+            self.name.clone(),
+            format!(
+                "the program name {:?} is not valid on {}: {}; give the job a name the control accepts in [job] program_name",
+                self.name,
+                dialect.as_str(),
+                self.reason
+            ),
+        )
+    }
+}
+
+/// The program's name at the machine and the file it is stored in: the
+/// job's own (`[job] program_name`), else the one made from the part number
+/// by the control's rule; either checked against the rule. `four_b` is a
+/// wire program in the 4B form, whose name ends in `.4b`.
+///
+/// The knowledge service asks this before it plans, the template service
+/// when it names the program, the agent's store checks the name again
+/// ([`file_name`]): one rule, so a name is refused first where it is
+/// cheapest and never accepted by one stage and refused by a later one.
+pub fn program_name(
+    dialect: Dialect,
+    job: &crate::JobHeader,
+    four_b: bool,
+) -> Result<(String, String), NameProblem> {
+    let (name, field) = match &job.program_name {
+        Some(name) => (name.clone(), "job.program_name"),
+        None => {
+            let part = &job.part_number;
+            let name = match dialect {
+                Dialect::Fanuc | Dialect::WireIso => program_name_fanuc(part),
+                Dialect::Sinumerik840d => name_from_part(part, Alphabet::Siemens),
+                Dialect::Linuxcnc => name_from_part(part, Alphabet::Plain(MAX_PLAIN_NAME)),
+                Dialect::Wire3b => {
+                    let name = name_from_part(part, Alphabet::Plain(MAX_WIRE_NAME));
+                    if four_b {
+                        format!("{name}.4b")
+                    } else {
+                        name
+                    }
+                }
+            };
+            (name, "job.part_number")
+        }
+    };
+    match file_name(dialect, &name) {
+        Ok(file) => Ok((name, file)),
+        Err(reason) => Err(NameProblem {
+            field,
+            name,
+            reason,
+        }),
+    }
 }
 
 /// A five-character tag (`A–Z`, `0–9`) of a part number: 25 bits of its FNV-1a
@@ -291,5 +402,76 @@ mod tests {
             file_name(Dialect::Linuxcnc, "face-01").unwrap(),
             "face-01.ngc"
         );
+    }
+
+    /// A part number makes its program's name by one rule on every control
+    /// that names programs by text: the same characters kept, the same
+    /// separators dropped; only the alphabet and the length differ.
+    #[test]
+    fn one_rule_for_every_control_that_names_by_text() {
+        let plain = |p: &str| name_from_part(p, Alphabet::Plain(MAX_PLAIN_NAME));
+        let wire = |p: &str| name_from_part(p, Alphabet::Plain(MAX_WIRE_NAME));
+        assert_eq!(program_name_840d("../../etc/x"), "ETC_X");
+        assert_eq!(plain("../../etc/x"), "etc_x");
+        assert_eq!(wire("../../etc/x"), "etc_x");
+        assert_eq!(
+            program_name_840d("<script>alert(1)</script>"),
+            "SCRIPT_ALERT_1_SCRIPT"
+        );
+        assert_eq!(plain("<script>alert(1)</script>"), "script_alert_1_script");
+        assert_eq!(plain("FL-3004"), "FL-3004");
+        assert_eq!(plain("FL 30/04.b"), "FL_30_04_b");
+        assert_eq!(wire("PD-2001"), "PD-2001");
+        // Nothing usable, too long, outside ASCII: tagged, and still apart.
+        for part in ["", "---", "Zahnrad-Ä", &"P".repeat(40)] {
+            for (alphabet, dialect) in [
+                (Alphabet::Plain(MAX_PLAIN_NAME), Dialect::Linuxcnc),
+                (Alphabet::Plain(MAX_WIRE_NAME), Dialect::Wire3b),
+                (Alphabet::Siemens, Dialect::Sinumerik840d),
+            ] {
+                let name = name_from_part(part, alphabet);
+                assert!(file_name(dialect, &name).is_ok(), "{part:?} -> {name}");
+            }
+        }
+        assert_eq!(wire(&"P".repeat(40)).len(), MAX_WIRE_NAME);
+        assert_ne!(wire("Zahnrad-Ä"), wire("Zahnrad-Ö"));
+        assert_ne!(plain("---"), plain("..."));
+    }
+
+    /// The job's own name is checked by the control's rule and its refusal
+    /// names `[job] program_name`; a name made from the part number always
+    /// passes, in every dialect.
+    #[test]
+    fn a_job_name_is_checked_and_its_refusal_names_the_field() {
+        let job = |part: &str, name: Option<&str>| crate::JobHeader {
+            family: crate::Family::Hobbing,
+            id: None,
+            machine: crate::MachineId::new("M1").unwrap(),
+            quantity: 1,
+            part_number: part.into(),
+            program_name: name.map(str::to_string),
+        };
+        for dialect in [
+            Dialect::Sinumerik840d,
+            Dialect::Fanuc,
+            Dialect::Linuxcnc,
+            Dialect::Wire3b,
+            Dialect::WireIso,
+        ] {
+            for part in ["../../etc/x", "<script>", "", "SP-1001", "Ä"] {
+                let made = program_name(dialect, &job(part, None), false);
+                assert!(made.is_ok(), "{dialect:?} {part:?}: {made:?}");
+            }
+            let problem = program_name(dialect, &job("SP-1", Some("../x")), false).unwrap_err();
+            assert_eq!(problem.field, "job.program_name");
+            let e = problem.error(crate::Stage::Knowledge, dialect);
+            assert_eq!(e.code, "INVALID_PROGRAM_NAME");
+            assert!(e.message.contains("[job] program_name"), "{}", e.message);
+        }
+        let (name, file) = program_name(Dialect::Wire3b, &job("PP-2001", None), true).unwrap();
+        assert_eq!((name.as_str(), file.as_str()), ("PP-2001.4b", "PP-2001.4b"));
+        let (name, file) =
+            program_name(Dialect::Linuxcnc, &job("../../etc/x", None), false).unwrap();
+        assert_eq!((name.as_str(), file.as_str()), ("etc_x", "etc_x.ngc"));
     }
 }

@@ -4,8 +4,8 @@
 //! group, and the program form — each value with its source.
 
 use gearcam_proto::{
-    CaseRef, Dialect, JobError, JobRequest, MachineId, Source, Sourced, WireMachine, WirePlan,
-    WireProcess, WireProgram,
+    CaseRef, Dialect, JobError, JobRequest, MachineId, Source, Sourced, Stage, WireMachine,
+    WirePlan, WireProcess, WireProgram,
 };
 use rusqlite::{Connection, Transaction};
 use serde_json::json;
@@ -198,6 +198,13 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
             None
         }
     };
+    if let Some(m) = &machine {
+        // The program's name by the control's rule, before anything is planned.
+        let four_b = spec.wire.program.unwrap_or(m.default_program) == WireProgram::FourB;
+        if let Err(p) = gearcam_proto::naming::program_name(m.dialect, &spec.job, four_b) {
+            errors.push(p.error(Stage::Knowledge, m.dialect));
+        }
+    }
     let (Some(machine), Some(record), Some(die), true) =
         (machine, record, spec.die.clone(), errors.is_empty())
     else {

@@ -13,9 +13,7 @@
 
 use std::collections::BTreeMap;
 
-use gearcam_proto::{
-    naming, Dialect, JobError, JobHeader, MachiningModel, NcProgram, Stage, TemplateRef,
-};
+use gearcam_proto::{naming, Dialect, JobError, MachiningModel, NcProgram, Stage, TemplateRef};
 use sha2::{Digest, Sha256};
 
 use crate::engine::{Compiled, RunFailure};
@@ -197,7 +195,8 @@ impl Templates {
         check_inputs(model)?;
 
         let part_number = &plan.request.spec.job.part_number;
-        let (name, file) = program_name(machine.dialect, &plan.request.spec.job)?;
+        let (name, file) = naming::program_name(machine.dialect, &plan.request.spec.job, false)
+            .map_err(|p| vec![p.error(Stage::Template, machine.dialect)])?;
         let case_ids: Vec<String> = plan.cases.iter().map(|c| c.id.clone()).collect();
         let cases = if case_ids.is_empty() {
             "NONE".to_string()
@@ -424,41 +423,6 @@ fn is_axis_name(name: &str) -> bool {
 
 fn template_error(code: &str, field: &str, expected: &str, got: &str, message: String) -> JobError {
     JobError::new(Stage::Template, code, field, expected, got, message)
-}
-
-/// The program's name and file at the machine: the job's own
-/// (`[job] program_name`) or the one the controller's rule makes from the part
-/// number; either checked against the controller's naming rule.
-fn program_name(dialect: Dialect, job: &JobHeader) -> Result<(String, String), Vec<JobError>> {
-    let part_number = &job.part_number;
-    let (name, field, expected) = match &job.program_name {
-        Some(name) => (
-            name.clone(),
-            "job.program_name",
-            "a program name the controller accepts",
-        ),
-        None => (
-            match dialect {
-                Dialect::Fanuc => program_name_fanuc(part_number),
-                _ => program_name_840d(part_number),
-            },
-            "job.part_number",
-            "a part number that maps to a program name the controller accepts",
-        ),
-    };
-    match naming::file_name(dialect, &name) {
-        Ok(file) => Ok((name, file)),
-        Err(reason) => Err(vec![template_error(
-            "INVALID_PROGRAM_NAME",
-            field,
-            expected,
-            &name,
-            format!(
-                "the program name {name:?} (part number {part_number:?}) is not valid on {}: {reason}",
-                dialect.as_str()
-            ),
-        )]),
-    }
 }
 
 #[cfg(test)]

@@ -5,9 +5,9 @@
 //! the order, the tool, the spiral and its checks; then replayed and compared
 //! with the model ([`gearcam_spiral::verify`]) before it may leave.
 
-use gearcam_proto::naming::{self, program_name_fanuc};
+use gearcam_proto::naming;
 use gearcam_proto::{
-    utc_text, CutMode, Dialect, JobError, NcProgram, SpiralModel, SpiralPart, SpiralProgram, Stage,
+    utc_text, CutMode, JobError, NcProgram, SpiralModel, SpiralPart, SpiralProgram, Stage,
     TemplateRef,
 };
 use gearcam_spiral::linuxcnc::Cut;
@@ -17,27 +17,6 @@ use sha2::{Digest, Sha256};
 use crate::render::GENERATOR;
 
 pub use crate::forms::SPIRAL_FORMS_VERSION;
-
-/// A LinuxCNC program name from a part number: letters, digits, `_` and `-`
-/// kept, everything else `_`, at most 64 characters.
-pub fn program_name_linuxcnc(part: &str) -> String {
-    let name: String = part
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .take(64)
-        .collect();
-    if name.is_empty() {
-        "gearcam".to_string()
-    } else {
-        name
-    }
-}
 
 fn template_error(
     code: &str,
@@ -124,35 +103,6 @@ fn header(model: &SpiralModel) -> Vec<String> {
     ]
 }
 
-/// The program's name and file under the controller's rule.
-fn name_of(model: &SpiralModel, dialect: Dialect) -> Result<(String, String), Vec<JobError>> {
-    let job = &model.plan.request.spec.job;
-    let (name, field) = match &job.program_name {
-        Some(n) => (n.clone(), "job.program_name"),
-        None => (
-            match dialect {
-                Dialect::Fanuc => program_name_fanuc(&job.part_number),
-                _ => program_name_linuxcnc(&job.part_number),
-            },
-            "job.part_number",
-        ),
-    };
-    naming::file_name(dialect, &name)
-        .map(|file| (name.clone(), file))
-        .map_err(|reason| {
-            vec![template_error(
-                "INVALID_PROGRAM_NAME",
-                field,
-                "a program name the controller accepts".into(),
-                name.clone(),
-                format!(
-                    "the program name {name:?} is not valid on {}: {reason}",
-                    dialect.as_str()
-                ),
-            )]
-        })
-}
-
 /// Writes the program of a spiral model and replays it against the model
 /// (the path check is attached whatever it found).
 pub fn instantiate(model: &SpiralModel) -> Result<NcProgram, Vec<JobError>> {
@@ -172,7 +122,8 @@ pub fn instantiate(model: &SpiralModel) -> Result<NcProgram, Vec<JobError>> {
             ),
         )]);
     }
-    let (name, _file) = name_of(model, dialect)?;
+    let (name, _file) = naming::program_name(dialect, &model.plan.request.spec.job, false)
+        .map_err(|p| vec![p.error(Stage::Template, dialect)])?;
     let spiral = spiral_of(model);
     let cut = Cut {
         depth_mm: model.cut.depth_mm,
@@ -434,12 +385,5 @@ mod tests {
             "{:?}",
             rules(&bad)
         );
-    }
-
-    #[test]
-    fn linuxcnc_names_keep_what_the_control_accepts() {
-        assert_eq!(program_name_linuxcnc("FL-3004"), "FL-3004");
-        assert_eq!(program_name_linuxcnc("FL 30/04.b"), "FL_30_04_b");
-        assert_eq!(program_name_linuxcnc(""), "gearcam");
     }
 }

@@ -4,16 +4,15 @@
 //! gear, the wire and the certificate; then read back, replayed and
 //! measured against the theoretical outline before it may leave.
 
-use gearcam_proto::naming::{self, program_name_fanuc};
+use gearcam_proto::naming;
 use gearcam_proto::{
-    utc_text, Cutter, Dialect, DiePart, JobError, NcProgram, PathCheck, Stage, TemplateRef,
-    WireModel, WireProgram,
+    utc_text, Cutter, DiePart, JobError, NcProgram, PathCheck, Stage, TemplateRef, WireModel,
+    WireProgram,
 };
 use gearcam_wire::programs::make;
 use sha2::{Digest, Sha256};
 
 use crate::render::GENERATOR;
-use crate::spiral::program_name_linuxcnc;
 
 pub use crate::forms::WIRE_FORMS_VERSION;
 
@@ -110,47 +109,6 @@ pub fn header(model: &WireModel, name: &str) -> Vec<String> {
     ]
 }
 
-/// The program's name under the controller's rule: a 3B or 4B control
-/// stores plain names (a 4B program's ends in `.4b`), an ISO control
-/// `O` numbers.
-fn name_of(model: &WireModel, dialect: Dialect) -> Result<String, Vec<JobError>> {
-    let job = &model.plan.request.spec.job;
-    let form = model.plan.process.program;
-    let (name, field) = match &job.program_name {
-        Some(n) => (n.clone(), "job.program_name"),
-        None => (
-            match (dialect, form) {
-                (Dialect::WireIso, _) => program_name_fanuc(&job.part_number),
-                (_, WireProgram::FourB) => {
-                    let mut n = program_name_linuxcnc(&job.part_number);
-                    n.truncate(29);
-                    format!("{n}.4b")
-                }
-                _ => {
-                    let mut n = program_name_linuxcnc(&job.part_number);
-                    n.truncate(32);
-                    n
-                }
-            },
-            "job.part_number",
-        ),
-    };
-    naming::file_name(dialect, &name)
-        .map(|_| name.clone())
-        .map_err(|reason| {
-            vec![template_error(
-                "INVALID_PROGRAM_NAME",
-                field,
-                "a program name the controller accepts".into(),
-                name.clone(),
-                format!(
-                    "the program name {name:?} is not valid on {}: {reason}",
-                    dialect.as_str()
-                ),
-            )]
-        })
-}
-
 /// The number of an `O` program name (1 for a plain name).
 fn number(name: &str) -> u32 {
     name.strip_prefix('O')
@@ -177,7 +135,10 @@ pub fn render(model: &WireModel) -> Result<NcProgram, Vec<JobError>> {
             ),
         )]);
     }
-    let name = name_of(model, dialect)?;
+    let job = &model.plan.request.spec.job;
+    let four_b = model.plan.process.program == WireProgram::FourB;
+    let (name, _file) = naming::program_name(dialect, job, four_b)
+        .map_err(|p| vec![p.error(Stage::Template, dialect)])?;
     let lines = header(model, &name);
     // `make` writes the text, reads it back, replays it and measures it:
     // it returns a program only when the replay holds the tolerances.

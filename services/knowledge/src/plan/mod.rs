@@ -173,8 +173,9 @@ struct WithGear {
 }
 
 /// Step 1: the request with its drawing data resolved ([`resolve_gear`])
-/// and the profile of the job's machine; when either cannot be had, the
-/// reasons for both (no gear, an unknown machine) at once.
+/// and the profile of the job's machine, whose control's rule the program's
+/// name must pass; when any of them cannot be had, the reasons for all (no
+/// gear, an unknown machine, a name the control refuses) at once.
 fn resolve_gear_and_machine(
     conn: &Connection,
     req: &JobRequest,
@@ -182,10 +183,16 @@ fn resolve_gear_and_machine(
 ) -> Result<(WithGear, MachineProfile), PlanError> {
     let resolved = resolve_gear(conn, req, proposal)?;
     let machine = records::machine(conn, &req.spec.job.machine)?;
-    match (resolved, machine) {
-        (Ok(with_gear), Some(machine)) => Ok((with_gear, machine)),
-        (resolved, machine) => {
-            let mut errors: Vec<JobError> = resolved.err().into_iter().collect();
+    // The program's name by the control's rule, before anything is planned.
+    let name = machine.as_ref().and_then(|m| {
+        gearcam_proto::naming::program_name(m.dialect, &req.spec.job, false)
+            .err()
+            .map(|p| p.error(Stage::Knowledge, m.dialect))
+    });
+    match (resolved, machine, name) {
+        (Ok(with_gear), Some(machine), None) => Ok((with_gear, machine)),
+        (resolved, machine, name) => {
+            let mut errors: Vec<JobError> = resolved.err().into_iter().chain(name).collect();
             if machine.is_none() {
                 errors.push(library::machine_error(
                     conn,

@@ -426,6 +426,13 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<SpiralPlan, Failed>
         (None, Some(g)) => Some(SpiralPart::Groove(g.clone())),
         _ => None,
     };
+    if let Some(m) = &machine {
+        // The program's name by the control's rule, before anything is planned.
+        let dialect = spec.milling.program.unwrap_or(m.default_program).dialect();
+        if let Err(p) = gearcam_proto::naming::program_name(dialect, &spec.job, false) {
+            errors.push(p.error(Stage::Knowledge, dialect));
+        }
+    }
     let (Some(machine), Some(part), true) = (machine, part, errors.is_empty()) else {
         return Err(Failed::Job(errors));
     };
