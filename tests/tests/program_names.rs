@@ -40,7 +40,12 @@ fn a_path_like_part_number_makes_one_name_on_every_control() {
     ] {
         let job = cluster.job_file(example, &with_part(example, "../../etc/x", None));
         let (_, v) = cluster.submit_wait(&job);
-        assert_eq!(v["state"], "delivered", "{example}: {v}\n{}", cluster.logs());
+        assert_eq!(
+            v["state"],
+            "delivered",
+            "{example}: {v}\n{}",
+            cluster.logs()
+        );
         assert!(
             cluster.dir().join(stored).is_file(),
             "{example}: {stored} missing; {v}"

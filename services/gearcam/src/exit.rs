@@ -4,7 +4,7 @@
 //! |---|---|
 //! | 0 | done (delivered, journaled, printed) |
 //! | 1 | refused: a stage or the local knowledge base answered with typed errors (a failed job's status too) |
-//! | 2 | unreachable: the bus, a service, or the local data directory |
+//! | 2 | unreachable: the bus, a service, or the local data directory (missing or not writable) |
 //! | 3 | not found: an unknown job, program, version, record, library or template, or a job file that does not exist |
 //! | 4 | not finished in time (`submit --wait`): the job stays journaled and the station keeps driving it |
 //! | 64 | usage: the command line itself is wrong |
@@ -15,7 +15,8 @@ use gearcam_proto::JobError;
 
 /// Typed errors: a stage or the knowledge base refused.
 pub const REFUSED: u8 = 1;
-/// The bus, a service or the local data directory cannot be reached.
+/// The bus, a service or the local data directory cannot be reached, or
+/// the data directory cannot be written.
 pub const UNREACHABLE: u8 = 2;
 /// An unknown job, program, version or record.
 pub const NOT_FOUND: u8 = 3;
@@ -26,7 +27,7 @@ pub const USAGE: u8 = 64;
 
 /// The codes as `--help` shows them.
 pub const HELP: &str = "Exit codes: 0 done; 1 refused with typed errors (also the status of a \
-failed job); 2 bus, services or data directory unreachable; 3 not found (unknown job, program, \
+failed job); 2 bus, services or data directory unreachable or not writable; 3 not found (unknown job, program, \
 version, record, library or template; no such job file); 4 not finished in time (submit --wait; the job stays journaled); 64 usage error.";
 
 /// The exit code `code`.
