@@ -382,7 +382,7 @@ catalogue! {
     MODULE_RANGE: "model",
         "The gear's normal module is not a positive length.",
         "Correct `gear.module_mm`.";
-    NOT_FINITE: "station (job file), model",
+    NOT_FINITE: "station (job file, and every request at the bus), model",
         "A value that must be a number (a job file's number, profile shift, OD correction, fixture height) is NaN or infinite.",
         "Give a finite value for the field named.";
     NOT_FOUND: "knowledge",

@@ -100,6 +100,37 @@ pub fn part_number_problem(part: &str) -> Option<String> {
     }
 }
 
+/// The first number of a job that is not finite (`inf` or `NaN`), as its
+/// field (`gear.module_mm`, `die.cutters[0].x`) and value, or `None`.
+///
+/// A job file's TOML allows `inf` and `nan`, and a client's MessagePack
+/// carries them too; no stage can plan with one, and the first to meet it
+/// would blame something else (no hob of module `inf`), so the station and
+/// the CLI refuse it on its field before any stage sees it.
+pub fn non_finite(spec: &JobSpec) -> Option<(String, f64)> {
+    fn walk(v: &toml::Value, path: &str) -> Option<(String, f64)> {
+        match v {
+            toml::Value::Float(f) if !f.is_finite() => Some((path.to_string(), *f)),
+            toml::Value::Table(t) => t.iter().find_map(|(k, v)| {
+                let field = if path.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{path}.{k}")
+                };
+                walk(v, &field)
+            }),
+            toml::Value::Array(a) => a
+                .iter()
+                .enumerate()
+                .find_map(|(i, v)| walk(v, &format!("{path}[{i}]"))),
+            _ => None,
+        }
+    }
+    // Every number of a spec is a TOML number (TOML has `inf` and `nan`),
+    // so the spec's TOML value holds them all under their field names.
+    walk(&toml::Value::try_from(spec).ok()?, "")
+}
+
 /// `[gear]`: drawing data of the gear (patent step 1, workpiece parameters).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -149,6 +149,21 @@ fn point_1_a_program_name_belongs_to_one_part() {
         (errors[0].code.as_str(), errors[0].field.as_str()),
         ("INVALID_PART_NUMBER", "spec.job.part_number")
     );
+    // An infinite module at the wire is refused on its field by the
+    // station, before the knowledge service would look for a hob of
+    // module inf.
+    let mut spec: JobSpec =
+        toml::from_str(&gearcam_testkit::examples::example("spur_840d.toml")).unwrap();
+    spec.gear.as_mut().expect("the example's gear").module_mm = f64::INFINITY;
+    let reply = submit_raw(&c.endpoint, spec);
+    let StationReply::Refused { errors } = reply else {
+        panic!("accepted: {reply:?}")
+    };
+    assert_eq!(
+        (errors[0].code.as_str(), errors[0].field.as_str()),
+        ("NOT_FINITE", "spec.gear.module_mm"),
+        "{errors:?}"
+    );
 }
 
 /// Submits a job over a Zenoh session of its own, as a foreign client would.

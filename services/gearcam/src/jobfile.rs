@@ -39,29 +39,14 @@ pub fn parse(text: &str, origin: &str) -> Result<JobSpec, JobError> {
         file_error(&path, &detail, &format!("{origin}{location}"))
     })?;
     check_part_number(&spec)?;
-    check_finite(text, origin)?;
+    check_finite(&spec, origin)?;
     Ok(spec)
 }
 
-/// `NOT_FINITE` for the first number of the file that is `inf` or `nan`
-/// (TOML allows both): no stage can plan with it, and the first to meet it
-/// would blame something else (no hob of module `inf`).
-fn check_finite(text: &str, origin: &str) -> Result<(), JobError> {
-    fn walk(v: &toml::Value, path: &str) -> Option<(String, f64)> {
-        match v {
-            toml::Value::Float(f) if !f.is_finite() => Some((path.to_string(), *f)),
-            toml::Value::Table(t) => t.iter().find_map(|(k, v)| walk(v, &join_path(path, k))),
-            toml::Value::Array(a) => a
-                .iter()
-                .enumerate()
-                .find_map(|(i, v)| walk(v, &format!("{path}[{i}]"))),
-            _ => None,
-        }
-    }
-    let Ok(value) = text.parse::<toml::Value>() else {
-        return Ok(());
-    };
-    match walk(&value, ".") {
+/// `NOT_FINITE` for the first number of the job that is `inf` or `nan`
+/// ([`gearcam_proto::job::non_finite`], the station's check too).
+fn check_finite(spec: &JobSpec, origin: &str) -> Result<(), JobError> {
+    match gearcam_proto::job::non_finite(spec) {
         None => Ok(()),
         Some((field, f)) => Err(station_error(
             "NOT_FINITE",

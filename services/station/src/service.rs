@@ -214,6 +214,14 @@ pub async fn run(
                                 req.spec.job.part_number.chars().take(80).collect::<String>(),
                                 format!("the part number is not usable: {reason}; it names the program and its history at the machine"),
                             )])
+                        } else if let Some((field, f)) = gearcam_proto::job::non_finite(&req.spec) {
+                            Err(vec![Stage::Station.error(
+                                codes::NOT_FINITE,
+                                &format!("spec.{field}"),
+                                "a finite number",
+                                f.to_string(),
+                                format!("spec.{field} is {f}; no stage can plan with it: give a finite number"),
+                            )])
                         } else {
                             match known_machine(&bus, &mut machines, &req.spec.job.machine).await {
                                 Ok(()) => Ok(req),
