@@ -338,6 +338,59 @@ pub fn station_job_of(key: &str) -> Option<&str> {
     key.strip_prefix(PREFIX)?.strip_prefix("/station/jobs/")
 }
 
+// How large a message may be on each key.
+//
+// A request of a person's command (a job, a cancel, a status, a
+// knowledge-base change, a program store's change) is a few hundred bytes
+// to a few kilobytes; a stage's message (a plan, a model, a program) can be
+// megabytes. The secure router drops anything over its key's limit before it
+// reaches a service (`low_pass_filter` in `deploy/secure/router.json5`, which
+// a test holds equal to [`SIZE_LIMITS`]), so no user can push a third of a
+// megabyte where a job request is 1 KB; the station and the CLI refuse an
+// oversized request themselves (`MESSAGE_TOO_LARGE`), so what the router
+// would drop silently is never sent by gearcam's own tools.
+
+/// Largest request, bytes (payload and attachment), on the keys people's
+/// commands query: the station's, the knowledge base's and the program
+/// stores'.
+pub const MAX_REQUEST_BYTES: usize = 64 * 1024;
+
+/// One size limit of the router: `messages` (`put`, `query`, `reply`) on
+/// the keys `key_exprs` carry at most `bytes` of payload and attachment.
+/// Where two limits match a message, the smaller holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SizeLimit {
+    /// The filter's id in the router's configuration.
+    pub id: &'static str,
+    /// The kinds of message limited.
+    pub messages: &'static [&'static str],
+    /// The keys limited.
+    pub key_exprs: &'static [&'static str],
+    /// The limit, bytes.
+    pub bytes: usize,
+}
+
+/// The router's size limits.
+pub const SIZE_LIMITS: [SizeLimit; 2] = [
+    SizeLimit {
+        id: "requests",
+        messages: &["query"],
+        key_exprs: &[
+            "gearcam/v1/station/**",
+            "gearcam/v1/kb/**",
+            "gearcam/v1/kb-changes/**",
+            "gearcam/v1/machines/*/store/**",
+        ],
+        bytes: MAX_REQUEST_BYTES,
+    },
+    SizeLimit {
+        id: "messages",
+        messages: &["put", "query", "reply"],
+        key_exprs: &["gearcam/v1/**"],
+        bytes: crate::codec::MAX_MESSAGE_BYTES,
+    },
+];
+
 #[cfg(test)]
 mod tests {
     use super::*;

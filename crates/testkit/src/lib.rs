@@ -9,6 +9,7 @@
 //! - [`process`]: the built binaries as processes on loopback (a router,
 //!   every service, an agent), each in a temporary directory, on ports the
 //!   operating system chose.
+//! - [`secure`]: the secure deployment of `deploy/secure/` as processes.
 // Test code: clocks for timeouts, the environment for switches.
 #![allow(clippy::disallowed_methods)]
 #![forbid(unsafe_code)]
@@ -16,5 +17,6 @@
 pub mod examples;
 pub mod pipeline;
 pub mod process;
+pub mod secure;
 
 pub use process::{bin, client_config, gearcam, wait_for_port, Cluster, Proc};

@@ -124,9 +124,9 @@ impl Proc {
         }
     }
 
-    /// The TCP port this process listens on, read back from the operating
-    /// system (`/proc`: the process's sockets in the LISTEN state) once it
-    /// listens. Start a router with port 0 and ask here which it got.
+    /// The port this process listens on, read back from the operating
+    /// system (`/proc`: the process's TCP sockets in the LISTEN state, else
+    /// its bound UDP socket for QUIC) once it listens. Start a router with port 0 and ask here which it got.
     pub fn listening_port(&self, timeout: Duration) -> u16 {
         let start = Instant::now();
         loop {
@@ -135,7 +135,7 @@ impl Proc {
             }
             assert!(
                 start.elapsed() < timeout,
-                "{} listens on no TCP port after {timeout:?}:\n{}",
+                "{} listens on no port after {timeout:?}:\n{}",
                 self.name,
                 std::fs::read_to_string(&self.log).unwrap_or_default()
             );
@@ -180,7 +180,8 @@ impl Drop for Proc {
     }
 }
 
-/// The TCP port process `pid` listens on (Linux `/proc`), if it listens.
+/// The port process `pid` listens on (Linux `/proc`): a TCP port it
+/// listens on, else the UDP port it is bound to (a QUIC listener), if any.
 pub fn listening_port(pid: u32) -> Option<u16> {
     let inodes: Vec<String> = std::fs::read_dir(format!("/proc/{pid}/fd"))
         .ok()?
@@ -190,20 +191,26 @@ pub fn listening_port(pid: u32) -> Option<u16> {
             Some(l.strip_prefix("socket:[")?.strip_suffix(']')?.to_string())
         })
         .collect();
-    ["/proc/net/tcp", "/proc/net/tcp6"]
-        .iter()
-        .find_map(|table| {
-            let text = std::fs::read_to_string(table).ok()?;
-            text.lines().skip(1).find_map(|line| {
-                let f: Vec<&str> = line.split_whitespace().collect();
-                // local_address, st (0A = LISTEN), inode
-                let (local, state, inode) = (f.get(1)?, f.get(3)?, f.get(9)?);
-                if *state != "0A" || !inodes.iter().any(|i| i == inode) {
-                    return None;
-                }
-                u16::from_str_radix(local.rsplit(':').next()?, 16).ok()
-            })
+    // A TCP socket in the LISTEN state (0A), else (QUIC) a bound UDP socket (07).
+    [
+        ("/proc/net/tcp", "0A"),
+        ("/proc/net/tcp6", "0A"),
+        ("/proc/net/udp", "07"),
+        ("/proc/net/udp6", "07"),
+    ]
+    .iter()
+    .find_map(|(table, listening)| {
+        let text = std::fs::read_to_string(table).ok()?;
+        text.lines().skip(1).find_map(|line| {
+            let f: Vec<&str> = line.split_whitespace().collect();
+            // local_address, st, inode
+            let (local, state, inode) = (f.get(1)?, f.get(3)?, f.get(9)?);
+            if state != listening || !inodes.iter().any(|i| i == inode) {
+                return None;
+            }
+            u16::from_str_radix(local.rsplit(':').next()?, 16).ok()
         })
+    })
 }
 
 fn spawn(log: &Path, name: &str, args: &[String]) -> Child {

@@ -109,20 +109,20 @@ fn json_list(items: &[String]) -> String {
 }
 
 /// An endpoint of the command line, checked before anything is opened:
-/// `PROTOCOL/ADDRESS:PORT` with a protocol this build carries (`tcp` or
-/// `tls`). A wrong one is a usage error with this sentence, not a bus that
+/// `PROTOCOL/ADDRESS:PORT` with a protocol this build carries (`tcp`,
+/// `quic` or `tls`). A wrong one is a usage error with this sentence, not a bus that
 /// cannot be reached.
 pub fn parse_endpoint(s: &str) -> Result<String, String> {
     let expected =
-        "an endpoint PROTOCOL/ADDRESS:PORT, e.g. tcp/127.0.0.1:7447 or tls/planning-office:7447";
+        "an endpoint PROTOCOL/ADDRESS:PORT, e.g. tcp/127.0.0.1:7447 or quic/planning-office:7447";
     let ep: zenoh::config::EndPoint = s
         .parse()
         .map_err(|_| format!("expected {expected}; got {s:?}"))?;
     let protocol = ep.protocol();
     let protocol = protocol.as_str();
-    if !["tcp", "tls"].contains(&protocol) {
+    if !["tcp", "quic", "tls"].contains(&protocol) {
         return Err(format!(
-            "expected {expected} (this build carries tcp and tls); got the protocol {protocol:?} in {s:?}"
+            "expected {expected} (this build carries tcp, quic and tls); got the protocol {protocol:?} in {s:?}"
         ));
     }
     if !ep.address().as_str().contains(':') {

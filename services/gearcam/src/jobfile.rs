@@ -315,11 +315,12 @@ pub fn job_id(spec: &JobSpec) -> JobId {
     .expect("generated job ids are valid")
 }
 
-/// `MESSAGE_TOO_LARGE` when the request is larger than a message on the bus
-/// may be: the station would refuse it, so `check` says so too and
+/// `MESSAGE_TOO_LARGE` when the request is larger than a request on the
+/// bus may be ([`gearcam_proto::keys::MAX_REQUEST_BYTES`]): the station
+/// refuses it and a secure router drops it, so `check` says so too and
 /// `submit` says so before sending.
 pub fn check_size(req: &JobRequest) -> Result<(), JobError> {
-    let limit = gearcam_proto::codec::MAX_MESSAGE_BYTES;
+    let limit = gearcam_proto::keys::MAX_REQUEST_BYTES;
     let bytes = gearcam_proto::encode(req)
         .map(|b| b.len())
         .unwrap_or(usize::MAX);

@@ -278,7 +278,7 @@ fn check_and_submit_hold_a_job_to_the_bus_size_limit() {
     .unwrap();
     let huge = die.replace(
         "material = \"SKD11\"",
-        &format!("material = \"{}\"", "S".repeat(5 * 1024 * 1024)),
+        &format!("material = \"{}\"", "S".repeat(100 * 1024)),
     );
     let path = dir.path().join("huge.toml");
     std::fs::write(&path, huge).unwrap();

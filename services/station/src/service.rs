@@ -193,7 +193,17 @@ pub async fn run(
                     .payload()
                     .map(|p| p.to_bytes().into_owned())
                     .unwrap_or_default();
+                let limit = gearcam_proto::keys::MAX_REQUEST_BYTES;
                 let verdict = match decode::<JobRequest>(&payload) {
+                    // A request over the limit a secure router drops: the
+                    // same refusal on every deployment.
+                    _ if payload.len() > limit => Err(vec![Stage::Station.error(
+                        codes::MESSAGE_TOO_LARGE,
+                        "-",
+                        format!("a job request of at most {limit} bytes"),
+                        format!("{} bytes", payload.len()),
+                        "the job request is larger than a request on the bus may be",
+                    )]),
                     Err(e) => {
                         let mut errors =
                             gearcam_proto::job::request_id_errors(&payload, Stage::Station);

@@ -1,0 +1,200 @@
+//! The secure deployment of `deploy/secure/` as processes on loopback: a
+//! router with its link's certificates, a user and password per service and
+//! the access control (default deny), every service as its own process with
+//! its own user, and the agents of H01 (840D), H02 (FANUC) and W01 (wire
+//! 3B/4B).
+//!
+//! The configurations are the shipped files with their paths made local and
+//! the router's port the one the operating system chose. The link is the
+//! shipped one; `GEARCAM_SECURE_LINK=tls` runs the same deployment over
+//! TLS instead (the link it replaced), to show what a test catches there.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Duration;
+
+use crate::process::Proc;
+
+/// `deploy/secure/` of the checkout.
+pub fn deploy() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../deploy/secure")
+}
+
+/// The link the deployment runs on: `quic` as shipped, or the one named by
+/// `GEARCAM_SECURE_LINK`.
+pub fn link() -> String {
+    std::env::var("GEARCAM_SECURE_LINK").unwrap_or_else(|_| SHIPPED_LINK.to_string())
+}
+
+/// The link `deploy/secure/` ships.
+pub const SHIPPED_LINK: &str = "quic";
+
+/// Copies the deploy configuration `name` into `dir` with its paths, link
+/// and port made local.
+pub fn local_config(dir: &Path, name: &str, port: u16) -> PathBuf {
+    let text = std::fs::read_to_string(deploy().join(name)).expect("a deploy configuration");
+    let link = link();
+    let text = text
+        .replace("/etc/gearcam/", &format!("{}/", dir.display()))
+        .replace(
+            &format!("{SHIPPED_LINK}/0.0.0.0:7447"),
+            &format!("{link}/127.0.0.1:{port}"),
+        )
+        .replace(
+            &format!("{SHIPPED_LINK}/localhost:7447"),
+            &format!("{link}/localhost:{port}"),
+        );
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("a local configuration");
+    path
+}
+
+/// The secure deployment's processes in a temporary directory.
+#[derive(Debug)]
+pub struct Secure {
+    tmp: tempfile::TempDir,
+    /// The router's port.
+    pub port: u16,
+    /// The router, the services and the agents.
+    pub procs: Vec<Proc>,
+}
+
+impl Secure {
+    /// Makes the certificates, starts the router and waits for its port,
+    /// then starts every service and the agents of H01, H02 and W01.
+    pub fn start() -> Secure {
+        let tmp = tempfile::tempdir().expect("temp dir");
+        let dir = tmp.path();
+        let made = Command::new("bash")
+            .arg(deploy().join("make-certs.sh"))
+            .arg(dir)
+            .output()
+            .expect("bash runs make-certs.sh");
+        assert!(
+            made.status.success(),
+            "make-certs.sh: {}",
+            String::from_utf8_lossy(&made.stderr)
+        );
+        std::fs::copy(deploy().join("users.txt"), dir.join("users.txt")).expect("users.txt");
+        let router = local_config(dir, "router.json5", 0);
+        let router = Proc::start(
+            dir,
+            "router",
+            "gearcam",
+            &strings(&["router", "--config", &router.display().to_string()]),
+        );
+        let port = router.listening_port(Duration::from_secs(20));
+        let mut secure = Secure {
+            tmp,
+            port,
+            procs: vec![router],
+        };
+        let (journal, db, templates) = (
+            secure.path("station.db"),
+            secure.path("kb.db"),
+            secure.path("templates.db"),
+        );
+        secure.start_service("station", "gearcam", &["station", "--journal", &journal]);
+        secure.start_service("knowledge", "gearcam-knowledge", &["--db", &db]);
+        secure.start_service("model", "gearcam-model", &[]);
+        secure.start_service("template", "gearcam-template", &["--library", &templates]);
+        secure.start_agent("H01", "sinumerik840d");
+        secure.start_agent("H02", "fanuc");
+        secure.start_agent("W01", "wire3b");
+        secure
+    }
+
+    /// Starts `bin` labelled `label` with the configuration `{label}.json5`
+    /// and `args`.
+    fn start_service(&mut self, label: &str, bin: &str, args: &[&str]) {
+        let cfg = self.cfg(label).display().to_string();
+        let mut all: Vec<&str> = Vec::new();
+        // `gearcam station` takes its subcommand first.
+        let (sub, rest) = match args.split_first() {
+            Some((first, rest)) if bin == "gearcam" => (vec![*first], rest),
+            _ => (Vec::new(), args),
+        };
+        all.extend(sub);
+        all.extend(["--config", &cfg]);
+        all.extend(rest);
+        let proc = Proc::start(self.dir(), label, bin, &strings(&all));
+        self.procs.push(proc);
+    }
+
+    /// Starts the agent of `machine` (a `dialect` control) with its own user,
+    /// labelled `agent` for H01 and `agent-{machine}` otherwise, its store
+    /// under `{machine}/`.
+    pub fn start_agent(&mut self, machine: &str, dialect: &str) {
+        let label = if machine == "H01" {
+            "agent".to_string()
+        } else {
+            format!("agent-{machine}")
+        };
+        let cfg = self.cfg(&format!("agent-{machine}")).display().to_string();
+        let (programs, index) = (
+            self.path(&format!("{machine}/programs")),
+            self.path(&format!("{machine}/index.db")),
+        );
+        let args = strings(&[
+            "--config",
+            &cfg,
+            "--machine",
+            machine,
+            "--dialect",
+            dialect,
+            "--program-dir",
+            &programs,
+            "--index",
+            &index,
+        ]);
+        let proc = Proc::start(self.dir(), &label, "gearcam-agent", &args);
+        self.procs.push(proc);
+    }
+
+    /// The deployment's directory (certificates, databases, stores, logs).
+    pub fn dir(&self) -> &Path {
+        self.tmp.path()
+    }
+
+    fn path(&self, name: &str) -> String {
+        self.dir().join(name).display().to_string()
+    }
+
+    /// The client configuration `{name}.json5`, made local.
+    pub fn cfg(&self, name: &str) -> PathBuf {
+        local_config(self.dir(), &format!("{name}.json5"), self.port)
+    }
+
+    /// Every process's log.
+    pub fn logs(&self) -> String {
+        self.procs
+            .iter()
+            .map(|p| {
+                format!(
+                    "--- {} ---\n{}",
+                    p.name,
+                    std::fs::read_to_string(&p.log).unwrap_or_default()
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+
+    /// The processes that no longer run, each with how it ended (the last
+    /// lines of its log).
+    pub fn dead(&mut self) -> Vec<String> {
+        let mut dead = Vec::new();
+        for p in &mut self.procs {
+            if !p.running() {
+                let log = std::fs::read_to_string(&p.log).unwrap_or_default();
+                let tail: Vec<&str> = log.lines().rev().take(5).collect();
+                dead.push(format!("{}: {}", p.name, tail.join(" | ")));
+            }
+        }
+        dead
+    }
+}
+
+fn strings(v: &[&str]) -> Vec<String> {
+    v.iter().map(|s| (*s).to_string()).collect()
+}

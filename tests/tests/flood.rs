@@ -1,0 +1,203 @@
+//! An authenticated flood on the secure deployment (`deploy/secure/`: every
+//! service a process with its own user, the ACL, the router's size limits):
+//! a planner's bursts of concurrent queries on the station's, the knowledge
+//! base's and an agent's keys, small and oversized, crash nothing; every
+//! query within the size limits is answered (a reply or a typed refusal)
+//! within its timeout; no oversized one reaches a service; and a job
+//! submitted afterwards is delivered.
+//!
+//! Over Zenoh's TLS link (`GEARCAM_SECURE_LINK=tls`), which reads and
+//! writes one TLS stream from two tasks at once, the same flood leaves
+//! queries unanswered and can abort the router or a service; without the
+//! size limits the oversized queries reach the services and are answered.
+
+use std::path::Path;
+use std::time::Duration;
+
+use gearcam_proto::keys::MAX_REQUEST_BYTES;
+use gearcam_testkit::secure::Secure;
+
+/// Bursts, and concurrent queries in each.
+const BURSTS: usize = 6;
+const QUERIES: usize = 40;
+/// The largest payload of the flood: a third of a megabyte.
+const OVERSIZED: usize = 300 * 1024;
+/// How long each query may take.
+const TIMEOUT: Duration = Duration::from_secs(15);
+
+/// The planner-readable keys of the flood: the station, the knowledge base
+/// and H01's program store.
+const KEYS: [&str; 6] = [
+    "gearcam/v1/station/submit",
+    "gearcam/v1/station/jobs",
+    "gearcam/v1/station/jobs/NO-SUCH-JOB",
+    "gearcam/v1/kb/machines",
+    "gearcam/v1/kb/hobs",
+    "gearcam/v1/machines/H01/store/programs",
+];
+
+/// One query of the flood and how many replies it got.
+struct Asked {
+    key: &'static str,
+    bytes: usize,
+    replies: usize,
+}
+
+impl Asked {
+    fn name(&self) -> String {
+        format!("{} ({} bytes)", self.key, self.bytes)
+    }
+}
+
+/// The payload of query `i`: mostly small garbage a service refuses with a
+/// typed error, every fifth a third of a megabyte.
+fn payload(i: usize) -> Vec<u8> {
+    let bytes = if i % 5 == 4 { OVERSIZED } else { 16 + 97 * i };
+    (0..bytes).map(|b| (b * 31 + i) as u8).collect()
+}
+
+async fn flood(config: &Path) -> Vec<Asked> {
+    let session = zenoh::open(zenoh::Config::from_file(config).expect("planner config"))
+        .await
+        .expect("the planner connects");
+    let mut asked = Vec::new();
+    for burst in 0..BURSTS {
+        let mut tasks = Vec::new();
+        for q in 0..QUERIES {
+            let i = burst * QUERIES + q;
+            let key = KEYS[i % KEYS.len()];
+            let body = payload(i);
+            let bytes = body.len();
+            let session = session.clone();
+            tasks.push(tokio::spawn(async move {
+                let mut replies = 0;
+                if let Ok(rx) = session.get(key).payload(body).timeout(TIMEOUT).await {
+                    while rx.recv_async().await.is_ok() {
+                        replies += 1;
+                    }
+                }
+                Asked {
+                    key,
+                    bytes,
+                    replies,
+                }
+            }));
+        }
+        for t in tasks {
+            asked.push(t.await.expect("a query task"));
+        }
+    }
+    session.close().await.expect("the session closes");
+    asked
+}
+
+#[test]
+fn an_authenticated_flood_crashes_nothing_and_every_query_is_answered() {
+    let mut secure = Secure::start();
+    let planner = secure.cfg("planner");
+    // The deployment serves before the flood: a job is delivered.
+    let job = gearcam_testkit::examples::dir().join("spur_840d.toml");
+    let deliver = |label: &str| {
+        let out = std::process::Command::new(gearcam_testkit::bin("gearcam"))
+            .args(["submit", &job.display().to_string(), "--wait", "--json"])
+            .args([
+                "--timeout",
+                "60",
+                "--config",
+                &planner.display().to_string(),
+            ])
+            .output()
+            .expect("gearcam submit runs");
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or_default();
+        (label.to_string(), v)
+    };
+    let (_, v) = deliver("before");
+    assert_eq!(
+        v["state"],
+        "delivered",
+        "before the flood: {v}\n{}",
+        secure.logs()
+    );
+
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .expect("a runtime");
+    let asked = rt.block_on(flood(&planner));
+    // Let a process the flood broke end before it is looked at.
+    std::thread::sleep(Duration::from_secs(2));
+    let dead = secure.dead();
+    assert!(dead.is_empty(), "died in the flood: {dead:#?}");
+
+    let unanswered: Vec<String> = asked
+        .iter()
+        .filter(|a| a.bytes <= MAX_REQUEST_BYTES && a.replies == 0)
+        .map(Asked::name)
+        .collect();
+    assert!(
+        unanswered.is_empty(),
+        "{} of {} queries within the limit got no reply: {unanswered:?}",
+        unanswered.len(),
+        asked
+            .iter()
+            .filter(|a| a.bytes <= MAX_REQUEST_BYTES)
+            .count()
+    );
+    let through: Vec<String> = asked
+        .iter()
+        .filter(|a| a.bytes > MAX_REQUEST_BYTES && a.replies > 0)
+        .map(Asked::name)
+        .collect();
+    assert!(
+        through.is_empty(),
+        "{} oversized queries reached a service: {through:?}",
+        through.len()
+    );
+
+    let (_, v) = deliver("after");
+    assert_eq!(
+        v["state"],
+        "delivered",
+        "after the flood: {v}\n{}",
+        secure.logs()
+    );
+    let dead = secure.dead();
+    assert!(dead.is_empty(), "died after the flood: {dead:#?}");
+}
+
+/// The router's size limits are the ones `gearcam_proto::limits` gives the
+/// station and the CLI: a change of either without the other fails here.
+#[test]
+fn the_routers_size_limits_are_the_protocols() {
+    let config = zenoh::Config::from_file(gearcam_testkit::secure::deploy().join("router.json5"))
+        .expect("router.json5 is a Zenoh configuration");
+    let filters: serde_json::Value =
+        serde_json::from_str(&config.get_json("low_pass_filter").expect("low_pass_filter"))
+            .expect("JSON");
+    let filters = filters.as_array().expect("a list of filters");
+    assert_eq!(
+        filters.len(),
+        gearcam_proto::keys::SIZE_LIMITS.len(),
+        "{filters:?}"
+    );
+    for limit in gearcam_proto::keys::SIZE_LIMITS {
+        let f = filters
+            .iter()
+            .find(|f| f["id"] == limit.id)
+            .unwrap_or_else(|| panic!("no filter {} in router.json5", limit.id));
+        assert_eq!(f["size_limit"], limit.bytes, "{}", limit.id);
+        assert_eq!(
+            f["messages"],
+            serde_json::json!(limit.messages),
+            "{}",
+            limit.id
+        );
+        assert_eq!(
+            f["key_exprs"],
+            serde_json::json!(limit.key_exprs),
+            "{}",
+            limit.id
+        );
+        assert_eq!(f["flows"], serde_json::json!(["ingress"]), "{}", limit.id);
+    }
+}
