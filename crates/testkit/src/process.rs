@@ -84,26 +84,39 @@ pub struct Proc {
     pub log: PathBuf,
     bin: String,
     args: Vec<String>,
+    rust_log: String,
 }
 
 impl Proc {
     /// Starts `bin(name)` with `args`, logging to `dir/name.log`.
     pub fn start(dir: &Path, label: &str, name: &str, args: &[String]) -> Proc {
+        Proc::start_logging(dir, label, name, args, "info")
+    }
+
+    /// [`Proc::start`] with the log filter `rust_log` (`RUST_LOG`).
+    pub fn start_logging(
+        dir: &Path,
+        label: &str,
+        name: &str,
+        args: &[String],
+        rust_log: &str,
+    ) -> Proc {
         let log = dir.join(format!("{label}.log"));
-        let child = spawn(&log, name, args);
+        let child = spawn(&log, name, args, rust_log);
         Proc {
             name: label.to_string(),
             child,
             log,
             bin: name.to_string(),
             args: args.to_vec(),
+            rust_log: rust_log.to_string(),
         }
     }
 
     /// Starts the process again with the same arguments (after a kill).
     pub fn restart(&mut self) {
         self.kill();
-        self.child = spawn(&self.log, &self.bin, &self.args);
+        self.child = spawn(&self.log, &self.bin, &self.args, &self.rust_log);
     }
 
     /// Waits until the process has printed a line starting with `prefix`;
@@ -213,7 +226,7 @@ pub fn listening_port(pid: u32) -> Option<u16> {
     })
 }
 
-fn spawn(log: &Path, name: &str, args: &[String]) -> Child {
+fn spawn(log: &Path, name: &str, args: &[String], rust_log: &str) -> Child {
     let file = std::fs::OpenOptions::new()
         .create(true)
         .append(true)
@@ -226,7 +239,7 @@ fn spawn(log: &Path, name: &str, args: &[String]) -> Child {
         cmd.current_dir(dir);
     }
     cmd.args(args)
-        .env("RUST_LOG", "info")
+        .env("RUST_LOG", rust_log)
         .stdin(Stdio::null())
         .stdout(file.try_clone().expect("log file"))
         .stderr(file)

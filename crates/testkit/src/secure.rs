@@ -15,6 +15,10 @@ use std::time::Duration;
 
 use crate::process::Proc;
 
+/// The log target of Zenoh's access control: at `trace` it logs every
+/// decision, a refusal as `… on {subject} is unauthorized to {action} on {key}`.
+const ACL_LOG: &str = "zenoh::net::routing::interceptor::access_control";
+
 /// `deploy/secure/` of the checkout.
 pub fn deploy() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../deploy/secure")
@@ -63,6 +67,16 @@ impl Secure {
     /// Makes the certificates, starts the router and waits for its port,
     /// then starts every service and the agents of H01, H02 and W01.
     pub fn start() -> Secure {
+        Secure::start_with("info")
+    }
+
+    /// [`Secure::start`] with the router logging every decision of its
+    /// access control, so that [`Secure::denials`] lists what it refused.
+    pub fn start_auditing() -> Secure {
+        Secure::start_with(&format!("info,{ACL_LOG}=trace"))
+    }
+
+    fn start_with(router_log: &str) -> Secure {
         let tmp = tempfile::tempdir().expect("temp dir");
         let dir = tmp.path();
         let made = Command::new("bash")
@@ -77,11 +91,12 @@ impl Secure {
         );
         std::fs::copy(deploy().join("users.txt"), dir.join("users.txt")).expect("users.txt");
         let router = local_config(dir, "router.json5", 0);
-        let router = Proc::start(
+        let router = Proc::start_logging(
             dir,
             "router",
             "gearcam",
             &strings(&["router", "--config", &router.display().to_string()]),
+            router_log,
         );
         let port = router.listening_port(Duration::from_secs(20));
         let mut secure = Secure {
@@ -178,6 +193,70 @@ impl Secure {
             })
             .collect::<Vec<_>>()
             .join("\n")
+    }
+
+    /// Every message the router's access control refused (started with
+    /// [`Secure::start_auditing`]): who was refused what on which key, once
+    /// each.
+    ///
+    /// When the router first meets a key it decides every kind of message
+    /// on it ahead, for its cache (`caching permissions for …`), and logs
+    /// those decisions too; they are not refusals of a message sent and are
+    /// left out. A message's own decision is logged from the cache (`Using
+    /// cached result: {session} is unauthorized to …`) or, for a key not
+    /// cached, directly (`{session} on {subject} is unauthorized to …`).
+    pub fn denials(&self) -> Vec<String> {
+        use std::collections::{BTreeSet, HashMap, HashSet};
+        let log = std::fs::read_to_string(&self.procs[0].log).unwrap_or_default();
+        let mut cached: HashSet<(String, String)> = HashSet::new();
+        let mut subject: HashMap<String, String> = HashMap::new();
+        let mut found = BTreeSet::new();
+        for line in log.lines() {
+            let Some(at) = line.find(&format!("{ACL_LOG}: ")) else {
+                continue;
+            };
+            let msg = &line[at + ACL_LOG.len() + 2..];
+            if let Some(rest) = msg.strip_prefix("ACL (") {
+                // `ACL (ingress): caching permissions for `KEY` ...`
+                let flow = rest.split(')').next().unwrap_or_default();
+                if let Some(key) = rest.split('`').nth(1) {
+                    cached.insert((flow.to_string(), key.to_string()));
+                }
+                continue;
+            }
+            let (from_cache, msg) = match msg.strip_prefix("Using cached result: ") {
+                Some(m) => (true, m),
+                None => (false, msg),
+            };
+            let verdict = [" is unauthorized to ", " is authorized to "]
+                .into_iter()
+                .find_map(|v| msg.find(v).map(|i| (i, v)));
+            let Some((i, verdict)) = verdict else {
+                continue;
+            };
+            let (session, rest) = (&msg[..i], &msg[i + verdict.len()..]);
+            let session = match session.split_once(" on ") {
+                Some((zid, who)) => {
+                    subject.insert(zid.to_string(), who.to_string());
+                    zid
+                }
+                None => session,
+            };
+            let Some((action, key)) = rest.rsplit_once(" on ") else {
+                continue;
+            };
+            let flow = action
+                .rsplit('(')
+                .next()
+                .unwrap_or_default()
+                .trim_end_matches(')');
+            let ahead = !from_cache && cached.contains(&(flow.to_string(), key.to_string()));
+            if verdict == " is unauthorized to " && !ahead {
+                let who = subject.get(session).map_or(session, String::as_str);
+                found.insert(format!("{who}: {action} on {key}"));
+            }
+        }
+        found.into_iter().collect()
     }
 
     /// The processes that no longer run, each with how it ended (the last

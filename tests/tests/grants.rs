@@ -1,0 +1,84 @@
+//! Every key a service uses is granted to it on the secure deployment: a
+//! job of every family on every machine, a job for a machine nobody has,
+//! the planner's and the operator's commands, with the router logging every
+//! decision of its access control; not one refusal is logged. A key missing
+//! from `deploy/secure/router.json5` shows here as the refusal of its
+//! subject, action and key, even where the pipeline would only wait.
+
+use std::path::Path;
+use std::process::Command;
+
+use gearcam_testkit::secure::Secure;
+use gearcam_testkit::{bin, examples};
+
+/// `gearcam ARGS --config CONFIG --json`: exit code and the JSON printed.
+fn cli(config: &Path, args: &[&str]) -> (Option<i32>, serde_json::Value) {
+    let out = Command::new(bin("gearcam"))
+        .args(args)
+        .args(["--json", "--config", &config.display().to_string()])
+        .output()
+        .expect("gearcam runs");
+    let v = serde_json::from_slice(&out.stdout).unwrap_or_else(|_| {
+        serde_json::Value::String(String::from_utf8_lossy(&out.stderr).into_owned())
+    });
+    (out.status.code(), v)
+}
+
+#[test]
+fn every_key_a_service_uses_is_granted_on_the_secure_deployment() {
+    let mut secure = Secure::start_auditing();
+    secure.start_agent("M01", "fanuc");
+    secure.start_agent("M02", "linuxcnc");
+    secure.start_agent("W02", "wireiso");
+    let planner = secure.cfg("planner");
+    let operator = secure.cfg("operator");
+    let job = |name: &str| {
+        let path = secure.dir().join(name);
+        std::fs::write(&path, examples::example(name)).expect("a job file");
+        path.display().to_string()
+    };
+    for (example, machine) in [
+        ("spur_840d.toml", "H01"),
+        ("helical_climb_fanuc.toml", "H02"),
+        ("face_annulus_fanuc.toml", "M01"),
+        ("face_circle_linuxcnc.toml", "M02"),
+        ("die_m2z20_3b.toml", "W01"),
+        ("die_m1z40_iso.toml", "W02"),
+    ] {
+        let (code, v) = cli(
+            &planner,
+            &["submit", &job(example), "--wait", "--timeout", "60"],
+        );
+        assert_eq!(code, Some(0), "{example}: {v}\n{}", secure.logs());
+        assert_eq!(v["state"], "delivered", "{example}: {v}");
+        let id = v["job"].as_str().expect("a job id").to_string();
+        assert_eq!(cli(&planner, &["status", &id]).0, Some(0), "{example}");
+        let (code, history) = cli(&operator, &["program", "history", "--machine", machine]);
+        assert_eq!(code, Some(0), "{machine}: {history}");
+    }
+    // A machine nobody has is refused at once, as on the plain deployment:
+    // the station asks every family's machine list.
+    let text = examples::example("die_m2z20_3b.toml").replace("\"W01\"", "\"ZZ99\"");
+    let unknown = secure.dir().join("unknown.toml");
+    std::fs::write(&unknown, text).expect("a job file");
+    let (code, v) = cli(
+        &planner,
+        &[
+            "submit",
+            &unknown.display().to_string(),
+            "--wait",
+            "--timeout",
+            "20",
+        ],
+    );
+    assert_eq!(cli(&planner, &["jobs"]).0, Some(0));
+
+    let denials = secure.denials();
+    assert!(
+        denials.is_empty(),
+        "the router refused what the deployment's own services and users do:\n{}",
+        denials.join("\n")
+    );
+    assert_eq!(code, Some(1), "{v}");
+    assert_eq!(v["errors"][0]["code"], "UNKNOWN_MACHINE", "{v}");
+}
