@@ -15,77 +15,19 @@ use std::path::Path;
 use std::time::Duration;
 
 use gearcam_proto::keys::MAX_REQUEST_BYTES;
+use gearcam_testkit::flood::{burst, Asked};
 use gearcam_testkit::secure::Secure;
 
-/// Bursts, and concurrent queries in each.
+/// Bursts of the flood.
 const BURSTS: usize = 6;
-const QUERIES: usize = 40;
-/// The largest payload of the flood: a third of a megabyte.
-const OVERSIZED: usize = 300 * 1024;
-/// How long each query may take.
-const TIMEOUT: Duration = Duration::from_secs(15);
-
-/// The planner-readable keys of the flood: the station, the knowledge base
-/// and H01's program store.
-const KEYS: [&str; 6] = [
-    "gearcam/v1/station/submit",
-    "gearcam/v1/station/jobs",
-    "gearcam/v1/station/jobs/NO-SUCH-JOB",
-    "gearcam/v1/kb/machines",
-    "gearcam/v1/kb/hobs",
-    "gearcam/v1/machines/H01/store/programs",
-];
-
-/// One query of the flood and how many replies it got.
-struct Asked {
-    key: &'static str,
-    bytes: usize,
-    replies: usize,
-}
-
-impl Asked {
-    fn name(&self) -> String {
-        format!("{} ({} bytes)", self.key, self.bytes)
-    }
-}
-
-/// The payload of query `i`: mostly small garbage a service refuses with a
-/// typed error, every fifth a third of a megabyte.
-fn payload(i: usize) -> Vec<u8> {
-    let bytes = if i % 5 == 4 { OVERSIZED } else { 16 + 97 * i };
-    (0..bytes).map(|b| (b * 31 + i) as u8).collect()
-}
 
 async fn flood(config: &Path) -> Vec<Asked> {
     let session = zenoh::open(zenoh::Config::from_file(config).expect("planner config"))
         .await
         .expect("the planner connects");
     let mut asked = Vec::new();
-    for burst in 0..BURSTS {
-        let mut tasks = Vec::new();
-        for q in 0..QUERIES {
-            let i = burst * QUERIES + q;
-            let key = KEYS[i % KEYS.len()];
-            let body = payload(i);
-            let bytes = body.len();
-            let session = session.clone();
-            tasks.push(tokio::spawn(async move {
-                let mut replies = 0;
-                if let Ok(rx) = session.get(key).payload(body).timeout(TIMEOUT).await {
-                    while rx.recv_async().await.is_ok() {
-                        replies += 1;
-                    }
-                }
-                Asked {
-                    key,
-                    bytes,
-                    replies,
-                }
-            }));
-        }
-        for t in tasks {
-            asked.push(t.await.expect("a query task"));
-        }
+    for n in 0..BURSTS {
+        asked.extend(burst(&session, n).await);
     }
     session.close().await.expect("the session closes");
     asked

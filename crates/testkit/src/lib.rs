@@ -9,12 +9,14 @@
 //! - [`process`]: the built binaries as processes on loopback (a router,
 //!   every service, an agent), each in a temporary directory, on ports the
 //!   operating system chose.
+//! - [`flood`]: an authenticated planner's bursts of concurrent queries.
 //! - [`secure`]: the secure deployment of `deploy/secure/` as processes.
 // Test code: clocks for timeouts, the environment for switches.
 #![allow(clippy::disallowed_methods)]
 #![forbid(unsafe_code)]
 
 pub mod examples;
+pub mod flood;
 pub mod pipeline;
 pub mod process;
 pub mod secure;

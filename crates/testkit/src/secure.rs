@@ -99,6 +99,9 @@ impl Secure {
             router_log,
         );
         let port = router.listening_port(Duration::from_secs(20));
+        // The router's configuration names the port it got, so that a router
+        // killed and started again listens where the clients look for it.
+        local_config(dir, "router.json5", port);
         let mut secure = Secure {
             tmp,
             port,
@@ -173,6 +176,14 @@ impl Secure {
 
     fn path(&self, name: &str) -> String {
         self.dir().join(name).display().to_string()
+    }
+
+    /// The process labelled `label`.
+    pub fn proc(&mut self, label: &str) -> &mut Proc {
+        self.procs
+            .iter_mut()
+            .find(|p| p.name == label)
+            .unwrap_or_else(|| panic!("no process {label}"))
     }
 
     /// The client configuration `{name}.json5`, made local.
