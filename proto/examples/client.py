@@ -87,7 +87,7 @@ class Client:
             "submitted_by": by,
             "spec": spec,
         }
-        return self.query(f"{PREFIX}/station/submit", "station_reply",
+        return self.query(f"{PREFIX}/station/submit/{by}", "station_reply",
                           payload=encode("job_request", request))
 
     def follow(self, job_id):
@@ -185,9 +185,9 @@ def run(args):
             refused(c.store(machine, f"programs/NO_SUCH_PROGRAM/versions/{current[0]['seq']}"),
                     "UNKNOWN_PROGRAM", "NO_SUCH_PROGRAM")
             refused(c.store(machine, f"programs/{name}/versions/999999"), "UNKNOWN_VERSION", "999999")
-            refused(c.store(machine, f"changes/{name}"), "BAD_STORE_REQUEST", "no payload")
+            refused(c.store(machine, f"changes/python-client/{name}"), "BAD_STORE_REQUEST", "no payload")
             rollback = encode("store_request", {"type": "rollback", "seq": 999999})
-            refused(c.store(machine, f"changes/{name}", payload=rollback), "UNKNOWN_VERSION", "999999")
+            refused(c.store(machine, f"changes/python-client/{name}", payload=rollback), "UNKNOWN_VERSION", "999999")
             # A known machine whose agent is not running: the job waits, and
             # says so in an event (and in its status).
             offline = args.offline_machine

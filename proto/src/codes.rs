@@ -336,7 +336,7 @@ catalogue! {
         "See the station's log; check the journal's database file and disk.";
     KB_WRONG_KEY: "knowledge",
         "A knowledge-base change (add, edit, remove) was asked on a read key (gearcam/v1/kb/...), or a read on a change key (gearcam/v1/kb-changes/...); the access control grants the two to different users.",
-        "Ask changes on gearcam/v1/kb-changes/{library}[/{id}] with `by`, reads on gearcam/v1/kb/{library}[/{id}].";
+        "Ask changes on gearcam/v1/kb-changes/{user}/{library}[/{id}] (the change is recorded as `{user}`'s), reads on gearcam/v1/kb/{library}[/{id}].";
     KEY_IMMUTABLE: "knowledge",
         "An edit tried to change a record's key.",
         "Add a new record with the new key and remove the old one.";

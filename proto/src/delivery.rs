@@ -209,6 +209,18 @@ pub enum StoreRequest {
     },
 }
 
+impl StoreRequest {
+    /// Who asks for the change, as the client says (the agent records the
+    /// user of the change's key, see [`crate::keys::store_change`]).
+    pub fn by(&self) -> &str {
+        match self {
+            StoreRequest::Rollback { by, .. }
+            | StoreRequest::Adopt { by }
+            | StoreRequest::Replace { by } => by,
+        }
+    }
+}
+
 fn unknown_user() -> String {
     "unknown".into()
 }

@@ -118,25 +118,58 @@ pub fn kb_library(library: &str) -> String {
     format!("{PREFIX}/kb/{library}")
 }
 
-/// `gearcam/v1/kb-changes/{library}[/{id}]`: the knowledge service's
-/// queryable for changes (add, edit, remove) — keys of their own, so that an
-/// access control grants reading (`kb/**`) and changing (`kb-changes/**`)
-/// to different users.
-pub fn kb_change(library: &str, id: Option<&str>) -> String {
+/// A user's name as one key chunk: the name (trimmed) with every character
+/// a key chunk cannot hold (`/`, `*`, `$`, `?`, `#`) and every control
+/// character written `_`, or `unknown` for no name. `operator Li` stays
+/// `operator Li`.
+///
+/// Every key that changes something carries the user who asks
+/// ([`station_submit`], [`station_cancel`], [`kb_change`],
+/// [`store_change`]), and the service records that user as the change's
+/// author. On the secure deployment the router grants each login only the
+/// keys with its own name, so the key says who is logged in: a payload's
+/// `by` cannot make an admin's change someone else's.
+pub fn user_chunk(user: &str) -> String {
+    let chunk: String = user
+        .trim()
+        .chars()
+        .map(|c| {
+            if matches!(c, '/' | '*' | '$' | '?' | '#') || c.is_control() {
+                '_'
+            } else {
+                c
+            }
+        })
+        .collect();
+    if chunk.is_empty() {
+        "unknown".into()
+    } else {
+        chunk
+    }
+}
+
+/// `gearcam/v1/kb-changes/{user}/{library}[/{id}]`: the knowledge
+/// service's queryable for changes (add, edit, remove) asked by `user` —
+/// keys of their own, so that an access control grants reading (`kb/**`)
+/// and changing (`kb-changes/{user}/**`) to different users.
+pub fn kb_change(user: &str, library: &str, id: Option<&str>) -> String {
+    let user = user_chunk(user);
     match id {
-        Some(id) => format!("{PREFIX}/kb-changes/{library}/{id}"),
-        None => format!("{PREFIX}/kb-changes/{library}"),
+        Some(id) => format!("{PREFIX}/kb-changes/{user}/{library}/{id}"),
+        None => format!("{PREFIX}/kb-changes/{user}/{library}"),
     }
 }
 
 /// Every knowledge-base change key (the knowledge service's queryable).
 pub const KB_CHANGES_ALL: &str = "gearcam/v1/kb-changes/**";
 
-/// The library (and record id) of a change key
-/// (`gearcam/v1/kb-changes/{library}[/{id}]`), if the key is well formed.
-pub fn kb_change_of(key: &str) -> Option<(String, Option<String>)> {
+/// The user and the library (and record id) of a change key
+/// (`gearcam/v1/kb-changes/{user}/{library}[/{id}]`), if the key is well
+/// formed.
+pub fn kb_change_of(key: &str) -> Option<(String, (String, Option<String>))> {
     let rest = key.strip_prefix(PREFIX)?.strip_prefix("/kb-changes/")?;
-    kb_of(&format!("{PREFIX}/kb/{rest}"))
+    let (user, rest) = rest.split_once('/')?;
+    Some((user.to_string(), kb_of(&format!("{PREFIX}/kb/{rest}"))?))
 }
 
 /// `gearcam/v1/kb/{library}/{id}`: one knowledge-base record (get, edit, remove).
@@ -182,10 +215,23 @@ pub fn job_of(key: &str) -> Option<JobId> {
     JobId::new(*raw).ok()
 }
 
-/// `gearcam/v1/station/submit`: queryable of the planning station; the query
-/// carries a [`crate::JobRequest`], the reply a [`crate::JobStatus`] once the job is
-/// journaled (or a [`crate::StationReply::Refused`]).
-pub const STATION_SUBMIT: &str = "gearcam/v1/station/submit";
+/// `gearcam/v1/station/submit/{user}`: queryable of the planning station;
+/// the query carries a [`crate::JobRequest`] of `user` (its submitter, as
+/// the station journals it), the reply a [`crate::JobStatus`] once the job
+/// is journaled (or a [`crate::StationReply::Refused`]).
+pub fn station_submit(user: &str) -> String {
+    format!("{PREFIX}/station/submit/{}", user_chunk(user))
+}
+
+/// Pattern of the station's submit queryable, every user.
+pub const STATION_SUBMIT_ANY: &str = "gearcam/v1/station/submit/*";
+
+/// The user of a submit key (`gearcam/v1/station/submit/{user}`).
+pub fn station_submit_of(key: &str) -> Option<&str> {
+    key.strip_prefix(PREFIX)?
+        .strip_prefix("/station/submit/")
+        .filter(|u| !u.is_empty() && !u.contains('/'))
+}
 
 /// `gearcam/v1/station/jobs`: queryable listing every journaled job ([`crate::StationReply::Jobs`]).
 pub const STATION_JOBS: &str = "gearcam/v1/station/jobs";
@@ -199,20 +245,24 @@ pub fn station_job(job: &JobId) -> String {
 /// with a `/` in it still reaches the station and is refused by name).
 pub const STATION_JOB_ANY: &str = "gearcam/v1/station/jobs/**";
 
-/// `gearcam/v1/station/cancel/{job}`: queryable of the planning station;
-/// the query carries a [`crate::CancelRequest`], the reply is the job's
-/// [`crate::StationReply::Status`] (now `cancelled`) or a refusal.
-pub fn station_cancel(job: &JobId) -> String {
-    format!("{PREFIX}/station/cancel/{job}")
+/// `gearcam/v1/station/cancel/{user}/{job}`: queryable of the planning
+/// station; the query of `user` carries a [`crate::CancelRequest`], the
+/// reply is the job's [`crate::StationReply::Status`] (now `cancelled`) or a
+/// refusal.
+pub fn station_cancel(user: &str, job: &JobId) -> String {
+    format!("{PREFIX}/station/cancel/{}/{job}", user_chunk(user))
 }
 
 /// Pattern of the station's cancel queryable (`**`: a bad id still reaches
 /// the station and is refused by name).
 pub const STATION_CANCEL_ANY: &str = "gearcam/v1/station/cancel/**";
 
-/// The raw job id of a station cancel key.
-pub fn station_cancel_of(key: &str) -> Option<&str> {
-    key.strip_prefix(PREFIX)?.strip_prefix("/station/cancel/")
+/// The user and the raw job id of a station cancel key
+/// (`gearcam/v1/station/cancel/{user}/{job}`).
+pub fn station_cancel_of(key: &str) -> Option<(&str, &str)> {
+    key.strip_prefix(PREFIX)?
+        .strip_prefix("/station/cancel/")?
+        .split_once('/')
 }
 
 /// The liveliness name of the planning station service.
@@ -241,12 +291,16 @@ pub fn store_version(machine: &MachineId, name: &str, seq: u64) -> String {
     format!("{PREFIX}/machines/{machine}/store/programs/{name}/versions/{seq}")
 }
 
-/// `gearcam/v1/machines/{machine}/store/changes/{name}`: a change of the
-/// machine's current program, asked with a [`crate::StoreRequest`] payload
-/// (a query without one is refused). Its own key so that an access-control
-/// list can grant changes to some users and reads to all.
-pub fn store_change(machine: &MachineId, name: &str) -> String {
-    format!("{PREFIX}/machines/{machine}/store/changes/{name}")
+/// `gearcam/v1/machines/{machine}/store/changes/{user}/{name}`: a change of
+/// the machine's current program asked by `user` with a
+/// [`crate::StoreRequest`] payload (a query without one is refused). Its
+/// own key so that an access-control list can grant changes to some users
+/// and reads to all, and each user only under their own name.
+pub fn store_change(machine: &MachineId, user: &str, name: &str) -> String {
+    format!(
+        "{PREFIX}/machines/{machine}/store/changes/{}/{name}",
+        user_chunk(user)
+    )
 }
 
 /// Everything a machine's agent answers: deliveries and its store.
@@ -255,7 +309,7 @@ pub fn agent_any(machine: &MachineId) -> String {
 }
 
 /// An agent store's key forms, for messages that name them.
-pub const STORE_KEY_FORMS: &str = "gearcam/v1/machines/{machine}/store/programs[/{name}[/versions/{seq}]], …/store/changes/{name} or …/store/jobs/{job}";
+pub const STORE_KEY_FORMS: &str = "gearcam/v1/machines/{machine}/store/programs[/{name}[/versions/{seq}]], …/store/changes/{user}/{name} or …/store/jobs/{job}";
 
 /// Pattern of everything an agent's store answers.
 pub fn store_any(machine: &MachineId) -> String {
@@ -276,8 +330,9 @@ pub enum AgentKey<'a> {
     Program(&'a str),
     /// `store/programs/{name}/versions/{seq}`: one version's text.
     Version(&'a str, &'a str),
-    /// `store/changes/{name}`: a change of the current program.
-    Change(&'a str),
+    /// `store/changes/{user}/{name}`: a change of the current program by a
+    /// user.
+    Change(&'a str, &'a str),
 }
 
 /// The request inside an agent's key, if `key` is one of `machine`'s agent keys.
@@ -294,7 +349,7 @@ pub fn agent_key_of<'a>(machine: &MachineId, key: &'a str) -> Option<AgentKey<'a
         ["store", "programs"] => AgentKey::Programs,
         ["store", "programs", name] => AgentKey::Program(name),
         ["store", "programs", name, "versions", seq] => AgentKey::Version(name, seq),
-        ["store", "changes", name] => AgentKey::Change(name),
+        ["store", "changes", user, name] => AgentKey::Change(user, name),
         _ => return None,
     })
 }
@@ -431,8 +486,8 @@ mod tests {
             Some(AgentKey::Version("SP_1", "3"))
         );
         assert_eq!(
-            agent_key_of(&m, &store_change(&m, "SP_1")),
-            Some(AgentKey::Change("SP_1"))
+            agent_key_of(&m, &store_change(&m, "Wu Li/x", "SP_1")),
+            Some(AgentKey::Change("Wu Li_x", "SP_1"))
         );
         assert_eq!(
             agent_key_of(&m, &machine_program(&m, &job)),

@@ -433,7 +433,7 @@ async fn submit_and_follow(
     let start = Instant::now();
     let outcome = async {
         let replies = session
-            .get(keys::STATION_SUBMIT)
+            .get(keys::station_submit("bench"))
             .payload(payload)
             .timeout(QUERY_TIMEOUT)
             .await

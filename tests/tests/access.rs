@@ -150,24 +150,30 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
             .unwrap();
         let heard = tokio::time::timeout(Duration::from_secs(3), events.recv_async()).await;
         assert!(heard.is_err(), "a forged plan reached the model service");
-        // A planner may not change a machine's current program; a supervisor may.
+        // A planner may not change a machine's current program, neither
+        // under its own name nor under the supervisor's; a supervisor may.
         let h01 = MachineId::new("H01").unwrap();
-        let change = keys::store_change(&h01, "SEC_0001");
+        let change = keys::store_change(&h01, "supervisor", "SEC_0001");
         let rollback = encode(&StoreRequest::Rollback {
             seq: 1,
             by: "supervisor".into(),
         })
         .unwrap();
-        let replies = session
-            .get(&change)
-            .payload(rollback.clone())
-            .timeout(Duration::from_secs(3))
-            .await
-            .unwrap();
-        assert!(
-            replies.recv_async().await.is_err(),
-            "the agent must not see a planner's rollback"
-        );
+        for key in [
+            keys::store_change(&h01, "planner", "SEC_0001"),
+            change.clone(),
+        ] {
+            let replies = session
+                .get(&key)
+                .payload(rollback.clone())
+                .timeout(Duration::from_secs(3))
+                .await
+                .unwrap();
+            assert!(
+                replies.recv_async().await.is_err(),
+                "the agent must not see a planner's rollback on {key}"
+            );
+        }
         session.close().await.unwrap();
         let supervisor = planner_session(Path::new(&cfg("supervisor")))
             .await
@@ -202,7 +208,7 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
             by: "planner".into(),
         };
         let replies = planner
-            .get(keys::kb_change("machines", Some("H01")))
+            .get(keys::kb_change("planner", "machines", Some("H01")))
             .payload(encode(&edit).unwrap())
             .timeout(Duration::from_secs(3))
             .await
@@ -221,7 +227,8 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
         let reply: KbReply = decode(&reply.result().unwrap().payload().to_bytes()).unwrap();
         assert_eq!(reply.errors[0].code, "KB_WRONG_KEY", "{reply:?}");
         planner.close().await.unwrap();
-        // An administrator (the supervisor) can; the change is recorded.
+        // An administrator (the supervisor) can; the change is recorded as
+        // the supervisor's login, whatever name the payload gives.
         let mut set = KbRecord::new();
         set.insert("coating".into(), KbValue::Text("TiAlN".into()));
         let edit = KbRequest {
@@ -231,7 +238,7 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
             by: "supervisor Wu".into(),
         };
         let replies = supervisor
-            .get(keys::kb_change("hobs", Some("HOB-M3-80")))
+            .get(keys::kb_change("supervisor", "hobs", Some("HOB-M3-80")))
             .payload(encode(&edit).unwrap())
             .timeout(Duration::from_secs(5))
             .await
@@ -264,7 +271,7 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
             |r| Ok((r.get(0)?, r.get(1)?)),
         )
         .unwrap();
-    assert_eq!((by.as_str(), op.as_str()), ("supervisor Wu", "edit"));
+    assert_eq!((by.as_str(), op.as_str()), ("supervisor", "edit"));
     // Nothing was stored that should not be, and everything still serves.
     assert!(!programs.join("_N_EVIL_MPF").exists());
     let v = submit(dir, &planner, "SEC-0002");
@@ -376,7 +383,9 @@ fn every_role_machine_and_command_on_the_secure_deployment() {
         .build()
         .unwrap();
     rt.block_on(async {
-        // Changing the knowledge base: the admin may, the operator may not.
+        // Changing the knowledge base: the admin may, under its own name;
+        // the operator may not, and neither may the admin under the
+        // supervisor's name.
         let mut set = KbRecord::new();
         set.insert("coating".into(), KbValue::Text("AlCrN".into()));
         let edit = KbRequest {
@@ -385,10 +394,14 @@ fn every_role_machine_and_command_on_the_secure_deployment() {
             set,
             by: "admin Li".into(),
         };
-        for (who, answered) in [(&operator, false), (&admin, true)] {
+        for (who, user, answered) in [
+            (&operator, "operator", false),
+            (&admin, "supervisor", false),
+            (&admin, "admin", true),
+        ] {
             let s = planner_session(who).await.unwrap();
             let replies = s
-                .get(keys::kb_change("hobs", Some("HOB-M3-80")))
+                .get(keys::kb_change(user, "hobs", Some("HOB-M3-80")))
                 .payload(encode(&edit).unwrap())
                 .timeout(Duration::from_secs(3))
                 .await
@@ -504,4 +517,86 @@ fn every_role_machine_and_command_on_the_secure_deployment() {
             "agent H02's token is not visible"
         );
     });
+}
+
+/// Runs `gearcam ARGS --config CONFIG --json` as the operating-system user
+/// `mallory`, whose name must never be what gearcam records on an
+/// authenticated connection.
+fn as_mallory(config: &Path, args: &[&str]) -> (Option<i32>, serde_json::Value) {
+    let out = Command::new(bin("gearcam"))
+        .args(args)
+        .args(["--json", "--config", &config.display().to_string()])
+        .env("USER", "mallory")
+        .env("LOGNAME", "mallory")
+        .output()
+        .unwrap();
+    let v = serde_json::from_slice(&out.stdout).unwrap_or_else(|_| {
+        serde_json::Value::String(String::from_utf8_lossy(&out.stderr).into_owned())
+    });
+    (out.status.code(), v)
+}
+
+/// Authorship is the login the router checked, on every change: the
+/// submitter of a job, who cancels one, who rolls a program back (and the
+/// knowledge base's changes above); not the operating-system user, not a
+/// name in the payload, and `--by` naming someone else is refused.
+#[test]
+fn every_change_is_recorded_as_the_login() {
+    let secure = Secure::start();
+    let dir = secure.dir();
+    let (planner, operator) = (secure.cfg("planner"), secure.cfg("operator"));
+    let spur = dir.join("spur.toml");
+    std::fs::write(&spur, JOB).unwrap();
+    let spur = spur.display().to_string();
+    // Submitted by the planner, as journaled.
+    let (code, v) = as_mallory(&planner, &["submit", &spur, "--wait", "--timeout", "60"]);
+    assert_eq!(code, Some(0), "{v}\n{}", secure.logs());
+    let journal = rusqlite::Connection::open(dir.join("station.db")).unwrap();
+    let request: Vec<u8> = journal
+        .query_row(
+            "SELECT request FROM jobs WHERE job = ?1",
+            [v["job"].as_str().unwrap()],
+            |r| r.get(0),
+        )
+        .unwrap();
+    let request: gearcam_proto::JobRequest = decode(&request).unwrap();
+    assert_eq!(request.submitted_by, "planner");
+    // Rolled back by the operator, as the store's history says.
+    let (code, v) = as_mallory(
+        &operator,
+        &["program", "rollback", "--machine", "H01", "SEC_0001", "1"],
+    );
+    assert_eq!(code, Some(0), "{v}");
+    let (code, v) = as_mallory(
+        &operator,
+        &["program", "history", "--machine", "H01", "SEC_0001"],
+    );
+    assert_eq!(code, Some(0), "{v}");
+    let versions = v["versions"].as_array().expect("the versions");
+    let newest = versions
+        .iter()
+        .max_by_key(|r| r["seq"].as_u64())
+        .expect("a version");
+    assert_eq!(
+        (newest["state"].as_str(), newest["by"].as_str()),
+        (Some("rollback"), Some("operator")),
+        "{v}"
+    );
+    // Cancelled by the planner: a job for M01, whose agent is not running,
+    // waits until it is cancelled.
+    let mill = dir.join("mill.toml");
+    std::fs::write(
+        &mill,
+        gearcam_testkit::examples::example("face_annulus_fanuc.toml"),
+    )
+    .unwrap();
+    let (code, v) = as_mallory(&planner, &["submit", &mill.display().to_string()]);
+    assert_eq!(code, Some(0), "{v}");
+    let job = v["job"].as_str().unwrap().to_string();
+    let (code, v) = as_mallory(&planner, &["cancel", &job, "--by", "mallory"]);
+    assert_eq!(code, Some(64), "--by someone else on a login: {v}");
+    let (code, v) = as_mallory(&planner, &["cancel", &job]);
+    assert_eq!(code, Some(0), "the cancelled job's status: {v}");
+    assert_eq!(v["state"], "cancelled", "{v}");
+    assert!(v["errors"][0]["got"] == "cancelled by planner", "{v}");
 }

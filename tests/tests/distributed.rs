@@ -374,7 +374,7 @@ fn a_repeated_request_is_stored_once_and_answered_with_the_original_receipt() {
         // Journaled by the station first (the agent stores only journaled
         // jobs); the station sends it too.
         let replies = session
-            .get(keys::STATION_SUBMIT)
+            .get(keys::station_submit("test"))
             .payload(bytes.clone())
             .timeout(Duration::from_secs(10))
             .await

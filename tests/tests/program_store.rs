@@ -181,7 +181,7 @@ fn submit_raw(endpoint: &str, spec: JobSpec) -> StationReply {
         let deadline = Instant::now() + Duration::from_secs(20);
         loop {
             let replies = session
-                .get(keys::STATION_SUBMIT)
+                .get(keys::station_submit("test"))
                 .payload(encode(&request).unwrap())
                 .timeout(Duration::from_secs(5))
                 .await

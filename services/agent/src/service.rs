@@ -248,7 +248,7 @@ fn answer_store_query(store: &mut Store, key: &str, payload: &[u8]) -> Answer {
                 Err(e) => refuse(index_error(e)),
             }
         }
-        AgentKey::Change(name) => {
+        AgentKey::Change(user, name) => {
             if payload.is_empty() {
                 return refuse(bad_request(
                     "payload",
@@ -264,14 +264,18 @@ fn answer_store_query(store: &mut Store, key: &str, payload: &[u8]) -> Answer {
             if let Err(error) = known(store, name) {
                 return refuse(error);
             }
+            // Who changes the program is the user of the key, which a
+            // secure router grants to that login only; the payload's `by`
+            // is not proof of anything.
+            let by = user;
             let result = match &request {
-                StoreRequest::Rollback { seq, by } => {
+                StoreRequest::Rollback { seq, .. } => {
                     store.rollback(name, *seq, by).map(|r| (r, None))
                 }
-                StoreRequest::Adopt { by } => store
+                StoreRequest::Adopt { .. } => store
                     .resolve(name, Resolution::Adopt, by)
                     .map(|r| (r.receipt, Some((r.seq, r.superseded)))),
-                StoreRequest::Replace { by } => store
+                StoreRequest::Replace { .. } => store
                     .resolve(name, Resolution::Replace, by)
                     .map(|r| (r.receipt, None)),
             };
@@ -293,7 +297,7 @@ fn answer_store_query(store: &mut Store, key: &str, payload: &[u8]) -> Answer {
                     });
                     // The jobs the adoption ended, to the station now (and
                     // again to any re-drive of them).
-                    if let (Some((seq, _)), StoreRequest::Adopt { by }) = (&adopted, &request) {
+                    if let (Some((seq, _)), StoreRequest::Adopt { .. }) = (&adopted, &request) {
                         for job in superseded {
                             tracing::info!(%job, program = name, "job superseded by the adopted edit");
                             a.events.push((
@@ -301,7 +305,7 @@ fn answer_store_query(store: &mut Store, key: &str, payload: &[u8]) -> Answer {
                                 EventKind::Superseded {
                                     name: name.to_string(),
                                     seq: *seq,
-                                    by: by.clone(),
+                                    by: by.to_string(),
                                 },
                             ));
                         }

@@ -65,6 +65,20 @@ impl BusConfig {
         }
     }
 
+    /// The user this configuration logs in as (`transport.auth.usrpwd.user`
+    /// of its file), if it logs in.
+    pub fn login(&self) -> Option<String> {
+        let json = self
+            .to_zenoh()
+            .ok()?
+            .get_json("transport/auth/usrpwd/user")
+            .ok()?;
+        serde_json::from_str::<Option<String>>(&json)
+            .ok()
+            .flatten()
+            .filter(|u| !u.is_empty())
+    }
+
     /// Builds the Zenoh configuration.
     pub fn to_zenoh(&self) -> Result<zenoh::Config, BusError> {
         let bad = |what: &str| {

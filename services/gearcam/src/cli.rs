@@ -184,8 +184,11 @@ pub async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Jobs { bus, json } => cmd::jobs::jobs(&bus.bus_args(), json).await,
         Command::Status { job, bus, json } => cmd::jobs::status(&job, &bus.bus_args(), json).await,
         Command::Cancel { job, by, bus, json } => {
-            let by = by.unwrap_or_else(crate::jobfile::user);
-            cmd::jobs::cancel(&job, &by, &bus.bus_args(), json).await
+            let bus = bus.bus_args();
+            match crate::jobfile::who(&bus, by) {
+                Ok(by) => cmd::jobs::cancel(&job, &by, &bus, json).await,
+                Err(code) => Ok(code),
+            }
         }
         Command::Program { action } => cmd::program::program(action).await,
     }

@@ -2,6 +2,7 @@
 //! key, what was expected and what was given.
 
 use std::path::Path;
+use std::process::ExitCode;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 use gearcam_proto::{
@@ -345,6 +346,27 @@ pub fn request(spec: JobSpec) -> JobRequest {
         submitted_at_ms: now_ms(),
         submitted_by: user(),
         spec,
+    }
+}
+
+/// Who a command acts as on the bus: the login of an authenticated
+/// connection (its configuration's user, the name the router checks), else
+/// `--by`, else [`user`]. With a login, a `--by` naming someone else is a
+/// usage error: the router grants each login only the keys with its own
+/// name, so the change would be dropped, not recorded as theirs.
+pub fn who(bus_args: &gearcam_bus::BusArgs, by: Option<String>) -> Result<String, ExitCode> {
+    let login = crate::bus_config::client(bus_args).login();
+    match (login, by) {
+        (Some(login), Some(by)) if by != login => Err(crate::output::fail(
+            crate::exit::USAGE,
+            &[],
+            &format!(
+                "gearcam: --by {by}: this connection logs in as {login}, and a change is recorded as the login's; leave --by out"
+            ),
+        )),
+        (Some(login), _) => Ok(login),
+        (None, Some(by)) => Ok(by),
+        (None, None) => Ok(user()),
     }
 }
 

@@ -75,7 +75,10 @@ pub async fn submit(
     };
     // Every try is the same request: a resubmission if an earlier one was
     // journaled. When no answer came, the journal may still hold the job.
-    let reply: StationReply = match bus.call(keys::STATION_SUBMIT, Some(req), retry).await {
+    let reply: StationReply = match bus
+        .call(&keys::station_submit(&req.submitted_by), Some(req), retry)
+        .await
+    {
         Ok(reply) => reply,
         Err(e) => match status_with(
             bus,
@@ -179,7 +182,7 @@ pub async fn cancel(
     let request = CancelRequest { by: by.to_string() };
     let reply = bus
         .call::<CancelRequest, StationReply>(
-            &keys::station_cancel(job),
+            &keys::station_cancel(by, job),
             Some(&request),
             Retry::default(),
         )

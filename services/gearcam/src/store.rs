@@ -56,7 +56,7 @@ pub async fn change(
         match ask(
             bus,
             machine,
-            &keys::store_change(machine, name),
+            &keys::store_change(machine, request.by(), name),
             Some(request),
         )
         .await?

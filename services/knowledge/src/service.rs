@@ -321,9 +321,11 @@ fn answer_inner(
     payload: &[u8],
     library_name: &mut String,
 ) -> Result<Vec<Record>, Vec<JobError>> {
-    let (change_key, (lib, id)) = match (keys::kb_of(key), keys::kb_change_of(key)) {
-        (Some(read), _) => (false, read),
-        (None, Some(change)) => (true, change),
+    // A change key names the user who asks, whom a secure router lets use
+    // only their own name: the change is recorded as theirs.
+    let (user, (lib, id)) = match (keys::kb_of(key), keys::kb_change_of(key)) {
+        (Some(read), _) => (None, read),
+        (None, Some((user, change))) => (Some(user), change),
         (None, None) => {
             return Err(vec![Stage::Knowledge.error(
                 "BAD_KEY",
@@ -372,10 +374,13 @@ fn answer_inner(
     // Reads on the read keys, changes on the change keys (with who makes
     // them): the access control grants them to different users.
     let is_change = matches!(req.op, KbOp::Add | KbOp::Edit | KbOp::Remove);
-    if is_change != change_key {
+    if is_change != user.is_some() {
         let (expected, message) = if is_change {
             (
-                format!("list or get on {key}; a change on {}", keys::kb_change(lib.name, id.as_deref())),
+                format!(
+                    "list or get on {key}; a change on {}",
+                    keys::kb_change("{user}", lib.name, id.as_deref())
+                ),
                 "changes to the knowledge base are asked on the kb-changes keys, which the access control grants to administrators",
             )
         } else {
@@ -395,17 +400,8 @@ fn answer_inner(
             message,
         )]);
     }
-    if is_change {
-        if req.by.trim().is_empty() {
-            return Err(vec![Stage::Knowledge.error(
-                "FIELD_MISSING",
-                "by",
-                "who makes the change",
-                "nothing",
-                "every change to the knowledge base is recorded with who made it",
-            )]);
-        }
-        crate::audit::acting_as(conn, &req.by).map_err(|e| {
+    if let Some(user) = &user {
+        crate::audit::acting_as(conn, user).map_err(|e| {
             vec![Stage::Knowledge.error(
                 "KNOWLEDGE_BASE_ERROR",
                 "-",

@@ -90,7 +90,7 @@ async fn libraries_are_browsed_and_edited_over_zenoh_and_a_job_gets_a_proposal()
     assert_eq!(r.errors[0].code, "KB_WRONG_KEY", "{:?}", r.errors);
     let r = query(
         &client,
-        &keys::kb_change("hobs", Some("HOB-M25-70")),
+        &keys::kb_change("tester", "hobs", Some("HOB-M25-70")),
         Some(&add),
     )
     .await;
@@ -111,7 +111,7 @@ async fn libraries_are_browsed_and_edited_over_zenoh_and_a_job_gets_a_proposal()
     };
     let r = query(
         &client,
-        &keys::kb_change("hobs", Some("HOB-M25-70")),
+        &keys::kb_change("tester", "hobs", Some("HOB-M25-70")),
         Some(&edit),
     )
     .await;
@@ -138,7 +138,7 @@ async fn libraries_are_browsed_and_edited_over_zenoh_and_a_job_gets_a_proposal()
     };
     let r = query(
         &client,
-        &keys::kb_change("machines", Some("H01")),
+        &keys::kb_change("tester", "machines", Some("H01")),
         Some(&edit),
     )
     .await;

@@ -80,7 +80,7 @@ pub async fn run(
     let redrive_ms = config.redrive.as_millis() as u64;
     let session = bus.session().clone();
     let submits = session
-        .declare_queryable(keys::STATION_SUBMIT)
+        .declare_queryable(keys::STATION_SUBMIT_ANY)
         .await
         .map_err(zerr("declare queryable"))?;
     let views = session
@@ -215,7 +215,13 @@ pub async fn run(
                         }
                         Err(errors)
                     }
-                    Ok(req) => {
+                    Ok(mut req) => {
+                        // The submitter is the user of the key, which a
+                        // secure router grants to that login only; a
+                        // payload's own name is not proof of anything.
+                        if let Some(user) = keys::station_submit_of(q.key_expr().as_str()) {
+                            req.submitted_by = user.to_string();
+                        }
                         if let Some(reason) = part_number_problem(&req.spec.job.part_number) {
                             Err(vec![Stage::Station.error(
                                 codes::INVALID_PART_NUMBER,
@@ -542,7 +548,7 @@ fn cancel_reply(journal: &Journal, q: &Query) -> (StationReply, Option<(JobId, S
         )
     };
     let key = q.key_expr().as_str();
-    let raw = keys::station_cancel_of(key).unwrap_or(key);
+    let (user, raw) = keys::station_cancel_of(key).unwrap_or(("", key));
     let job = match JobId::new(raw) {
         Ok(job) => job,
         Err(e) => return refused(JobError::bad_id(Stage::Station, "job_id", &e)),
@@ -551,8 +557,10 @@ fn cancel_reply(journal: &Journal, q: &Query) -> (StationReply, Option<(JobId, S
         .payload()
         .map(|p| p.to_bytes().into_owned())
         .unwrap_or_default();
+    // Who cancels is the user of the key (a secure router grants it to that
+    // login only), not the name in the payload.
     let by = match decode::<CancelRequest>(&payload) {
-        Ok(r) => r.by,
+        Ok(_) => user.to_string(),
         Err(e) => {
             return refused(gearcam_bus::stage::codec_error::<CancelRequest>(
                 Stage::Station,

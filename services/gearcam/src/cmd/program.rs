@@ -155,7 +155,10 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             bus,
             json,
         } => {
-            let by = by.unwrap_or_else(crate::jobfile::user);
+            let by = match crate::jobfile::who(&bus.bus_args(), by) {
+                Ok(by) => by,
+                Err(code) => return Ok(code),
+            };
             let bus = join_bus(&bus.bus_args()).await?;
             let r = store::change(&bus, &machine, &name, &StoreRequest::Rollback { seq, by }).await;
             bus.close().await;
@@ -182,7 +185,10 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             bus,
             json,
         } => {
-            let by = by.unwrap_or_else(crate::jobfile::user);
+            let by = match crate::jobfile::who(&bus.bus_args(), by) {
+                Ok(by) => by,
+                Err(code) => return Ok(code),
+            };
             let request = if adopt {
                 StoreRequest::Adopt { by }
             } else {

@@ -50,7 +50,12 @@ pub async fn submit(
         }
         spec.job.id = Some(id);
     }
-    let req = jobfile::request(spec);
+    let mut req = jobfile::request(spec);
+    // Submitted by the connection's login, the name the router checks.
+    req.submitted_by = match jobfile::who(bus_args, None) {
+        Ok(who) => who,
+        Err(code) => return Ok(code),
+    };
     if let Err(e) = jobfile::check_size(&req) {
         if json {
             crate::outln!(
