@@ -16,7 +16,7 @@ pub const TIMEOUT: Duration = Duration::from_secs(15);
 
 /// The planner-readable keys of the flood.
 pub const KEYS: [&str; 6] = [
-    "gearcam/v1/station/submit",
+    "gearcam/v1/station/submit/planner",
     "gearcam/v1/station/jobs",
     "gearcam/v1/station/jobs/NO-SUCH-JOB",
     "gearcam/v1/kb/machines",
