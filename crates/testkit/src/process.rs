@@ -444,10 +444,7 @@ impl Cluster {
 
     /// The process with this label (`router`, `station`, `knowledge`, `model`, `template`, `agent`).
     pub fn proc(&mut self, label: &str) -> &mut Proc {
-        self.procs
-            .iter_mut()
-            .find(|p| p.name == label)
-            .unwrap_or_else(|| panic!("no process {label}"))
+        labelled(&mut self.procs, label)
     }
 
     /// Runs `gearcam submit FILE --connect <router> --json` (returns once journaled).
@@ -539,17 +536,7 @@ impl Cluster {
 
     /// Every process's log, for failure messages.
     pub fn logs(&self) -> String {
-        self.procs
-            .iter()
-            .map(|p| {
-                format!(
-                    "--- {} ---\n{}",
-                    p.name,
-                    std::fs::read_to_string(&p.log).unwrap_or_default()
-                )
-            })
-            .collect::<Vec<_>>()
-            .join("\n")
+        logs(&self.procs)
     }
 
     /// Asserts every process still runs.
@@ -579,4 +566,27 @@ pub fn client_config(endpoint: &str) -> zenoh::Config {
         .insert_json5("scouting/multicast/enabled", "false")
         .expect("scouting/multicast/enabled is a setting");
     config
+}
+
+/// Every process's log, each under its label, for failure messages.
+pub fn logs(procs: &[Proc]) -> String {
+    procs
+        .iter()
+        .map(|p| {
+            format!(
+                "--- {} ---\n{}",
+                p.name,
+                std::fs::read_to_string(&p.log).unwrap_or_default()
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The process labelled `label` of `procs`.
+pub fn labelled<'a>(procs: &'a mut [Proc], label: &str) -> &'a mut Proc {
+    procs
+        .iter_mut()
+        .find(|p| p.name == label)
+        .unwrap_or_else(|| panic!("no process {label}"))
 }

@@ -180,10 +180,7 @@ impl Secure {
 
     /// The process labelled `label`.
     pub fn proc(&mut self, label: &str) -> &mut Proc {
-        self.procs
-            .iter_mut()
-            .find(|p| p.name == label)
-            .unwrap_or_else(|| panic!("no process {label}"))
+        crate::process::labelled(&mut self.procs, label)
     }
 
     /// The client configuration `{name}.json5`, made local.
@@ -193,17 +190,7 @@ impl Secure {
 
     /// Every process's log.
     pub fn logs(&self) -> String {
-        self.procs
-            .iter()
-            .map(|p| {
-                format!(
-                    "--- {} ---\n{}",
-                    p.name,
-                    std::fs::read_to_string(&p.log).unwrap_or_default()
-                )
-            })
-            .collect::<Vec<_>>()
-            .join("\n")
+        crate::process::logs(&self.procs)
     }
 
     /// Every message the router's access control refused (started with
