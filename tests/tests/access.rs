@@ -561,6 +561,36 @@ fn every_change_is_recorded_as_the_login() {
         .unwrap();
     let request: gearcam_proto::JobRequest = decode(&request).unwrap();
     assert_eq!(request.submitted_by, "planner");
+    // A client of its own that writes another name into the request is
+    // journaled as its login all the same.
+    let mut forged = request.clone();
+    forged.job_id = gearcam_proto::JobId::new("SEC-FORGED-1").unwrap();
+    forged.submitted_by = "supervisor Wu".into();
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    rt.block_on(async {
+        let session = planner_session(&planner).await.unwrap();
+        let replies = session
+            .get(keys::station_submit("planner"))
+            .payload(encode(&forged).unwrap())
+            .timeout(Duration::from_secs(10))
+            .await
+            .unwrap();
+        let reply = replies.recv_async().await.expect("the station answers");
+        assert!(reply.result().is_ok(), "the forged name is not a refusal");
+        session.close().await.unwrap();
+    });
+    let by: Vec<u8> = journal
+        .query_row(
+            "SELECT request FROM jobs WHERE job = 'SEC-FORGED-1'",
+            [],
+            |r| r.get(0),
+        )
+        .unwrap();
+    let by: gearcam_proto::JobRequest = decode(&by).unwrap();
+    assert_eq!(
+        by.submitted_by, "planner",
+        "the payload's name was journaled"
+    );
     // Rolled back by the operator, as the store's history says.
     let (code, v) = as_mallory(
         &operator,
