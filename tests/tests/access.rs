@@ -566,6 +566,8 @@ fn every_change_is_recorded_as_the_login() {
     let mut forged = request.clone();
     forged.job_id = gearcam_proto::JobId::new("SEC-FORGED-1").unwrap();
     forged.submitted_by = "supervisor Wu".into();
+    // A part of its own, so that its program does not join SEC_0001's.
+    forged.spec.job.part_number = "SEC-FORGED".into();
     let rt = tokio::runtime::Runtime::new().unwrap();
     rt.block_on(async {
         let session = planner_session(&planner).await.unwrap();
