@@ -42,6 +42,16 @@ def decode(payload, kind):
     return msg["body"]
 
 
+def user_chunk(user):
+    """A user's name as one key chunk, as gearcam writes it: what a chunk
+    cannot hold (/ * $ ? #, control characters, a leading @) is _, a blank
+    name is unknown."""
+    chunk = "".join(
+        "_" if c in "/*$?#" or ord(c) < 32 or ord(c) == 127 or (i == 0 and c == "@") else c
+        for i, c in enumerate(user.strip()))
+    return chunk or "unknown"
+
+
 class Client:
     def __init__(self, endpoint):
         conf = zenoh.Config()
@@ -81,13 +91,15 @@ class Client:
             time.sleep(0.3)
 
     def submit(self, job_id, spec, by="python-client"):
+        """Submits on the key of the user `by`: the station journals the
+        key's user as the submitter (on a secure router, the login's)."""
         request = {
             "job_id": job_id,
             "submitted_at_ms": int(time.time() * 1000),
             "submitted_by": by,
             "spec": spec,
         }
-        return self.query(f"{PREFIX}/station/submit/{by}", "station_reply",
+        return self.query(f"{PREFIX}/station/submit/{user_chunk(by)}", "station_reply",
                           payload=encode("job_request", request))
 
     def follow(self, job_id):

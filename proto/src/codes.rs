@@ -80,8 +80,8 @@ catalogue! {
         "A `--set` argument of `gearcam kb` is not of the form FIELD=VALUE.",
         "Write each `--set` as field=value, e.g. `--set module_mm=3`.";
     BAD_CANCEL_REQUEST: "station",
-        "A cancellation (`gearcam cancel`) does not say who cancels: `by` must be 1 to 64 characters on one line.",
-        "Give `--by NAME`, or run it as a user with a login name.";
+        "A cancellation's key does not name who cancels usably: the user chunk of `gearcam/v1/station/cancel/{user}/{job}` must be 1 to 64 characters on one line.",
+        "Cancel as a user with a login name (on a plain network `--by NAME`; on a secure one the configuration's login).";
     BAD_HOB_ID: "any",
         "A hob id breaks the id rule (1 to 32 characters from A-Z a-z 0-9 _ -, starting with a letter or digit); got is the id.",
         "Use a hob id that follows the rule.";
@@ -91,9 +91,9 @@ catalogue! {
     BAD_JSON: "knowledge (`gearcam kb add`)",
         "The `--from-json` file of `gearcam kb add` is not a JSON object of the record's fields.",
         "Fix the file; `gearcam kb show LIBRARY ID --json` prints a record in this form.";
-    BAD_KEY: "knowledge",
-        "A knowledge-base query used a key that is not `gearcam/v1/kb/{library}` or `gearcam/v1/kb/{library}/{id}`.",
-        "Query one of those two keys.";
+    BAD_KEY: "knowledge, station",
+        "A query used a key of no form its service answers: a knowledge-base key that is not `gearcam/v1/kb/{library}[/{id}]` or `gearcam/v1/kb-changes/{user}/{library}[/{id}]`, or a station submit or cancel key without the user who asks (`gearcam/v1/station/submit/{user}`, `gearcam/v1/station/cancel/{user}/{job}`).",
+        "Query the form `expected` names; the user chunk is the name the change is recorded under.";
     BAD_MACHINE_ID: "station",
         "The job's machine id (`spec.job.machine`) breaks the id rule (1 to 32 characters from A-Z a-z 0-9 _ -, starting with a letter or digit).",
         "Name the machine by its id in the knowledge base, e.g. H01.";

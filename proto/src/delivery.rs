@@ -182,7 +182,8 @@ impl Message for DeliveryReply {
 }
 
 /// A change of a machine's current program, asked on
-/// `gearcam/v1/machines/{machine}/store/changes/{name}`.
+/// `gearcam/v1/machines/{machine}/store/changes/{user}/{name}`; the agent
+/// records `user` as who changed it, not the `by` of the request.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum StoreRequest {
@@ -236,11 +237,13 @@ pub fn valid_by(by: &str) -> bool {
 }
 
 /// Message: a person cancels a journaled job that is not yet final
-/// (`gearcam cancel JOB`). Key [`crate::keys::station_cancel`]; the station
-/// answers with the job's status.
+/// (`gearcam cancel JOB`). Key [`crate::keys::station_cancel`], which names
+/// who cancels; the station records that user and answers with the job's
+/// status.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CancelRequest {
-    /// Who cancels it.
+    /// The client's own name for who cancels it; not recorded (the key's
+    /// user is).
     pub by: String,
 }
 
@@ -249,7 +252,7 @@ impl Message for CancelRequest {
 }
 
 /// Every answer of an agent's store queryables (`…/store/programs[/{name}]`,
-/// `…/versions/{seq}`, `…/store/changes/{name}`).
+/// `…/versions/{seq}`, `…/store/changes/{user}/{name}`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum StoreReply {

@@ -119,8 +119,9 @@ pub fn kb_library(library: &str) -> String {
 }
 
 /// A user's name as one key chunk: the name (trimmed) with every character
-/// a key chunk cannot hold (`/`, `*`, `$`, `?`, `#`) and every control
-/// character written `_`, or `unknown` for no name. `operator Li` stays
+/// a key chunk cannot hold (`/`, `*`, `$`, `?`, `#`), every control
+/// character and a leading `@` (a verbatim chunk, which no wildcard
+/// matches) written `_`, or `unknown` for no name. `operator Li` stays
 /// `operator Li`.
 ///
 /// Every key that changes something carries the user who asks
@@ -133,8 +134,9 @@ pub fn user_chunk(user: &str) -> String {
     let chunk: String = user
         .trim()
         .chars()
-        .map(|c| {
-            if matches!(c, '/' | '*' | '$' | '?' | '#') || c.is_control() {
+        .enumerate()
+        .map(|(i, c)| {
+            if matches!(c, '/' | '*' | '$' | '?' | '#') || c.is_control() || (i == 0 && c == '@') {
                 '_'
             } else {
                 c
@@ -146,6 +148,13 @@ pub fn user_chunk(user: &str) -> String {
     } else {
         chunk
     }
+}
+
+/// True when `chunk` is a user's name as [`user_chunk`] writes it (so not a
+/// wildcard, not empty): a key whose user chunk is anything else names no
+/// one and is refused.
+pub fn is_user_chunk(chunk: &str) -> bool {
+    !chunk.is_empty() && user_chunk(chunk) == chunk
 }
 
 /// `gearcam/v1/kb-changes/{user}/{library}[/{id}]`: the knowledge
@@ -169,6 +178,9 @@ pub const KB_CHANGES_ALL: &str = "gearcam/v1/kb-changes/**";
 pub fn kb_change_of(key: &str) -> Option<(String, (String, Option<String>))> {
     let rest = key.strip_prefix(PREFIX)?.strip_prefix("/kb-changes/")?;
     let (user, rest) = rest.split_once('/')?;
+    if !is_user_chunk(user) {
+        return None;
+    }
     Some((user.to_string(), kb_of(&format!("{PREFIX}/kb/{rest}"))?))
 }
 
@@ -178,7 +190,7 @@ pub fn kb_record(library: &str, id: &str) -> String {
 }
 
 /// The knowledge base's key forms, for messages that name them.
-pub const KB_KEY_FORMS: &str = "gearcam/v1/kb/{library} or gearcam/v1/kb/{library}/{id}";
+pub const KB_KEY_FORMS: &str = "gearcam/v1/kb/{library}[/{id}] (reads) or gearcam/v1/kb-changes/{user}/{library}[/{id}] (changes)";
 
 /// The form of a record's key in `library`, for messages that name it.
 pub fn kb_record_form(library: &str) -> String {
@@ -223,14 +235,19 @@ pub fn station_submit(user: &str) -> String {
     format!("{PREFIX}/station/submit/{}", user_chunk(user))
 }
 
-/// Pattern of the station's submit queryable, every user.
-pub const STATION_SUBMIT_ANY: &str = "gearcam/v1/station/submit/*";
+/// Pattern of the station's submit queryable, every user (`**`, so that a
+/// key without a user, or with more than one chunk, still reaches the
+/// station and is refused by name).
+pub const STATION_SUBMIT_ANY: &str = "gearcam/v1/station/submit/**";
+
+/// The submit key's form, for messages that name it.
+pub const STATION_SUBMIT_FORM: &str = "gearcam/v1/station/submit/{user}";
 
 /// The user of a submit key (`gearcam/v1/station/submit/{user}`).
 pub fn station_submit_of(key: &str) -> Option<&str> {
     key.strip_prefix(PREFIX)?
         .strip_prefix("/station/submit/")
-        .filter(|u| !u.is_empty() && !u.contains('/'))
+        .filter(|u| !u.contains('/') && is_user_chunk(u))
 }
 
 /// `gearcam/v1/station/jobs`: queryable listing every journaled job ([`crate::StationReply::Jobs`]).
@@ -257,12 +274,16 @@ pub fn station_cancel(user: &str, job: &JobId) -> String {
 /// the station and is refused by name).
 pub const STATION_CANCEL_ANY: &str = "gearcam/v1/station/cancel/**";
 
+/// The cancel key's form, for messages that name it.
+pub const STATION_CANCEL_FORM: &str = "gearcam/v1/station/cancel/{user}/{job}";
+
 /// The user and the raw job id of a station cancel key
 /// (`gearcam/v1/station/cancel/{user}/{job}`).
 pub fn station_cancel_of(key: &str) -> Option<(&str, &str)> {
     key.strip_prefix(PREFIX)?
         .strip_prefix("/station/cancel/")?
         .split_once('/')
+        .filter(|(user, _)| is_user_chunk(user))
 }
 
 /// The liveliness name of the planning station service.
@@ -349,7 +370,7 @@ pub fn agent_key_of<'a>(machine: &MachineId, key: &'a str) -> Option<AgentKey<'a
         ["store", "programs"] => AgentKey::Programs,
         ["store", "programs", name] => AgentKey::Program(name),
         ["store", "programs", name, "versions", seq] => AgentKey::Version(name, seq),
-        ["store", "changes", user, name] => AgentKey::Change(user, name),
+        ["store", "changes", user, name] if is_user_chunk(user) => AgentKey::Change(user, name),
         _ => return None,
     })
 }
@@ -449,6 +470,45 @@ pub const SIZE_LIMITS: [SizeLimit; 2] = [
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A user's name is one key chunk: what a chunk cannot hold is `_`, a
+    /// blank name is `unknown`, and the parsers of the change keys give the
+    /// user back and refuse a key whose user is a wildcard or missing.
+    #[test]
+    fn user_chunks_and_the_keys_that_carry_them() {
+        assert_eq!(user_chunk(" operator Li "), "operator Li");
+        assert_eq!(user_chunk("a/b*c$d?e#f\nx"), "a_b_c_d_e_f_x");
+        assert_eq!(user_chunk("@admin"), "_admin");
+        assert_eq!(user_chunk("  "), "unknown");
+        assert!(is_user_chunk("planner") && !is_user_chunk("*") && !is_user_chunk("@x"));
+        assert!(!is_user_chunk("") && !is_user_chunk("**"));
+        assert_eq!(station_submit_of(&station_submit("Wu Li")), Some("Wu Li"));
+        assert_eq!(station_submit_of("gearcam/v1/station/submit"), None);
+        assert_eq!(station_submit_of("gearcam/v1/station/submit/*"), None);
+        assert_eq!(station_submit_of("gearcam/v1/station/submit/a/b"), None);
+        let job = JobId::new("J1").unwrap();
+        assert_eq!(
+            station_cancel_of(&station_cancel("planner", &job)),
+            Some(("planner", "J1"))
+        );
+        assert_eq!(station_cancel_of("gearcam/v1/station/cancel/J1"), None);
+        assert_eq!(station_cancel_of("gearcam/v1/station/cancel/*/J1"), None);
+        assert_eq!(
+            kb_change_of(&kb_change("admin", "hobs", Some("H-1"))),
+            Some(("admin".into(), ("hobs".into(), Some("H-1".into()))))
+        );
+        assert_eq!(kb_change_of("gearcam/v1/kb-changes/hobs"), None);
+        assert_eq!(kb_change_of("gearcam/v1/kb-changes/*/hobs"), None);
+        let m = MachineId::new("H01").unwrap();
+        assert_eq!(
+            agent_key_of(&m, "gearcam/v1/machines/H01/store/changes/*/SP_1"),
+            None
+        );
+        assert_eq!(
+            agent_key_of(&m, "gearcam/v1/machines/H01/store/changes/SP_1"),
+            None
+        );
+    }
 
     #[test]
     fn builds_and_parses_keys() {

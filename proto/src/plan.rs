@@ -476,8 +476,8 @@ pub enum KbOp {
 
 /// Message: a query on a knowledge-base library. Reads (`list`, `get`) are
 /// asked on `gearcam/v1/kb/{library}[/{id}]` (a query without payload is a
-/// `list` without id, a `get` with one); changes (`add`, `edit`, `remove`,
-/// with `by`) on `gearcam/v1/kb-changes/{library}[/{id}]`.
+/// `list` without id, a `get` with one); changes (`add`, `edit`, `remove`)
+/// on `gearcam/v1/kb-changes/{user}/{library}[/{id}]`, recorded as `user`'s.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct KbRequest {
     /// The operation.
@@ -488,7 +488,8 @@ pub struct KbRequest {
     /// Fields to change (`edit`), by name or dotted path (`limits.max_hob_rpm`).
     #[serde(default)]
     pub set: KbRecord,
-    /// Who makes a change (`add`, `edit`, `remove`): recorded with it.
+    /// The client's own name for who makes a change; not recorded: the
+    /// change is the key's user's ([`crate::keys::kb_change`]).
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub by: String,
 }

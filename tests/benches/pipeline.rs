@@ -9,7 +9,7 @@
 //!    agent of H01, as [`Cluster::start`] does), opens its own client session
 //!    to the router and submits N jobs (the bundled `examples/spur_840d.toml`,
 //!    each with job id `BENCH-{i}` and part number `BP-{i}`, so each program
-//!    gets its own file) by querying `gearcam/v1/station/submit`, with at most
+//!    gets its own file) by querying `gearcam/v1/station/submit/{user}`, with at most
 //!    `--window` jobs in flight. A job's latency runs from sending the
 //!    submission to receiving its `delivered` event (the agent's receipt, given
 //!    only once file and index row are durable). It reports jobs/s, p50 and p99,
@@ -433,7 +433,7 @@ async fn submit_and_follow(
     let start = Instant::now();
     let outcome = async {
         let replies = session
-            .get(keys::station_submit("bench"))
+            .get(keys::station_submit(&req.submitted_by))
             .payload(payload)
             .timeout(QUERY_TIMEOUT)
             .await

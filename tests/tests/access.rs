@@ -578,7 +578,30 @@ fn every_change_is_recorded_as_the_login() {
             .await
             .unwrap();
         let reply = replies.recv_async().await.expect("the station answers");
-        assert!(reply.result().is_ok(), "the forged name is not a refusal");
+        let reply: gearcam_proto::StationReply =
+            decode(&reply.result().expect("a reply").payload().to_bytes()).unwrap();
+        assert!(
+            matches!(reply, gearcam_proto::StationReply::Accepted { .. }),
+            "{reply:?}"
+        );
+        // Under the supervisor's name, a planner's submit and cancel do not
+        // even reach the station.
+        let job = gearcam_proto::JobId::new("SEC-FORGED-1").unwrap();
+        for key in [
+            keys::station_submit("supervisor"),
+            keys::station_cancel("supervisor", &job),
+        ] {
+            let replies = session
+                .get(&key)
+                .payload(encode(&forged).unwrap())
+                .timeout(Duration::from_secs(3))
+                .await
+                .unwrap();
+            assert!(
+                replies.recv_async().await.is_err(),
+                "{key} reached the station"
+            );
+        }
         session.close().await.unwrap();
     });
     let by: Vec<u8> = journal

@@ -107,7 +107,7 @@ fn an_authenticated_flood_crashes_nothing_and_every_query_is_answered() {
     assert!(dead.is_empty(), "died after the flood: {dead:#?}");
 }
 
-/// The router's size limits are the ones `gearcam_proto::limits` gives the
+/// The router's size limits are the ones `gearcam_proto::keys::SIZE_LIMITS` gives the
 /// station and the CLI: a change of either without the other fails here.
 #[test]
 fn the_routers_size_limits_are_the_protocols() {

@@ -1,6 +1,6 @@
 //! Every key a service uses is granted to it on the secure deployment: a
 //! job of every family on every machine, a job for a machine nobody has,
-//! the planner's and the operator's commands, with the router logging every
+//! the planner's and the operator's reads, with the router logging every
 //! decision of its access control; not one refusal is logged. A key missing
 //! from `deploy/secure/router.json5` shows here as the refusal of its
 //! subject, action and key, even where the pipeline would only wait.
@@ -73,7 +73,35 @@ fn every_key_a_service_uses_is_granted_on_the_secure_deployment() {
     );
     assert_eq!(cli(&planner, &["jobs"]).0, Some(0));
 
-    let denials = secure.denials();
+    // The control: one query the router must refuse, a planner's change of
+    // the knowledge base under the admin's name. It shows the router's
+    // refusals are read; it must be the only one.
+    let control = gearcam_proto::keys::kb_change("admin", "hobs", None);
+    let rt = tokio::runtime::Runtime::new().expect("a runtime");
+    rt.block_on(async {
+        let config = zenoh::Config::from_file(&planner).expect("planner config");
+        let session = zenoh::open(config).await.expect("the planner connects");
+        let replies = session
+            .get(&control)
+            .payload(vec![0x80])
+            .timeout(std::time::Duration::from_secs(2))
+            .await
+            .expect("a query");
+        assert!(
+            replies.recv_async().await.is_err(),
+            "the control was answered"
+        );
+        session.close().await.expect("the session closes");
+    });
+    let (expected, denials): (Vec<String>, Vec<String>) =
+        secure.denials().into_iter().partition(|d| {
+            d.contains("Username(planner)") && d.ends_with(&format!("Query (ingress) on {control}"))
+        });
+    assert_eq!(
+        expected.len(),
+        1,
+        "the control's refusal was not read from the router's log"
+    );
     assert!(
         denials.is_empty(),
         "the router refused what the deployment's own services and users do:\n{}",

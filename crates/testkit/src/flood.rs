@@ -14,21 +14,26 @@ pub const OVERSIZED: usize = 300 * 1024;
 /// How long each query may take.
 pub const TIMEOUT: Duration = Duration::from_secs(15);
 
-/// The planner-readable keys of the flood.
-pub const KEYS: [&str; 6] = [
-    "gearcam/v1/station/submit/planner",
-    "gearcam/v1/station/jobs",
-    "gearcam/v1/station/jobs/NO-SUCH-JOB",
-    "gearcam/v1/kb/machines",
-    "gearcam/v1/kb/hobs",
-    "gearcam/v1/machines/H01/store/programs",
-];
+/// The planner-readable keys of the flood: the planner's submit key, the
+/// station's job list and a status, two knowledge-base libraries, H01's
+/// program store.
+pub fn keys() -> Vec<String> {
+    use gearcam_proto::{keys, JobId, MachineId};
+    vec![
+        keys::station_submit("planner"),
+        keys::STATION_JOBS.to_string(),
+        keys::station_job(&JobId::new("NO-SUCH-JOB").expect("a job id")),
+        keys::kb_library("machines"),
+        keys::kb_library("hobs"),
+        keys::store_programs(&MachineId::new("H01").expect("a machine id")),
+    ]
+}
 
 /// One query of the flood and how many replies it got.
 #[derive(Debug, Clone)]
 pub struct Asked {
     /// The key queried.
-    pub key: &'static str,
+    pub key: String,
     /// The payload's size, bytes.
     pub bytes: usize,
     /// Replies received (answers and typed refusals) within [`TIMEOUT`].
@@ -55,16 +60,17 @@ fn payload(i: usize) -> Vec<u8> {
 /// Burst number `n`: [`QUERIES`] queries at once on `session`, each waited
 /// for until its timeout.
 pub async fn burst(session: &zenoh::Session, n: usize) -> Vec<Asked> {
+    let keys = keys();
     let mut tasks = Vec::new();
     for q in 0..QUERIES {
         let i = n * QUERIES + q;
-        let key = KEYS[i % KEYS.len()];
+        let key = keys[i % keys.len()].clone();
         let body = payload(i);
         let bytes = body.len();
         let session = session.clone();
         tasks.push(tokio::spawn(async move {
             let mut replies = 0;
-            if let Ok(rx) = session.get(key).payload(body).timeout(TIMEOUT).await {
+            if let Ok(rx) = session.get(&key).payload(body).timeout(TIMEOUT).await {
                 while rx.recv_async().await.is_ok() {
                     replies += 1;
                 }

@@ -19,6 +19,11 @@ use crate::process::Proc;
 /// decision, a refusal as `… on {subject} is unauthorized to {action} on {key}`.
 const ACL_LOG: &str = "zenoh::net::routing::interceptor::access_control";
 
+/// How many decisions the router makes ahead when it caches a key: one per
+/// kind of message (query, reply, put, delete, subscriber, queryable,
+/// liveliness token, liveliness query, liveliness subscriber).
+const CACHED_KINDS: usize = 9;
+
 /// `deploy/secure/` of the checkout.
 pub fn deploy() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../deploy/secure")
@@ -204,9 +209,11 @@ impl Secure {
     /// cached result: {session} is unauthorized to …`) or, for a key not
     /// cached, directly (`{session} on {subject} is unauthorized to …`).
     pub fn denials(&self) -> Vec<String> {
-        use std::collections::{BTreeSet, HashMap, HashSet};
+        use std::collections::{BTreeSet, HashMap};
         let log = std::fs::read_to_string(&self.procs[0].log).unwrap_or_default();
-        let mut cached: HashSet<(String, String)> = HashSet::new();
+        // Per (flow, key) being cached: how many of its ahead decisions
+        // (one per kind of message) are still to come.
+        let mut ahead: HashMap<(String, String), usize> = HashMap::new();
         let mut subject: HashMap<String, String> = HashMap::new();
         let mut found = BTreeSet::new();
         for line in log.lines() {
@@ -218,7 +225,7 @@ impl Secure {
                 // `ACL (ingress): caching permissions for `KEY` ...`
                 let flow = rest.split(')').next().unwrap_or_default();
                 if let Some(key) = rest.split('`').nth(1) {
-                    cached.insert((flow.to_string(), key.to_string()));
+                    ahead.insert((flow.to_string(), key.to_string()), CACHED_KINDS);
                 }
                 continue;
             }
@@ -248,8 +255,15 @@ impl Secure {
                 .next()
                 .unwrap_or_default()
                 .trim_end_matches(')');
-            let ahead = !from_cache && cached.contains(&(flow.to_string(), key.to_string()));
-            if verdict == " is unauthorized to " && !ahead {
+            let for_cache = !from_cache
+                && match ahead.get_mut(&(flow.to_string(), key.to_string())) {
+                    Some(left) if *left > 0 => {
+                        *left -= 1;
+                        true
+                    }
+                    _ => false,
+                };
+            if verdict == " is unauthorized to " && !for_cache {
                 let who = subject.get(session).map_or(session, String::as_str);
                 found.insert(format!("{who}: {action} on {key}"));
             }

@@ -119,7 +119,8 @@ pub enum Command {
     Cancel {
         /// The job id.
         job: JobId,
-        /// Who cancels it (default: the login name).
+        /// Who cancels it (default: the login name). With a configuration
+        /// that logs in, it is the login, and --by may only repeat it.
         #[arg(long)]
         by: Option<String>,
         #[command(flatten)]

@@ -355,6 +355,16 @@ pub fn request(spec: JobSpec) -> JobRequest {
 /// usage error: the router grants each login only the keys with its own
 /// name, so the change would be dropped, not recorded as theirs.
 pub fn who(bus_args: &gearcam_bus::BusArgs, by: Option<String>) -> Result<String, ExitCode> {
+    if let Some(by) = by
+        .as_deref()
+        .filter(|b| !gearcam_proto::delivery::valid_by(b))
+    {
+        return Err(crate::output::fail(
+            crate::exit::USAGE,
+            &[],
+            &format!("gearcam: --by {by:?}: give who decides, 1 to 64 characters on one line"),
+        ));
+    }
     let login = crate::bus_config::client(bus_args).login();
     match (login, by) {
         (Some(login), Some(by)) if by != login => Err(crate::output::fail(

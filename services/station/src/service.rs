@@ -2,15 +2,16 @@
 //! drives them through the pipeline, follows their events, and re-drives every
 //! unfinished job until the agent's receipt arrives.
 //!
-//! - `gearcam/v1/station/submit` (query with a `JobRequest`): check the ids
+//! - `gearcam/v1/station/submit/{user}` (query with a `JobRequest`): journal
+//!   `user` as the submitter (a key without one is refused), check the ids
 //!   and that the knowledge base knows the machine, journal, then answer
 //!   `accepted` and publish the `accepted` event; the request is published
 //!   right after. A resubmission (same job id, same spec) is answered with the
 //!   job's status; the same id with another spec is refused.
 //! - `gearcam/v1/station/jobs[/{job}]` (query): the journal's view, always a
 //!   typed `StationReply`.
-//! - `gearcam/v1/station/cancel/{job}` (query with a `CancelRequest`): a job
-//!   not yet final ends `cancelled`, with who, and a `cancelled` event is
+//! - `gearcam/v1/station/cancel/{user}/{job}` (query with a
+//!   `CancelRequest`): a job not yet final ends `cancelled`, by `user`, and a `cancelled` event is
 //!   published; the agent, which asks the station before it stores, never
 //!   stores it after. A final job is refused (`JOB_FINAL`), a cancelled one
 //!   answered with its status again.
@@ -194,16 +195,30 @@ pub async fn run(
                     .map(|p| p.to_bytes().into_owned())
                     .unwrap_or_default();
                 let limit = gearcam_proto::keys::MAX_REQUEST_BYTES;
-                let verdict = match decode::<JobRequest>(&payload) {
+                let key = q.key_expr().as_str();
+                // The submitter is the user of the key, which a secure
+                // router grants to that login only; a payload's own name
+                // is not proof of anything, and a key without a user is
+                // refused rather than trusted.
+                let user = keys::station_submit_of(key);
+                let verdict = match (payload.len() > limit, user) {
                     // A request over the limit a secure router drops: the
-                    // same refusal on every deployment.
-                    _ if payload.len() > limit => Err(vec![Stage::Station.error(
+                    // same refusal on every deployment, before decoding.
+                    (true, _) => Err(vec![Stage::Station.error(
                         codes::MESSAGE_TOO_LARGE,
                         "-",
                         format!("a job request of at most {limit} bytes"),
                         format!("{} bytes", payload.len()),
                         "the job request is larger than a request on the bus may be",
                     )]),
+                    (false, None) => Err(vec![Stage::Station.error(
+                        codes::BAD_KEY,
+                        "key",
+                        keys::STATION_SUBMIT_FORM,
+                        key,
+                        "a job is submitted on the key of the user who submits it; the station journals that user as its submitter",
+                    )]),
+                    (false, Some(user)) => match decode::<JobRequest>(&payload) {
                     Err(e) => {
                         let mut errors =
                             gearcam_proto::job::request_id_errors(&payload, Stage::Station);
@@ -216,12 +231,7 @@ pub async fn run(
                         Err(errors)
                     }
                     Ok(mut req) => {
-                        // The submitter is the user of the key, which a
-                        // secure router grants to that login only; a
-                        // payload's own name is not proof of anything.
-                        if let Some(user) = keys::station_submit_of(q.key_expr().as_str()) {
-                            req.submitted_by = user.to_string();
-                        }
+                        req.submitted_by = user.to_string();
                         if let Some(reason) = part_number_problem(&req.spec.job.part_number) {
                             Err(vec![Stage::Station.error(
                                 codes::INVALID_PART_NUMBER,
@@ -245,6 +255,7 @@ pub async fn run(
                             }
                         }
                     }
+                    },
                 };
                 checked.push((q, verdict));
             }
@@ -548,7 +559,15 @@ fn cancel_reply(journal: &Journal, q: &Query) -> (StationReply, Option<(JobId, S
         )
     };
     let key = q.key_expr().as_str();
-    let (user, raw) = keys::station_cancel_of(key).unwrap_or(("", key));
+    let Some((user, raw)) = keys::station_cancel_of(key) else {
+        return refused(Stage::Station.error(
+            codes::BAD_KEY,
+            "key",
+            keys::STATION_CANCEL_FORM,
+            key,
+            "a job is cancelled on the key of the user who cancels it; the station records that user",
+        ));
+    };
     let job = match JobId::new(raw) {
         Ok(job) => job,
         Err(e) => return refused(JobError::bad_id(Stage::Station, "job_id", &e)),

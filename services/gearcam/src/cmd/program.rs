@@ -50,7 +50,9 @@ pub enum ProgramAction {
         name: String,
         /// Version number (from `history`).
         seq: u64,
-        /// Who rolls it back (default: the login name, else `unknown`).
+        /// Who rolls it back (default: the login name, else `unknown`). With
+        /// a configuration that logs in, it is the login, and --by may only
+        /// repeat it.
         #[arg(long)]
         by: Option<String>,
         #[command(flatten)]
@@ -85,6 +87,8 @@ pub enum ProgramAction {
         #[arg(long)]
         replace: bool,
         /// Who reviewed the edit (default: the login name, else `unknown`).
+        /// With a configuration that logs in, it is the login, and --by may
+        /// only repeat it.
         #[arg(long)]
         by: Option<String>,
         #[command(flatten)]
