@@ -1,5 +1,5 @@
-//! The catalogue of every error, warning and path-check code gearcam raises
-//! (issue 11): the code, the stages that raise it, what it means and what
+//! The catalogue of every error, warning and path-check code gearcam raises,
+//! one entry per code: the code, the stages that raise it, what it means and what
 //! the user should do.
 //!
 //! A [`crate::JobError`] carries its code as text on the wire, so readers in

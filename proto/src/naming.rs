@@ -347,10 +347,11 @@ mod tests {
         assert!(check_name_840d(&program_name_840d("../../etc/passwd")).is_ok());
     }
 
-    /// Issue 12 point 1: the 840D rule cut long part numbers to 24 characters
-    /// and dropped what is not ASCII, so different parts got one name.
+    /// A plain 840D rule would cut long part numbers to 24 characters and drop
+    /// what is not ASCII, so different parts would get one name: a lossy name
+    /// carries a tag of the whole part number.
     #[test]
-    fn point_1_lossy_840d_names_keep_parts_apart() {
+    fn lossy_840d_names_keep_parts_apart() {
         let a = program_name_840d("GEARBOX-OUTPUT-SHAFT-PINION-STAGE2-A");
         let b = program_name_840d("GEARBOX-OUTPUT-SHAFT-PINION-STAGE2-B");
         assert_ne!(a, b);

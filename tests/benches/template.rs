@@ -1,4 +1,4 @@
-//! Template service speed (issue 5): assembly + instantiation + path check of one
+//! Template service speed: assembly + instantiation + path check of one
 //! job, release build. `cargo bench -p gearcam-tests --bench template`.
 //!
 //! - `one_job/{840d,fanuc}_{spur,helical_multicut}`: find the compiled template of

@@ -193,7 +193,7 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
             StoreReply::Changed { receipt, .. } => assert_eq!(receipt.name, "SEC_0001"),
             other => panic!("a supervisor's rollback: {other:?}"),
         }
-        // Issue 13 point 10: a planner cannot write the knowledge base.
+        // A planner cannot write the knowledge base.
         // A change on the change key does not even reach the service; one
         // hidden in a read query is refused; H01's spindle M-code stays 3.
         let planner = planner_session(&planner_cfg)
@@ -303,10 +303,9 @@ fn cli(config: &Path, args: &[&str]) -> (Option<i32>, String, String) {
     )
 }
 
-/// Issue 13 points 11 and 13: every machine and every role on the secure
-/// deployment, every bus command of the CLI; nobody declares another's
-/// liveliness token (a planner's `alive/agent/H09` made the station drive
-/// jobs to an absent agent).
+/// Every machine and every role on the secure deployment, every bus command
+/// of the CLI; nobody declares another's liveliness token (a planner's
+/// `alive/agent/H09` would make the station drive jobs to an absent agent).
 #[test]
 fn every_role_machine_and_command_on_the_secure_deployment() {
     let secure = Secure::start();
@@ -414,7 +413,7 @@ fn every_role_machine_and_command_on_the_secure_deployment() {
             );
             s.close().await.unwrap();
         }
-        // Issue 13 point 9: a planner cannot report a job's events, not even
+        // A planner cannot report a job's events, not even
         // on the agent's key: nobody hears them.
         let listener = planner_session(&operator).await.unwrap();
         let heard = listener
@@ -438,7 +437,7 @@ fn every_role_machine_and_command_on_the_secure_deployment() {
         let got = tokio::time::timeout(Duration::from_secs(2), heard.recv_async()).await;
         assert!(got.is_err(), "a planner's forged event was delivered");
         listener.close().await.unwrap();
-        // Issue 13 point 12: even with the template service's credentials,
+        // Even with the template service's credentials,
         // the agent stores no program of a job the station did not journal,
         // and none that fails its own path check (the hob run backwards).
         let file = dir.join("H01/programs/_N_SEC_0101_MPF");

@@ -132,7 +132,7 @@ fn check_json_carries_the_contract_and_the_spec_self_check_numbers() {
         .as_str()
         .unwrap()
         .contains("EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25,Z,0,0.395446,1)"));
-    // The template that made it, and its path check (issue 5 contract).
+    // The template that made it, and its path check, are part of the report.
     assert_eq!(v["program"]["template"]["id"], "cylindrical_840d");
     assert!(v["program"]["template"]["version"].as_u64().unwrap() >= 3);
     assert_eq!(v["program"]["path_check"]["ok"], true);

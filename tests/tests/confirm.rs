@@ -1,4 +1,4 @@
-//! Issue 12, point 3: a job becomes a case only when it was delivered, or
+//! A job becomes a case only when it was delivered, or
 //! when the planner says what really ran. Through the real binary and
 //! services: a job the model refused is `refused` in the knowledge base,
 //! never `planned`; `confirm --undelivered` of it is refused and adds no
@@ -9,7 +9,7 @@
 use gearcam_testkit::{gearcam, Cluster};
 
 #[test]
-fn point_3_a_refused_job_never_becomes_a_case() {
+fn a_refused_job_never_becomes_a_case() {
     let cluster = Cluster::start();
     let data = cluster.dir.path().display().to_string();
     let invalid = gearcam_testkit::examples::example("invalid_base_pitch.toml");

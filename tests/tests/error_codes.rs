@@ -1,4 +1,4 @@
-//! The error-code catalogue (`gearcam_proto::codes::CATALOGUE`, issue 11)
+//! The error-code catalogue (`gearcam_proto::codes::CATALOGUE`)
 //! against the source and against `docs/errors.md`:
 //!
 //! - every code raised in the non-test source of the services, the protocol

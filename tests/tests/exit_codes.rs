@@ -1,4 +1,4 @@
-//! Issue 12, point 7: the `gearcam` binary's exit codes have one meaning
+//! The `gearcam` binary's exit codes have one meaning
 //! each (`gearcam --help`, `services/gearcam/src/exit.rs`): 0 done, 1
 //! refused (a failed job's status too), 2 unreachable, 3 not found, 64 usage.
 //! Through the real binary and real services on loopback.
@@ -6,7 +6,7 @@
 use gearcam_testkit::{gearcam, Cluster};
 
 #[test]
-fn point_7_usage_errors_are_64_not_2_and_help_is_0() {
+fn usage_errors_are_64_not_2_and_help_is_0() {
     let (code, _, err) = gearcam(&["--no-such-flag"]);
     assert_eq!(code, Some(64), "{err}");
     let (code, _, err) = gearcam(&["submit"]);
@@ -17,7 +17,7 @@ fn point_7_usage_errors_are_64_not_2_and_help_is_0() {
 }
 
 #[test]
-fn point_7_status_exit_codes_say_failed_unknown_and_unreachable() {
+fn status_exit_codes_say_failed_unknown_and_unreachable() {
     let cluster = Cluster::start();
     let endpoint = cluster.endpoint.clone();
     let e = endpoint.as_str();
@@ -55,8 +55,8 @@ fn point_7_status_exit_codes_say_failed_unknown_and_unreachable() {
     let (code, _, err) = gearcam(&["status", &id, "--connect", e]);
     assert_eq!(code, Some(0), "{err}");
     let name = v["program"]["name"].as_str().unwrap().to_string();
-    // Issue 12 point 9: the history is a table with a header and dates;
-    // point 8: `program show --json` prints the version and its text.
+    // The history is a table with a header and dates; `program show
+    // --json` prints the version and its text.
     let (code, out, err) = gearcam(&[
         "program",
         "history",

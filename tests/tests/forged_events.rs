@@ -1,5 +1,5 @@
-//! Issue 13, point 9: the journal trusted any `delivered` or `failed` event,
-//! whoever published it. Through real processes: a job waits for its
+//! The journal must not trust a `delivered` or `failed` event whoever
+//! published it. Through real processes: a job waits for its
 //! (absent) agent; events forged by someone else (on another service's key,
 //! for another machine, or a state the reporter does not own) leave it
 //! waiting; only the machine's agent delivers it.
@@ -19,7 +19,7 @@ fn state(c: &Cluster, id: &str) -> serde_json::Value {
 }
 
 #[test]
-fn point_9_only_the_owner_of_a_state_may_report_it() {
+fn only_the_owner_of_a_state_may_report_it() {
     let mut c = Cluster::start_without_agent();
     let job = c.job_file(
         "spur.toml",

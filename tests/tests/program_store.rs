@@ -1,6 +1,7 @@
-//! Issue 12, points 1 and 2, through the real binary and services on
-//! loopback: a program name belongs to one part, and an operator's edit at
-//! the machine has a way forward that keeps the edit in the history.
+//! The program store's ownership and edit rules, through the real binary
+//! and services on loopback: a program name belongs to one part, and an
+//! operator's edit at the machine has a way forward that keeps the edit in
+//! the history.
 // Test code: a clock for the waits.
 #![allow(clippy::disallowed_methods)]
 
@@ -36,10 +37,10 @@ fn history(c: &Cluster, machine: &str) -> Vec<serde_json::Value> {
     h["versions"].as_array().unwrap().clone()
 }
 
-/// Point 1: long 840D part numbers were cut to one name, and the FANUC
-/// rule gave `XX-9-2107` the current `O2107` of part `HG-2107`.
+/// Long 840D part numbers must not be cut to one name, and the FANUC rule
+/// must not give `XX-9-2107` the current `O2107` of part `HG-2107`.
 #[test]
-fn point_1_a_program_name_belongs_to_one_part() {
+fn a_program_name_belongs_to_one_part() {
     let mut c = Cluster::start();
     c.start_agent_for("H02");
 
@@ -197,11 +198,11 @@ fn submit_raw(endpoint: &str, spec: JobSpec) -> StationReply {
     })
 }
 
-/// Point 2: an edit at the machine was detected but the job failed for
-/// good, later jobs of the program were refused, and the edit never
-/// reached the history.
+/// An edit at the machine, once detected, must not fail the job for good,
+/// refuse later jobs of the program, or stay out of the history: the job
+/// waits until the edit is resolved, and the edit is kept.
 #[test]
-fn point_2_an_edit_at_the_machine_is_resolved_and_kept() {
+fn an_edit_at_the_machine_is_resolved_and_kept() {
     let c = Cluster::start();
     let text = gearcam_testkit::examples::example("spur_840d.toml");
     let (_, v) = c.submit_wait(&c.job_file("first.toml", &text));

@@ -1,4 +1,4 @@
-//! Issue 12, point 12: the README a new user reads first names every
+//! The README a new user reads first names every
 //! command the binary has, the prerequisites and what "confidence" means,
 //! and every program's header names the order and when it was submitted.
 
@@ -25,7 +25,7 @@ fn subcommands(args: &[&str]) -> Vec<String> {
 }
 
 #[test]
-fn point_12_the_readme_table_has_every_command() {
+fn the_readme_table_has_every_command() {
     let readme = readme();
     let table: Vec<&str> = readme
         .lines()
@@ -57,7 +57,7 @@ fn point_12_the_readme_table_has_every_command() {
 }
 
 #[test]
-fn point_12_the_readme_says_prerequisites_and_confidence() {
+fn the_readme_says_prerequisites_and_confidence() {
     let readme = readme();
     for needed in [
         "## Prerequisites",
@@ -79,7 +79,7 @@ fn point_12_the_readme_says_prerequisites_and_confidence() {
 }
 
 #[test]
-fn point_12_the_program_header_names_the_order_and_the_submission() {
+fn the_program_header_names_the_order_and_the_submission() {
     let job = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/spur_840d.toml");
     let data = tempfile::tempdir().unwrap();
     let (code, out, err) = gearcam(&[

@@ -1,6 +1,6 @@
-//! Issue 13, point 8: `gearcam submit` could not be retried safely after it
-//! ended unreachable (exit 2): the retry of a job the station had journaled
-//! made a second job, or was refused (`JOB_ID_EXISTS`) though the job was
+//! `gearcam submit` can be retried safely after it ended unreachable
+//! (exit 2): the retry of a job the station had journaled must neither make
+//! a second job nor be refused (`JOB_ID_EXISTS`) when the job was
 //! delivered. Through real processes: the station is frozen (SIGSTOP) while
 //! a job is submitted, so the submitter hears nothing; thawed, the station
 //! journals and delivers it; the retry with the printed id reports the
@@ -22,7 +22,7 @@ fn signal(pid: u32, sig: &str) {
 }
 
 #[test]
-fn point_8_a_submit_that_ended_unreachable_is_retried_safely_with_its_id() {
+fn a_submit_that_ended_unreachable_is_retried_safely_with_its_id() {
     let mut c = Cluster::start();
     let file = c.job_file(
         "spur.toml",

@@ -1,7 +1,7 @@
-//! Issue 10, hobbing programs that are right on a real machine: the signs read
-//! back from the emitted program text of both dialects (mirror and invariance
+//! Hobbing programs that are right on a real machine: the signs read back
+//! from the emitted program text of both dialects (mirror and invariance
 //! properties over random jobs), the independent clearance check against the
-//! patent's ΔH′, and one regression test per defect, named after it.
+//! patent's ΔH′, and one regression test per defect found, named after it.
 //!
 //! Nothing here recomputes the model's formulas to judge the program: the
 //! signs come from the parsed program (the profile's axis mapping turns the

@@ -1,4 +1,4 @@
-//! The spiral face milling family through the whole system (issue 14): a
+//! The spiral face milling family through the whole system: a
 //! face job and a planar-thread job, submitted with `gearcam submit --wait`
 //! to a cluster of real service processes behind a router on loopback,
 //! reach the milling machines' agents (M01 FANUC, M02 LinuxCNC) and are

@@ -1,7 +1,7 @@
-//! Issue 13, point 3: while an agent is frozen, the station's re-drives
-//! (each asking the agent's store for a lost receipt, up to 2 s) ran one at
-//! a time in its only loop: submit and status went unanswered for tens of
-//! seconds and SIGTERM was ignored. Through real processes: the agent is
+//! While an agent is frozen, the station's re-drives (each asking the
+//! agent's store for a lost receipt, up to 2 s) must not run one at a time
+//! in its only loop, leaving submit and status unanswered for tens of
+//! seconds and SIGTERM ignored. Through real processes: the agent is
 //! stopped with SIGSTOP while 20 jobs wait on it.
 // Test code: clocks for the bounded waits.
 #![allow(clippy::disallowed_methods)]
@@ -21,7 +21,7 @@ fn signal(pid: u32, sig: &str) {
 }
 
 #[test]
-fn point_3_the_station_answers_and_stops_while_an_agent_is_frozen() {
+fn the_station_answers_and_stops_while_an_agent_is_frozen() {
     let mut c = Cluster::start();
     let spur = gearcam_testkit::examples::example("spur_840d.toml");
     let (_, v) = c.submit_wait(&c.job_file("first.toml", &spur));

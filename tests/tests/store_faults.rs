@@ -1,5 +1,5 @@
-//! Issue 13, points 1, 2 and 6: the program store under faults, through real
-//! processes on loopback (router, station, services, agent).
+//! The program store under faults, through real processes on loopback
+//! (router, station, services, agent).
 // Test code: clocks for the waits.
 #![allow(clippy::disallowed_methods)]
 
@@ -63,11 +63,11 @@ fn current_version(c: &Cluster) -> serde_json::Value {
         .clone()
 }
 
-/// Point 1: the agent killed between the rename and the index commit left
-/// the machine holding a program the history did not show as current, and
-/// the next program for the name was taken for an operator's edit.
+/// The agent killed between the rename and the index commit must not leave
+/// the machine holding a program the history does not show as current, nor
+/// the next program for the name taken for an operator's edit.
 #[test]
-fn point_1_a_crash_between_rename_and_commit_is_finished_at_restart() {
+fn a_crash_between_rename_and_commit_is_finished_at_restart() {
     let mut c = Cluster::start();
     let (_, v) = c.submit_wait(&spur(&c, 20));
     assert_eq!(v["state"], "delivered", "{v}");
@@ -107,11 +107,11 @@ fn point_1_a_crash_between_rename_and_commit_is_finished_at_restart() {
     assert_eq!(v["state"], "delivered", "{v}");
 }
 
-/// Point 2: a store that could not write (disk full) failed the accepted
-/// job for good; now it waits, says why, and is delivered once the store
-/// can write again.
+/// A store that cannot write (disk full) does not fail the accepted job for
+/// good: the job waits, says why, and is delivered once the store can write
+/// again.
 #[test]
-fn point_2_a_store_that_cannot_write_makes_the_job_wait_not_fail() {
+fn a_store_that_cannot_write_makes_the_job_wait_not_fail() {
     let mut c = Cluster::start();
     // A directory where the agent's temporary file goes: every write fails
     // (EISDIR, even for root), as on a full disk.
@@ -137,10 +137,10 @@ fn point_2_a_store_that_cannot_write_makes_the_job_wait_not_fail() {
     assert_eq!(names, ["_N_SP_1001_MPF"], "no temporary file is left");
 }
 
-/// Point 6: a repeated delivery answered the original receipt without
-/// looking at the file, after the file was deleted at the machine.
+/// A repeated delivery must not answer the original receipt without looking
+/// at the file: the file may have been deleted at the machine.
 #[test]
-fn point_6_a_repeated_delivery_checks_the_file() {
+fn a_repeated_delivery_checks_the_file() {
     let c = Cluster::start();
     let (_, v) = c.submit_wait(&spur(&c, 20));
     assert_eq!(v["state"], "delivered", "{v}");
@@ -252,10 +252,11 @@ fn exits(c: &mut Cluster, label: &str) -> String {
     std::fs::read_to_string(&c.proc(label).log).unwrap()
 }
 
-/// Point 4: an emptied index or journal was taken as a fresh one: the agent
-/// forgot its whole history, the station its unfinished jobs, silently.
+/// An emptied index or journal must not be taken as a fresh one, which
+/// would make the agent forget its whole history, the station its
+/// unfinished jobs, silently.
 #[test]
-fn point_4_an_emptied_index_or_journal_is_refused_with_a_recovery() {
+fn an_emptied_index_or_journal_is_refused_with_a_recovery() {
     let mut c = Cluster::start();
     let (_, v) = c.submit_wait(&spur(&c, 20));
     assert_eq!(v["state"], "delivered", "{v}");
@@ -307,10 +308,10 @@ fn point_4_an_emptied_index_or_journal_is_refused_with_a_recovery() {
     );
 }
 
-/// Point 5: a second agent for one machine (a misconfiguration) served too:
-/// deliveries reached both, receipts split, jobs failed though stored once.
+/// A second agent for one machine (a misconfiguration) must not serve too:
+/// deliveries would reach both, receipts split, jobs fail though stored once.
 #[test]
-fn point_5_a_second_agent_for_a_machine_refuses_to_serve() {
+fn a_second_agent_for_a_machine_refuses_to_serve() {
     let mut c = Cluster::start();
     let (_, v) = c.submit_wait(&spur(&c, 20));
     assert_eq!(v["state"], "delivered", "{v}");
@@ -341,11 +342,11 @@ fn point_5_a_second_agent_for_a_machine_refuses_to_serve() {
     assert_eq!(rows, 4);
 }
 
-/// Point 7: an operator's edit saved while a delivery was being written
-/// (between the checks and the rename) was overwritten. The agent's write
-/// is held open for 3 s by fault injection; the edit falls into it.
+/// An operator's edit saved while a delivery is being written (between the
+/// checks and the rename) is not overwritten. The agent's write is held
+/// open for 3 s by fault injection; the edit falls into it.
 #[test]
-fn point_7_an_edit_during_a_delivery_is_kept() {
+fn an_edit_during_a_delivery_is_kept() {
     let mut c = Cluster::start();
     let (_, v) = c.submit_wait(&spur(&c, 20));
     assert_eq!(v["state"], "delivered", "{v}");

@@ -1,4 +1,4 @@
-//! Issue 12, point 5: the model's warnings reach the user. A blank at the
+//! The model's warnings reach the user. A blank at the
 //! edge of its window (`BLANK_OD_EDGE`) is delivered with the warning's
 //! code and text in `gearcam submit`'s progress and result, in
 //! `submit --json`, and in `gearcam status`; through the real binary and
@@ -9,7 +9,7 @@ use std::process::{Command, Stdio};
 use gearcam_testkit::{bin, Cluster};
 
 #[test]
-fn point_5_warnings_reach_the_user() {
+fn warnings_reach_the_user() {
     let cluster = Cluster::start();
     // H01 allows a blank 2.0 mm below the tip diameter (81 mm); 1.9 mm
     // below is within the window, at its edge.

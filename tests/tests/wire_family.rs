@@ -1,4 +1,4 @@
-//! The wire EDM family through the whole system (issue 15): a die job for
+//! The wire EDM family through the whole system: a die job for
 //! the 3B/4B machine W01 and one for the ISO machine W02, submitted with
 //! `gearcam submit --wait` to a cluster of real service processes behind a
 //! router on loopback, reach the machines' agents and are stored under the

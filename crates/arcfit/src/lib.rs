@@ -1,4 +1,4 @@
-//! Tolerance-bounded arc splines (issue 15): the fewest circular arcs, each
+//! Tolerance-bounded arc splines: the fewest circular arcs, each
 //! joining the next without a corner (G1), that stay within a tolerance ε of
 //! a smooth plane curve. Wire EDM and many controls cut only lines and arcs;
 //! a spline of arcs is the exact program of such a path.

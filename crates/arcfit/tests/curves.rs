@@ -1,6 +1,6 @@
 //! The arc spline fit on curves whose geometry is known: a circle (one arc,
 //! exactly), the involute flank of a spur gear (m 2, z 20, α 20°, the
-//! figure issue 15 names: a greedy biarc fit needs 6 arcs per flank at 1 µm),
+//! reference figure: a greedy biarc fit needs 6 arcs per flank at 1 µm),
 //! and random involutes and circles (property tests). Every fit is measured
 //! again here by a brute-force nearest-point search, not by the crate's own
 //! `deviation`.
@@ -166,7 +166,7 @@ fn a_circle_is_one_arc() {
     assert!(measured(&c, &f.arcs) <= 0.001);
 }
 
-/// Issue 15's figure: the involute flank of m 2, z 20, α 20°, x 0, from
+/// The reference figure's flank: the involute of m 2, z 20, α 20°, x 0, from
 /// the form circle of a rack with ha* = 1 (r_form = √(rb² + (r·sin α −
 /// ha*·m/sin α)²) = 18.820 mm) to the tip circle (22 mm), at 1 µm.
 #[test]

@@ -584,7 +584,7 @@ mod tests {
 
     #[test]
     fn egonsyne_y_group_with_three_arguments() {
-        // Issue 10 defect 6: the Y group of this block has no synchronised
+        // The Y group of this block has no synchronised
         // position (axis, numerator, denominator); each leading axis of
         // EGONSYNE takes four arguments.
         let err = one("N260 EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,1,25,Y,1.526579,1)").unwrap_err();

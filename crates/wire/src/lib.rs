@@ -1,4 +1,4 @@
-//! Wire EDM of spur-gear punches and dies (seed 002, issue 15), the pure
+//! Wire EDM of spur-gear punches and dies (seed 002), the pure
 //! part (docs/wire.md).
 //!
 //! # Layout

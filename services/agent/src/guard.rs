@@ -1,4 +1,4 @@
-//! Defence in depth before a program is stored (issue 13): the agent stores
+//! Defence in depth before a program is stored: the agent stores
 //! only programs of jobs the station journaled for its machine, and checks
 //! each program again against the model the model service computed for the
 //! job — not the one the sender might claim.

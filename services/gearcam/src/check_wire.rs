@@ -192,8 +192,9 @@ mod tests {
         }
     }
 
-    /// `gearcam check --json` of a die: `model.die` with the figures and
-    /// the certificate the issue names, `program.dialect` the form.
+    /// `gearcam check --json` of a die: `model.die` with the gear's figures
+    /// and the fit's certificate (arcs, deviation, closure, blocks),
+    /// `program.dialect` the form.
     #[test]
     fn a_die_report_has_the_figures_and_certificate_in_json() {
         let conn = gearcam_knowledge::db::open_in_memory().unwrap();

@@ -1,4 +1,4 @@
-//! Issue 12, point 8: under `--json` a failure is JSON on standard output
+//! Under `--json` a failure is JSON on standard output
 //! (`{"ok": false, "exit": N, "errors": [...]}`) with a non-zero exit, for
 //! every command, whatever failed: a refusal with typed errors, an unknown
 //! record, an unreachable bus, a data directory that cannot be opened, a
@@ -33,7 +33,7 @@ fn assert_failure(v: &serde_json::Value, exit: i32, code: &str) {
 }
 
 #[test]
-fn point_8_failures_under_json_are_json_on_stdout() {
+fn failures_under_json_are_json_on_stdout() {
     let data = tempfile::tempdir().unwrap();
     let d = data.path().to_str().unwrap();
 

@@ -128,7 +128,7 @@ fn kb_lists_adds_edits_refuses_and_round_trips_csv() {
     let o = gearcam(&data, &["kb", "remove", "hobs", "HOB-M2-63"]);
     assert!(o.status.success());
     let o = gearcam(&data, &["kb", "show", "hobs", "HOB-M2-63"]);
-    // Not found: exit 3 (issue 12 point 7).
+    // Not found: exit 3, the one code for an unknown record.
     assert_eq!(o.status.code(), Some(3));
     assert!(stderr(&o).contains("NOT_FOUND"));
 
@@ -250,11 +250,11 @@ fn kb_shows_the_fanuc_machine_h02_and_check_plans_for_it() {
     }
 }
 
-/// Issue 12, point 9 (in part): `gearcam kb libraries` speaks to a person:
+/// `gearcam kb libraries` speaks to a person:
 /// each field's type and whether it is required or its default, no Rust
 /// `Debug` text.
 #[test]
-fn point_9_kb_libraries_prints_no_rust_debug_text() {
+fn kb_libraries_prints_no_rust_debug_text() {
     let dir = tempfile::tempdir().unwrap();
     let o = gearcam(dir.path(), &["kb", "libraries"]);
     assert!(o.status.success(), "{}", stderr(&o));
@@ -266,10 +266,10 @@ fn point_9_kb_libraries_prints_no_rust_debug_text() {
     assert!(text.contains("required"), "{text}");
 }
 
-/// Issue 12, point 8 (in part): `--json` means JSON for `kb libraries` and
+/// `--json` means JSON for `kb libraries` and
 /// `kb export` too (they printed text and CSV).
 #[test]
-fn point_8_kb_libraries_and_export_print_json_with_json() {
+fn kb_libraries_and_export_print_json_with_json() {
     let dir = tempfile::tempdir().unwrap();
     let o = gearcam(dir.path(), &["kb", "libraries", "--json"]);
     assert!(o.status.success(), "{}", stderr(&o));

@@ -1,4 +1,4 @@
-//! Issue 12, point 6: the `gearcam` binary never panics on a closed pipe
+//! The `gearcam` binary never panics on a closed pipe
 //! (`gearcam jobs | true`, `| head -1`). A reader that stops early is not an
 //! error: the output is dropped and the command ends normally.
 
@@ -23,7 +23,7 @@ fn with_closed_stdout(args: &[&str]) -> (Option<i32>, String) {
 }
 
 #[test]
-fn point_6_a_closed_pipe_is_not_a_panic() {
+fn a_closed_pipe_is_not_a_panic() {
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().display().to_string();
     let job = gearcam_testkit::examples::dir().join("spur_840d.toml");

@@ -157,7 +157,7 @@ fn analyze_import_list_show_and_versions() {
     assert_eq!(list[1]["id"], "cylindrical_840d");
     assert_eq!(list[1]["version"], 2);
     assert_eq!(list[1]["versions"], serde_json::json!([1, 2]));
-    // Issue 12 point 9: the table shows versions as versions (`v1 v2`), not
+    // The table shows versions as versions (`v1 v2`), not
     // as a count or a decimal number (`1,2`).
     let o = gearcam(&data, &["list"]);
     let out = stdout(&o);

@@ -68,11 +68,11 @@ fn submit_refuses_an_unreadable_job_file_before_touching_the_bus() {
     assert_eq!(v["errors"][0]["code"], "JOB_FILE_UNREADABLE");
 }
 
-/// Issue 12, point 11: the client commands offer only what a client uses:
+/// The client commands offer only what a client uses:
 /// where to connect, or a configuration file; never `--listen` or a mode
 /// (`--mode router`).
 #[test]
-fn point_11_client_commands_offer_only_client_options() {
+fn client_commands_offer_only_client_options() {
     for args in [
         vec!["submit", "--help"],
         vec!["jobs", "--help"],
@@ -93,10 +93,10 @@ fn point_11_client_commands_offer_only_client_options() {
     }
 }
 
-/// Issue 12, point 9 (in part): a bus failure says what to do, without the
+/// A bus failure says what to do, without the
 /// bus's own log lines, source paths or colour codes; `-v` shows the log.
 #[test]
-fn point_9_a_bus_failure_says_what_to_do_without_log_noise() {
+fn a_bus_failure_says_what_to_do_without_log_noise() {
     let run = |verbose: bool| {
         let mut cmd = Command::new(env!("CARGO_BIN_EXE_gearcam"));
         if verbose {
@@ -127,11 +127,11 @@ fn point_9_a_bus_failure_says_what_to_do_without_log_noise() {
     assert!(!err.contains("\u{1b}["), "no colour into a pipe: {err}");
 }
 
-/// Issue 12, point 10: job-file errors speak a planner's language: an
+/// Job-file errors speak a planner's language: an
 /// unknown key names the nearest known one, a type error says what the key
 /// takes and what was given, an oversize part number is refused on its field.
 #[test]
-fn point_10_job_file_errors_name_the_key_and_suggest() {
+fn job_file_errors_name_the_key_and_suggest() {
     let dir = tempfile::tempdir().unwrap();
     let spur = std::fs::read_to_string(
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/spur_840d.toml"),

@@ -1,4 +1,4 @@
-//! Retrieval over 1,000,000 cases (docs/knowledge.md#case-based-reasoning; issue 4 target: p50 under 5 ms).
+//! Retrieval over 1,000,000 cases (docs/knowledge.md#case-based-reasoning; target: p50 under 5 ms).
 //!
 //! `cargo bench -p gearcam-knowledge --bench retrieval`; criterion prints the
 //! time per retrieval, and `target/criterion/<bench>/new/estimates.json`

@@ -1,5 +1,5 @@
-//! Every change to the knowledge base recorded: who, when, which record, the
-//! old and the new values (issue 13).
+//! Every change to the knowledge base recorded, so that any change can be
+//! traced: who, when, which record, the old and the new values.
 //!
 //! SQLite triggers on the library tables write each insert, update and
 //! delete into `kb_changes`, whatever made it (the CLI, a CSV import, a

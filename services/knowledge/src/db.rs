@@ -160,7 +160,7 @@ DROP TABLE cutting_data;
     // a fixture tall enough for the hob's run-out.
     "",
     // Version 5: a job a later stage refused is `refused`, never left
-    // `planned` (issue 12): the state's check gains the value; SQLite changes
+    // `planned`: the state's check gains the value; SQLite changes
     // a check by copying the table.
     r#"
 CREATE TABLE jobs_v5 (
@@ -190,7 +190,7 @@ ALTER TABLE jobs_v5 RENAME TO jobs;
     // new) by triggers ([`crate::audit`]); created in Rust from the tables'
     // columns.
     "",
-    // Version 7: the spiral face milling family (issue 14): milling
+    // Version 7: the spiral face milling family: milling
     // machines, mills, starting cutting data and cases; audited like the rest.
     r#"
 CREATE TABLE IF NOT EXISTS mill_machines (
@@ -252,7 +252,7 @@ CREATE TABLE IF NOT EXISTS milling_cases (
 );
 CREATE INDEX IF NOT EXISTS milling_cases_by_group ON milling_cases (kind, material_group);
 "#,
-    // Version 8: the wire EDM family (issue 15): machines, wires and
+    // Version 8: the wire EDM family: machines, wires and
     // starting technology; audited like the rest.
     r#"
 CREATE TABLE IF NOT EXISTS wire_machines (

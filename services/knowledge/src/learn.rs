@@ -535,7 +535,7 @@ mod tests {
     }
 
     /// A job whose delivery was not heard becomes a case only with the
-    /// values that really ran (issue 12 point 3).
+    /// values that really ran: the confirmation must give them.
     #[test]
     fn an_undelivered_job_needs_the_values_that_ran() {
         let conn = db::open_in_memory().unwrap();

@@ -1,4 +1,4 @@
-//! Properties of case-based reasoning (issue 4): an exact copy of a job as a
+//! Properties of case-based reasoning: an exact copy of a job as a
 //! case ranks first with similarity 1; ranking does not depend on the order
 //! of the cases; the job's overrides always win.
 

@@ -1,5 +1,5 @@
-//! Where every value of a model came from (issue 3, "explanation"): the job,
-//! a knowledge-base case, the tool library, the machine profile, a documented
+//! Where every value of a model came from, so a planner can check it: the
+//! job, a knowledge-base case, the tool library, the machine profile, a documented
 //! default, or the model's own computation (with its formula).
 
 use gearcam_proto::{Explained, Geometry, Kinematics, Origin, ProcessPlan, Source};

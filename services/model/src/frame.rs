@@ -293,7 +293,8 @@ mod tests {
             let cw_deg_per_mm = table_turn(&g, [0.0, 0.0, 1.0], dz).to_degrees() / dz;
             assert_relative_eq!(cw_deg_per_mm, differential_deg_per_mm(&g), epsilon = 1e-9);
         }
-        // SPEC worked self-check: mn 3, z 25, β 15° → 0.395446 °/mm.
+        // The worked self-check (docs/reference.md#worked-self-check):
+        // mn 3, z 25, β 15° → 0.395446 °/mm.
         let g = gear(15.0, Some(Hand::Right));
         assert_relative_eq!(differential_deg_per_mm(&g), 0.395446, epsilon = 5e-7);
         let g = gear(15.0, Some(Hand::Left));

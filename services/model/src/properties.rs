@@ -1,4 +1,4 @@
-//! Property tests over wide random valid inputs (issue 3), cylindrical,
+//! Property tests over wide random valid inputs, cylindrical,
 //! conical and crowned gears: positions ordered,
 //! ΔH′ at least the spur approach length when γ = 0, speeds and feeds
 //! positive and within the machine's limits or reported, results finite,

@@ -272,13 +272,13 @@ fn explain_names_the_fixture_heights_own_origin() {
     assert_eq!(origin("gear.module_mm"), gearcam_proto::Origin::Library);
 }
 
-/// Issue 12, point 4: the hob shifts inside the usable length the tool
+/// The hob shifts inside the usable length the tool
 /// library gives (HOB-M3-80: 100 mm overall, 90 mm usable), not the overall
 /// length: at the extreme positions the active length ends at the usable
 /// length's ends, and the old range (on the overall length) was 5 mm wider
 /// on each side.
 #[test]
-fn point_4_the_shift_travels_in_the_usable_length() {
+fn the_shift_travels_in_the_usable_length() {
     let (m, _) = example("multi_cut_shift_840d.toml");
     assert_eq!(m.plan.hob.length_mm, 100.0);
     assert_eq!(m.plan.hob.usable_length_mm, Some(90.0));

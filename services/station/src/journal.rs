@@ -111,8 +111,8 @@ impl Journal {
              DROP INDEX IF EXISTS jobs_due;
              CREATE INDEX jobs_due ON jobs (next_attempt_ms) WHERE state NOT IN ('delivered', 'failed', 'superseded', 'cancelled');",
         )?;
-        // The model's warnings, kept since issue 12: a journal from before
-        // gains the column (its jobs have none recorded).
+        // The model's warnings, kept so that status can show them: a journal
+        // from before the column gains it (its jobs have none recorded).
         let has_warnings: bool = conn
             .prepare("SELECT 1 FROM pragma_table_info('jobs') WHERE name = 'warnings_json'")?
             .exists([])?;

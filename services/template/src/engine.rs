@@ -16,10 +16,11 @@
 //! 6. evaluate its output expression (O) into an NC line and append it;
 //! 7. the lines are the program text.
 //!
-//! Steps 5 and 6 are taken in the order condition, then output: the result is the
-//! same as the SPEC's evaluate-then-test, and an output whose parameters do not
-//! exist when its condition is false (the Z of a move that has none) is never
-//! evaluated. Evaluation is bounded by a step budget and an output limit.
+//! Steps 5 and 6 are taken in the order condition, then output: the result is
+//! the same as evaluating the output first and testing the condition after,
+//! and an output whose parameters do not exist when its condition is false
+//! (the Z of a move that has none) is never evaluated. Evaluation is bounded
+//! by a step budget and an output limit.
 
 use std::collections::HashMap;
 

@@ -700,8 +700,8 @@ mod tests {
         assert_eq!(lines[2], "; GEARCAM HOBBING PROGRAM SP_1001");
         assert_eq!(lines[3], "; JOB J-0001");
         assert_eq!(lines[4], "; PART SP-1001");
-        // Issue 12 point 12: quantity, material, quality grade, and when the
-        // job was submitted (the request's time, so a re-drive renders the
+        // The header names the order: quantity, material, quality grade, and
+        // when the job was submitted (the request's time, so a re-drive renders the
         // same bytes).
         assert_eq!(lines[5], "; ORDER QTY=10 MATERIAL 20CrMnTi QUALITY GRADE 8");
         assert_eq!(lines[6], "; SUBMITTED 2023-11-14 22:13:20 UTC BY station-1");
@@ -822,7 +822,8 @@ mod tests {
             block(&text, "EGONSYNE"),
             "EGONSYNE(C,\"FINE\",0,\"DCT\",B,0,2,37) ; COUPLED AT FIXED SYNCHRONISED POSITIONS: EVERY CUT SHARES THIS REFERENCE"
         );
-        // A left-hand hob turns the table the other way (issue 10, defect 3).
+        // A left-hand hob turns the table the other way: the C-per-B ratio's
+        // sign is the hob's hand.
         model.model.factors.c_per_b = Ratio { num: -2, den: 37 };
         let text = Templates::builtin().instantiate(&model).unwrap().text;
         assert!(

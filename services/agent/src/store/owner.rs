@@ -78,10 +78,11 @@ impl Store {
 mod tests {
     use super::super::tests::{program, store};
 
-    /// Issue 12 point 1: a program of another part replaced the current
-    /// program under the same name (FANUC `O2107` of `HG-2107` by `XX-9-2107`).
+    /// A program of another part must not replace the current program under
+    /// the same name (FANUC `O2107` of `HG-2107` by `XX-9-2107`): it is
+    /// refused, naming both parts.
     #[test]
-    fn point_1_a_name_of_another_part_is_refused_naming_both() {
+    fn a_name_of_another_part_is_refused_naming_both() {
         let dir = tempfile::tempdir().unwrap();
         let mut s = store(dir.path());
         let mut first = program("J1", "SP_2107", "first\n");

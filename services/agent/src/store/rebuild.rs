@@ -151,10 +151,11 @@ mod tests {
         assert_eq!(program_name(Dialect::Fanuc, "O9001"), None);
     }
 
-    /// Issue 13 point 4: an index emptied by a fault was taken as a fresh
-    /// one, and the whole history was forgotten silently.
+    /// An index emptied by a fault is not taken as a fresh one, which would
+    /// forget the whole history silently: it is refused and rebuilt from the
+    /// files.
     #[test]
-    fn point_4_an_emptied_index_is_refused_and_rebuilt_from_the_files() {
+    fn an_emptied_index_is_refused_and_rebuilt_from_the_files() {
         let dir = tempfile::tempdir().unwrap();
         let config = super::super::tests::store(dir.path()).config().clone();
         {

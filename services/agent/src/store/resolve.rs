@@ -320,11 +320,11 @@ mod tests {
     use super::super::tests::{program, store};
     use super::*;
 
-    /// Issue 12 point 2: an edit at the machine blocked every later delivery
-    /// of the program, with no way forward but deleting the file, and the
-    /// edit never reached the history.
+    /// An edit at the machine must not block every later delivery of the
+    /// program with no way forward but deleting the file, nor stay out of the
+    /// history: adopted, it becomes a version with who adopted it and when.
     #[test]
-    fn point_2_an_edit_is_adopted_as_a_version_with_who_and_when() {
+    fn an_edit_is_adopted_as_a_version_with_who_and_when() {
         let dir = tempfile::tempdir().unwrap();
         let mut s = store(dir.path());
         s.store(&program("J1", "SP_1", "first\n")).unwrap();
@@ -418,7 +418,7 @@ mod tests {
     }
 
     #[test]
-    fn point_2_a_replaced_edit_is_kept_in_the_history() {
+    fn a_replaced_edit_is_kept_in_the_history() {
         let dir = tempfile::tempdir().unwrap();
         let mut s = store(dir.path());
         s.store(&program("J1", "SP_1", "first\n")).unwrap();

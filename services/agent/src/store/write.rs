@@ -300,10 +300,10 @@ mod tests {
     use super::super::tests::{program, store};
     use super::*;
 
-    /// Issue 13 point 7: an operator's edit made while the program was being
-    /// written (after the checks, before the rename) was overwritten.
+    /// An operator's edit made while the program is being written (after the
+    /// checks, before the rename) is not overwritten.
     #[test]
-    fn point_7_an_edit_during_the_write_is_kept() {
+    fn an_edit_during_the_write_is_kept() {
         let dir = tempfile::tempdir().unwrap();
         let mut s = store(dir.path());
         s.store(&program("J1", "SP_1", "first\n")).unwrap();
@@ -327,11 +327,11 @@ mod tests {
         );
     }
 
-    /// Issue 13 point 1: a crash between the rename and the index commit
-    /// left the machine holding a program the history did not show; the
-    /// intent row is finished (renamed) or undone (not renamed) at open.
+    /// A crash between the rename and the index commit must not leave the
+    /// machine holding a program the history does not show: the intent row
+    /// is finished (renamed) or undone (not renamed) at open.
     #[test]
-    fn point_1_recovery_finishes_or_undoes_each_intent() {
+    fn recovery_finishes_or_undoes_each_intent() {
         let dir = tempfile::tempdir().unwrap();
         let mut s = store(dir.path());
         s.store(&program("J1", "SP_1", "first\n")).unwrap();
@@ -369,9 +369,9 @@ mod tests {
         assert_eq!(pending, 0);
     }
 
-    /// Issue 13 point 2: a failed write left its temporary file until restart.
+    /// A failed write removes its temporary file at once, not at restart.
     #[test]
-    fn point_2_a_failed_write_leaves_no_temporary_file() {
+    fn a_failed_write_leaves_no_temporary_file() {
         let dir = tempfile::tempdir().unwrap();
         // A directory where the file should be: the write fails, even as root.
         let target = dir.path().join("_N_X_MPF");

@@ -281,7 +281,7 @@ fn bevel(process: serde_json::Value) -> JobRequest {
 
 #[test]
 fn seed_conical_case_gives_a_roughing_feed_to_a_finish() {
-    // Issue 10: seed 000's bevel cut was a rough cut, 105 mm/min at
+    // Seed 000's bevel cut was a rough cut, 105 mm/min at
     // 246 rpm, 19 teeth, one start: 8.1 mm per table revolution as
     // published. A finishing job got 7.92 mm/rev from it; now the feed of
     // a finish comes only from finishing cases, else the default.

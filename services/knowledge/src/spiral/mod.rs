@@ -96,7 +96,7 @@ pub fn seed_v7(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     for (name, group) in [("AlMg3", "aluminium"), ("6061-T6", "aluminium")] {
         tx.execute(
             "INSERT OR IGNORE INTO materials (name, material_group, source) VALUES (?1, ?2, ?3)",
-            rusqlite::params![name, group, "gearcam seed (issue 14)"],
+            rusqlite::params![name, group, "gearcam seed: face milling example material"],
         )?;
     }
     for (id, group, vc, fz, ratio, depth, conf) in [

@@ -211,8 +211,9 @@ pub fn kinematics(plan: &ProcessPlan, geometry: &Geometry) -> Kinematics {
 /// - coupling factors C/B = z0/z exact, C per Z, C per Y
 ///   ([`shift_compensation_deg_per_mm`]);
 /// - hob shifting per part or per cut ([`crate::shift`]);
-/// - cut time of the SPEC, (b + 2·ΔH′)·z/(Nt·z0·fa) for the finishing cut, the
-///   time of every cut from its feed moves and dwells, per part and per job.
+/// - reported cut time (b + 2·ΔH′)·z/(Nt·z0·fa) for the finishing cut
+///   (docs/reference.md#speeds-feeds-and-times), the time of every cut from
+///   its feed moves and dwells, per part and per job.
 ///
 /// The top-level positions, depth, centre distance, ΔH′, table speed and feed
 /// are those of the finishing cut.
@@ -449,8 +450,9 @@ pub fn unit_kinematics(u: &Unit, geometry: &Geometry) -> Kinematics {
         axial_feed_mm_min: last.axial_feed_mm_min,
         differential_deg_per_mm: c_per_z,
         coupling,
-        // The SPEC's axial-feed formula; a worm wheel has no axial stroke, so
-        // its cut time is the finishing cut's radial or tangential feed time.
+        // The reported cut time of the axial stroke, (b + 2·ΔH′)·z/(Nt·z0·fa);
+        // a worm wheel has no axial stroke, so its cut time is the finishing
+        // cut's radial or tangential feed time.
         cut_time_min: if axial {
             (gear.face_width_mm + 2.0 * last.clearance_mm) * z / (hob_rpm * z0 * fa)
         } else {

@@ -33,8 +33,8 @@ fn spur_feed_is_fa_times_index_speed() {
 
 #[test]
 fn differential_flips_with_cut_mode_and_hob_hand() {
-    // Issue 10 defect 1: the C-per-Z coupling belongs to the gear's helix
-    // alone. Before the fix a climb cut or a left-hand hob gave −0.395446.
+    // The C-per-Z coupling belongs to the gear's helix alone. A climb cut or
+    // a left-hand hob once gave −0.395446.
     let right = kin(&fixtures::helical_plan(15.0, Hand::Right));
     for (hob_hand, mode) in [
         (Hand::Right, CutMode::Climb),
@@ -70,9 +70,9 @@ fn differential_flips_with_cut_mode_and_hob_hand() {
 
 #[test]
 fn swivel_ignores_the_hands() {
-    // Issue 10 defect 2: η = s_g·β − s_h·γ0 (γ0 = 2.3716°). Before the fix
-    // a spur gear got +2.3716 for both hob hands and the left-hand mirror
-    // image of a right-hand set-up got the same swivel.
+    // η = s_g·β − s_h·γ0 (γ0 = 2.3716°). A wrong rule once gave a spur gear
+    // +2.3716 for both hob hands and the left-hand mirror image of a
+    // right-hand set-up the same swivel.
     let mut g = fixtures::gear();
     let right = fixtures::hob();
     let left = HobData {
@@ -107,7 +107,7 @@ fn swivel_ignores_the_hands() {
 
 #[test]
 fn indexing_840d_ignores_the_hob_hand() {
-    // Issue 10 defect 3: the C-per-B ratio's sign is the hob's hand.
+    // The C-per-B ratio's sign is the hob's hand.
     let mut plan = fixtures::plan();
     let k = kin(&plan);
     assert_eq!(k.coupling, Ratio { num: 1, den: 25 });
@@ -143,7 +143,7 @@ fn clearance_without_swivel_is_the_approach_length() {
 
 #[test]
 fn delta_h_prime_too_small() {
-    // Issue 10 defect 4: the patent's factor cos γ − tan γ·sin γ made ΔH′
+    // The patent's factor cos γ − tan γ·sin γ made ΔH′
     // 2.1 mm short at γ 12.6°, 3.8 mm at 17° and 6.1 mm at 22° for this
     // blank. References: an independent Python sweep of the hob's tip
     // cylinder (2·10⁶ angles around the hob, the lowest point over the
