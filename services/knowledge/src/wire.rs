@@ -74,7 +74,7 @@ pub fn seed_v8(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     ] {
         tx.execute(
             "INSERT OR IGNORE INTO materials (name, material_group, source) VALUES (?1, ?2, ?3)",
-            rusqlite::params![name, group, "gearcam seed (issue 15)"],
+            rusqlite::params![name, group, "gearcam seed: wire EDM example material"],
         )?;
     }
     for (id, wire, group, on, off, amps, rate, conf) in [
@@ -455,5 +455,23 @@ mod tests {
         );
         let e = plan_wire(&conn, &die("W01", json!({"wire": {"wire": "NOPE"}}))).unwrap_err();
         assert_eq!(e[0].code, "UNKNOWN_WIRE");
+    }
+
+    /// A planned die is a row of the jobs library with its family's class,
+    /// and that row can be edited like any other (its class is one the
+    /// library knows).
+    #[test]
+    fn a_planned_wire_job_is_a_jobs_row_of_its_class() {
+        let conn = db::open_in_memory().unwrap();
+        let plan = plan_wire(&conn, &die("W01", json!({}))).unwrap();
+        record_planned(&conn, &plan, 1).unwrap();
+        let row = library::get(&conn, &library::JOBS, "J-W1")
+            .unwrap()
+            .unwrap();
+        assert_eq!(row["class"], "wire-die");
+        let mut set = Record::new();
+        set.insert("quantity".into(), json!(3));
+        let edited = library::edit(&conn, &library::JOBS, "J-W1", &set);
+        assert!(edited.is_ok(), "{edited:?}");
     }
 }

@@ -44,6 +44,8 @@ const JOB_CLASSES: &[&str] = &[
     "multi_gear",
     "spiral-face",
     "spiral-groove",
+    "wire-punch",
+    "wire-die",
 ];
 const ACCURACY: &[&str] = &["AA", "A", "B", "C"];
 const OPERATIONS: &[&str] = &["rough", "finish"];
@@ -573,7 +575,7 @@ pub const JOBS: Library = Library {
             Text,
             Required,
             OneOf(JOB_CLASSES),
-            "class (spiral-face, spiral-groove for the spiral family)",
+            "class (spiral-face, spiral-groove for the spiral family; wire-punch, wire-die for wire EDM)",
         ),
         f(
             "quantity",
