@@ -161,12 +161,95 @@ fn cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
         .find_map(|v| visit(graph, v, &mut Vec::new(), &mut done))
 }
 
+/// The paths to `prefix` + a name in a line of code (`super::` or
+/// `crate::library::`): the names.
+fn paths_after(line: &str, prefix: &str) -> Vec<String> {
+    line.match_indices(prefix)
+        .filter_map(|(at, _)| {
+            // A path's first segment only: not `a::super::x`, not the
+            // second `super::` of `super::super::x`, which names the
+            // grandparent's module, not a sibling.
+            let preceded = line[..at]
+                .chars()
+                .last()
+                .is_some_and(|c| c.is_ascii_alphanumeric() || c == '_' || c == ':');
+            let name: String = line[at + prefix.len()..]
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                .collect();
+            (!preceded && !name.is_empty() && name != "super").then_some(name)
+        })
+        .collect()
+}
+
+/// For every folder of modules below a crate's root (`library/`): the
+/// graph of its sibling modules (`defs`, `milling`, `wire`) through the
+/// paths one writes to another, `super::milling::…` or
+/// `crate::library::milling::…`.
+fn sibling_graphs(src: &Path) -> Vec<(PathBuf, BTreeMap<String, BTreeSet<String>>)> {
+    fn folders(dir: &Path, out: &mut Vec<PathBuf>) {
+        for e in std::fs::read_dir(dir).unwrap().flatten() {
+            if e.path().is_dir() {
+                out.push(e.path());
+                folders(&e.path(), out);
+            }
+        }
+    }
+    let mut dirs = Vec::new();
+    folders(src, &mut dirs);
+    let mut out = Vec::new();
+    for dir in dirs {
+        // The folder's modules: `x.rs` and `x/mod.rs`, each with its file.
+        let mut modules: BTreeMap<String, PathBuf> = BTreeMap::new();
+        for e in std::fs::read_dir(&dir).unwrap().flatten() {
+            let path = e.path();
+            let name = e.file_name().to_string_lossy().into_owned();
+            if path.is_dir() && path.join("mod.rs").is_file() {
+                modules.insert(name, path.join("mod.rs"));
+            } else if let Some(stem) = name.strip_suffix(".rs") {
+                if stem != "mod" {
+                    modules.insert(stem.to_string(), path);
+                }
+            }
+        }
+        let rel = dir.strip_prefix(src).unwrap();
+        let crate_path = format!(
+            "crate::{}::",
+            rel.components()
+                .map(|c| c.as_os_str().to_string_lossy().into_owned())
+                .collect::<Vec<_>>()
+                .join("::")
+        );
+        let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+        for (m, file) in &modules {
+            let uses = graph.entry(m.clone()).or_default();
+            for line in code(file) {
+                for used in paths_after(&line, "super::")
+                    .into_iter()
+                    .chain(paths_after(&line, &crate_path))
+                {
+                    if &used != m && modules.contains_key(&used) {
+                        uses.insert(used);
+                    }
+                }
+            }
+        }
+        out.push((dir, graph));
+    }
+    out
+}
+
 #[test]
 fn no_crate_has_an_import_loop() {
     let mut loops = Vec::new();
     for src in crate_sources() {
         if let Some(c) = cycle(&module_graph(&src)) {
             loops.push(format!("{}: {}", src.display(), c.join(" → ")));
+        }
+        for (dir, graph) in sibling_graphs(&src) {
+            if let Some(c) = cycle(&graph) {
+                loops.push(format!("{}: {}", dir.display(), c.join(" → ")));
+            }
         }
     }
     assert!(loops.is_empty(), "import loops:\n{}", loops.join("\n"));
@@ -190,6 +273,13 @@ fn the_loop_finder_finds_a_loop() {
     assert_eq!(
         crate_paths("use crate::render::format_fixed; x = crate::expr::f(); notcrate::y"),
         ["render", "expr"].map(String::from)
+    );
+    assert_eq!(
+        paths_after(
+            "use super::defs::f; super::super::x; a::super::y",
+            "super::"
+        ),
+        ["defs"].map(String::from)
     );
 }
 

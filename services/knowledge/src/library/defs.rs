@@ -1,8 +1,5 @@
 //! The library definitions: every library's table, key and fields.
 
-use gearcam_proto::JobError;
-use gearcam_proto::Stage;
-
 use super::fields::{Check, Def, Field, Kind, Library, Need};
 
 pub(super) const fn f(
@@ -709,43 +706,3 @@ pub const WEIGHTS: Library = Library {
         ),
     ],
 };
-
-/// Every library, in the order `gearcam kb` lists them.
-pub const LIBRARIES: &[Library] = &[
-    CLASSES_LIB,
-    WORKPIECES,
-    HOBS,
-    MACHINES,
-    CASES,
-    JOBS,
-    MATERIALS,
-    WEIGHTS,
-    super::milling::MILL_MACHINES,
-    super::milling::MILLS,
-    super::milling::MILLING_DATA,
-    super::milling::MILLING_CASES,
-    super::wire::WIRE_MACHINES,
-    super::wire::WIRES,
-    super::wire::WIRE_DATA,
-];
-
-/// A library by name.
-pub fn library(name: &str) -> Result<Library, JobError> {
-    LIBRARIES
-        .iter()
-        .find(|l| l.name == name)
-        .copied()
-        .ok_or_else(|| {
-            Stage::Knowledge.error(
-                "UNKNOWN_LIBRARY",
-                "library",
-                format!("one of {}", names().join(", ")),
-                name,
-                "there is no such library in the knowledge base",
-            )
-        })
-}
-
-fn names() -> Vec<&'static str> {
-    LIBRARIES.iter().map(|l| l.name).collect()
-}

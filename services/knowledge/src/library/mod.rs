@@ -28,6 +28,7 @@
 //! - `store`: the SQL reads and writes ([`list`], [`get`], [`keys`], [`add`],
 //!   [`edit`], [`remove`]).
 
+mod all;
 mod defs;
 mod fields;
 mod milling;
@@ -35,9 +36,8 @@ mod store;
 mod validate;
 mod wire;
 
-pub use defs::{
-    library, CASES, CLASSES_LIB, HOBS, JOBS, LIBRARIES, MACHINES, MATERIALS, WEIGHTS, WORKPIECES,
-};
+pub use all::{library, LIBRARIES};
+pub use defs::{CASES, CLASSES_LIB, HOBS, JOBS, MACHINES, MATERIALS, WEIGHTS, WORKPIECES};
 pub use fields::{cell, parse_value, Check, Def, Field, Kind, Library, Need, Outcome, Record};
 pub use milling::{MILLING_CASES, MILLING_DATA, MILLS, MILL_MACHINES};
 pub use store::{add, edit, get, keys, list, machine_error, remove};
