@@ -480,3 +480,142 @@ fn the_demo_and_the_tests_share_one_build() {
         differ.join("\n")
     );
 }
+
+/// The source folder of each workspace crate, by the name code uses for it
+/// (`gearcam_template` → `services/template/src`).
+fn crate_dirs() -> BTreeMap<String, PathBuf> {
+    let mut out = BTreeMap::new();
+    for src in crate_sources() {
+        let manifest = src.parent().unwrap().join("Cargo.toml");
+        let text = std::fs::read_to_string(&manifest).unwrap();
+        let name = text
+            .lines()
+            .find_map(|l| l.trim().strip_prefix("name = \""))
+            .and_then(|l| l.strip_suffix('"'))
+            .unwrap_or_else(|| panic!("no package name in {}", manifest.display()));
+        out.insert(name.replace('-', "_"), src);
+    }
+    out
+}
+
+/// True when `name` is defined, or re-exported, in `file`.
+fn defines(file: &Path, name: &str) -> bool {
+    let text = std::fs::read_to_string(file).unwrap_or_default();
+    let word = |line: &str, at: usize| {
+        let end = at + name.len();
+        !line[..at].ends_with(|c: char| c.is_alphanumeric() || c == '_')
+            && !line[end..].starts_with(|c: char| c.is_alphanumeric() || c == '_')
+    };
+    text.lines().any(|line| {
+        let l = line.trim_start();
+        line.match_indices(name).any(|(at, _)| {
+            word(line, at)
+                && (["fn", "struct", "enum", "const", "type", "trait", "static", "mod"]
+                    .iter()
+                    .any(|k| line[..at].trim_end().ends_with(k))
+                    || l.starts_with("pub use")
+                    || l.starts_with(&format!("{name}(")) // an enum variant
+                    || l.starts_with(&format!("{name} {{"))
+                    || l.starts_with(&format!("{name},")))
+        })
+    })
+}
+
+/// What is wrong with a Rust path written in the docs
+/// (`gearcam_knowledge::plan::choose_hob`), or `None` when its module
+/// exists and defines its last name. A segment with no module file of its
+/// own is a type, and the name is looked up in the module that holds it.
+fn rust_path_problem(path: &str, crates: &BTreeMap<String, PathBuf>) -> Option<String> {
+    let segs: Vec<&str> = path.trim_end_matches("()").split("::").collect();
+    let dir = crates.get(segs[0])?;
+    let (mut dir, mut file) = (dir.clone(), dir.join("lib.rs"));
+    if !file.is_file() {
+        file = dir.join("main.rs");
+    }
+    for (i, seg) in segs[1..segs.len() - 1].iter().enumerate() {
+        if dir.join(format!("{seg}.rs")).is_file() {
+            file = dir.join(format!("{seg}.rs"));
+            dir = dir.join(seg);
+        } else if dir.join(seg).join("mod.rs").is_file() {
+            file = dir.join(seg).join("mod.rs");
+            dir = dir.join(seg);
+        } else if i + 2 < segs.len() - 1 || !seg.starts_with(char::is_uppercase) {
+            return Some(format!("no module {seg}"));
+        }
+    }
+    let name = segs[segs.len() - 1];
+    let in_folder = std::fs::read_dir(&dir)
+        .map(|d| {
+            d.flatten().any(|e| {
+                e.path().extension().is_some_and(|x| x == "rs") && defines(&e.path(), name)
+            })
+        })
+        .unwrap_or(false);
+    (!defines(&file, name) && !in_folder).then(|| format!("{name} is not in {}", file.display()))
+}
+
+/// Every repository path and every path into gearcam's crates written in
+/// backticks in the docs exists: a doc that names a file or a function
+/// that moved or never was sends its reader nowhere.
+#[test]
+fn the_docs_name_files_and_functions_that_exist() {
+    const TOPS: [&str; 8] = [
+        "services/",
+        "crates/",
+        "proto/",
+        "deploy/",
+        "docs/",
+        "tests/",
+        "examples/",
+        ".ci/",
+    ];
+    let root = root();
+    let crates = crate_dirs();
+    let mut docs: Vec<PathBuf> = std::fs::read_dir(root.join("docs"))
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "md"))
+        .collect();
+    for f in [
+        "README.md",
+        "deploy/README.md",
+        "proto/README.md",
+        "tests/tests/README.md",
+    ] {
+        docs.push(root.join(f));
+    }
+    let mut missing = Vec::new();
+    for doc in &docs {
+        let text = std::fs::read_to_string(doc).unwrap();
+        for (n, line) in text.lines().enumerate() {
+            for tok in line.split('`').skip(1).step_by(2) {
+                let tok = tok.split('#').next().unwrap_or_default();
+                let tok = tok.trim_end_matches(['.', ',', ';', ':']);
+                if tok.contains([' ', '{', '*', '…', '|', '<', '[']) {
+                    continue;
+                }
+                let problem = if TOPS.iter().any(|t| tok.starts_with(t)) {
+                    let path = tok.split(':').next().unwrap_or_default();
+                    let here = doc.parent().unwrap().join(path);
+                    (!root.join(path).exists() && !here.exists())
+                        .then(|| "no such file".to_string())
+                } else if tok.contains("::") && crates.contains_key(tok.split("::").next().unwrap())
+                {
+                    rust_path_problem(tok, &crates)
+                } else {
+                    None
+                };
+                if let Some(p) = problem {
+                    missing.push(format!("{}:{}: `{tok}`: {p}", doc.display(), n + 1));
+                }
+            }
+        }
+    }
+    assert!(docs.len() > 8, "{} docs read", docs.len());
+    assert!(
+        missing.is_empty(),
+        "the docs name what is not there:\n{}",
+        missing.join("\n")
+    );
+}
