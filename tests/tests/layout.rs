@@ -619,3 +619,22 @@ fn the_docs_name_files_and_functions_that_exist() {
         missing.join("\n")
     );
 }
+
+/// `docs/architecture.md` lists every crate of the workspace by its folder,
+/// so a newcomer finds each one there.
+#[test]
+fn the_architecture_page_lists_every_crate() {
+    let page = std::fs::read_to_string(root().join("docs/architecture.md")).unwrap();
+    let missing: Vec<String> = crate_sources()
+        .iter()
+        .map(|src| {
+            let folder = src.parent().unwrap().strip_prefix(root()).unwrap();
+            format!("{}/", folder.display())
+        })
+        .filter(|folder| !page.contains(&format!("\n{folder}")))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "crates missing from docs/architecture.md: {missing:?}"
+    );
+}
