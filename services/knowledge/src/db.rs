@@ -298,6 +298,10 @@ DROP TRIGGER IF EXISTS kb_audit_wire_machines_add;
 DROP TRIGGER IF EXISTS kb_audit_wire_machines_update;
 DROP TRIGGER IF EXISTS kb_audit_wire_machines_remove;
 "#,
+    // Version 10: a job's tool is a hob, a mill or a wire, so the jobs
+    // library's column is `tool_id`, not `hob_id`; its rows keep their
+    // values.
+    "ALTER TABLE jobs RENAME COLUMN hob_id TO tool_id;",
 ];
 
 /// Opens (creating and seeding if new) the knowledge base at `path`.
@@ -453,6 +457,37 @@ mod tests {
     /// A version-8 database (wire machines without `rotates`, W01 edited
     /// by the shop) gains the column, every machine rotating, and keeps its
     /// rows: nothing is seeded again.
+    /// A knowledge base of version 9 named a job's tool `hob_id`: opened,
+    /// the column is `tool_id` with every row's value kept, and the jobs
+    /// library reads and edits it.
+    #[test]
+    fn a_knowledge_base_of_version_9_renames_hob_id_to_tool_id() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("knowledge.db");
+        let conn = open(&path).unwrap();
+        // As version 9 left it: the column `hob_id`.
+        conn.execute_batch("ALTER TABLE jobs RENAME COLUMN tool_id TO hob_id;")
+            .unwrap();
+        conn.execute(
+            "INSERT INTO jobs (job_id, part_number, machine, class, quantity, hob_id, state,
+                 confidence, plan_json, planned_at_ms)
+             VALUES ('J-OLD', 'P-1', 'H01', 'cylindrical', 2, 'HOB-M3-80', 'planned', 0.7, '{}', 1)",
+            [],
+        )
+        .unwrap();
+        conn.pragma_update(None, "user_version", 9).unwrap();
+        drop(conn);
+        let conn = open(&path).unwrap();
+        assert_eq!(schema_version(&conn).unwrap(), MIGRATIONS.len() as i64);
+        let job = records::job(&conn, "J-OLD").unwrap().unwrap();
+        assert_eq!(job.tool_id, "HOB-M3-80");
+        let mut set = library::Record::new();
+        set.insert("tool_id".into(), serde_json::json!("HOB-M3-80-B"));
+        library::edit(&conn, &library::JOBS, "J-OLD", &set).unwrap();
+        let job = records::job(&conn, "J-OLD").unwrap().unwrap();
+        assert_eq!((job.tool_id.as_str(), job.quantity), ("HOB-M3-80-B", 2));
+    }
+
     #[test]
     fn a_knowledge_base_of_version_8_gains_rotates_and_keeps_its_wire_machines() {
         let dir = tempfile::tempdir().unwrap();
@@ -473,10 +508,13 @@ mod tests {
              DELETE FROM wire_machines WHERE id = 'W02';",
         )
         .unwrap();
+        // Before version 10 the jobs' tool column was `hob_id`.
+        conn.execute_batch("ALTER TABLE jobs RENAME COLUMN tool_id TO hob_id;")
+            .unwrap();
         conn.pragma_update(None, "user_version", 8).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
-        assert_eq!(schema_version(&conn).unwrap(), 9);
+        assert_eq!(schema_version(&conn).unwrap(), MIGRATIONS.len() as i64);
         let rows = library::list(&conn, &library::WIRE_MACHINES).unwrap();
         assert_eq!(rows.len(), 1, "{rows:?}");
         assert_eq!(rows[0]["id"], "W01");
@@ -508,10 +546,13 @@ mod tests {
             [],
         )
         .unwrap();
+        // Before version 10 the jobs' tool column was `hob_id`.
+        conn.execute_batch("ALTER TABLE jobs RENAME COLUMN tool_id TO hob_id;")
+            .unwrap();
         conn.pragma_update(None, "user_version", 2).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
-        assert_eq!(schema_version(&conn).unwrap(), 9);
+        assert_eq!(schema_version(&conn).unwrap(), MIGRATIONS.len() as i64);
         let id = MachineId::new("H02").unwrap();
         assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h02()));
         // The version-2 seed record of HG-3003-L gains its profile shift.
@@ -524,6 +565,9 @@ mod tests {
         let mut set = library::Record::new();
         set.insert("name".into(), "our own H02".into());
         library::edit(&conn, &library::MACHINES, "H02", &set).unwrap();
+        // Before version 10 the jobs' tool column was `hob_id`.
+        conn.execute_batch("ALTER TABLE jobs RENAME COLUMN tool_id TO hob_id;")
+            .unwrap();
         conn.pragma_update(None, "user_version", 2).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
@@ -561,10 +605,13 @@ mod tests {
         // Loading the old profile names what it lacks.
         let err = machine(&conn, &id).unwrap_err().to_string();
         assert!(err.contains("missing field"), "{err}");
+        // Before version 10 the jobs' tool column was `hob_id`.
+        conn.execute_batch("ALTER TABLE jobs RENAME COLUMN tool_id TO hob_id;")
+            .unwrap();
         conn.pragma_update(None, "user_version", 3).unwrap();
         drop(conn);
         let conn = open(&path).unwrap();
-        assert_eq!(schema_version(&conn).unwrap(), 9);
+        assert_eq!(schema_version(&conn).unwrap(), MIGRATIONS.len() as i64);
         assert_eq!(machine(&conn, &id).unwrap(), Some(seed_machine_h01()));
         let sp = library::get(&conn, &library::WORKPIECES, "SP-1001")
             .unwrap()

@@ -63,7 +63,7 @@ pub(crate) fn record_job(
     at_ms: u64,
 ) -> Result<(), KnowledgeError> {
     conn.execute(
-        "INSERT OR REPLACE INTO jobs (job_id, part_number, machine, class, quantity, hob_id, state,
+        "INSERT OR REPLACE INTO jobs (job_id, part_number, machine, class, quantity, tool_id, state,
                                       confidence, plan_json, planned_at_ms)
          VALUES (?1, ?2, ?3, ?4, ?5, ?6, 'planned', ?7, ?8, ?9)",
         rusqlite::params![

@@ -307,7 +307,7 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
 }
 
 /// Records a planned wire job in the jobs library (state `planned`; its
-/// class `wire-punch` or `wire-die`, its wire in `hob_id`).
+/// class `wire-punch` or `wire-die`, its wire in `tool_id`).
 pub fn record_planned(
     conn: &Connection,
     plan: &WirePlan,

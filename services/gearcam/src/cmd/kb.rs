@@ -254,7 +254,7 @@ fn columns(lib: &Library) -> &'static [&'static str] {
             "part_number",
             "machine",
             "state",
-            "hob_id",
+            "tool_id",
             "confidence",
         ],
         "materials" => &["name", "material_group", "hardness_hb"],

@@ -582,11 +582,11 @@ pub const JOBS: Library = Library {
             "parts ordered",
         ),
         f(
-            "hob_id",
+            "tool_id",
             Text,
             Required,
             Any,
-            "hob used (the mill, for the spiral family)",
+            "the tool used: the hob, the mill (spiral face milling) or the wire (wire EDM)",
         ),
         f(
             "state",

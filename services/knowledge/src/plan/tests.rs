@@ -543,7 +543,7 @@ fn the_database_file_is_created_once_and_reopened_without_reseeding() {
     let path = dir.path().join("kb/knowledge.db");
     let conn = db::open(&path).unwrap();
     assert_eq!(db::hobs(&conn).unwrap().len(), 5);
-    assert_eq!(db::schema_version(&conn).unwrap(), 9);
+    assert_eq!(db::schema_version(&conn).unwrap(), 10);
     let n = library::list(&conn, &library::CASES).unwrap().len();
     assert_eq!(n, 14);
     drop(conn);

@@ -447,8 +447,9 @@ pub struct JobRecord {
     pub class: JobClass,
     /// Parts ordered.
     pub quantity: u32,
-    /// Hob used.
-    pub hob_id: String,
+    /// The tool used: the hob, the mill (spiral face milling) or the wire
+    /// (wire EDM).
+    pub tool_id: String,
     /// Planned, delivered or confirmed.
     pub state: JobState,
     /// Confidence of the proposal.
@@ -479,7 +480,7 @@ impl TableRecord for JobRecord {
             machine: r.get("machine")?,
             class: r.choice("class", JobClass::parse)?,
             quantity: r.get("quantity")?,
-            hob_id: r.get("hob_id")?,
+            tool_id: r.get("tool_id")?,
             state: r.choice("state", JobState::parse)?,
             confidence: r.get("confidence")?,
             plan_json: r.get("plan_json")?,

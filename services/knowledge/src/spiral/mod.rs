@@ -698,7 +698,7 @@ fn choose_tool(
 }
 
 /// Records a planned spiral job in the jobs library (state `planned`; its
-/// class is `spiral-face` or `spiral-groove`, its tool in `hob_id`).
+/// class is `spiral-face` or `spiral-groove`, its tool in `tool_id`).
 pub fn record_planned(
     conn: &Connection,
     plan: &SpiralPlan,
