@@ -638,3 +638,44 @@ fn the_architecture_page_lists_every_crate() {
         "crates missing from docs/architecture.md: {missing:?}"
     );
 }
+
+/// The shared libraries (`proto`, `crates/*`) depend, in any section of
+/// their manifests, only on `proto` and on one another: never on a service
+/// or on the test support, which sit above them.
+#[test]
+fn the_shared_libraries_depend_on_nothing_above_them() {
+    let root = root();
+    let mut shared = vec![root.join("proto")];
+    let mut crates: Vec<PathBuf> = std::fs::read_dir(root.join("crates"))
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.join("Cargo.toml").is_file())
+        .collect();
+    crates.sort();
+    shared.extend(crates);
+    let name_of = |dir: &Path| {
+        let text = std::fs::read_to_string(dir.join("Cargo.toml")).unwrap();
+        text.lines()
+            .find_map(|l| l.trim().strip_prefix("name = \""))
+            .and_then(|l| l.strip_suffix('"'))
+            .unwrap()
+            .to_string()
+    };
+    let allowed: BTreeSet<String> = shared.iter().map(|d| name_of(d)).collect();
+    let mut upward = Vec::new();
+    for dir in &shared {
+        let text = std::fs::read_to_string(dir.join("Cargo.toml")).unwrap();
+        for line in text.lines() {
+            let dep = line.split(['=', '.']).next().unwrap_or_default().trim();
+            if dep.starts_with("gearcam") && !allowed.contains(dep) {
+                upward.push(format!("{} → {dep}", name_of(dir)));
+            }
+        }
+    }
+    assert!(allowed.len() >= 5, "{allowed:?}");
+    assert!(
+        upward.is_empty(),
+        "shared libraries depending on what is above them: {upward:?}"
+    );
+}
