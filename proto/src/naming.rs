@@ -196,6 +196,20 @@ impl NameProblem {
     }
 }
 
+/// The refusal of `job`'s program name on a control of `dialect`, as a
+/// typed error of `stage`, or `None` when the control accepts it
+/// ([`program_name`]).
+pub fn name_error(
+    dialect: Dialect,
+    job: &crate::JobHeader,
+    four_b: bool,
+    stage: crate::Stage,
+) -> Option<crate::JobError> {
+    program_name(dialect, job, four_b)
+        .err()
+        .map(|p| p.error(stage, dialect))
+}
+
 /// The program's name at the machine and the file it is stored in: the
 /// job's own (`[job] program_name`), else the one made from the part number
 /// by the control's rule; either checked against the rule. `four_b` is a

@@ -522,17 +522,11 @@ fn every_role_machine_and_command_on_the_secure_deployment() {
 /// `mallory`, whose name must never be what gearcam records on an
 /// authenticated connection.
 fn as_mallory(config: &Path, args: &[&str]) -> (Option<i32>, serde_json::Value) {
-    let out = Command::new(bin("gearcam"))
-        .args(args)
-        .args(["--json", "--config", &config.display().to_string()])
-        .env("USER", "mallory")
-        .env("LOGNAME", "mallory")
-        .output()
-        .unwrap();
-    let v = serde_json::from_slice(&out.stdout).unwrap_or_else(|_| {
-        serde_json::Value::String(String::from_utf8_lossy(&out.stderr).into_owned())
-    });
-    (out.status.code(), v)
+    gearcam_testkit::secure::gearcam_json(
+        config,
+        args,
+        &[("USER", "mallory"), ("LOGNAME", "mallory")],
+    )
 }
 
 /// Authorship is the login the router checked, on every change: the

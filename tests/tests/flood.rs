@@ -39,21 +39,12 @@ fn an_authenticated_flood_crashes_nothing_and_every_query_is_answered() {
     let planner = secure.cfg("planner");
     // The deployment serves before the flood: a job is delivered.
     let job = gearcam_testkit::examples::dir().join("spur_840d.toml");
-    let deliver = |label: &str| {
-        let out = std::process::Command::new(gearcam_testkit::bin("gearcam"))
-            .args(["submit", &job.display().to_string(), "--wait", "--json"])
-            .args([
-                "--timeout",
-                "60",
-                "--config",
-                &planner.display().to_string(),
-            ])
-            .output()
-            .expect("gearcam submit runs");
-        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or_default();
-        (label.to_string(), v)
+    let job = job.display().to_string();
+    let deliver = || {
+        let submit = ["submit", job.as_str(), "--wait", "--timeout", "60"];
+        gearcam_testkit::secure::gearcam_json(&planner, &submit, &[]).1
     };
-    let (_, v) = deliver("before");
+    let v = deliver();
     assert_eq!(
         v["state"],
         "delivered",
@@ -96,7 +87,7 @@ fn an_authenticated_flood_crashes_nothing_and_every_query_is_answered() {
         through.len()
     );
 
-    let (_, v) = deliver("after");
+    let v = deliver();
     assert_eq!(
         v["state"],
         "delivered",

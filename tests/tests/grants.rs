@@ -6,22 +6,13 @@
 //! subject, action and key, even where the pipeline would only wait.
 
 use std::path::Path;
-use std::process::Command;
 
-use gearcam_testkit::secure::Secure;
-use gearcam_testkit::{bin, examples};
+use gearcam_testkit::examples;
+use gearcam_testkit::secure::{gearcam_json, Secure};
 
-/// `gearcam ARGS --config CONFIG --json`: exit code and the JSON printed.
+/// `gearcam ARGS --json --config CONFIG`: exit code and the JSON printed.
 fn cli(config: &Path, args: &[&str]) -> (Option<i32>, serde_json::Value) {
-    let out = Command::new(bin("gearcam"))
-        .args(args)
-        .args(["--json", "--config", &config.display().to_string()])
-        .output()
-        .expect("gearcam runs");
-    let v = serde_json::from_slice(&out.stdout).unwrap_or_else(|_| {
-        serde_json::Value::String(String::from_utf8_lossy(&out.stderr).into_owned())
-    });
-    (out.status.code(), v)
+    gearcam_json(config, args, &[])
 }
 
 #[test]

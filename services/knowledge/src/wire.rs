@@ -201,9 +201,12 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
     if let Some(m) = &machine {
         // The program's name by the control's rule, before anything is planned.
         let four_b = spec.wire.program.unwrap_or(m.default_program) == WireProgram::FourB;
-        if let Err(p) = gearcam_proto::naming::program_name(m.dialect, &spec.job, four_b) {
-            errors.push(p.error(Stage::Knowledge, m.dialect));
-        }
+        errors.extend(gearcam_proto::naming::name_error(
+            m.dialect,
+            &spec.job,
+            four_b,
+            Stage::Knowledge,
+        ));
     }
     let (Some(machine), Some(record), Some(die), true) =
         (machine, record, spec.die.clone(), errors.is_empty())

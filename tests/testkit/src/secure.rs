@@ -286,6 +286,27 @@ impl Secure {
     }
 }
 
+/// Runs the real `gearcam ARGS --json --config CONFIG` with the extra
+/// environment `env`: its exit code and the JSON it printed (its standard
+/// error as a JSON string when it printed none).
+pub fn gearcam_json(
+    config: &Path,
+    args: &[&str],
+    env: &[(&str, &str)],
+) -> (Option<i32>, serde_json::Value) {
+    let out = Command::new(crate::bin("gearcam"))
+        .args(args)
+        .args(["--json", "--config", &config.display().to_string()])
+        .envs(env.iter().copied())
+        .stdin(std::process::Stdio::null())
+        .output()
+        .expect("gearcam runs");
+    let v = serde_json::from_slice(&out.stdout).unwrap_or_else(|_| {
+        serde_json::Value::String(String::from_utf8_lossy(&out.stderr).into_owned())
+    });
+    (out.status.code(), v)
+}
+
 fn strings(v: &[&str]) -> Vec<String> {
     v.iter().map(|s| (*s).to_string()).collect()
 }

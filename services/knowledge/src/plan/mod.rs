@@ -185,9 +185,7 @@ fn resolve_gear_and_machine(
     let machine = records::machine(conn, &req.spec.job.machine)?;
     // The program's name by the control's rule, before anything is planned.
     let name = machine.as_ref().and_then(|m| {
-        gearcam_proto::naming::program_name(m.dialect, &req.spec.job, false)
-            .err()
-            .map(|p| p.error(Stage::Knowledge, m.dialect))
+        gearcam_proto::naming::name_error(m.dialect, &req.spec.job, false, Stage::Knowledge)
     });
     match (resolved, machine, name) {
         (Ok(with_gear), Some(machine), None) => Ok((with_gear, machine)),

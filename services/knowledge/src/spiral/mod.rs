@@ -429,9 +429,12 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<SpiralPlan, Failed>
     if let Some(m) = &machine {
         // The program's name by the control's rule, before anything is planned.
         let dialect = spec.milling.program.unwrap_or(m.default_program).dialect();
-        if let Err(p) = gearcam_proto::naming::program_name(dialect, &spec.job, false) {
-            errors.push(p.error(Stage::Knowledge, dialect));
-        }
+        errors.extend(gearcam_proto::naming::name_error(
+            dialect,
+            &spec.job,
+            false,
+            Stage::Knowledge,
+        ));
     }
     let (Some(machine), Some(part), true) = (machine, part, errors.is_empty()) else {
         return Err(Failed::Job(errors));
