@@ -2,16 +2,17 @@
 //! one entry per code: the code, the stages that raise it, what it means and what
 //! the user should do.
 //!
-//! A [`crate::JobError`] carries its code as text on the wire, so readers in
-//! other languages see the same strings; here each code is also a constant of
-//! the same name (e.g. [`BASE_PITCH_MISMATCH`]) for the Rust code that raises
-//! it. [`lookup`] finds a code's entry.
+//! Each code is a variant of [`Code`] (e.g. [`Code::BASE_PITCH_MISMATCH`]), so
+//! the compiler checks every code the services raise: a [`crate::JobError`], a
+//! [`crate::Warning`] and a [`crate::PathFinding`] carry a [`Code`], never a
+//! free string. On the wire a code is its name as text, so readers in other
+//! languages see the same strings; [`Code::parse`] reads one back and
+//! [`lookup`] finds a code's entry by its text.
 //!
 //! `docs/errors.md` is generated from [`CATALOGUE`], and the test
-//! `cargo test -p gearcam-tests --test error_codes` fails when a code raised
-//! anywhere in the services is missing here, when an entry here is raised
-//! nowhere, or when the page differs from the catalogue (rewrite it with
-//! `GEARCAM_BLESS=1`).
+//! `cargo test -p gearcam-tests --test error_codes` fails when a code string
+//! is written outside this file, when an entry here is raised nowhere, or when
+//! the page differs from the catalogue (rewrite it with `GEARCAM_BLESS=1`).
 //!
 //! Stages: `station`, `knowledge`, `model`, `template`, `agent` (the
 //! [`crate::Stage`] the error carries), or `any` for the codec's codes, which
@@ -20,11 +21,13 @@
 //! finding reaches the user as a `PATH_CHECK_FAILED` error whose `expected`
 //! names the rule, and `gearcam check` lists them.
 
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
 /// One code of the catalogue.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CodeInfo {
-    /// The code, e.g. `BASE_PITCH_MISMATCH`.
-    pub code: &'static str,
+    /// The code.
+    pub code: Code,
     /// The stages that raise it, e.g. `model` or `station, knowledge`; a
     /// note in brackets says more (e.g. `model (warning)`).
     pub stage: &'static str,
@@ -34,33 +37,125 @@ pub struct CodeInfo {
     pub action: &'static str,
 }
 
-/// The entry of `code`, if the catalogue has it.
+/// The entry of the code whose text is `code`, if the catalogue has it.
 pub fn lookup(code: &str) -> Option<&'static CodeInfo> {
     CATALOGUE
-        .binary_search_by(|c| c.code.cmp(code))
+        .binary_search_by(|c| c.code.as_str().cmp(code))
         .ok()
         .map(|i| &CATALOGUE[i])
 }
 
-/// Declares each code as a constant (documented with its meaning) and lists
-/// them all in [`CATALOGUE`], in the order given (sorted by code).
+/// Declares [`Code`] with one variant per code (documented with its meaning),
+/// its text, and [`CATALOGUE`], in the order given (sorted by code).
 macro_rules! catalogue {
     ($($code:ident: $stage:literal, $meaning:literal, $action:literal;)*) => {
-        $(
-            #[doc = $meaning]
-            pub const $code: &str = stringify!($code);
-        )*
+        /// A code of the catalogue: an error, a warning or a path-check rule.
+        /// The variants keep the codes' wire spelling (UPPER_SNAKE) so that
+        /// the code in the source is the code the user reads.
+        #[allow(non_camel_case_types)]
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum Code {
+            $(
+                #[doc = $meaning]
+                $code,
+            )*
+        }
+
+        impl Code {
+            /// The code as text, e.g. `"BASE_PITCH_MISMATCH"`.
+            pub const fn as_str(self) -> &'static str {
+                match self {
+                    $(Code::$code => stringify!($code),)*
+                }
+            }
+        }
 
         /// Every code gearcam raises, sorted by code.
         pub const CATALOGUE: &[CodeInfo] = &[
             $(CodeInfo {
-                code: $code,
+                code: Code::$code,
                 stage: $stage,
                 meaning: $meaning,
                 action: $action,
             },)*
         ];
     };
+}
+
+impl Code {
+    /// The code whose text is `text`, if the catalogue has it.
+    pub fn parse(text: &str) -> Option<Code> {
+        lookup(text).map(|c| c.code)
+    }
+
+    /// The code's catalogue entry.
+    pub fn info(self) -> &'static CodeInfo {
+        // The catalogue lists the variants in declaration order.
+        &CATALOGUE[self as usize]
+    }
+
+    /// What the code means.
+    pub fn meaning(self) -> &'static str {
+        self.info().meaning
+    }
+
+    /// What the user should do.
+    pub fn action(self) -> &'static str {
+        self.info().action
+    }
+}
+
+impl std::fmt::Display for Code {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl AsRef<str> for Code {
+    fn as_ref(&self) -> &str {
+        self.as_str()
+    }
+}
+
+impl PartialEq<str> for Code {
+    fn eq(&self, other: &str) -> bool {
+        self.as_str() == other
+    }
+}
+
+impl PartialEq<&str> for Code {
+    fn eq(&self, other: &&str) -> bool {
+        self.as_str() == *other
+    }
+}
+
+impl PartialEq<String> for Code {
+    fn eq(&self, other: &String) -> bool {
+        self.as_str() == other
+    }
+}
+
+impl PartialEq<Code> for &str {
+    fn eq(&self, other: &Code) -> bool {
+        *self == other.as_str()
+    }
+}
+
+impl Serialize for Code {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.as_str())
+    }
+}
+
+impl<'de> Deserialize<'de> for Code {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Code, D::Error> {
+        let text = std::borrow::Cow::<'de, str>::deserialize(d)?;
+        Code::parse(&text).ok_or_else(|| {
+            serde::de::Error::custom(format!(
+                "unknown code {text:?}: this reader knows the codes of its catalogue"
+            ))
+        })
+    }
 }
 
 catalogue! {
@@ -623,7 +718,7 @@ mod tests {
     fn codes_are_unique_sorted_and_upper_snake() {
         for pair in CATALOGUE.windows(2) {
             assert!(
-                pair[0].code < pair[1].code,
+                pair[0].code.as_str() < pair[1].code.as_str(),
                 "not sorted or not unique: {} then {}",
                 pair[0].code,
                 pair[1].code
@@ -631,7 +726,7 @@ mod tests {
         }
         let bad: Vec<&str> = CATALOGUE
             .iter()
-            .map(|c| c.code)
+            .map(|c| c.code.as_str())
             .filter(|c| !upper_snake(c))
             .collect();
         assert!(bad.is_empty(), "not UPPER_SNAKE: {bad:?}");
@@ -672,12 +767,36 @@ mod tests {
 
     #[test]
     fn lookup_finds_every_code_and_only_those() {
-        for c in CATALOGUE {
-            assert_eq!(lookup(c.code), Some(c));
+        for (i, c) in CATALOGUE.iter().enumerate() {
+            assert_eq!(lookup(c.code.as_str()), Some(c));
+            assert_eq!(
+                c.code as usize, i,
+                "{} is not at its variant's index",
+                c.code
+            );
+            assert_eq!(c.code.info(), c);
+            assert_eq!(Code::parse(c.code.as_str()), Some(c.code));
         }
         assert_eq!(lookup("BASE_PITCH_MISMATCH").unwrap().stage, "model");
-        assert_eq!(BASE_PITCH_MISMATCH, "BASE_PITCH_MISMATCH");
+        assert_eq!(Code::BASE_PITCH_MISMATCH.as_str(), "BASE_PITCH_MISMATCH");
         assert!(lookup("NO_SUCH_CODE").is_none());
         assert!(lookup("").is_none());
+        assert_eq!(Code::parse("NO_SUCH_CODE"), None);
+    }
+
+    #[test]
+    fn a_code_travels_as_its_text() {
+        let bytes = rmp_serde::to_vec(&Code::CUT_DEPTH).unwrap();
+        assert_eq!(
+            rmp_serde::from_slice::<String>(&bytes).unwrap(),
+            "CUT_DEPTH"
+        );
+        assert_eq!(
+            rmp_serde::from_slice::<Code>(&bytes).unwrap(),
+            Code::CUT_DEPTH
+        );
+        let unknown = rmp_serde::to_vec("NO_SUCH_CODE").unwrap();
+        let err = rmp_serde::from_slice::<Code>(&unknown).unwrap_err();
+        assert!(err.to_string().contains("NO_SUCH_CODE"), "{err}");
     }
 }

@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use crate::codes::Code;
 pub use crate::ids::IdError;
 use crate::ids::{JobId, MachineId};
 
@@ -58,13 +59,13 @@ pub enum CodecError {
 
 impl CodecError {
     /// A stable code for typed error events.
-    pub fn code(&self) -> &'static str {
+    pub fn code(&self) -> Code {
         match self {
-            CodecError::Malformed { .. } => "MALFORMED_MESSAGE",
-            CodecError::UnknownVersion { .. } => "UNKNOWN_SCHEMA_VERSION",
-            CodecError::WrongKind { .. } => "WRONG_MESSAGE_KIND",
-            CodecError::TooLarge { .. } => "MESSAGE_TOO_LARGE",
-            CodecError::Encode { .. } => "ENCODE_FAILED",
+            CodecError::Malformed { .. } => Code::MALFORMED_MESSAGE,
+            CodecError::UnknownVersion { .. } => Code::UNKNOWN_SCHEMA_VERSION,
+            CodecError::WrongKind { .. } => Code::WRONG_MESSAGE_KIND,
+            CodecError::TooLarge { .. } => Code::MESSAGE_TOO_LARGE,
+            CodecError::Encode { .. } => Code::ENCODE_FAILED,
         }
     }
 }
@@ -104,7 +105,7 @@ pub struct JobError {
     /// Stage that found it.
     pub stage: Stage,
     /// Stable code, e.g. `BASE_PITCH_MISMATCH`.
-    pub code: String,
+    pub code: Code,
     /// Field concerned, e.g. `hob.module_mm`.
     pub field: String,
     /// The expected value or range, as text.
@@ -120,7 +121,7 @@ impl Stage {
     /// what was expected, what was given, and what to do (`message`).
     pub fn error(
         self,
-        code: &str,
+        code: Code,
         field: &str,
         expected: impl Into<String>,
         got: impl Into<String>,
@@ -134,7 +135,7 @@ impl JobError {
     /// A typed error of `stage`.
     pub fn new(
         stage: Stage,
-        code: &str,
+        code: Code,
         field: &str,
         expected: impl Into<String>,
         got: impl Into<String>,
@@ -142,7 +143,7 @@ impl JobError {
     ) -> JobError {
         JobError {
             stage,
-            code: code.into(),
+            code,
             field: field.into(),
             expected: expected.into(),
             got: got.into(),
@@ -155,7 +156,7 @@ impl JobError {
     pub fn job_id_mismatch(stage: Stage, key: &str, got: &JobId, what: &str) -> JobError {
         JobError::new(
             stage,
-            "JOB_ID_MISMATCH",
+            Code::JOB_ID_MISMATCH,
             "job_id",
             key,
             got.to_string(),
@@ -171,7 +172,7 @@ impl JobError {
     pub fn superseded(machine: &MachineId, name: &str, seq: u64, by: &str) -> JobError {
         JobError::new(
             Stage::Agent,
-            "JOB_SUPERSEDED",
+            Code::JOB_SUPERSEDED,
             "job",
             "a job no operator's decision has ended",
             format!("version {seq} of {name} at {machine}, adopted by {by}"),
@@ -185,7 +186,7 @@ impl JobError {
     pub fn cancelled(by: &str) -> JobError {
         JobError::new(
             Stage::Station,
-            "JOB_CANCELLED",
+            Code::JOB_CANCELLED,
             "job",
             "a job not cancelled",
             format!("cancelled by {by}"),
@@ -197,9 +198,9 @@ impl JobError {
     /// the id rule; `got` is the id as given.
     pub fn bad_id(stage: Stage, field: &str, err: &IdError) -> JobError {
         let code = match err.kind {
-            "job id" => "BAD_JOB_ID",
-            "machine id" => "BAD_MACHINE_ID",
-            _ => "BAD_HOB_ID",
+            "job id" => Code::BAD_JOB_ID,
+            "machine id" => Code::BAD_MACHINE_ID,
+            _ => Code::BAD_HOB_ID,
         };
         JobError::new(
             stage,

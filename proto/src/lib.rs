@@ -43,6 +43,7 @@ pub mod wire;
 
 pub use class::{classify, GearClass};
 pub use codec::{decode, encode, Incoming, Message, MAX_MESSAGE_BYTES, SCHEMA_VERSION};
+pub use codes::Code;
 pub use delivery::{
     CancelRequest, DeliveryReply, JobState, JobStatus, ProgramHistory, ProgramRef, ProgramText,
     ProgramVersion, StationReply, StoreReply, StoreRequest,

@@ -443,7 +443,7 @@ pub struct Explained {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Warning {
     /// Stable code.
-    pub code: String,
+    pub code: crate::Code,
     /// Field concerned.
     pub field: String,
     /// A sentence.

@@ -2,6 +2,7 @@
 //! what a program may be called and what file it is stored in.
 
 use crate::plan::Dialect;
+use crate::Code;
 
 /// Longest 840D program name (without the `_N_` / `_MPF` decoration).
 pub const MAX_840D_NAME: usize = 24;
@@ -182,7 +183,7 @@ impl NameProblem {
     /// and the way out (`[job] program_name`).
     pub fn error(&self, stage: crate::Stage, dialect: Dialect) -> crate::JobError {
         stage.error(
-            crate::codes::INVALID_PROGRAM_NAME,
+            Code::INVALID_PROGRAM_NAME,
             self.field,
             format!("a program name {} accepts", dialect.as_str()),
             self.name.clone(),

@@ -23,7 +23,7 @@ pub struct PathFinding {
     pub line: u32,
     /// Rule id, e.g. `RAPID_CLEARANCE` (the rules are listed in
     /// `crates/nc/DIALECTS.md`).
-    pub rule: String,
+    pub rule: crate::Code,
     /// What is wrong, in one sentence naming the values.
     pub message: String,
 }

@@ -286,7 +286,7 @@ fn every_service_survives_malformed_messages_and_reports_them() {
                 seen.push((
                     ev.job_id.to_string(),
                     ev.stage.as_str().to_string(),
-                    errors[0].code.clone(),
+                    errors[0].code.to_string(),
                 ));
             }
         }

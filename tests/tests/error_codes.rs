@@ -1,39 +1,35 @@
-//! The error-code catalogue (`gearcam_proto::codes::CATALOGUE`)
-//! against the source and against `docs/errors.md`:
+//! The error-code catalogue (`gearcam_proto::codes::CATALOGUE`, which
+//! declares the `gearcam_proto::Code` enum) against the source and against
+//! `docs/errors.md`:
 //!
-//! - every code raised in the non-test source of the services, the protocol
-//!   and the NC path check has a catalogue entry;
+//! - no code is written as a string outside the catalogue: the services, the
+//!   protocol and the shared crates name a code as `Code::X`, so the compiler
+//!   checks it;
 //! - every catalogue entry is raised somewhere (no stale entries);
 //! - `docs/errors.md` is exactly the page generated from the catalogue. A
 //!   deliberate change is written back with `GEARCAM_BLESS=1 cargo test -p
 //!   gearcam-tests --test error_codes` and reviewed in the diff.
 //!
-//! # What counts as a use of a code
+//! # What the walk reads
 //!
-//! The walk reads every `.rs` and `.tpl` file under `services/*/src`,
-//! `proto/src`, `crates/spiral/src` and `crates/nc/src` (the path check's rule ids live in
-//! `crates/nc/src/lib.rs`), except the catalogue itself
-//! (`proto/src/codes.rs`) and test code: an item under `#[cfg(test)]` (a
-//! `mod tests { … }` block, a test helper function) is skipped to its closing
-//! brace, and a test module in its own file (`#[cfg(test)] mod tests;`) is not
-//! read at all. Comment lines are skipped.
+//! Every `.rs` and `.tpl` file under `services/*/src`, `proto/src` and
+//! `crates/*/src`, except the catalogue itself (`proto/src/codes.rs`) and
+//! test code: an item under `#[cfg(test)]` (a `mod tests { … }` block, a test
+//! helper function) is skipped to its closing brace, and a test module in its
+//! own file (`#[cfg(test)] mod tests;`) is not read at all. Comment lines are
+//! skipped.
 //!
-//! In what is left, a use is
+//! In what is left,
 //!
-//! - a string literal `"X"` where X is UPPER_SNAKE with at least one
-//!   underscore (`^[A-Z][A-Z0-9]*(_[A-Z0-9]+)+$`), or any upper-case word
-//!   declared as a constant of its own name (`const PARSE: &str = "PARSE";`,
-//!   the path check's one-word rules), or
-//! - a path `codes::X` or `codes::{X, Y}` (the catalogue's constants, or the
-//!   model stage's own `codes` module), so the test keeps working once the
-//!   literals are replaced by constants.
+//! - a *string code* is a literal `"X"` where X is UPPER_SNAKE with at least
+//!   one underscore (`^[A-Z][A-Z0-9]*(_[A-Z0-9]+)+$`) or any upper-case word
+//!   that is a catalogue code (`"PARSE"`): every one fails the test unless
+//!   [`NOT_CODES`] lists it as a literal that is not a code;
+//! - a *raise* is a path `Code::X`.
 //!
 //! Literals on a line that names an environment variable (`env!(`,
-//! `env = `) are not codes, nor are the few in [`NOT_CODES`]. Every literal
-//! of that shape counts unless listed there: a new literal that is not a code
-//! fails this test until it is added to [`NOT_CODES`], so no real code can slip
-//! past. NC words and SQL never match (no quoted UPPER_SNAKE word of their
-//! own).
+//! `env = `) are not codes. NC words and SQL never match (no quoted
+//! UPPER_SNAKE word of their own).
 // Test code: the environment for the bless switch.
 #![allow(clippy::disallowed_methods)]
 
@@ -53,8 +49,8 @@ const NOT_CODES: &[(&str, &str)] = &[
         "proto/src/naming.rs: the 840D program name of a part number without usable characters",
     ),
     (
-        "CATALOGUE",
-        "proto/src/codes.rs: the catalogue itself, when named as codes::CATALOGUE",
+        "NOT_FOUND",
+        "services/gearcam/src/output.rs: the name of exit code 3 in a JSON failure",
     ),
 ];
 
@@ -71,25 +67,19 @@ fn workspace() -> PathBuf {
         .to_path_buf()
 }
 
-/// The directories walked, relative to the workspace.
+/// The directories walked: `services/*/src`, `proto/src`, `crates/*/src`.
 fn source_roots(root: &Path) -> Vec<PathBuf> {
-    let mut roots = Vec::new();
-    let services = root.join("services");
-    let mut entries: Vec<PathBuf> = std::fs::read_dir(&services)
-        .unwrap_or_else(|e| panic!("{}: {e}", services.display()))
-        .map(|e| e.expect("a directory entry").path())
-        .collect();
-    entries.sort();
-    for service in entries {
-        let src = service.join("src");
-        if src.is_dir() {
-            roots.push(src);
-        }
+    let mut roots = vec![root.join("proto/src")];
+    for parent in ["services", "crates"] {
+        let dir = root.join(parent);
+        let mut entries: Vec<PathBuf> = std::fs::read_dir(&dir)
+            .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+            .map(|e| e.expect("a directory entry").path().join("src"))
+            .filter(|src| src.is_dir())
+            .collect();
+        entries.sort();
+        roots.extend(entries);
     }
-    roots.push(root.join("proto/src"));
-    roots.push(root.join("crates/nc/src"));
-    roots.push(root.join("crates/spiral/src"));
-    roots.push(root.join("crates/wire/src"));
     roots
 }
 
@@ -218,33 +208,60 @@ fn quoted_words(line: &str) -> Vec<&str> {
     out
 }
 
-/// The names after `codes::` in `text` (`codes::X`, `codes::{X, Y}`).
-fn constant_uses(text: &str) -> Vec<String> {
-    let mut out = Vec::new();
-    for (at, _) in text.match_indices("codes::") {
-        let rest = &text[at + "codes::".len()..];
-        if let Some(list) = rest.strip_prefix('{') {
-            let list = list.split('}').next().unwrap_or_default();
-            out.extend(
-                list.split(|c: char| c == ',' || c.is_whitespace())
-                    .filter(|w| is_upper_word(w))
-                    .map(str::to_string),
-            );
-        } else {
-            let name: String = rest
+/// The variants named as `Code::X` in `text`.
+fn variant_uses(text: &str) -> Vec<String> {
+    text.match_indices("Code::")
+        .map(|(at, _)| {
+            text[at + "Code::".len()..]
                 .chars()
                 .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
-                .collect();
-            if is_upper_word(&name) {
-                out.push(name);
+                .collect::<String>()
+        })
+        .filter(|name| is_upper_word(name))
+        .collect()
+}
+
+/// What the walk finds in the non-test source: string codes and raises,
+/// each with where (file:line).
+#[derive(Debug, Default)]
+struct Uses {
+    /// Code-shaped string literals (see the module's documentation).
+    strings: BTreeMap<String, Vec<String>>,
+    /// `Code::X` paths.
+    raises: BTreeMap<String, Vec<String>>,
+}
+
+impl Uses {
+    /// Records the uses on `lines` of file `name`.
+    fn read(&mut self, name: &str, lines: &[(usize, String)], catalogue: &BTreeSet<&str>) {
+        let not_codes: BTreeSet<&str> = NOT_CODES.iter().map(|(c, _)| *c).collect();
+        for (n, line) in lines {
+            let at = format!("{name}:{n}");
+            for code in variant_uses(line) {
+                self.raises.entry(code).or_default().push(at.clone());
+            }
+            if line.contains("env!(") || line.contains("env = ") {
+                continue;
+            }
+            for word in quoted_words(line) {
+                if (is_code_shaped(word) || catalogue.contains(word)) && !not_codes.contains(word) {
+                    self.strings
+                        .entry(word.to_string())
+                        .or_default()
+                        .push(at.clone());
+                }
             }
         }
     }
-    out
 }
 
-/// Every code used in the non-test source, with where (file:line).
-fn codes_in_source() -> BTreeMap<String, Vec<String>> {
+/// The codes of the catalogue, as text.
+fn catalogue_codes() -> BTreeSet<&'static str> {
+    CATALOGUE.iter().map(|c| c.code.as_str()).collect()
+}
+
+/// Every use in the non-test source.
+fn uses_in_source() -> Uses {
     let root = workspace();
     let mut files = Vec::new();
     for dir in source_roots(&root) {
@@ -256,11 +273,9 @@ fn codes_in_source() -> BTreeMap<String, Vec<String>> {
             .to_string_lossy()
             .replace('\\', "/")
     };
-    let not_codes: BTreeSet<&str> = NOT_CODES.iter().map(|(c, _)| *c).collect();
     // Test modules in their own files are known only once their parent is
     // read: read every file first, then drop those.
     let mut test_files: Vec<PathBuf> = Vec::new();
-    let mut uses: BTreeMap<String, Vec<String>> = BTreeMap::new();
     let mut per_file: Vec<(String, Vec<(usize, String)>)> = Vec::new();
     for file in &files {
         if rel(file) == CATALOGUE_FILE {
@@ -272,105 +287,91 @@ fn codes_in_source() -> BTreeMap<String, Vec<String>> {
         per_file.push((rel(file), lines));
     }
     let test_rel: Vec<String> = test_files.iter().map(|p| rel(p)).collect();
+    let catalogue = catalogue_codes();
+    let mut uses = Uses::default();
     for (name, lines) in per_file {
-        if test_rel
+        let is_test = test_rel
             .iter()
-            .any(|t| name == *t || name.starts_with(&format!("{t}/")))
-        {
-            continue;
-        }
-        let mut record = |code: &str, line: usize| {
-            if !not_codes.contains(code) {
-                uses.entry(code.to_string())
-                    .or_default()
-                    .push(format!("{name}:{line}"));
-            }
-        };
-        for (n, line) in &lines {
-            if line.contains("env!(") || line.contains("env = ") {
-                continue;
-            }
-            for word in quoted_words(line) {
-                let self_named = line.contains(&format!("const {word}:"));
-                if is_code_shaped(word) || self_named {
-                    record(word, *n);
-                }
-            }
-        }
-        let kept: String = lines
-            .iter()
-            .map(|(_, l)| l.as_str())
-            .collect::<Vec<_>>()
-            .join("\n");
-        for code in constant_uses(&kept) {
-            let line = lines
-                .iter()
-                .find(|(_, l)| l.contains(&code))
-                .map_or(0, |(n, _)| *n);
-            record(&code, line);
+            .any(|t| name == *t || name.starts_with(&format!("{t}/")));
+        if !is_test {
+            uses.read(&name, &lines, &catalogue);
         }
     }
     uses
 }
 
+/// `text` as numbered lines, the way the walk reads a file.
+fn numbered(text: &str) -> Vec<(usize, String)> {
+    let mut none = Vec::new();
+    non_test_lines(Path::new("services/x/src/lib.rs"), text, &mut none)
+}
+
 #[test]
-fn the_walk_skips_test_code_and_finds_the_codes() {
-    let uses = codes_in_source();
-    // Program names in `mod tests` blocks (render.rs, store.rs, naming.rs):
-    // must not be found.
-    for test_only in ["SP_1001", "SP_1001_REV_B", "GEARBOX_SHAFT_PINION_STA"] {
-        assert!(
-            !uses.contains_key(test_only),
-            "{test_only}: {:?}",
-            uses[test_only]
-        );
-    }
-    // One of each kind of use: a literal, a self-named constant in the model,
-    // a one-word path-check rule, a code raised in proto.
+fn the_walk_skips_test_code_and_finds_strings_and_raises() {
+    let catalogue = catalogue_codes();
+    let mut uses = Uses::default();
+    let text = r#"
+fn raise() -> JobError {
+    let _ = Stage::Model.error("CUT_DEPTH", "process.cuts", "1", "0", "no");
+    let _ = finding(3, "PARSE", String::new());
+    let _ = ("NOT_FOUND", env!("CARGO_PKG_VERSION"), "REFUSED", "Fα");
+    Stage::Model.error(Code::BASE_PITCH_MISMATCH, "hob.module_mm", "", "", "")
+}
+// Stage::Model.error("IN_A_COMMENT", ...)
+#[cfg(test)]
+mod tests {
+    fn t() { assert_eq!(e.code, "SP_1001_REV_B"); let _ = Code::ARC_FIT; }
+}
+"#;
+    uses.read("x.rs", &numbered(text), &catalogue);
+    let strings: Vec<&str> = uses.strings.keys().map(String::as_str).collect();
+    assert_eq!(strings, ["CUT_DEPTH", "PARSE"], "{uses:?}");
+    assert_eq!(uses.strings["CUT_DEPTH"], ["x.rs:3"]);
+    let raises: Vec<&str> = uses.raises.keys().map(String::as_str).collect();
+    assert_eq!(raises, ["BASE_PITCH_MISMATCH"], "{uses:?}");
+
+    // The real source: raises of each kind (a model check, a path-check rule,
+    // a codec code in proto, a wire-die problem).
+    let uses = uses_in_source();
     for code in [
-        "JOB_FILE_UNKNOWN_KEY",
         "BASE_PITCH_MISMATCH",
         "PARSE",
         "UNKNOWN_SCHEMA_VERSION",
+        "WIRE_DEVIATION",
     ] {
-        assert!(uses.contains_key(code), "{code} not found");
+        assert!(uses.raises.contains_key(code), "{code} not found");
     }
+}
+
+#[test]
+fn no_code_is_written_as_a_string_outside_the_catalogue() {
+    let uses = uses_in_source();
+    let strings: Vec<String> = uses
+        .strings
+        .iter()
+        .map(|(code, at)| format!("  \"{code}\" at {}", at.join(", ")))
+        .collect();
     assert!(
-        !uses.contains_key("CARGO_PKG_VERSION"),
-        "an environment variable"
+        strings.is_empty(),
+        "{} code(s) written as strings: name a code as gearcam_proto::Code::X (add a new one to proto/src/codes.rs), or list a literal that is not a code in NOT_CODES of this test:\n{}",
+        strings.len(),
+        strings.join("\n")
     );
 }
 
 #[test]
-fn every_code_raised_has_a_catalogue_entry_and_every_entry_is_raised() {
-    let uses = codes_in_source();
-    let catalogue: BTreeSet<&str> = CATALOGUE.iter().map(|c| c.code).collect();
-    let missing: Vec<String> = uses
-        .iter()
-        .filter(|(code, _)| !catalogue.contains(code.as_str()))
-        .map(|(code, at)| format!("  {code} (used at {})", at.join(", ")))
+fn every_catalogue_entry_is_raised() {
+    let uses = uses_in_source();
+    let stale: Vec<&str> = catalogue_codes()
+        .into_iter()
+        .filter(|code| !uses.raises.contains_key(*code))
         .collect();
-    let stale: Vec<&str> = catalogue
-        .iter()
-        .copied()
-        .filter(|code| !uses.contains_key(*code))
-        .collect();
-    let mut problems = Vec::new();
-    if !missing.is_empty() {
-        problems.push(format!(
-            "{} code(s) raised but missing from gearcam_proto::codes::CATALOGUE (add an entry to proto/src/codes.rs, or list a literal that is not a code in NOT_CODES of this test):\n{}",
-            missing.len(),
-            missing.join("\n")
-        ));
-    }
-    if !stale.is_empty() {
-        problems.push(format!(
-            "{} catalogue entr(y/ies) raised nowhere in the source (remove them from proto/src/codes.rs): {}",
-            stale.len(),
-            stale.join(", ")
-        ));
-    }
-    assert!(problems.is_empty(), "{}", problems.join("\n\n"));
+    assert!(
+        stale.is_empty(),
+        "{} catalogue entr(y/ies) raised nowhere in the source (remove them from proto/src/codes.rs): {}",
+        stale.len(),
+        stale.join(", ")
+    );
 }
 
 /// A table cell: no line breaks, `|` escaped.

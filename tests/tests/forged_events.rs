@@ -93,7 +93,7 @@ fn only_the_owner_of_a_state_may_report_it() {
                 EventKind::Failed {
                     errors: vec![JobError::new(
                         Stage::Model,
-                        "FORGED",
+                        gearcam_proto::Code::INTERNAL_ERROR,
                         "-",
                         "-",
                         "-",

@@ -278,7 +278,7 @@ fn findings(model: &MachiningModel) -> Vec<(String, String)> {
         .path_check
         .findings
         .iter()
-        .map(|f| (f.rule.clone(), f.message.clone()))
+        .map(|f| (f.rule.to_string(), f.message.clone()))
         .collect()
 }
 

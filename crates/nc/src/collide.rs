@@ -22,7 +22,8 @@
 
 use gearcam_proto::{GearSpec, HobData, MachiningModel, MoveKind, PathFinding};
 
-use super::{finding, rules, Trace};
+use super::{finding, Trace};
+use gearcam_proto::Code;
 
 /// Penetration ignored, mm.
 pub(crate) const PEN_TOL: f64 = 0.002;
@@ -364,9 +365,9 @@ pub(crate) fn check(model: &MachiningModel, trace: &Trace) -> Vec<PathFinding> {
                         _ => "arc",
                     };
                     let rule = if ob.rapid_only {
-                        rules::HOB_CLEARANCE
+                        Code::HOB_CLEARANCE
                     } else {
-                        rules::ENVELOPE
+                        Code::ENVELOPE
                     };
                     findings.push(finding(
                         mv.line,

@@ -11,7 +11,7 @@
 //! macro variables, all starting at 0), the axis motion (absolute, and the
 //! incremental FANUC shift move), the electronic gearbox, the hob spindle and
 //! the switched machine functions, and reports every rule the program breaks
-//! ([`rules`]), sorted by line, with a [`Trace`] of what it saw so callers can
+//! (codes of [`gearcam_proto::Code`]), sorted by line, with a [`Trace`] of what it saw so callers can
 //! compare the program with the model.
 //!
 //! Pure and allocation-light (a block is parsed in place; literals are read
@@ -40,41 +40,10 @@ pub mod number;
 mod siemens;
 mod sim;
 
-use gearcam_proto::{Dialect, MachiningModel, MoveKind, PathCheck, PathFinding};
+use gearcam_proto::{Code, Dialect, MachiningModel, MoveKind, PathCheck, PathFinding};
 
 pub use expr::{Cond, EvalError, NcExpr, NcValue, Num, Rel};
 pub use number::{format_fixed, push_fixed};
-
-/// The rule ids of the findings (`crates/nc/DIALECTS.md`).
-pub mod rules {
-    /// A line outside the dialect's subset (or one whose arithmetic fails).
-    pub const PARSE: &str = "PARSE";
-    /// A rapid move through the zone where the hob can touch the blank.
-    pub const RAPID_CLEARANCE: &str = "RAPID_CLEARANCE";
-    /// A move into the contact zone with the gearbox uncoupled or the hob stopped.
-    pub const DEPTH_UNCOUPLED: &str = "DEPTH_UNCOUPLED";
-    /// A target outside the machine's travel, or a swivel beyond its limit.
-    pub const TRAVEL_LIMIT: &str = "TRAVEL_LIMIT";
-    /// A hob or table speed above the machine's.
-    pub const SPEED_LIMIT: &str = "SPEED_LIMIT";
-    /// A feed above the machine's, or a feed move without a feed.
-    pub const FEED_LIMIT: &str = "FEED_LIMIT";
-    /// A switched function off without on, on twice, or on at the end.
-    pub const MCODE_PAIR: &str = "MCODE_PAIR";
-    /// The program does not end at A, or not with the end code.
-    pub const END_AT_A: &str = "END_AT_A";
-    /// A gearbox coupling that differs from the model's, or couplings of one
-    /// unit that do not share one reference.
-    pub const COUPLING_RATIO: &str = "COUPLING_RATIO";
-    /// The sampled hob solid enters the blank on a rapid move (independent
-    /// of the model's ΔH′).
-    pub const HOB_CLEARANCE: &str = "HOB_CLEARANCE";
-    /// The sampled hob solid enters the table, the fixture or the tailstock.
-    pub const ENVELOPE: &str = "ENVELOPE";
-    /// The program does not state its unit, work offset, X mode or G-code
-    /// system as the machine profile needs, or mixes G-code systems.
-    pub const SETUP: &str = "SETUP";
-}
 
 /// Longest axis name (840D identifiers have at most 8 characters).
 pub const MAX_AXIS_NAME: usize = 8;
@@ -447,7 +416,7 @@ fn structure(blocks: &[Block]) -> Vec<PathFinding> {
     let mut refuse = |line: u32, message: String| {
         findings.push(finding(
             line,
-            rules::PARSE,
+            Code::PARSE,
             format!("line {line}: {message}"),
         ));
     };
@@ -515,7 +484,7 @@ fn parse_text(dialect: Dialect, text: &str) -> Parsed {
         Dialect::Fanuc => fanuc::parse(text, &mut out),
         other => out.findings.push(finding(
             1,
-            rules::PARSE,
+            Code::PARSE,
             format!(
                 "line 1: the path check reads SINUMERIK 840D and FANUC programs, not {}",
                 other.as_str()
@@ -527,7 +496,7 @@ fn parse_text(dialect: Dialect, text: &str) -> Parsed {
         let line = out.findings.last().map_or(1, |f| f.line);
         out.findings.push(finding(
             line,
-            rules::PARSE,
+            Code::PARSE,
             format!("line {line}: and {more} more lines outside the subset"),
         ));
     }
@@ -588,7 +557,7 @@ impl Parsed {
         if self.refused <= MAX_PARSE_FINDINGS {
             self.findings.push(finding(
                 line,
-                rules::PARSE,
+                Code::PARSE,
                 format!("line {line}: {reason}: \"{}\"", snippet(raw)),
             ));
         }
@@ -608,10 +577,10 @@ fn snippet(raw: &str) -> String {
     s
 }
 
-fn finding(line: u32, rule: &str, message: String) -> PathFinding {
+fn finding(line: u32, rule: Code, message: String) -> PathFinding {
     PathFinding {
         line,
-        rule: rule.to_string(),
+        rule,
         message,
     }
 }

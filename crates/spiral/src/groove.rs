@@ -2,6 +2,7 @@
 //! step-over larger than the tool, so the turns do not overlap and a groove
 //! of the tool's width runs with an exact pitch, lands between its turns.
 
+use gearcam_proto::Code;
 use gearcam_proto::{JobError, Stage};
 use serde::{Deserialize, Serialize};
 
@@ -39,7 +40,13 @@ pub struct Groove {
 pub fn plan_groove(g: &GrooveSpec) -> Result<Groove, Vec<JobError>> {
     let mut errors = Vec::new();
     let bad = |field: &str, expected: String, got: f64, message: &str| {
-        Stage::Model.error("GROOVE_RANGE", field, expected, format!("{got}"), message)
+        Stage::Model.error(
+            Code::GROOVE_RANGE,
+            field,
+            expected,
+            format!("{got}"),
+            message,
+        )
     };
     let width = 2.0 * g.tool_radius_mm;
     if !(g.tool_radius_mm.is_finite() && g.tool_radius_mm > 0.0) {

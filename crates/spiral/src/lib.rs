@@ -27,6 +27,7 @@ pub mod macrob;
 pub mod picture;
 pub mod verify;
 
+use gearcam_proto::Code;
 use gearcam_proto::{JobError, Stage};
 use serde::{Deserialize, Serialize};
 
@@ -88,10 +89,6 @@ pub struct Spiral {
     pub sense: i8,
 }
 
-fn refuse(code: &str, field: &str, expected: String, got: String, message: &str) -> JobError {
-    Stage::Model.error(code, field, expected, got, message)
-}
-
 /// The spiral for `spec`, or every input error found (typed, naming the
 /// field, the expected and the given value).
 ///
@@ -114,25 +111,25 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
     let rt = spec.tool_radius_mm;
     let positive = |v: f64| v.is_finite() && v > 0.0;
     if !positive(ro) {
-        errors.push(refuse(
-            "SPIRAL_RANGE",
+        errors.push(Stage::Model.error(
+            Code::SPIRAL_RANGE,
             "face.outer_radius_mm",
-            "a radius > 0 mm".into(),
+            "a radius > 0 mm",
             format!("{ro}"),
             "the face's outer radius must be positive",
         ));
     }
     if !(ri.is_finite() && ri >= 0.0) {
-        errors.push(refuse(
-            "SPIRAL_RANGE",
+        errors.push(Stage::Model.error(
+            Code::SPIRAL_RANGE,
             "face.inner_radius_mm",
-            "0 (a full circle) or a radius > 0 mm".into(),
+            "0 (a full circle) or a radius > 0 mm",
             format!("{ri}"),
             "the inner radius is 0 for a full circle",
         ));
     } else if positive(ro) && ri >= ro {
-        errors.push(refuse(
-            "SPIRAL_RANGE",
+        errors.push(Stage::Model.error(
+            Code::SPIRAL_RANGE,
             "face.inner_radius_mm",
             format!("less than the outer radius {ro} mm"),
             format!("{ri}"),
@@ -140,16 +137,16 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
         ));
     }
     if !positive(rt) {
-        errors.push(refuse(
-            "SPIRAL_RANGE",
+        errors.push(Stage::Model.error(
+            Code::SPIRAL_RANGE,
             "mill.radius_mm",
-            "a radius > 0 mm".into(),
+            "a radius > 0 mm",
             format!("{rt}"),
             "the tool's radius must be positive",
         ));
     } else if positive(ro) && rt > ro {
-        errors.push(refuse(
-            "SPIRAL_RANGE",
+        errors.push(Stage::Model.error(
+            Code::SPIRAL_RANGE,
             "mill.radius_mm",
             format!("at most the face's outer radius {ro} mm"),
             format!("{rt}"),
@@ -158,16 +155,16 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
     }
     let l = spec.step_over_mm;
     if !positive(l) {
-        errors.push(refuse(
-            "SPIRAL_RANGE",
+        errors.push(Stage::Model.error(
+            Code::SPIRAL_RANGE,
             "milling.step_over_mm",
-            "a step-over > 0 mm".into(),
+            "a step-over > 0 mm",
             format!("{l}"),
             "the step-over sets the number of turns; it must be positive",
         ));
     } else if positive(rt) && l >= 2.0 * rt {
-        errors.push(refuse(
-            "SPIRAL_RANGE",
+        errors.push(Stage::Model.error(
+            Code::SPIRAL_RANGE,
             "milling.step_over_mm",
             format!("less than the tool's diameter {} mm", 2.0 * rt),
             format!("{l}"),
@@ -179,20 +176,20 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
         (spec.inner_overtravel_mm, "milling.inner_overtravel_mm"),
     ] {
         if !(v.is_finite() && v >= 0.0) {
-            errors.push(refuse(
-                "SPIRAL_RANGE",
+            errors.push(Stage::Model.error(
+                Code::SPIRAL_RANGE,
                 field,
-                "0 mm or more".into(),
+                "0 mm or more",
                 format!("{v}"),
                 "an overtravel is a distance",
             ));
         }
     }
     if !spec.start_angle_deg.is_finite() {
-        errors.push(refuse(
-            "SPIRAL_RANGE",
+        errors.push(Stage::Model.error(
+            Code::SPIRAL_RANGE,
             "milling.start_angle_deg",
-            "an angle in degrees".into(),
+            "an angle in degrees",
             format!("{}", spec.start_angle_deg),
             "the start angle must be a number",
         ));
@@ -208,10 +205,10 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
     // rule keeps the last turn within rt of the centre.
     let inner = (ri + rt - l - spec.inner_overtravel_mm).max(0.0);
     if outer - inner <= 0.0 {
-        return Err(vec![refuse(
-            "SPIRAL_RANGE",
+        return Err(vec![Stage::Model.error(
+            Code::SPIRAL_RANGE,
             "mill.radius_mm",
-            "a tool that leaves room for a spiral".into(),
+            "a tool that leaves room for a spiral",
             format!("{rt}"),
             "the spiral has no length",
         )]);
@@ -225,8 +222,8 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
             // smaller than that leaves no place to plunge.
             let start = ri - rt - spec.inner_overtravel_mm;
             if start < 0.0 {
-                return Err(vec![refuse(
-                    "SPIRAL_RANGE",
+                return Err(vec![Stage::Model.error(
+                    Code::SPIRAL_RANGE,
                     "milling.direction",
                     format!(
                         "outside-in, or inside-out on a hole of radius at least the tool's radius plus the inner overtravel, {} mm",

@@ -6,6 +6,7 @@
 //! retract at the end, and the largest distance of the model's spiral from
 //! the replayed path, sampled densely along the spiral.
 
+use gearcam_proto::Code;
 use gearcam_proto::{PathCheck, PathFinding, SpiralModel, SpiralProgram};
 
 use crate::arcs::Arc;
@@ -53,10 +54,10 @@ impl Piece {
     }
 }
 
-fn finding(line: u32, rule: &str, message: String) -> PathFinding {
+fn finding(line: u32, rule: Code, message: String) -> PathFinding {
     PathFinding {
         line,
-        rule: rule.to_string(),
+        rule,
         message,
     }
 }
@@ -91,7 +92,7 @@ pub fn verify(
             return (
                 PathCheck {
                     ok: false,
-                    findings: vec![finding(e.line as u32, "REPLAY_FAILED", e.message)],
+                    findings: vec![finding(e.line as u32, Code::REPLAY_FAILED, e.message)],
                 },
                 None,
             )
@@ -139,7 +140,7 @@ fn every_move(moves: &[Move], model: &SpiralModel) -> Vec<PathFinding> {
         if xy && !up {
             findings.push(finding(
                 0,
-                "UNSAFE_APPROACH",
+                Code::UNSAFE_APPROACH,
                 format!(
                     "move {n} moves in X/Y before the tool is at the safe height Z{}",
                     model.cut.safe_z_mm
@@ -149,13 +150,13 @@ fn every_move(moves: &[Move], model: &SpiralModel) -> Vec<PathFinding> {
         if !m.feed && m.z < 0.0 {
             findings.push(finding(
                 0,
-                "RAPID_IN_MATERIAL",
+                Code::RAPID_IN_MATERIAL,
                 format!("move {n} is a rapid to Z{:.4}, below the face", m.z),
             ));
         } else if !m.feed && xy && at.2 < 0.0 {
             findings.push(finding(
                 0,
-                "RAPID_IN_MATERIAL",
+                Code::RAPID_IN_MATERIAL,
                 format!(
                     "move {n} is a rapid across X/Y at Z{:.4}, below the face: no retract before it",
                     at.2
@@ -165,7 +166,7 @@ fn every_move(moves: &[Move], model: &SpiralModel) -> Vec<PathFinding> {
         if m.feed && m.z < at.2 - 1e-9 && m.z < 0.0 && model.groove.is_none() && !clear(m.x, m.y) {
             findings.push(finding(
                 0,
-                "PLUNGE_IN_MATERIAL",
+                Code::PLUNGE_IN_MATERIAL,
                 format!(
                     "move {n} feeds down to Z{:.4} at X{:.4} Y{:.4}, where the tool (radius {rt} mm, {:.4} mm from the centre) is in the face's material between R{ri} and R{ro}",
                     m.z,
@@ -226,7 +227,7 @@ fn compare(moves: &[Move], model: &SpiralModel) -> (Vec<PathFinding>, Replayed) 
     {
         findings.push(finding(
             0,
-            "PASS_DEPTHS",
+            Code::PASS_DEPTHS,
             format!(
                 "the program cuts at Z {:?}; the model's passes are at Z {:?}",
                 depths, expected
@@ -242,7 +243,7 @@ fn compare(moves: &[Move], model: &SpiralModel) -> (Vec<PathFinding>, Replayed) 
         if blocks != model.spiral.blocks as usize {
             findings.push(finding(
                 0,
-                "BLOCK_COUNT",
+                Code::BLOCK_COUNT,
                 format!(
                     "the pass at Z{z:.4} has {blocks} blocks along the spiral; the model has {}",
                     model.spiral.blocks
@@ -259,7 +260,7 @@ fn compare(moves: &[Move], model: &SpiralModel) -> (Vec<PathFinding>, Replayed) 
             if d > PRINT_SLACK_MM {
                 findings.push(finding(
                     0,
-                    "SPIRAL_ENDS",
+                    Code::SPIRAL_ENDS,
                     format!(
                         "the pass at Z{z:.4} {what} at X{:.4} Y{:.4}, {d:.4} mm from the model's X{:.4} Y{:.4}",
                         got.0, got.1, want.0, want.1
@@ -282,7 +283,7 @@ fn compare(moves: &[Move], model: &SpiralModel) -> (Vec<PathFinding>, Replayed) 
     if worst > tol * 1.01 + PRINT_SLACK_MM {
         findings.push(finding(
             0,
-            "SPIRAL_DEVIATION",
+            Code::SPIRAL_DEVIATION,
             format!(
                 "the path strays {worst:.5} mm from the model's spiral; the tolerance is {tol} mm"
             ),
@@ -292,7 +293,7 @@ fn compare(moves: &[Move], model: &SpiralModel) -> (Vec<PathFinding>, Replayed) 
         Some(m) if m.z >= model.cut.safe_z_mm - 1e-9 => {}
         other => findings.push(finding(
             0,
-            "NO_RETRACT",
+            Code::NO_RETRACT,
             format!(
                 "the program ends at Z{:.4}, not at the safe height Z{}",
                 other.map_or(0.0, |m| m.z),

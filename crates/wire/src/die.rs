@@ -3,6 +3,7 @@
 //! the figures of `model.die`. The programs and their replay are in
 //! [`crate::programs`].
 
+use gearcam_proto::Code;
 use std::f64::consts::PI;
 
 use gearcam_proto::{Cutter, DiePart, DieSpec, WireProcess};
@@ -30,7 +31,7 @@ pub const MIN_ARC_RADIUS_MM: f64 = 0.005;
 #[derive(Debug, Clone, PartialEq)]
 pub struct Problem {
     /// The error code (docs/errors.md).
-    pub code: &'static str,
+    pub code: Code,
     /// The field, e.g. `die.teeth`.
     pub field: String,
     /// What was expected.
@@ -41,13 +42,7 @@ pub struct Problem {
     pub message: String,
 }
 
-fn problem(
-    code: &'static str,
-    field: &str,
-    expected: String,
-    got: String,
-    message: &str,
-) -> Problem {
+fn problem(code: Code, field: &str, expected: String, got: String, message: &str) -> Problem {
     Problem {
         code,
         field: field.to_string(),
@@ -114,7 +109,7 @@ pub fn check(die: &DieSpec) -> Vec<Problem> {
     let mut range = |field: &str, v: f64, lo: f64, hi: f64, unit: &str| {
         if !(lo..=hi).contains(&v) {
             out.push(problem(
-                "DIE_RANGE",
+                Code::DIE_RANGE,
                 &format!("die.{field}"),
                 format!("{lo} to {hi}{unit}"),
                 format!("{v}"),
@@ -158,7 +153,7 @@ pub fn check(die: &DieSpec) -> Vec<Problem> {
     range("cutter_shift", die.cutter_shift, -1.0, 1.0, "");
     if !(MIN_TEETH..=MAX_TEETH).contains(&die.teeth) {
         out.push(problem(
-            "DIE_RANGE",
+            Code::DIE_RANGE,
             "die.teeth",
             format!("{MIN_TEETH} to {MAX_TEETH}"),
             die.teeth.to_string(),
@@ -167,14 +162,14 @@ pub fn check(die: &DieSpec) -> Vec<Problem> {
     }
     match (die.cutter, die.cutter_teeth) {
         (Cutter::Pinion, None) => out.push(problem(
-            "DIE_RANGE",
+            Code::DIE_RANGE,
             "die.cutter_teeth",
             "the pinion cutter's teeth, 10 to 200".into(),
             "none".into(),
             "a pinion-type cutter's fillet depends on its teeth",
         )),
         (Cutter::Pinion, Some(z0)) if !(10..=200).contains(&z0) => out.push(problem(
-            "DIE_RANGE",
+            Code::DIE_RANGE,
             "die.cutter_teeth",
             "10 to 200".into(),
             z0.to_string(),
@@ -188,7 +183,7 @@ pub fn check(die: &DieSpec) -> Vec<Problem> {
     let limit = die.addendum_coef + die.clearance_coef - die.cutter_tip_radius_coef;
     if out.is_empty() && die.cutter == Cutter::Rack && die.profile_shift >= limit {
         out.push(problem(
-            "DIE_RANGE",
+            Code::DIE_RANGE,
             "die.profile_shift",
             format!("below ha* + c* − ρ* = {limit:.3} (the rack's tip round inside the pitch circle)"),
             format!("{}", die.profile_shift),
@@ -197,7 +192,7 @@ pub fn check(die: &DieSpec) -> Vec<Problem> {
     }
     if out.is_empty() && !space_of(die).fillet_meets_involute() {
         out.push(problem(
-            "UNDERCUT_TOO_DEEP",
+            Code::UNDERCUT_TOO_DEEP,
             "die.profile_shift",
             "a gear clearly undercut or not: the fillet ending on the involute".into(),
             format!("{} teeth shifted by {}", die.teeth, die.profile_shift),
@@ -209,7 +204,7 @@ pub fn check(die: &DieSpec) -> Vec<Problem> {
         let least = MIN_TIP_THICKNESS * die.module_mm;
         if sa < least {
             out.push(problem(
-                "TIP_TOO_SHARP",
+                Code::TIP_TOO_SHARP,
                 "die.profile_shift",
                 format!("a tooth at least {least:.3} mm thick at the tip ({MIN_TIP_THICKNESS}·m)"),
                 format!("{sa:.3} mm"),
@@ -254,7 +249,7 @@ pub fn cut(die: &DieSpec, process: &WireProcess) -> Result<Cut, Problem> {
     };
     let outline = outline(space_of(die).as_ref(), &tol).map_err(|e| match e {
         OutlineError::Fit { piece, error } => problem(
-            "ARC_FIT",
+            Code::ARC_FIT,
             &format!("die.{piece}_tolerance_um"),
             format!("a {piece} within {} arcs", error.max_arcs),
             format!(
@@ -277,7 +272,7 @@ pub fn cut(die: &DieSpec, process: &WireProcess) -> Result<Cut, Problem> {
         };
         let tooth = e.index / outline.period.len() + 1;
         problem(
-            "WIRE_TOO_THICK",
+            Code::WIRE_TOO_THICK,
             "wire.wire_diameter_mm",
             format!(
                 "a wire radius plus spark gap under {:.4} mm (the tightest radius of the {place})",

@@ -10,6 +10,7 @@
 //! middle of the tooth on +Y, where the contour starts, and the lead-out
 //! back.
 
+use gearcam_proto::Code;
 use gearcam_proto::{DiePart, WireProgram};
 
 use crate::die::{Cut, Problem};
@@ -294,7 +295,7 @@ pub struct Certificate {
     pub bytes: u32,
 }
 
-fn replay_problem(code: &'static str, expected: String, got: String, message: String) -> Problem {
+fn replay_problem(code: Code, expected: String, got: String, message: String) -> Problem {
     Problem {
         code,
         field: "program".into(),
@@ -331,7 +332,7 @@ pub fn certify(
 ) -> Result<Certificate, Problem> {
     let unreadable = |e: String| {
         replay_problem(
-            "WIRE_REPLAY_FAILED",
+            Code::WIRE_REPLAY_FAILED,
             "a program the reader follows".into(),
             e,
             "the program cannot be read back".into(),
@@ -385,7 +386,7 @@ pub fn certify(
             ("a punch", "outside the punch")
         };
         return Err(replay_problem(
-            "WIRE_DEVIATION",
+            Code::WIRE_DEVIATION,
             format!("the wire of {part} {want}, on the scrap side of the outline"),
             format!("the wire at ({:.3}, {:.3}), on the part's side", p.0, p.1),
             "the replayed program sets the wire off to the wrong side of the outline (G41/G42, or the path itself)".into(),
@@ -394,7 +395,7 @@ pub fn certify(
     let end = lead_out.segment.to();
     if distance(end, start) > END_MM {
         return Err(replay_problem(
-            "WIRE_LEAD_OUT",
+            Code::WIRE_LEAD_OUT,
             format!(
                 "the wire back at its start hole ({:.3}, {:.3}) after the last block",
                 start.0, start.1
@@ -421,7 +422,7 @@ pub fn certify(
                 "the punch"
             };
             return Err(replay_problem(
-                "WIRE_LEAD_CROSSES_PART",
+                Code::WIRE_LEAD_CROSSES_PART,
                 format!("the {name} through the scrap only, clear of {kept}"),
                 format!(
                     "the {name} (block {}) enters {kept} at ({:.3}, {:.3})",
@@ -435,7 +436,7 @@ pub fn certify(
     let (flank_tol, fillet_tol) = tolerances;
     if m.flank_mm > flank_tol || m.fillet_mm > fillet_tol {
         return Err(replay_problem(
-            "WIRE_DEVIATION",
+            Code::WIRE_DEVIATION,
             format!(
                 "the wire within {:.1} µm on the flanks and {:.1} µm on the fillets",
                 flank_tol * 1e3,
@@ -451,7 +452,7 @@ pub fn certify(
     }
     if m.closure_mm > flank_tol || (m.turns + 1.0).abs() > 0.01 {
         return Err(replay_problem(
-            "WIRE_CLOSURE",
+            Code::WIRE_CLOSURE,
             format!(
                 "a closed path once round the part (within {:.1} µm)",
                 flank_tol * 1e3
@@ -738,7 +739,7 @@ pub fn make(
                         fit_share: share,
                     })
                 }
-                Err(p) if p.code == "WIRE_DEVIATION" => last = Some(p),
+                Err(p) if p.code == Code::WIRE_DEVIATION => last = Some(p),
                 Err(p) => return Err(p),
             }
         }

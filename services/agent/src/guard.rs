@@ -18,6 +18,7 @@
 //!   started after it was published): `MODEL_UNKNOWN` (the job waits; the
 //!   station's re-drive publishes the model again).
 
+use gearcam_proto::Code;
 use std::collections::{HashMap, VecDeque};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -98,7 +99,7 @@ impl Models {
     pub fn check(&self, program: &NcProgram) -> Result<(), JobError> {
         let Some(model) = self.get(&program.job_id) else {
             return Err(Stage::Agent.error(
-                "MODEL_UNKNOWN",
+                Code::MODEL_UNKNOWN,
                 "job_id",
                 "a job whose model the agent has seen from the model service",
                 program.job_id.as_str(),
@@ -111,7 +112,7 @@ impl Models {
                 let form = model.plan.process.program;
                 if program.form != Some(form) {
                     return Err(Stage::Agent.error(
-                        "PATH_CHECK_FAILED",
+                        Code::PATH_CHECK_FAILED,
                         "program.form",
                         format!("the form of the job's model, {}", form.as_str()),
                         program.form.map_or("none", |f| f.as_str()),
@@ -133,7 +134,7 @@ impl Models {
                         ok: false,
                         findings: vec![gearcam_proto::PathFinding {
                             line: 0,
-                            rule: p.code.to_string(),
+                            rule: p.code,
                             message: format!(
                                 "{}: expected {}, got {}",
                                 p.message, p.expected, p.got
@@ -146,7 +147,7 @@ impl Models {
         match check.findings.first() {
             None => Ok(()),
             Some(f) => Err(Stage::Agent.error(
-                "PATH_CHECK_FAILED",
+                Code::PATH_CHECK_FAILED,
                 &format!("program.line.{}", f.line),
                 format!("a program that keeps rule {}", f.rule),
                 program
@@ -217,7 +218,7 @@ pub async fn journaled(
                 )),
                 Ok(_) => Err(not_journaled(&job, &machine, "no such job in the station's journal")),
                 Err(e) => Err(Stage::Agent.error(
-                    "STATION_UNREACHABLE",
+                    Code::STATION_UNREACHABLE,
                     "job_id",
                     "an answer of the planning station about the job",
                     e.to_string(),
@@ -238,7 +239,7 @@ pub async fn journaled(
         .map(|v| {
             v.unwrap_or_else(|| {
                 Err(Stage::Agent.error(
-                    "STATION_UNREACHABLE",
+                    Code::STATION_UNREACHABLE,
                     "job_id",
                     "an answer of the planning station about the job",
                     "the question failed",
@@ -251,7 +252,7 @@ pub async fn journaled(
 
 fn not_journaled(job: &JobId, machine: &MachineId, got: &str) -> JobError {
     Stage::Agent.error(
-        "JOB_NOT_JOURNALED",
+        Code::JOB_NOT_JOURNALED,
         "job_id",
         format!("a job the station journaled for machine {machine}, not failed or superseded"),
         got.to_string(),

@@ -8,9 +8,10 @@ use gearcam_bus::query::{run_queryable_batched, Answer};
 use gearcam_bus::stage::codec_error;
 use gearcam_bus::{Bus, CancellationToken};
 use gearcam_proto::keys::AgentKey;
+use gearcam_proto::Code;
 use gearcam_proto::{
-    codes, decode, keys, DeliveryReply, EventKind, JobError, JobId, NcProgram, ProgramHistory,
-    Stage, StoreReply, StoreRequest,
+    decode, keys, DeliveryReply, EventKind, JobError, JobId, NcProgram, ProgramHistory, Stage,
+    StoreReply, StoreRequest,
 };
 
 use crate::guard::{self, Models};
@@ -81,7 +82,7 @@ pub async fn run(
                 match verdict.and_then(|()| models.check(&program)) {
                     Ok(()) => checked.push((i, program)),
                     Err(error) => {
-                        tracing::warn!(job = %program.job_id, code = error.code, "program refused before storing");
+                        tracing::warn!(job = %program.job_id, code = error.code.as_str(), "program refused before storing");
                         answers[i] = Some(refused(Some(program.job_id), error));
                     }
                 }
@@ -339,7 +340,7 @@ fn known(store: &Store, name: &str) -> Result<(), JobError> {
         Ok(true) => Ok(()),
         Ok(false) => Err(JobError::new(
             Stage::Agent,
-            "UNKNOWN_PROGRAM",
+            Code::UNKNOWN_PROGRAM,
             "name",
             format!(
                 "a program in the store of {} (gearcam program history --machine {})",
@@ -356,7 +357,7 @@ fn known(store: &Store, name: &str) -> Result<(), JobError> {
 fn unknown_version(name: &str, seq: u64) -> JobError {
     JobError::new(
         Stage::Agent,
-        "UNKNOWN_VERSION",
+        Code::UNKNOWN_VERSION,
         "seq",
         format!("a stored version of {name} (gearcam program history)"),
         seq.to_string(),
@@ -367,7 +368,7 @@ fn unknown_version(name: &str, seq: u64) -> JobError {
 fn bad_request(field: &str, expected: &str, got: &str, message: &str) -> JobError {
     JobError::new(
         Stage::Agent,
-        "BAD_STORE_REQUEST",
+        Code::BAD_STORE_REQUEST,
         field,
         expected,
         got,
@@ -378,7 +379,7 @@ fn bad_request(field: &str, expected: &str, got: &str, message: &str) -> JobErro
 fn index_error(e: AgentError) -> JobError {
     JobError::new(
         Stage::Agent,
-        "STORE_INDEX_ERROR",
+        Code::STORE_INDEX_ERROR,
         "-",
         "a readable program index",
         e.to_string(),
@@ -397,13 +398,13 @@ fn refused(job: Option<JobId>, error: JobError) -> Answer {
     });
     if let Some(job) = job {
         let waits = [
-            codes::PROGRAM_CHANGED_AT_MACHINE,
-            codes::STORE_IO_ERROR,
-            codes::STORE_INDEX_ERROR,
-            codes::STATION_UNREACHABLE,
-            codes::MODEL_UNKNOWN,
+            Code::PROGRAM_CHANGED_AT_MACHINE,
+            Code::STORE_IO_ERROR,
+            Code::STORE_INDEX_ERROR,
+            Code::STATION_UNREACHABLE,
+            Code::MODEL_UNKNOWN,
         ];
-        let event = if waits.contains(&error.code.as_str()) {
+        let event = if waits.contains(&error.code) {
             EventKind::Waiting {
                 reason: format!("{}: {}", error.code, error.message),
             }
@@ -456,7 +457,7 @@ fn delivered(
             a
         }
         Err(error) => {
-            tracing::info!(job = %program.job_id, code = error.code, "program refused");
+            tracing::info!(job = %program.job_id, code = error.code.as_str(), "program refused");
             // A job an adoption ended ends `superseded`, not `failed`.
             if let Ok(Some(s)) = store.superseded(program.job_id.as_str()) {
                 let mut a = Answer::message(&DeliveryReply::Refused { error });

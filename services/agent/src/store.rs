@@ -8,6 +8,7 @@
 //! hash is answered with the original receipt; a program changed at the
 //! machine (file hash differs from the index) is never overwritten.
 
+use gearcam_proto::Code;
 use std::fs;
 use std::path::{Path, PathBuf};
 
@@ -233,7 +234,7 @@ impl Store {
     pub fn check_program(&self, p: &NcProgram) -> Result<String, JobError> {
         if p.machine != self.config.machine {
             return Err(Stage::Agent.error(
-                "WRONG_MACHINE",
+                Code::WRONG_MACHINE,
                 "machine",
                 self.config.machine.to_string(),
                 p.machine.to_string(),
@@ -242,7 +243,7 @@ impl Store {
         }
         if p.dialect != self.config.dialect {
             return Err(Stage::Agent.error(
-                "WRONG_DIALECT",
+                Code::WRONG_DIALECT,
                 "dialect",
                 self.config.dialect.as_str(),
                 p.dialect.as_str(),
@@ -251,7 +252,7 @@ impl Store {
         }
         let file_name = naming::file_name(p.dialect, &p.name).map_err(|rule| {
             Stage::Agent.error(
-                "BAD_PROGRAM_NAME",
+                Code::BAD_PROGRAM_NAME,
                 "name",
                 rule.clone(),
                 p.name.clone(),
@@ -260,7 +261,7 @@ impl Store {
         })?;
         if p.text.len() > MAX_PROGRAM_BYTES {
             return Err(Stage::Agent.error(
-                "PROGRAM_TOO_LARGE",
+                Code::PROGRAM_TOO_LARGE,
                 "text",
                 format!("at most {MAX_PROGRAM_BYTES} bytes"),
                 format!("{} bytes", p.text.len()),
@@ -270,7 +271,7 @@ impl Store {
         let hash = sha256_hex(p.text.as_bytes());
         if hash != p.sha256 {
             return Err(Stage::Agent.error(
-                "HASH_MISMATCH",
+                Code::HASH_MISMATCH,
                 "sha256",
                 hash,
                 p.sha256.clone(),
@@ -317,7 +318,7 @@ impl Store {
                 return Ok(Prepared::Stored(receipt));
             }
             return Err(Stage::Agent.error(
-                "REVISION_CONFLICT",
+                Code::REVISION_CONFLICT,
                 "revision",
                 format!("content with sha256 {stored_hash}"),
                 format!("sha256 {hash}"),
@@ -348,7 +349,7 @@ impl Store {
             Ok(bytes) => Ok(Some(sha256_hex(&bytes))),
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
             Err(e) => Err(Stage::Agent.error(
-                "STORE_IO_ERROR",
+                Code::STORE_IO_ERROR,
                 "-",
                 "a readable file",
                 e.to_string(),
@@ -429,7 +430,7 @@ impl Store {
             None => "the file was created at the machine, not by gearcam: rename or remove it there".to_string(),
         };
         Stage::Agent.error(
-            "PROGRAM_CHANGED_AT_MACHINE",
+            Code::PROGRAM_CHANGED_AT_MACHINE,
             "name",
             format!("{file_name} unchanged since gearcam stored it"),
             got.to_string(),
@@ -521,7 +522,7 @@ impl Store {
     ) -> Result<DeliveryReceipt, JobError> {
         if !gearcam_proto::delivery::valid_by(by) {
             return Err(Stage::Agent.error(
-                "BAD_STORE_REQUEST",
+                Code::BAD_STORE_REQUEST,
                 "by",
                 "who rolls back: 1 to 64 characters on one line",
                 by.chars().take(80).collect::<String>(),
@@ -532,7 +533,7 @@ impl Store {
             .version(name, seq)
             .map_err(|e| {
                 Stage::Agent.error(
-                    "STORE_INDEX_ERROR",
+                    Code::STORE_INDEX_ERROR,
                     "-",
                     "a readable index",
                     e.to_string(),
@@ -541,7 +542,7 @@ impl Store {
             })?
             .ok_or_else(|| {
                 Stage::Agent.error(
-                    "UNKNOWN_VERSION",
+                    Code::UNKNOWN_VERSION,
                     "seq",
                     format!("a stored version of {name} (gearcam program history)"),
                     seq.to_string(),
@@ -553,7 +554,7 @@ impl Store {
         let path = self.config.program_dir.join(&file_name);
         write_atomically(&self.config.program_dir, &file_name, v.text.as_bytes()).map_err(|e| {
             Stage::Agent.error(
-                "STORE_IO_ERROR",
+                Code::STORE_IO_ERROR,
                 "-",
                 "a writable program directory",
                 e.to_string(),
@@ -583,7 +584,7 @@ impl Store {
         Ok(DeliveryReceipt {
             job_id: gearcam_proto::JobId::new(v.version.job.clone()).map_err(|e| {
                 Stage::Agent.error(
-                    "STORE_INDEX_ERROR",
+                    Code::STORE_INDEX_ERROR,
                     "job",
                     "a valid job id",
                     v.version.job.clone(),
@@ -605,7 +606,7 @@ impl Store {
 
 fn index_error(e: impl std::fmt::Display) -> JobError {
     Stage::Agent.error(
-        "STORE_INDEX_ERROR",
+        Code::STORE_INDEX_ERROR,
         "-",
         "a writable index",
         e.to_string(),

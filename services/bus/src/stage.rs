@@ -6,6 +6,7 @@
 //! its key names a job); a panicking handler is caught and reported the same
 //! way. The loop keeps serving until shutdown.
 
+use gearcam_proto::Code;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use gearcam_proto::{keys, EventKind, Incoming, JobError, JobId, Stage};
@@ -38,7 +39,7 @@ pub type Failure = Vec<JobError>;
 pub fn codec_error<T: Incoming>(stage: Stage, err: &gearcam_proto::CodecError) -> JobError {
     JobError {
         stage,
-        code: err.code().to_string(),
+        code: err.code(),
         field: "payload".into(),
         expected: format!(
             "a MessagePack {} message, schema {}",
@@ -113,7 +114,7 @@ where
                 );
                 Err(vec![JobError {
                     stage,
-                    code: "INTERNAL_ERROR".into(),
+                    code: Code::INTERNAL_ERROR,
                     field: "-".into(),
                     expected: "a result".into(),
                     got: "a panic".into(),
@@ -152,7 +153,7 @@ async fn publish(
         }
         (Err(errors), Some(job)) => {
             for e in &errors {
-                tracing::info!(stage = stage.as_str(), %job, code = e.code, field = e.field, "job failed");
+                tracing::info!(stage = stage.as_str(), %job, code = e.code.as_str(), field = e.field, "job failed");
             }
             bus.event(job, stage, EventKind::Failed { errors }).await?;
         }

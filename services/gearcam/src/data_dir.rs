@@ -15,6 +15,7 @@
 //! `DATA_DIR_NOT_WRITABLE` (exit 2) and the operating system's reason, not
 //! a database's complaint halfway through.
 
+use gearcam_proto::Code;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -56,7 +57,7 @@ pub fn open(data: &Path) -> Result<PathBuf, ExitCode> {
 pub fn writable(dir: &Path) -> Result<(), JobError> {
     let refuse = |what: String, e: std::io::Error| {
         Stage::Station.error(
-            gearcam_proto::codes::DATA_DIR_NOT_WRITABLE,
+            Code::DATA_DIR_NOT_WRITABLE,
             "data directory",
             "a directory this user can write",
             dir.display().to_string(),

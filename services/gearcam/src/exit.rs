@@ -9,6 +9,7 @@
 //! | 4 | not finished in time (`submit --wait`): the job stays journaled and the station keeps driving it |
 //! | 64 | usage: the command line itself is wrong |
 
+use gearcam_proto::Code;
 use std::process::ExitCode;
 
 use gearcam_proto::JobError;
@@ -36,32 +37,25 @@ pub fn code(code: u8) -> ExitCode {
 }
 
 /// The error codes that mean "no such thing".
-const NOT_FOUND_CODES: [&str; 6] = [
-    "UNKNOWN_JOB",
-    "UNKNOWN_PROGRAM",
-    "UNKNOWN_VERSION",
-    "UNKNOWN_LIBRARY",
-    "JOB_FILE_NOT_FOUND",
-    "NOT_FOUND",
+const NOT_FOUND_CODES: [Code; 6] = [
+    Code::UNKNOWN_JOB,
+    Code::UNKNOWN_PROGRAM,
+    Code::UNKNOWN_VERSION,
+    Code::UNKNOWN_LIBRARY,
+    Code::JOB_FILE_NOT_FOUND,
+    Code::NOT_FOUND,
 ];
 
 /// The error codes that mean "nothing there answers".
-const UNREACHABLE_CODES: [&str; 1] = ["AGENT_OFFLINE"];
+const UNREACHABLE_CODES: [Code; 1] = [Code::AGENT_OFFLINE];
 
 /// [`NOT_FOUND`] when every error says the thing asked for does not exist,
 /// [`UNREACHABLE`] when every one says nothing answers, else [`REFUSED`].
 pub fn for_errors(errors: &[JobError]) -> u8 {
-    if !errors.is_empty()
-        && errors
-            .iter()
-            .all(|e| UNREACHABLE_CODES.contains(&e.code.as_str()))
-    {
+    if !errors.is_empty() && errors.iter().all(|e| UNREACHABLE_CODES.contains(&e.code)) {
         return UNREACHABLE;
     }
-    let not_found = !errors.is_empty()
-        && errors
-            .iter()
-            .all(|e| NOT_FOUND_CODES.contains(&e.code.as_str()));
+    let not_found = !errors.is_empty() && errors.iter().all(|e| NOT_FOUND_CODES.contains(&e.code));
     if not_found {
         NOT_FOUND
     } else {

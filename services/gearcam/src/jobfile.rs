@@ -1,6 +1,7 @@
 //! Job files: TOML in, a validated [`JobSpec`] out, with errors that name the
 //! key, what was expected and what was given.
 
+use gearcam_proto::Code;
 use std::path::Path;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -8,10 +9,6 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use gearcam_proto::{
     now_ms, part_number_problem, JobError, JobId, JobRequest, JobSpec, Stage, MAX_PART_NUMBER,
 };
-
-fn station_error(code: &str, field: &str, expected: &str, got: &str, message: String) -> JobError {
-    JobError::new(Stage::Station, code, field, expected, got, message)
-}
 
 /// Parses a job file's text. `origin` names it in messages.
 pub fn parse(text: &str, origin: &str) -> Result<JobSpec, JobError> {
@@ -49,11 +46,11 @@ pub fn parse(text: &str, origin: &str) -> Result<JobSpec, JobError> {
 fn check_finite(spec: &JobSpec, origin: &str) -> Result<(), JobError> {
     match gearcam_proto::job::non_finite(spec) {
         None => Ok(()),
-        Some((field, f)) => Err(station_error(
-            "NOT_FINITE",
+        Some((field, f)) => Err(Stage::Station.error(
+            Code::NOT_FINITE,
             &field,
             "a finite number",
-            &f.to_string(),
+            f.to_string(),
             format!("{origin}: {field} is {f}; give a finite number"),
         )),
     }
@@ -77,8 +74,8 @@ fn syntax_error(text: &str, origin: &str, line: usize, column: usize, detail: &s
         .unwrap_or(&wanted)
         .to_string();
     let got = text.lines().nth(line - 1).unwrap_or("").trim().to_string();
-    station_error(
-        "JOB_FILE_INVALID",
+    Stage::Station.error(
+        Code::JOB_FILE_INVALID,
         &format!("line {line}, column {column}"),
         &if wanted.is_empty() {
             "TOML (see docs and examples/)".to_string()
@@ -115,8 +112,8 @@ fn file_error(path: &str, detail: &str, place: &str) -> JobError {
             ),
             None => (format!("one of {}", known.join(", ")), String::new()),
         };
-        return station_error(
-            "JOB_FILE_UNKNOWN_KEY",
+        return Stage::Station.error(
+            Code::JOB_FILE_UNKNOWN_KEY,
             &field,
             &expected,
             key,
@@ -133,8 +130,8 @@ fn file_error(path: &str, detail: &str, place: &str) -> JobError {
         } else {
             ""
         };
-        return station_error(
-            "JOB_FILE_MISSING_KEY",
+        return Stage::Station.error(
+            Code::JOB_FILE_MISSING_KEY,
             &field,
             "a value",
             "nothing",
@@ -160,16 +157,16 @@ fn file_error(path: &str, detail: &str, place: &str) -> JobError {
             } else {
                 plain_type(wanted)
             };
-            station_error(
-                "JOB_FILE_INVALID",
+            Stage::Station.error(
+                Code::JOB_FILE_INVALID,
                 path,
                 &expected,
                 &got,
                 format!("{place}: {path} takes {expected}, got {got} ({head})"),
             )
         }
-        None => station_error(
-            "JOB_FILE_INVALID",
+        None => Stage::Station.error(
+            Code::JOB_FILE_INVALID,
             path,
             "see message",
             "see message",
@@ -236,10 +233,10 @@ fn check_part_number(spec: &JobSpec) -> Result<(), JobError> {
     let n = p.chars().count();
     match part_number_problem(p) {
         None => Ok(()),
-        Some(reason) => Err(station_error(
-            "JOB_FILE_INVALID",
+        Some(reason) => Err(Stage::Station.error(
+            Code::JOB_FILE_INVALID,
             "job.part_number",
-            &format!("the part (drawing) number: 1 to {MAX_PART_NUMBER} characters on one line"),
+            format!("the part (drawing) number: 1 to {MAX_PART_NUMBER} characters on one line"),
             &if n > 40 {
                 format!(
                     "{}… ({n} characters)",
@@ -270,11 +267,11 @@ pub fn load(path: &Path) -> Result<JobSpec, JobError> {
     let origin = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| {
         let code = if e.kind() == std::io::ErrorKind::NotFound {
-            "JOB_FILE_NOT_FOUND"
+            Code::JOB_FILE_NOT_FOUND
         } else {
-            "JOB_FILE_UNREADABLE"
+            Code::JOB_FILE_UNREADABLE
         };
-        station_error(
+        Stage::Station.error(
             code,
             "-",
             "a readable TOML job file",
@@ -328,11 +325,11 @@ pub fn check_size(req: &JobRequest) -> Result<(), JobError> {
     if bytes <= limit {
         return Ok(());
     }
-    Err(station_error(
-        "MESSAGE_TOO_LARGE",
+    Err(Stage::Station.error(
+        Code::MESSAGE_TOO_LARGE,
         "-",
-        &format!("a job request of at most {limit} bytes"),
-        &format!("{bytes} bytes"),
+        format!("a job request of at most {limit} bytes"),
+        format!("{bytes} bytes"),
         format!(
             "the job is larger than a message on the bus may be ({bytes} of {limit} bytes); the station refuses it"
         ),

@@ -2,6 +2,7 @@
 //! service (which journals it before it answers), follow it to its end, and
 //! read the journal.
 
+use gearcam_proto::Code;
 use std::time::Duration;
 
 use gearcam_bus::query::{CallError, Retry};
@@ -209,7 +210,7 @@ pub async fn jobs(bus: &Bus) -> Result<Result<Vec<JobStatus>, Vec<JobError>>, Ca
 fn unexpected(reply: &StationReply) -> JobError {
     JobError::new(
         gearcam_proto::Stage::Station,
-        "UNEXPECTED_REPLY",
+        Code::UNEXPECTED_REPLY,
         "reply",
         "the reply of the station's protocol for this query",
         format!("{reply:?}"),

@@ -4,6 +4,7 @@
 
 use gearcam_bus::query::{CallError, Retry};
 use gearcam_bus::Bus;
+use gearcam_proto::Code;
 use gearcam_proto::{
     keys, DeliveryReceipt, JobError, JobId, JobRequest, MachineId, ProgramHistory, ProgramText,
     Stage, StoreReply, StoreRequest,
@@ -101,7 +102,7 @@ async fn ask(
             Ok(StoreReply::Refused {
                 error: JobError::new(
                     Stage::Agent,
-                    "AGENT_OFFLINE",
+                    Code::AGENT_OFFLINE,
                     "machine",
                     if agents.is_empty() {
                         "a machine whose agent is on the bus (none is: is `gearcam up` or the machine's agent running?)".to_string()
@@ -150,7 +151,7 @@ fn refusal(reply: StoreReply) -> JobError {
         StoreReply::Refused { error } => error,
         other => JobError::new(
             Stage::Agent,
-            "UNEXPECTED_REPLY",
+            Code::UNEXPECTED_REPLY,
             "reply",
             "the reply of the store's protocol for this query",
             format!("{other:?}"),

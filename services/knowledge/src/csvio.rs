@@ -7,6 +7,7 @@
 //! row number, and nothing is written unless every row is valid. A row whose
 //! key exists replaces that record.
 
+use gearcam_proto::Code;
 use std::io::{Read, Write};
 
 use gearcam_proto::{JobError, Stage};
@@ -35,7 +36,7 @@ fn csv_lib(lib: &Library) -> Result<(), JobError> {
         .map(|l| l.name)
         .collect();
     Err(Stage::Knowledge.error(
-        "NO_CSV",
+        Code::NO_CSV,
         "library",
         format!("one of {}", with.join(", ")),
         lib.name,
@@ -73,7 +74,7 @@ pub fn import(conn: &Connection, lib: &Library, input: impl Read) -> Outcome<Imp
     for h in headers.iter() {
         if !lib.fields.iter().any(|f| f.name == h) {
             errors.push(Stage::Knowledge.error(
-                "UNKNOWN_FIELD",
+                Code::UNKNOWN_FIELD,
                 h,
                 format!(
                     "a column of {}: {}",
@@ -99,7 +100,7 @@ pub fn import(conn: &Connection, lib: &Library, input: impl Read) -> Outcome<Imp
             Ok(r) => r,
             Err(e) => {
                 errors.push(Stage::Knowledge.error(
-                    "CSV_ROW",
+                    Code::CSV_ROW,
                     &format!("row {line}"),
                     format!("{} cells", headers.len()),
                     e.to_string(),

@@ -3,6 +3,7 @@
 //! with the values actually used and the outcome, and the job becomes a case.
 //! The hob's shift position and remaining life move on by the quantity cut.
 
+use gearcam_proto::Code;
 use gearcam_proto::{DeliveryReceipt, ProcessPlan, Source, SpiralPart, SpiralPlan, Stage};
 use rusqlite::Connection;
 use serde_json::{json, Value};
@@ -152,7 +153,7 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
     // The case and the hob's wear are recorded as this confirmation's.
     crate::audit::acting_as(conn, &format!("{} (confirm {})", c.by, c.job_id)).map_err(|e| {
         vec![Stage::Knowledge.error(
-            "KNOWLEDGE_BASE_ERROR",
+            Code::KNOWLEDGE_BASE_ERROR,
             "-",
             "a writable knowledge base",
             e.to_string(),
@@ -161,7 +162,7 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
     })?;
     let Some(job) = records::job(conn, &c.job_id)? else {
         return Err(vec![Stage::Knowledge.error(
-            "UNKNOWN_JOB",
+            Code::UNKNOWN_JOB,
             "job",
             "a job the knowledge service planned (gearcam kb list jobs)",
             c.job_id.as_str(),
@@ -171,7 +172,7 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
     let state = job.state;
     if state == JobState::Refused {
         return Err(vec![Stage::Knowledge.error(
-            "JOB_STATE",
+            Code::JOB_STATE,
             "state",
             "a delivered job",
             state.as_str(),
@@ -193,7 +194,7 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
         .collect();
         if !missing.is_empty() {
             return Err(vec![Stage::Knowledge.error(
-                "CONFIRM_VALUES_MISSING",
+                Code::CONFIRM_VALUES_MISSING,
                 "undelivered",
                 "the cutting speed and feed that really ran (--cutting-speed, --feed)",
                 format!("no {}", missing.join(", no ")),
@@ -205,7 +206,7 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
         state == JobState::Delivered || (c.allow_undelivered && state == JobState::Planned);
     if !ok_state {
         return Err(vec![Stage::Knowledge.error(
-            "JOB_STATE",
+            Code::JOB_STATE,
             "state",
             if c.allow_undelivered {
                 "delivered or planned"
@@ -225,7 +226,7 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
     }
     if job.class == JobClass::Wire {
         return Err(vec![Stage::Knowledge.error(
-            "CONFIRM_FAMILY",
+            Code::CONFIRM_FAMILY,
             "job",
             "a hobbing or spiral face milling job",
             "a wire EDM job",
@@ -320,7 +321,7 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
 fn confirm_spiral(conn: &Connection, c: &Confirmation, plan_json: &str) -> Outcome<Confirmed> {
     let plan: SpiralPlan = serde_json::from_str(plan_json).map_err(|e| {
         vec![Stage::Knowledge.error(
-            "KNOWLEDGE_BASE_ERROR",
+            Code::KNOWLEDGE_BASE_ERROR,
             "plan_json",
             "a stored spiral plan",
             e.to_string(),

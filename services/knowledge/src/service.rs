@@ -9,6 +9,7 @@
 //! - a subscriber to job events that marks jobs delivered, for the learning
 //!   loop ([`crate::learn`]).
 
+use gearcam_proto::Code;
 use std::path::PathBuf;
 
 use gearcam_bus::stage::{run_stage, Handled, Output};
@@ -122,7 +123,11 @@ pub async fn run(
                 .unwrap_or_default();
             let reply = answer(&kb_conn, &key, &payload);
             if !reply.errors.is_empty() {
-                tracing::info!(key, code = reply.errors[0].code, "kb query refused");
+                tracing::info!(
+                    key,
+                    code = reply.errors[0].code.as_str(),
+                    "kb query refused"
+                );
             }
             let bytes = match encode(&reply) {
                 Ok(b) => b,
@@ -328,7 +333,7 @@ fn answer_inner(
         (None, Some((user, change))) => (Some(user), change),
         (None, None) => {
             return Err(vec![Stage::Knowledge.error(
-                "BAD_KEY",
+                Code::BAD_KEY,
                 "key",
                 keys::KB_KEY_FORMS,
                 key,
@@ -363,7 +368,7 @@ fn answer_inner(
     let need_id = |op: &str| {
         id.clone().ok_or_else(|| {
             vec![Stage::Knowledge.error(
-                "MISSING_ID",
+                Code::MISSING_ID,
                 "key",
                 keys::kb_record_form(lib.name),
                 key,
@@ -393,7 +398,7 @@ fn answer_inner(
             )
         };
         return Err(vec![Stage::Knowledge.error(
-            "KB_WRONG_KEY",
+            Code::KB_WRONG_KEY,
             "op",
             expected,
             format!("{:?}", req.op).to_lowercase(),
@@ -403,7 +408,7 @@ fn answer_inner(
     if let Some(user) = &user {
         crate::audit::acting_as(conn, user).map_err(|e| {
             vec![Stage::Knowledge.error(
-                "KNOWLEDGE_BASE_ERROR",
+                Code::KNOWLEDGE_BASE_ERROR,
                 "-",
                 "a writable knowledge base",
                 e.to_string(),
@@ -418,7 +423,7 @@ fn answer_inner(
             match library::get(conn, &lib, &id)? {
                 Some(r) => Ok(vec![r]),
                 None => Err(vec![Stage::Knowledge.error(
-                    "NOT_FOUND",
+                    Code::NOT_FOUND,
                     lib.key,
                     format!("an existing {} id", lib.name),
                     id.as_str(),
@@ -429,7 +434,7 @@ fn answer_inner(
         KbOp::Add => {
             let Some(rec) = req.record.as_ref() else {
                 return Err(vec![Stage::Knowledge.error(
-                    "FIELD_MISSING",
+                    Code::FIELD_MISSING,
                     "record",
                     "the record to add",
                     "nothing",
@@ -445,7 +450,7 @@ fn answer_inner(
                     Some(v) if v.as_str() == Some(id.as_str()) => {}
                     Some(v) => {
                         return Err(vec![Stage::Knowledge.error(
-                            "ID_MISMATCH",
+                            Code::ID_MISMATCH,
                             lib.key,
                             id.as_str(),
                             library::cell(v),

@@ -3,6 +3,7 @@
 //! wire and its spark gap, the starting technology for the plate's material
 //! group, and the program form — each value with its source.
 
+use gearcam_proto::Code;
 use gearcam_proto::{
     CaseRef, Dialect, JobError, JobRequest, MachineId, Source, Sourced, Stage, WireMachine,
     WirePlan, WireProcess, WireProgram,
@@ -11,7 +12,7 @@ use rusqlite::{Connection, Transaction};
 use serde_json::json;
 
 use crate::library::{self, Record};
-use crate::spiral::{add, knowledge, num, text};
+use crate::spiral::{add, num, text};
 use crate::{records, KnowledgeError};
 
 /// Provenance of the seeded machines.
@@ -176,12 +177,12 @@ impl From<KnowledgeError> for Failed {
 pub fn plan_wire(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Vec<JobError>> {
     plan_inner(conn, req).map_err(|f| match f {
         Failed::Job(errors) => errors,
-        Failed::Base(e) => vec![knowledge(
-            "KNOWLEDGE_BASE_ERROR",
+        Failed::Base(e) => vec![Stage::Knowledge.error(
+            Code::KNOWLEDGE_BASE_ERROR,
             "-",
-            "a readable knowledge base".into(),
+            "a readable knowledge base",
             e.to_string(),
-            "the knowledge base could not be read; check the knowledge service's log and database file".into(),
+            "the knowledge base could not be read; check the knowledge service's log and database file",
         )],
     })
 }
@@ -220,12 +221,12 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
         .unwrap_or_else(|| text(&record, "wire").to_string());
     let Some(wire) = library::get(conn, &library::WIRES, &wire_id)? else {
         let wires = library::keys(conn, &library::WIRES)?;
-        return Err(Failed::Job(vec![knowledge(
-            "UNKNOWN_WIRE",
+        return Err(Failed::Job(vec![Stage::Knowledge.error(
+            Code::UNKNOWN_WIRE,
             "wire.wire",
             format!("a wire of the knowledge base: one of {}", wires.join(", ")),
             wire_id,
-            "the wire is not in the knowledge base (gearcam kb list wires)".into(),
+            "the wire is not in the knowledge base (gearcam kb list wires)",
         )]));
     };
     let material = records::material(conn, &die.material)?;
@@ -243,12 +244,12 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
             })
         });
     let Some(data) = data else {
-        return Err(Failed::Job(vec![knowledge(
-            "NO_CUTTING_DATA",
+        return Err(Failed::Job(vec![Stage::Knowledge.error(
+            Code::NO_CUTTING_DATA,
             "die.material",
             format!("a wire-data row for {wire_material} wire and the plate's material group (gearcam kb list wire-data)"),
             format!("{} (group {group})", die.material),
-            "the knowledge base has no technology to propose for this wire and material".into(),
+            "the knowledge base has no technology to propose for this wire and material",
         )]));
     };
     let sourced = |value: f64, source: Source| Sourced { value, source };
@@ -262,15 +263,15 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
     // given the whole part unless the job asks otherwise, and a job that
     // asks for a turned program there is refused rather than sent.
     if o.whole == Some(false) && !machine.rotates {
-        return Err(Failed::Job(vec![knowledge(
-            "PROGRAM_FORM",
+        return Err(Failed::Job(vec![Stage::Knowledge.error(
+            Code::PROGRAM_FORM,
             "wire.whole",
             format!(
                 "true, or no whole key: the control of {} ({}) does not turn a section of blocks",
                 machine.id, machine.controller
             ),
-            "false".into(),
-            "a quarter or half program needs the control's rotation".into(),
+            "false",
+            "a quarter or half program needs the control's rotation",
         )]));
     }
     let whole = o.whole.unwrap_or(!machine.rotates);

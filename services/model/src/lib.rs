@@ -40,6 +40,7 @@ pub mod units;
 pub mod validate;
 pub mod wire;
 
+use gearcam_proto::Code;
 use gearcam_proto::{GearClass, GearSpec, Geometry, JobError, MachiningModel, ProcessPlan};
 
 /// Version of the model code, written into every [`MachiningModel`].
@@ -53,7 +54,7 @@ pub fn program_form_error(
     got: &str,
 ) -> gearcam_proto::JobError {
     gearcam_proto::Stage::Model.error(
-        "PROGRAM_FORM",
+        Code::PROGRAM_FORM,
         field,
         format!("a form {machine} runs: {}", forms.join(", ")),
         got,

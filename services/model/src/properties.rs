@@ -7,14 +7,13 @@
 use std::f64::consts::PI;
 
 use gearcam_proto::{
-    ConeSpec, CrowningShape, CrowningSpec, CutMode, Hand, Infeed, Kinematics, LargeEnd, MoveKind,
-    ProcessPlan,
+    Code, ConeSpec, CrowningShape, CrowningSpec, CutMode, Hand, Infeed, Kinematics, LargeEnd,
+    MoveKind, ProcessPlan,
 };
 use proptest::prelude::*;
 
 use crate::fixtures;
 use crate::hobbing::Clearance;
-use crate::validate::codes;
 
 /// A valid cylindrical job: module, teeth, helix, face width, hob starts and
 /// diameter, cut mode, cuts, infeed, feed and cutting speed from wide ranges;
@@ -151,15 +150,15 @@ fn finite(k: &Kinematics) -> bool {
     v.iter().all(|x| x.is_finite())
 }
 
-const LIMIT_CODES: [&str; 8] = [
-    codes::HOB_RPM_LIMIT,
-    codes::TABLE_RPM_LIMIT,
-    codes::AXIAL_FEED_LIMIT,
-    codes::SWIVEL_LIMIT,
-    codes::POSITION_TRAVEL_LIMIT,
-    codes::FEED_RATE_LIMIT,
-    codes::WORKPIECE_OD_LIMIT,
-    codes::ENVELOPE_COLLISION,
+const LIMIT_CODES: [Code; 8] = [
+    Code::HOB_RPM_LIMIT,
+    Code::TABLE_RPM_LIMIT,
+    Code::AXIAL_FEED_LIMIT,
+    Code::SWIVEL_LIMIT,
+    Code::POSITION_TRAVEL_LIMIT,
+    Code::FEED_RATE_LIMIT,
+    Code::WORKPIECE_OD_LIMIT,
+    Code::ENVELOPE_COLLISION,
 ];
 
 proptest! {
@@ -220,7 +219,7 @@ proptest! {
             }
             Err(errors) => {
                 for e in &errors {
-                    prop_assert!(LIMIT_CODES.contains(&e.code.as_str()), "{e:?}");
+                    prop_assert!(LIMIT_CODES.contains(&e.code), "{e:?}");
                 }
             }
         }

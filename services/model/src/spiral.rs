@@ -6,6 +6,7 @@
 //! independently, and the coverage check of a face or the pitch check of a
 //! groove. Every failure is a typed error on the job file's field.
 
+use gearcam_proto::Code;
 use gearcam_proto::{
     CoverageCheck, CutMode, GrooveFigures, JobError, SpiralCut, SpiralDirection, SpiralFigures,
     SpiralModel, SpiralPart, SpiralPlan, SpiralProgram, Stage, Warning,
@@ -40,7 +41,7 @@ pub fn sense(direction: SpiralDirection, cut_mode: CutMode) -> i8 {
 }
 
 fn machine_error(field: &str, expected: String, got: String, message: String) -> JobError {
-    Stage::Model.error("MACHINE_RANGE", field, expected, got, message)
+    Stage::Model.error(Code::MACHINE_RANGE, field, expected, got, message)
 }
 
 /// The spiral of the plan's face or groove (sense set), and the groove's figures.
@@ -69,7 +70,7 @@ fn spiral_of(plan: &SpiralPlan) -> Result<(Spiral, Option<GrooveFigures>), Vec<J
         SpiralPart::Groove(g) => {
             if (g.width_mm - 2.0 * rt).abs() > 1e-3 {
                 return Err(vec![Stage::Model.error(
-                    "GROOVE_RANGE",
+                    Code::GROOVE_RANGE,
                     "groove.width_mm",
                     format!("the tool's diameter, {} mm (tool {})", 2.0 * rt, plan.tool.id),
                     format!("{}", g.width_mm),
@@ -170,7 +171,7 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
     }
     if p.passes == 0 {
         errors.push(Stage::Model.error(
-            "SPIRAL_RANGE",
+            Code::SPIRAL_RANGE,
             "milling.passes",
             "1 or more depth passes",
             "0",
@@ -180,7 +181,7 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
     let depth = plan.part.depth_mm();
     if !(depth.is_finite() && depth > 0.0) {
         errors.push(Stage::Model.error(
-            "SPIRAL_RANGE",
+            Code::SPIRAL_RANGE,
             &format!("{}.depth_mm", plan.part.kind()),
             "a depth > 0 mm",
             format!("{depth}"),
@@ -190,7 +191,7 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
     let tol = p.tolerance_mm.value;
     if !(tol.is_finite() && tol > 0.0 && tol <= 0.1) {
         errors.push(Stage::Model.error(
-            "SPIRAL_RANGE",
+            Code::SPIRAL_RANGE,
             "milling.tolerance_mm",
             "a tolerance in (0, 0.1] mm",
             format!("{tol}"),
@@ -212,7 +213,7 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
     // the analytic condition the coverage check then confirms by sampling.
     if groove.is_none() && spiral.step_over_mm() > 2.0 * rt - 2.0 * tol {
         errors.push(Stage::Model.error(
-            "SPIRAL_RANGE",
+            Code::SPIRAL_RANGE,
             "milling.step_over_mm",
             format!(
                 "at most {:.4} mm: the tool's diameter less twice the tolerance {tol} mm",
@@ -320,7 +321,7 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
     if !coverage.ok {
         let (x, y) = coverage.worst_point_mm;
         return Err(vec![Stage::Model.error(
-            "COVERAGE_FAILED",
+            Code::COVERAGE_FAILED,
             "milling.step_over_mm",
             match plan.part {
                 SpiralPart::Face(_) => "a path whose tool disc covers every point of the face".to_string(),
@@ -337,7 +338,7 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
     // a little smaller than its nominal size leaves a ring.
     if groove.is_none() && spiral.step_over_mm() > 0.9 * 2.0 * rt {
         warnings.push(Warning {
-            code: "STEP_OVER_LARGE".into(),
+            code: Code::STEP_OVER_LARGE,
             field: "milling.step_over_mm".into(),
             message: format!(
                 "the step-over {:.3} mm is over 90 % of the tool's diameter {} mm: neighbouring turns overlap by {:.3} mm only",

@@ -9,6 +9,7 @@
 //! the job's hob id; library hobs for further units are not resolved yet.
 
 use gearcam_proto::class::unit_class;
+use gearcam_proto::Code;
 use gearcam_proto::{
     GearClass, GearSpec, HobData, JobError, Kinematics, ProcessPlan, Source, Stage, UnitModel,
     UnitSpec,
@@ -33,7 +34,7 @@ pub fn unit_hob(
 ) -> Result<HobData, Vec<JobError>> {
     let h = &unit.hob;
     let field = |f: &str| format!("units[{index}].hob.{f}");
-    let err = |code: &str, f: &str, expected: &str, got: String, message: String| {
+    let err = |code: Code, f: &str, expected: &str, got: String, message: String| {
         JobError::new(Stage::Model, code, &field(f), expected, got, message)
     };
     if let Some(id) = &h.id {
@@ -41,7 +42,7 @@ pub fn unit_hob(
             return Ok(plan.hob.clone());
         }
         return Err(vec![err(
-            "UNIT_HOB_UNRESOLVED",
+            Code::UNIT_HOB_UNRESOLVED,
             "id",
             &format!("{} (the job's hob) or inline hob data", plan.hob.id),
             id.to_string(),
@@ -58,7 +59,7 @@ pub fn unit_hob(
     let mut need = |name: &str, present: bool| {
         if !present {
             errors.push(err(
-                "UNIT_HOB_INCOMPLETE",
+                Code::UNIT_HOB_INCOMPLETE,
                 name,
                 "a value (inline hob data needs starts, od_mm, module_mm, lead_angle_deg, hand, length_mm)",
                 "nothing".into(),

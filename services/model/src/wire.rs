@@ -4,6 +4,7 @@
 //! checked against the machine. Every failure is a typed error on the job
 //! file's field.
 
+use gearcam_proto::Code;
 use gearcam_proto::{DieFigures, JobError, Stage, WireModel, WirePlan};
 use gearcam_wire::die::{centre_distance_mm, check, length_mm, tip_thickness_mm, Problem};
 use gearcam_wire::programs::{make, Made};
@@ -32,7 +33,7 @@ pub fn made(plan: &WirePlan) -> Result<Made, Vec<JobError>> {
     }
     if die.thickness_mm > m.max_thickness_mm {
         errors.push(Stage::Model.error(
-            "MACHINE_RANGE",
+            Code::MACHINE_RANGE,
             "die.thickness_mm",
             format!("at most {} mm (machine {})", m.max_thickness_mm, m.id),
             format!("{} mm", die.thickness_mm),
@@ -53,7 +54,7 @@ pub fn made(plan: &WirePlan) -> Result<Made, Vec<JobError>> {
         .fold(0.0, f64::max);
     if reach > m.max_radius_mm {
         return Err(vec![Stage::Model.error(
-            "MACHINE_RANGE",
+            Code::MACHINE_RANGE,
             "die.module_mm",
             format!(
                 "a contour within {} mm of the centre (machine {})",
@@ -115,7 +116,7 @@ pub fn model_of(plan: &WirePlan, made: &Made) -> WireModel {
     let mut warnings = Vec::new();
     if made.cut.outline.undercut {
         warnings.push(gearcam_proto::Warning {
-            code: "FLANK_UNDERCUT".into(),
+            code: Code::FLANK_UNDERCUT,
             field: "die.teeth".into(),
             message: format!(
                 "the flank is undercut: the fillet cuts into the involute below {:.3} mm",

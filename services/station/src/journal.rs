@@ -5,6 +5,7 @@
 //! submitter only after its row is committed, so a station killed at any point
 //! and started again re-drives every journaled job that is not final.
 
+use gearcam_proto::Code;
 use std::path::Path;
 
 use gearcam_proto::{
@@ -138,7 +139,12 @@ impl Journal {
     /// a different spec under a known job id is refused (`JOB_ID_EXISTS`).
     pub fn submit(&self, req: &JobRequest, now: u64) -> Result<JobStatus, JobError> {
         let bytes = encode(req).map_err(|e| {
-            station_error("ENCODE_FAILED", "-", "an encodable request", &e.to_string())
+            station_error(
+                Code::ENCODE_FAILED,
+                "-",
+                "an encodable request",
+                &e.to_string(),
+            )
         })?;
         let hash = sha(&bytes);
         let known: Option<Vec<u8>> = self
@@ -166,7 +172,7 @@ impl Journal {
                     .is_ok_and(|s| without_id(&s.spec) == without_id(&req.spec));
                 if !same {
                     return Err(station_error(
-                        "JOB_ID_EXISTS",
+                        Code::JOB_ID_EXISTS,
                         "job_id",
                         "a job id not used by another job spec",
                         req.job_id.as_str(),
@@ -184,8 +190,17 @@ impl Journal {
             }
         }
         self.status(&req.job_id)
-            .map_err(|e| station_error("JOURNAL_ERROR", "-", "a readable journal", &e.to_string()))?
-            .ok_or_else(|| station_error("JOURNAL_ERROR", "-", "the row just written", "nothing"))
+            .map_err(|e| {
+                station_error(
+                    Code::JOURNAL_ERROR,
+                    "-",
+                    "a readable journal",
+                    &e.to_string(),
+                )
+            })?
+            .ok_or_else(|| {
+                station_error(Code::JOURNAL_ERROR, "-", "the row just written", "nothing")
+            })
     }
 
     /// Applies a job event `reporter` published (the last chunk of its key);
@@ -526,9 +541,9 @@ fn corrupt(what: &'static str, e: impl std::fmt::Display) -> JournalError {
     }
 }
 
-fn station_error(code: &str, field: &str, expected: &str, got: &str) -> JobError {
+fn station_error(code: Code, field: &str, expected: &str, got: &str) -> JobError {
     let message = match code {
-        "JOB_ID_EXISTS" => {
+        Code::JOB_ID_EXISTS => {
             "this job id is already journaled with a different job spec (a resubmission must carry the same spec); use a new job id"
         }
         _ => "the station could not journal the job; see its log",
@@ -537,7 +552,12 @@ fn station_error(code: &str, field: &str, expected: &str, got: &str) -> JobError
 }
 
 fn db_error(e: rusqlite::Error) -> JobError {
-    station_error("JOURNAL_ERROR", "-", "a writable journal", &e.to_string())
+    station_error(
+        Code::JOURNAL_ERROR,
+        "-",
+        "a writable journal",
+        &e.to_string(),
+    )
 }
 
 #[cfg(test)]

@@ -25,6 +25,7 @@
 //!
 //! Changes are applied in batches, one SQLite transaction each (group commit).
 
+use gearcam_proto::Code;
 use std::collections::HashSet;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -33,8 +34,8 @@ use gearcam_bus::query::Retry;
 use gearcam_bus::{Bus, BusError, CancellationToken};
 use gearcam_proto::plan::{KbReply, KbRequest, KbValue};
 use gearcam_proto::{
-    codes, decode, encode, keys, now_ms, part_number_problem, CancelRequest, DeliveryReply,
-    EventKind, JobError, JobEvent, JobId, JobRequest, JobState, MachineId, Stage, StationReply,
+    decode, encode, keys, now_ms, part_number_problem, CancelRequest, DeliveryReply, EventKind,
+    JobError, JobEvent, JobId, JobRequest, JobState, MachineId, Stage, StationReply,
     MAX_PART_NUMBER,
 };
 use zenoh::query::Query;
@@ -205,14 +206,14 @@ pub async fn run(
                     // A request over the limit a secure router drops: the
                     // same refusal on every deployment, before decoding.
                     (true, _) => Err(vec![Stage::Station.error(
-                        codes::MESSAGE_TOO_LARGE,
+                        Code::MESSAGE_TOO_LARGE,
                         "-",
                         format!("a job request of at most {limit} bytes"),
                         format!("{} bytes", payload.len()),
                         "the job request is larger than a request on the bus may be",
                     )]),
                     (false, None) => Err(vec![Stage::Station.error(
-                        codes::BAD_KEY,
+                        Code::BAD_KEY,
                         "key",
                         keys::STATION_SUBMIT_FORM,
                         key,
@@ -234,7 +235,7 @@ pub async fn run(
                         req.submitted_by = user.to_string();
                         if let Some(reason) = part_number_problem(&req.spec.job.part_number) {
                             Err(vec![Stage::Station.error(
-                                codes::INVALID_PART_NUMBER,
+                                Code::INVALID_PART_NUMBER,
                                 "spec.job.part_number",
                                 format!("the part (drawing) number: 1 to {MAX_PART_NUMBER} characters on one line"),
                                 req.spec.job.part_number.chars().take(80).collect::<String>(),
@@ -242,7 +243,7 @@ pub async fn run(
                             )])
                         } else if let Some((field, f)) = gearcam_proto::job::non_finite(&req.spec) {
                             Err(vec![Stage::Station.error(
-                                codes::NOT_FINITE,
+                                Code::NOT_FINITE,
                                 &format!("spec.{field}"),
                                 "a finite number",
                                 f.to_string(),
@@ -528,7 +529,7 @@ async fn known_machine(
     } else {
         Err(JobError::new(
             Stage::Station,
-            "UNKNOWN_MACHINE",
+            Code::UNKNOWN_MACHINE,
             "spec.job.machine",
             format!(
                 "one of the knowledge base's machines: {}",
@@ -561,7 +562,7 @@ fn cancel_reply(journal: &Journal, q: &Query) -> (StationReply, Option<(JobId, S
     let key = q.key_expr().as_str();
     let Some((user, raw)) = keys::station_cancel_of(key) else {
         return refused(Stage::Station.error(
-            codes::BAD_KEY,
+            Code::BAD_KEY,
             "key",
             keys::STATION_CANCEL_FORM,
             key,
@@ -589,7 +590,7 @@ fn cancel_reply(journal: &Journal, q: &Query) -> (StationReply, Option<(JobId, S
     };
     if !gearcam_proto::delivery::valid_by(&by) {
         return refused(Stage::Station.error(
-            codes::BAD_CANCEL_REQUEST,
+            Code::BAD_CANCEL_REQUEST,
             "by",
             "who cancels the job: 1 to 64 characters on one line",
             by.chars().take(80).collect::<String>(),
@@ -613,7 +614,7 @@ fn cancel_reply(journal: &Journal, q: &Query) -> (StationReply, Option<(JobId, S
     }
     if before.state.is_final() {
         return refused(Stage::Station.error(
-            codes::JOB_FINAL,
+            Code::JOB_FINAL,
             "job_id",
             "a job not yet delivered, failed or superseded",
             format!("{job}: {}", before.state.as_str()),
@@ -629,7 +630,7 @@ fn cancel_reply(journal: &Journal, q: &Query) -> (StationReply, Option<(JobId, S
         ),
         // It ended on its own in between: its status says how.
         Ok(Some(status)) => refused(Stage::Station.error(
-            codes::JOB_FINAL,
+            Code::JOB_FINAL,
             "job_id",
             "a job not yet delivered, failed or superseded",
             format!("{job}: {}", status.state.as_str()),
@@ -643,7 +644,7 @@ fn cancel_reply(journal: &Journal, q: &Query) -> (StationReply, Option<(JobId, S
 fn unknown_job(job: &JobId) -> JobError {
     JobError::new(
         Stage::Station,
-        "UNKNOWN_JOB",
+        Code::UNKNOWN_JOB,
         "job_id",
         "a job in this station's journal (gearcam jobs)",
         job.as_str(),
@@ -654,7 +655,7 @@ fn unknown_job(job: &JobId) -> JobError {
 fn journal_error(e: JournalError) -> JobError {
     JobError::new(
         Stage::Station,
-        "JOURNAL_ERROR",
+        Code::JOURNAL_ERROR,
         "-",
         "a readable journal",
         e.to_string(),

@@ -11,6 +11,7 @@
 //! parameter table from the [`MachiningModel`], instantiates it, and returns the
 //! [`NcProgram`] with its name under the controller's rules, hash and provenance.
 
+use gearcam_proto::Code;
 use std::collections::BTreeMap;
 
 use gearcam_proto::{naming, Dialect, JobError, MachiningModel, NcProgram, Stage, TemplateRef};
@@ -218,25 +219,25 @@ impl Templates {
         let text = template.instantiate(&input, self.budget).map_err(|e| {
             let field = format!("template.{}", template.id);
             vec![match &e.error {
-                RunFailure::TooLarge => template_error(
-                    "PROGRAM_TOO_LARGE",
+                RunFailure::TooLarge => Stage::Template.error(
+                    Code::PROGRAM_TOO_LARGE,
                     &field,
-                    &format!("at most {MAX_PROGRAM_BYTES} bytes"),
-                    &format!("more than {MAX_PROGRAM_BYTES} bytes"),
+                    format!("at most {MAX_PROGRAM_BYTES} bytes"),
+                    format!("more than {MAX_PROGRAM_BYTES} bytes"),
                     format!("{e}; check the template for runaway repetition"),
                 ),
-                RunFailure::Eval(crate::expr::EvalError::Budget(n)) => template_error(
-                    "TEMPLATE_FUEL_EXHAUSTED",
+                RunFailure::Eval(crate::expr::EvalError::Budget(n)) => Stage::Template.error(
+                    Code::TEMPLATE_FUEL_EXHAUSTED,
                     &field,
-                    &format!("at most {n} expression steps"),
+                    format!("at most {n} expression steps"),
                     "more",
                     format!("{e}; check the template"),
                 ),
-                RunFailure::Eval(_) => template_error(
-                    "TEMPLATE_RENDER_FAILED",
+                RunFailure::Eval(_) => Stage::Template.error(
+                    Code::TEMPLATE_RENDER_FAILED,
                     &field,
                     "a template that instantiates with this model",
-                    &e.error.to_string(),
+                    e.error.to_string(),
                     e.to_string(),
                 ),
             }]
@@ -289,11 +290,11 @@ impl Templates {
                 "this class cannot be programmed yet; add its template to the template library",
             )
         };
-        template_error(
-            "TEMPLATE_NOT_FOUND",
+        Stage::Template.error(
+            Code::TEMPLATE_NOT_FOUND,
             field,
-            &format!("one of {}", supported.join(", ")),
-            &format!("{}/{dialect}", plan.class),
+            format!("one of {}", supported.join(", ")),
+            format!("{}/{dialect}", plan.class),
             format!(
                 "no template for class {} on a {dialect} controller (machine {}); {advice}",
                 plan.class, plan.machine.id
@@ -309,10 +310,10 @@ pub fn path_check_errors(program: &NcProgram) -> Vec<JobError> {
         .findings
         .iter()
         .map(|f| {
-            template_error(
-                "PATH_CHECK_FAILED",
+            Stage::Template.error(
+                Code::PATH_CHECK_FAILED,
                 &format!("program.line.{}", f.line),
-                &format!("a program that keeps rule {}", f.rule),
+                format!("a program that keeps rule {}", f.rule),
                 program
                     .text
                     .lines()
@@ -380,33 +381,35 @@ fn check_inputs(model: &MachiningModel) -> Result<(), Vec<JobError>> {
     for (i, (role, name)) in named.iter().enumerate() {
         let field = format!("machine.axes.{role}");
         if !is_axis_name(name) {
-            errors.push(template_error(
-                "INVALID_AXIS_NAME",
+            errors.push(Stage::Template.error(
+                Code::INVALID_AXIS_NAME,
                 &field,
                 "1 to 8 characters from A-Z a-z 0-9 _, starting with a letter",
-                name,
+                name.as_str(),
                 format!("the {role} axis name {name:?} in the machine profile is not an 840D axis identifier; correct the machine profile"),
             ));
         } else if let Some((other, _)) = named[..i].iter().find(|(_, n)| n == name) {
-            errors.push(template_error(
-                "INVALID_AXIS_NAME",
+            errors.push(Stage::Template.error(
+                Code::INVALID_AXIS_NAME,
                 &field,
                 "an axis name different from every other axis of the machine",
-                name,
+                name.as_str(),
                 format!("the {role} axis and the {other} axis are both called {name:?} in the machine profile; correct the machine profile"),
             ));
         }
     }
     let coupling = model.model.coupling;
     if coupling.num == 0 || coupling.den == 0 {
-        errors.push(template_error(
-            "INVALID_COUPLING",
-            "model.coupling",
-            "hob starts ≥ 1 and teeth ≥ 1",
-            &format!("{}/{}", coupling.num, coupling.den),
-            "the gearbox ratio z0/z has a zero term; the model should have rejected this job"
-                .to_string(),
-        ));
+        errors.push(
+            Stage::Template.error(
+                Code::INVALID_COUPLING,
+                "model.coupling",
+                "hob starts ≥ 1 and teeth ≥ 1",
+                format!("{}/{}", coupling.num, coupling.den),
+                "the gearbox ratio z0/z has a zero term; the model should have rejected this job"
+                    .to_string(),
+            ),
+        );
     }
     if errors.is_empty() {
         Ok(())
@@ -419,10 +422,6 @@ fn is_axis_name(name: &str) -> bool {
     (1..=8).contains(&name.len())
         && name.starts_with(|c: char| c.is_ascii_alphabetic())
         && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-}
-
-fn template_error(code: &str, field: &str, expected: &str, got: &str, message: String) -> JobError {
-    JobError::new(Stage::Template, code, field, expected, got, message)
 }
 
 #[cfg(test)]

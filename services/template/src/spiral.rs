@@ -6,6 +6,7 @@
 //! with the model ([`gearcam_spiral::verify`]) before it may leave.
 
 use gearcam_proto::naming;
+use gearcam_proto::Code;
 use gearcam_proto::{
     utc_text, CutMode, JobError, NcProgram, SpiralModel, SpiralPart, SpiralProgram, Stage,
     TemplateRef,
@@ -17,16 +18,6 @@ use sha2::{Digest, Sha256};
 use crate::render::GENERATOR;
 
 pub use crate::forms::SPIRAL_FORMS_VERSION;
-
-fn template_error(
-    code: &str,
-    field: &str,
-    expected: String,
-    got: String,
-    message: String,
-) -> JobError {
-    Stage::Template.error(code, field, expected, got, message)
-}
 
 /// The header lines of a spiral program.
 fn header(model: &SpiralModel) -> Vec<String> {
@@ -110,8 +101,8 @@ pub fn instantiate(model: &SpiralModel) -> Result<NcProgram, Vec<JobError>> {
     let form = plan.process.program;
     let dialect = form.dialect();
     if dialect != plan.machine.dialect {
-        return Err(vec![template_error(
-            "PROGRAM_FORM",
+        return Err(vec![Stage::Template.error(
+            Code::PROGRAM_FORM,
             "milling.program",
             format!("a {} form", plan.machine.dialect.as_str()),
             form.as_str().to_string(),
@@ -348,7 +339,7 @@ mod tests {
         let good = instantiate(&m).unwrap().text;
         let check = |text: &str| verify(text, SpiralProgram::FanucMacro, &m).0;
         assert!(check(&good).ok);
-        let rules = |text: &str| -> Vec<String> {
+        let rules = |text: &str| -> Vec<Code> {
             check(text).findings.into_iter().map(|f| f.rule).collect()
         };
         // The retract inside the pass loop, before the pass counter.
@@ -356,7 +347,7 @@ mod tests {
         assert!(good.contains(between));
         let bad = good.replace(between, "G15\n#30=#30+1");
         assert!(
-            rules(&bad).contains(&"RAPID_IN_MATERIAL".to_string()),
+            rules(&bad).contains(&Code::RAPID_IN_MATERIAL),
             "{:?}",
             rules(&bad)
         );
@@ -364,7 +355,7 @@ mod tests {
         // it ends above the face, but drags the tool through the material.
         let diagonal = good.replace(between, "G15\nG00 X0 Y0 Z#17\n#30=#30+1");
         assert!(
-            rules(&diagonal).contains(&"RAPID_IN_MATERIAL".to_string()),
+            rules(&diagonal).contains(&Code::RAPID_IN_MATERIAL),
             "{:?}",
             rules(&diagonal)
         );
@@ -373,7 +364,7 @@ mod tests {
         assert!(good.contains(first));
         let bad = good.replacen(first, "S#11 M03\n", 1);
         assert!(
-            rules(&bad).contains(&"UNSAFE_APPROACH".to_string()),
+            rules(&bad).contains(&Code::UNSAFE_APPROACH),
             "{:?}",
             rules(&bad)
         );
@@ -381,7 +372,7 @@ mod tests {
         // replaced by the face's outer radius.
         let bad = good.replacen("\n#1=", "\n#1=-8.0+", 1);
         assert!(
-            rules(&bad).contains(&"PLUNGE_IN_MATERIAL".to_string()),
+            rules(&bad).contains(&Code::PLUNGE_IN_MATERIAL),
             "{:?}",
             rules(&bad)
         );

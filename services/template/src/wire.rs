@@ -5,6 +5,7 @@
 //! measured against the theoretical outline before it may leave.
 
 use gearcam_proto::naming;
+use gearcam_proto::Code;
 use gearcam_proto::{
     utc_text, Cutter, DiePart, JobError, NcProgram, PathCheck, Stage, TemplateRef, WireModel,
     WireProgram,
@@ -15,16 +16,6 @@ use sha2::{Digest, Sha256};
 use crate::render::GENERATOR;
 
 pub use crate::forms::WIRE_FORMS_VERSION;
-
-fn template_error(
-    code: &str,
-    field: &str,
-    expected: String,
-    got: String,
-    message: String,
-) -> JobError {
-    Stage::Template.error(code, field, expected, got, message)
-}
 
 /// The header lines of a wire program.
 pub fn header(model: &WireModel, name: &str) -> Vec<String> {
@@ -123,8 +114,8 @@ pub fn render(model: &WireModel) -> Result<NcProgram, Vec<JobError>> {
     let form = plan.process.program;
     let dialect = form.dialect();
     if dialect != plan.machine.dialect {
-        return Err(vec![template_error(
-            "PROGRAM_FORM",
+        return Err(vec![Stage::Template.error(
+            Code::PROGRAM_FORM,
             "wire.program",
             format!("a {} form", plan.machine.dialect.as_str()),
             form.as_str().to_string(),
@@ -142,11 +133,8 @@ pub fn render(model: &WireModel) -> Result<NcProgram, Vec<JobError>> {
     let lines = header(model, &name);
     // `make` writes the text, reads it back, replays it and measures it:
     // it returns a program only when the replay holds the tolerances.
-    let made = make(&plan.die, &plan.process, &lines, number(&name)).map_err(|p| {
-        vec![template_error(
-            p.code, &p.field, p.expected, p.got, p.message,
-        )]
-    })?;
+    let made = make(&plan.die, &plan.process, &lines, number(&name))
+        .map_err(|p| vec![Stage::Template.error(p.code, &p.field, p.expected, p.got, p.message)])?;
     let text = made.written.text;
     let path_check = PathCheck {
         ok: true,

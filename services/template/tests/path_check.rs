@@ -9,7 +9,8 @@
 
 use std::sync::OnceLock;
 
-use gearcam_nc::{self as nc, rules, Trace};
+use gearcam_nc::{self as nc, Trace};
+use gearcam_proto::Code;
 use gearcam_proto::{Dialect, Kinematics, MachiningModel, MoveKind, PathCheck};
 use gearcam_template::format_fixed;
 use gearcam_template::Templates;
@@ -53,12 +54,8 @@ fn assert_clean(what: &str, text: &str, check: &PathCheck) {
 }
 
 /// The rules and lines of a check's findings.
-fn found(check: &PathCheck) -> Vec<(&str, u32)> {
-    check
-        .findings
-        .iter()
-        .map(|f| (f.rule.as_str(), f.line))
-        .collect()
+fn found(check: &PathCheck) -> Vec<(Code, u32)> {
+    check.findings.iter().map(|f| (f.rule, f.line)).collect()
 }
 
 /// The 1-based line of the first line containing `needle`.
@@ -414,14 +411,14 @@ fn fanuc_shift_move_carries_its_c_correction() {
     let (check, _) = nc::check(&bad, &m);
     assert_eq!(
         found(&check),
-        vec![(rules::COUPLING_RATIO, line_of(&bad, "G91"))]
+        vec![(Code::COUPLING_RATIO, line_of(&bad, "G91"))]
     );
 
     // The shift move before the coupling.
     let bad = remove_line(&text, "G81");
     let (check, _) = nc::check(&bad, &m);
     assert!(
-        found(&check).contains(&(rules::COUPLING_RATIO, line_of(&bad, "G91"))),
+        found(&check).contains(&(Code::COUPLING_RATIO, line_of(&bad, "G91"))),
         "{:#?}",
         check.findings
     );
@@ -433,7 +430,7 @@ fn fanuc_shift_move_carries_its_c_correction() {
         &format!("N70 G00 X{}", f3(m.model.cuts[0].positions.E.x_mm)),
     );
     let (check, _) = nc::check(&bad, &m);
-    assert_eq!(check.findings[0].rule, rules::PARSE);
+    assert_eq!(check.findings[0].rule, Code::PARSE);
     assert_eq!(check.findings[0].line, line_of(&bad, "N70 G00"));
     assert!(
         check.findings[0].message.contains("G91 of line"),
@@ -468,7 +465,7 @@ fn a_cut_before_the_gearbox_is_coupled_is_depth_uncoupled() {
     let bad = replace_line(&bad, &feed, &format!("{feed}\n{egdef}\n{egon}"));
     let (check, _) = nc::check(&bad, &m);
     let line = line_of(&bad, &feed);
-    assert_eq!(found(&check), vec![(rules::DEPTH_UNCOUPLED, line)], "{bad}");
+    assert_eq!(found(&check), vec![(Code::DEPTH_UNCOUPLED, line)], "{bad}");
     let msg = &check.findings[0].message;
     assert!(
         msg.starts_with(&format!("line {line}: feed move from X=73.75 Z=154.278 to X=73.75 Z=75.722 enters the contact zone (X < 80.5, 75.722 < Z < 154.278) while the gearbox is not coupled")),
@@ -480,7 +477,7 @@ fn a_cut_before_the_gearbox_is_coupled_is_depth_uncoupled() {
     let (check, _) = nc::check(&bad, &m);
     assert_eq!(
         found(&check),
-        vec![(rules::DEPTH_UNCOUPLED, line_of(&bad, &feed))]
+        vec![(Code::DEPTH_UNCOUPLED, line_of(&bad, &feed))]
     );
     assert!(check.findings[0]
         .message
@@ -498,7 +495,7 @@ fn a_rapid_into_the_blank_breaks_the_clearance() {
     // The zone of the model's clearance and the swept hob solid both see it.
     assert_eq!(
         found(&check),
-        vec![(rules::RAPID_CLEARANCE, line), (rules::HOB_CLEARANCE, line)],
+        vec![(Code::RAPID_CLEARANCE, line), (Code::HOB_CLEARANCE, line)],
         "{bad}"
     );
     assert_eq!(
@@ -523,10 +520,7 @@ fn a_rapid_into_the_blank_breaks_the_clearance() {
     let line = line_of(&bad, "G0 X=300.0 Z=350.0");
     assert_eq!(
         found(&check),
-        vec![
-            (rules::RAPID_CLEARANCE, line),
-            (rules::DEPTH_UNCOUPLED, line)
-        ],
+        vec![(Code::RAPID_CLEARANCE, line), (Code::DEPTH_UNCOUPLED, line)],
         "{:#?}",
         check.findings
     );
@@ -540,7 +534,7 @@ fn travel_and_swivel_beyond_the_machine_are_travel_limits() {
     let (check, _) = nc::check(&bad, &m);
     assert_eq!(
         found(&check),
-        vec![(rules::TRAVEL_LIMIT, line_of(&bad, "X=450.0"))]
+        vec![(Code::TRAVEL_LIMIT, line_of(&bad, "X=450.0"))]
     );
     assert!(check.findings[0]
         .message
@@ -553,13 +547,13 @@ fn travel_and_swivel_beyond_the_machine_are_travel_limits() {
     let (check, _) = nc::check(&bad, &m);
     let line = line_of(&bad, "A=-50.0");
     assert!(
-        found(&check).contains(&(rules::TRAVEL_LIMIT, line)),
+        found(&check).contains(&(Code::TRAVEL_LIMIT, line)),
         "{:#?}",
         check.findings
     );
     assert!(found(&check)
         .iter()
-        .all(|(rule, l)| *rule != rules::TRAVEL_LIMIT || *l == line));
+        .all(|(rule, l)| *rule != Code::TRAVEL_LIMIT || *l == line));
 }
 
 #[test]
@@ -570,7 +564,7 @@ fn hob_and_table_speeds_above_the_machine_are_speed_limits() {
     let (check, _) = nc::check(&bad, &m);
     assert_eq!(
         found(&check),
-        vec![(rules::SPEED_LIMIT, line_of(&bad, "S=1600.0"))]
+        vec![(Code::SPEED_LIMIT, line_of(&bad, "S=1600.0"))]
     );
 
     // The same program on a machine whose table turns at most 10 rpm:
@@ -580,7 +574,7 @@ fn hob_and_table_speeds_above_the_machine_are_speed_limits() {
     let (check, _) = nc::check(&text, &slow);
     assert_eq!(
         found(&check),
-        vec![(rules::SPEED_LIMIT, line_of(&text, "M3 S="))]
+        vec![(Code::SPEED_LIMIT, line_of(&text, "M3 S="))]
     );
     assert!(
         check.findings[0].message.contains("S*1/25 = 14.324 rpm"),
@@ -596,7 +590,7 @@ fn hob_and_table_speeds_above_the_machine_are_speed_limits() {
     let (check, _) = nc::check(&ftext, &limit);
     assert_eq!(
         found(&check),
-        vec![(rules::SPEED_LIMIT, line_of(&ftext, "M03 S"))]
+        vec![(Code::SPEED_LIMIT, line_of(&ftext, "M03 S"))]
     );
 }
 
@@ -609,19 +603,19 @@ fn feeds_above_the_machine_or_missing_are_feed_limits() {
     let (check, _) = nc::check(&bad, &m);
     assert_eq!(
         found(&check),
-        vec![(rules::FEED_LIMIT, line_of(&bad, "F=2500.0"))]
+        vec![(Code::FEED_LIMIT, line_of(&bad, "F=2500.0"))]
     );
     let bad = replace_line(&text, feed, &feed.replace(f, "F=0.0"));
     let (check, _) = nc::check(&bad, &m);
     assert_eq!(
         found(&check),
-        vec![(rules::FEED_LIMIT, line_of(&bad, "F=0.0"))]
+        vec![(Code::FEED_LIMIT, line_of(&bad, "F=0.0"))]
     );
     let bad = replace_line(&text, feed, &feed.replace(&format!(" {f}"), ""));
     let (check, _) = nc::check(&bad, &m);
     assert_eq!(
         found(&check),
-        vec![(rules::FEED_LIMIT, line_of(&bad, "G1 G90 G94"))]
+        vec![(Code::FEED_LIMIT, line_of(&bad, "G1 G90 G94"))]
     );
 }
 
@@ -632,7 +626,7 @@ fn switched_functions_are_paired() {
     let bad = remove_line(&text, "M9 ");
     let (check, _) = nc::check(&bad, &m);
     let end = line_of(&bad, "M2 ");
-    assert_eq!(found(&check), vec![(rules::MCODE_PAIR, end)]);
+    assert_eq!(found(&check), vec![(Code::MCODE_PAIR, end)]);
     assert!(
         check.findings[0].message.contains(&format!(
             "the coolant is still on at the end of the program (switched on at line {})",
@@ -647,14 +641,14 @@ fn switched_functions_are_paired() {
     let (check, _) = nc::check(&bad, &m);
     assert_eq!(
         found(&check),
-        vec![(rules::MCODE_PAIR, line_of(&bad, "M9 ") + 1)]
+        vec![(Code::MCODE_PAIR, line_of(&bad, "M9 ") + 1)]
     );
     let m7 = block_with(&text, "M7 ");
     let bad = replace_line(&text, m7, &format!("{m7}\n{m7}"));
     let (check, _) = nc::check(&bad, &m);
     assert_eq!(
         found(&check),
-        vec![(rules::MCODE_PAIR, line_of(&bad, "M7 ") + 1)]
+        vec![(Code::MCODE_PAIR, line_of(&bad, "M7 ") + 1)]
     );
 }
 
@@ -670,7 +664,7 @@ fn the_program_ends_at_a_with_the_end_code() {
     let bad = remove_line(&text, ret);
     let (check, _) = nc::check(&bad, &m);
     let last = line_of(&bad, "RADIAL RETRACT FIRST: THE HOB LEAVES");
-    assert_eq!(found(&check), vec![(rules::END_AT_A, last)]);
+    assert_eq!(found(&check), vec![(Code::END_AT_A, last)]);
     assert!(check.findings[0]
         .message
         .contains("not at the start point A (X=300.0 Z=350.0)"));
@@ -679,15 +673,12 @@ fn the_program_ends_at_a_with_the_end_code() {
     let (check, _) = nc::check(&bad, &m);
     assert_eq!(
         found(&check),
-        vec![(rules::END_AT_A, bad.lines().count() as u32)]
+        vec![(Code::END_AT_A, bad.lines().count() as u32)]
     );
     // A block after M2 is never run.
     let bad = format!("{}\nN999 M9\n", text.trim_end());
     let (check, _) = nc::check(&bad, &m);
-    assert_eq!(
-        found(&check),
-        vec![(rules::END_AT_A, line_of(&bad, "N999"))]
-    );
+    assert_eq!(found(&check), vec![(Code::END_AT_A, line_of(&bad, "N999"))]);
 }
 
 #[test]
@@ -698,7 +689,7 @@ fn couplings_other_than_the_models_are_coupling_ratios() {
     let (check, _) = nc::check(&bad, &m);
     assert_eq!(
         found(&check),
-        vec![(rules::COUPLING_RATIO, line_of(&bad, "B,0,1,24"))]
+        vec![(Code::COUPLING_RATIO, line_of(&bad, "B,0,1,24"))]
     );
     assert!(
         check.findings[0]
@@ -714,7 +705,7 @@ fn couplings_other_than_the_models_are_coupling_ratios() {
     let bad = replace_line(&text, egon, &egon.replace("B,0,1,25", "B,0,-1,25"));
     assert_eq!(
         found(&nc::check(&bad, &m).0),
-        vec![(rules::COUPLING_RATIO, line_of(&bad, "B,0,-1,25"))]
+        vec![(Code::COUPLING_RATIO, line_of(&bad, "B,0,-1,25"))]
     );
 
     // Helical: the differential factor of the EGON.
@@ -729,7 +720,7 @@ fn couplings_other_than_the_models_are_coupling_ratios() {
     let (check, _) = nc::check(&bad, &h);
     assert_eq!(
         found(&check),
-        vec![(rules::COUPLING_RATIO, line_of(&bad, "EGONSYNE("))]
+        vec![(Code::COUPLING_RATIO, line_of(&bad, "EGONSYNE("))]
     );
 
     // FANUC: G81 T24 for a 25-tooth gear; L, Q and P likewise.
@@ -749,7 +740,7 @@ fn couplings_other_than_the_models_are_coupling_ratios() {
         let (check, _) = nc::check(&bad, &f);
         assert_eq!(
             found(&check),
-            vec![(rules::COUPLING_RATIO, line_of(&bad, "G81"))],
+            vec![(Code::COUPLING_RATIO, line_of(&bad, "G81"))],
             "{from} -> {to}: {:#?}",
             check.findings
         );
@@ -769,7 +760,7 @@ fn garbage_is_a_parse_finding_naming_its_line() {
     let line = line_of(&bad, "GOTOF");
     assert_eq!(
         found(&check),
-        vec![(rules::PARSE, line), (rules::PARSE, line + 1)]
+        vec![(Code::PARSE, line), (Code::PARSE, line + 1)]
     );
     assert_eq!(trace, Trace::default());
     assert!(nc::parse(Dialect::Sinumerik840d, &bad).is_err());
@@ -783,7 +774,7 @@ fn garbage_is_a_parse_finding_naming_its_line() {
         ),
     );
     let (check, _) = nc::check(&bad, &m);
-    assert_eq!(found(&check), vec![(rules::PARSE, line_of(&bad, "N132"))]);
+    assert_eq!(found(&check), vec![(Code::PARSE, line_of(&bad, "N132"))]);
     // The 840D program is not a FANUC program.
     let errors = nc::parse(Dialect::Fanuc, &text).unwrap_err();
     assert_eq!(errors[0].line, 1);
@@ -792,7 +783,7 @@ fn garbage_is_a_parse_finding_naming_its_line() {
     let ftext = fanuc_program(&f);
     let bad = replace_line(&ftext, "#502=", "#502=#501/#509 (NUMBER OF TEETH Z)");
     let (check, _) = nc::check(&bad, &f);
-    assert_eq!(found(&check), vec![(rules::PARSE, line_of(&bad, "#502="))]);
+    assert_eq!(found(&check), vec![(Code::PARSE, line_of(&bad, "#502="))]);
 }
 
 // ----- IF: the shift counter's wrap -----
@@ -872,7 +863,7 @@ fn an_if_holds_assignments_only_and_is_closed() {
     let (check, _) = nc::check(&bad, &m);
     assert_eq!(
         found(&check),
-        vec![(rules::PARSE, endif)],
+        vec![(Code::PARSE, endif)],
         "{:#?}",
         check.findings
     );
@@ -884,16 +875,16 @@ fn an_if_holds_assignments_only_and_is_closed() {
     let (check, _) = nc::check(&bad, &m);
     assert_eq!(
         found(&check),
-        vec![(rules::PARSE, line_of(&bad, "IF R25>="))]
+        vec![(Code::PARSE, line_of(&bad, "IF R25>="))]
     );
     assert!(check.findings[0].message.contains("not closed by an ENDIF"));
     // An ENDIF too many, and a second ELSE.
     let bad = insert_before(&text, "ENDIF", "ENDIF");
     let (check, _) = nc::check(&bad, &m);
-    assert_eq!(found(&check), vec![(rules::PARSE, endif + 1)]);
+    assert_eq!(found(&check), vec![(Code::PARSE, endif + 1)]);
     let bad = insert_before(&text, "ENDIF", "ELSE\nR25=1\nELSE");
     let (check, _) = nc::check(&bad, &m);
-    assert_eq!(found(&check), vec![(rules::PARSE, endif + 2)]);
+    assert_eq!(found(&check), vec![(Code::PARSE, endif + 2)]);
     // ELSE runs when the condition fails: R25 = 1 here, so part 0 cuts one step on.
     let bad = insert_before(&text, "ENDIF", "ELSE\nR25=R23");
     let (check, trace) = nc::check(&bad, &m);
@@ -909,12 +900,12 @@ fn an_if_holds_assignments_only_and_is_closed() {
     let ftext = program("multi_cut_shift_840d.toml", &f);
     let bad = replace_line(&ftext, "IF [#525 GE", "IF [#525 GE #523*#524] GOTO 10");
     let (check, _) = nc::check(&bad, &f);
-    assert_eq!(found(&check), vec![(rules::PARSE, line_of(&bad, "GOTO"))]);
+    assert_eq!(found(&check), vec![(Code::PARSE, line_of(&bad, "GOTO"))]);
     let bad = replace_line(&ftext, "IF [#525 GE", "IF [#525 >= #523] THEN #525=0");
     let (check, _) = nc::check(&bad, &f);
     assert_eq!(
         found(&check),
-        vec![(rules::PARSE, line_of(&bad, "IF [#525"))]
+        vec![(Code::PARSE, line_of(&bad, "IF [#525"))]
     );
 }
 
@@ -1046,6 +1037,6 @@ fn a_fanuc_arc_before_g18_is_a_setup_finding() {
         .position(|l| l.contains(" G03 ") || l.contains(" G02 "))
         .unwrap() as u32
         + 1;
-    assert_eq!(found(&check), vec![(rules::SETUP, arc)]);
+    assert_eq!(found(&check), vec![(Code::SETUP, arc)]);
     assert!(check.findings[0].message.contains("G18"));
 }

@@ -37,7 +37,7 @@ impl<'m> Sim<'m> {
             if self.speed.is_none() {
                 self.push(
                     line,
-                    rules::SPEED_LIMIT,
+                    Code::SPEED_LIMIT,
                     format!("M{code} switches the hob on without a speed S"),
                 );
             }
@@ -48,7 +48,7 @@ impl<'m> Sim<'m> {
                 let zone_text = zone.describe(self.axes(), self.units.len());
                 self.push(
                     line,
-                    rules::DEPTH_UNCOUPLED,
+                    Code::DEPTH_UNCOUPLED,
                     format!("M{code} stops the hob inside the contact zone ({zone_text})"),
                 );
             }
@@ -60,21 +60,21 @@ impl<'m> Sim<'m> {
             match (on, self.functions[k]) {
                 (true, Some(since)) => self.push(
                     line,
-                    rules::MCODE_PAIR,
+                    Code::MCODE_PAIR,
                     format!("M{code} switches {name} on, but it has been on since line {since}"),
                 ),
                 (true, None) => self.functions[k] = Some(line),
                 (false, Some(_)) => self.functions[k] = None,
                 (false, None) => self.push(
                     line,
-                    rules::MCODE_PAIR,
+                    Code::MCODE_PAIR,
                     format!("M{code} switches {name} off, but it is not on"),
                 ),
             }
         } else if code != 0 {
             self.push(
                 line,
-                rules::PARSE,
+                Code::PARSE,
                 format!("M{code} is not one of the machine's M functions"),
             );
         } else {
@@ -92,7 +92,7 @@ impl<'m> Sim<'m> {
                 }
                 self.push(
                     line,
-                    rules::MCODE_PAIR,
+                    Code::MCODE_PAIR,
                     format!(
                         "M0 stops for the operator with {} still on; switch it off before the stop",
                         what.join(", ")
@@ -116,7 +116,7 @@ impl<'m> Sim<'m> {
         if s > max + self.speed_tolerance() {
             self.push(
                 line,
-                rules::SPEED_LIMIT,
+                Code::SPEED_LIMIT,
                 format!(
                     "hob speed S={} rpm is above the machine's largest hob speed {} rpm",
                     f3(s),
@@ -144,7 +144,7 @@ impl<'m> Sim<'m> {
         if table > max + self.speed_tolerance() * ratio.max(1.0) {
             self.push(
                 line,
-                rules::SPEED_LIMIT,
+                Code::SPEED_LIMIT,
                 format!(
                     "hob speed S={} rpm turns the table at S*{num}/{den} = {} rpm, above the machine's largest table speed {} rpm",
                     f3(s),

@@ -12,7 +12,7 @@ impl<'m> Sim<'m> {
         let msg = format!(
             "{call} names {following} as the following axis; this machine's table axis is {table}"
         );
-        self.push(line, rules::COUPLING_RATIO, msg);
+        self.push(line, Code::COUPLING_RATIO, msg);
         false
     }
 
@@ -38,7 +38,7 @@ impl<'m> Sim<'m> {
                 ax.hob, ax.axial, ax.shift
             )
         };
-        self.push(line, rules::COUPLING_RATIO, msg);
+        self.push(line, Code::COUPLING_RATIO, msg);
     }
 
     pub(super) fn egdef(&mut self, line: u32, following: AxisName, leading: &[(AxisName, i64)]) {
@@ -46,7 +46,7 @@ impl<'m> Sim<'m> {
         if self.coupled.is_some() {
             self.push(
                 line,
-                rules::COUPLING_RATIO,
+                Code::COUPLING_RATIO,
                 "EGDEF redefines the gearbox while it is coupled; EGOFS first".into(),
             );
         }
@@ -75,7 +75,7 @@ impl<'m> Sim<'m> {
         if self.coupled.is_some() {
             self.push(
                 line,
-                rules::COUPLING_RATIO,
+                Code::COUPLING_RATIO,
                 format!("{call} while the gearbox is already coupled; EGOFS first"),
             );
         }
@@ -109,7 +109,7 @@ impl<'m> Sim<'m> {
                 };
                 self.push(
                     line,
-                    rules::COUPLING_RATIO,
+                    Code::COUPLING_RATIO,
                     format!("{call} couples this unit again, but {why}: the cut lands in new gaps (couple every cut at the same EGONSYNE positions, or stay coupled)"),
                 );
             }
@@ -124,12 +124,12 @@ impl<'m> Sim<'m> {
         match self.definition {
             None => self.push(
                 line,
-                rules::COUPLING_RATIO,
+                Code::COUPLING_RATIO,
                 format!("{call} switches on a gearbox that EGDEF has not defined"),
             ),
             Some(def) if def.leads != leads => self.push(
                 line,
-                rules::COUPLING_RATIO,
+                Code::COUPLING_RATIO,
                 format!("the leading axes of {call} differ from those of the EGDEF"),
             ),
             Some(_) => {}
@@ -174,7 +174,7 @@ impl<'m> Sim<'m> {
                     let hob = &self.profile.axes.hob;
                     self.push(
                         line,
-                        rules::COUPLING_RATIO,
+                        Code::COUPLING_RATIO,
                         format!("{call} couples {table} to {hob} by {num}/{den}; the model's ratio is {z0}/{z} (z0/z signed by the hob's hand in the machine's axis directions)"),
                     );
                 }
@@ -183,7 +183,7 @@ impl<'m> Sim<'m> {
             if l.den.integer() != Some(1) {
                 self.push(
                     line,
-                    rules::COUPLING_RATIO,
+                    Code::COUPLING_RATIO,
                     format!(
                         "the factor of {} is written as numerator with denominator 1",
                         l.axis
@@ -213,7 +213,7 @@ impl<'m> Sim<'m> {
             if (f - want).abs() > FACTOR {
                 self.push(
                     line,
-                    rules::COUPLING_RATIO,
+                    Code::COUPLING_RATIO,
                     format!(
                         "the {axis} factor {} deg/mm of {call} differs from the model's {what} {} deg/mm",
                         f6(f),
@@ -226,7 +226,7 @@ impl<'m> Sim<'m> {
         if active.z.is_none() && diff.abs() > FACTOR {
             self.push(
                 line,
-                rules::COUPLING_RATIO,
+                Code::COUPLING_RATIO,
                 format!(
                     "{call} has no {zn} factor, but the model's differential is {} deg/mm",
                     f6(diff)
@@ -260,32 +260,32 @@ impl<'m> Sim<'m> {
         if !(1..=1000).contains(&t) {
             self.push(
                 line,
-                rules::COUPLING_RATIO,
+                Code::COUPLING_RATIO,
                 format!("G81 T{t}: T is 1 to 1000"),
             );
         } else if t != i64::from(z) {
             self.push(
                 line,
-                rules::COUPLING_RATIO,
+                Code::COUPLING_RATIO,
                 format!("G81 T{t}: T must be the gear's {z} teeth"),
             );
         }
         if l == 0 || l.abs() > 21 {
             self.push(
                 line,
-                rules::COUPLING_RATIO,
+                Code::COUPLING_RATIO,
                 format!("G81 L{l}: L is 1 to 21 with the sign of the direction"),
             );
         } else if l.unsigned_abs() != u64::from(z0) {
             self.push(
                 line,
-                rules::COUPLING_RATIO,
+                Code::COUPLING_RATIO,
                 format!("G81 L{l}: |L| must be the hob's {z0} starts"),
             );
         } else if (l < 0) != (k.factors.c_per_b.num < 0) {
             self.push(
                 line,
-                rules::COUPLING_RATIO,
+                Code::COUPLING_RATIO,
                 format!(
                     "G81 L{l}: the sign of L is the table's direction against the hob, which the hob's hand ({}) fixes on this machine: L{}",
                     match u.hob.hand {
@@ -342,12 +342,12 @@ impl<'m> Sim<'m> {
                     None
                 };
                 if let Some(msg) = msg {
-                    self.push(line, rules::COUPLING_RATIO, msg);
+                    self.push(line, Code::COUPLING_RATIO, msg);
                 }
             }
             (None, None) if diff.abs() > FACTOR => self.push(
                 line,
-                rules::COUPLING_RATIO,
+                Code::COUPLING_RATIO,
                 format!(
                     "G81 without Q and P: the model's differential of {} deg/mm needs the helical compensation (Q the module, P the helix angle)",
                     f6(diff)
@@ -356,7 +356,7 @@ impl<'m> Sim<'m> {
             (None, None) => {}
             _ => self.push(
                 line,
-                rules::COUPLING_RATIO,
+                Code::COUPLING_RATIO,
                 "G81 takes Q and P together (alarm PS0594 otherwise)".into(),
             ),
         }
@@ -391,7 +391,7 @@ impl<'m> Sim<'m> {
                 let zone_text = zone.describe(self.axes(), self.units.len());
                 self.push(
                     line,
-                    rules::DEPTH_UNCOUPLED,
+                    Code::DEPTH_UNCOUPLED,
                     format!("{call} uncouples the gearbox with the hob inside the contact zone ({zone_text})"),
                 );
             }
@@ -404,7 +404,7 @@ impl<'m> Sim<'m> {
         if self.coupled.is_some() {
             self.push(
                 line,
-                rules::COUPLING_RATIO,
+                Code::COUPLING_RATIO,
                 "EGDEL deletes the gearbox definition while it is coupled; EGOFS first".into(),
             );
         }
@@ -420,7 +420,7 @@ impl<'m> Sim<'m> {
             None => {
                 self.push(
                     last_line,
-                    rules::END_AT_A,
+                    Code::END_AT_A,
                     format!(
                         "the program does not end with M{end_code}, the machine's end of program"
                     ),
@@ -432,7 +432,7 @@ impl<'m> Sim<'m> {
             if let Some(since) = on {
                 self.push(
                     end_line,
-                    rules::MCODE_PAIR,
+                    Code::MCODE_PAIR,
                     format!("{name} is still on at the end of the program (switched on at line {since})"),
                 );
             }
@@ -448,7 +448,7 @@ impl<'m> Sim<'m> {
                     f3(hx),
                     f3(hz)
                 );
-                self.push(line, rules::END_AT_A, msg);
+                self.push(line, Code::END_AT_A, msg);
             }
         }
     }

@@ -30,14 +30,13 @@
 use std::f64::consts::{PI, TAU};
 
 use gearcam_proto::{
-    Dialect, GearSpec, HobData, Kinematics, MachineProfile, MachiningModel, MoveKind, PathFinding,
-    WormInfeed,
+    Code, Dialect, GearSpec, HobData, Kinematics, MachineProfile, MachiningModel, MoveKind,
+    PathFinding, WormInfeed,
 };
 
 use super::expr::{Cond, NcValue, Num, PARAMS};
 use super::{
-    finding, rules, AxisName, Block, Distance, Interp, Lead, Motion, Op, Trace, TraceCoupling,
-    TraceMove,
+    finding, AxisName, Block, Distance, Interp, Lead, Motion, Op, Trace, TraceCoupling, TraceMove,
 };
 use crate::number::format_fixed;
 
@@ -437,7 +436,7 @@ pub(super) fn run(
             let code = sim.profile.mcodes.program_end;
             sim.push(
                 b.line,
-                rules::END_AT_A,
+                Code::END_AT_A,
                 format!("this block comes after the end of program M{code} of line {end} and is never executed"),
             );
             break;
@@ -550,7 +549,7 @@ struct Sim<'m> {
 }
 
 impl<'m> Sim<'m> {
-    fn push(&mut self, line: u32, rule: &str, message: String) {
+    fn push(&mut self, line: u32, rule: Code, message: String) {
         self.findings
             .push(finding(line, rule, format!("line {line}: {message}")));
     }
@@ -641,7 +640,7 @@ impl<'m> Sim<'m> {
             );
             self.push(
                 line,
-                rules::SETUP,
+                Code::SETUP,
                 format!(
                     "{name} is not among the parameters machine {} leaves free for gearcam ({a} to {b}, the profile's parameters)",
                     self.profile.id
@@ -658,7 +657,7 @@ impl<'m> Sim<'m> {
                 let name = self.param_name(param);
                 self.push(
                     line,
-                    rules::PARSE,
+                    Code::PARSE,
                     format!("the value of {name} cannot be computed: {e}"),
                 );
             }
@@ -673,7 +672,7 @@ impl<'m> Sim<'m> {
             Err(e) => {
                 self.push(
                     line,
-                    rules::PARSE,
+                    Code::PARSE,
                     format!("the condition cannot be computed: {e}"),
                 );
                 false

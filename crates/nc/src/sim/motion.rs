@@ -28,7 +28,7 @@ impl<'m> Sim<'m> {
         let Some(interp) = self.interp else {
             self.push(
                 line,
-                rules::PARSE,
+                Code::PARSE,
                 "a move without G0 or G1 in effect".into(),
             );
             return;
@@ -43,7 +43,7 @@ impl<'m> Sim<'m> {
                 Err(e) => {
                     self.push(
                         line,
-                        rules::PARSE,
+                        Code::PARSE,
                         format!("the value of {} cannot be computed: {e}", w.axis),
                     );
                     return;
@@ -54,7 +54,7 @@ impl<'m> Sim<'m> {
                 if n.decimals > 3 && !matches!(role, Role::A | Role::C) {
                     self.push(
                         line,
-                        rules::PARSE,
+                        Code::PARSE,
                         format!(
                             "{} has {} decimals; lengths are written with at most 3",
                             w.axis, n.decimals
@@ -76,7 +76,7 @@ impl<'m> Sim<'m> {
                         "{} is not an axis a motion block moves (this machine's are {} {} {} {})",
                         w.axis, ax.radial, ax.axial, ax.shift, ax.swivel
                     );
-                    self.push(line, rules::PARSE, msg);
+                    self.push(line, Code::PARSE, msg);
                     return;
                 }
             }
@@ -96,7 +96,7 @@ impl<'m> Sim<'m> {
             };
             self.push(
                 line,
-                rules::PARSE,
+                Code::PARSE,
                 format!("incremental dimensions are used only for the shift move G01 G91 Y.. C..{since}"),
             );
             return;
@@ -104,7 +104,7 @@ impl<'m> Sim<'m> {
         if c.is_some() && !inc {
             self.push(
                 line,
-                rules::PARSE,
+                Code::PARSE,
                 "C is programmed only in the incremental shift move G01 G91 Y.. C..".into(),
             );
             return;
@@ -124,7 +124,7 @@ impl<'m> Sim<'m> {
                 let Some((vx, vz)) = m.via else {
                     self.push(
                         line,
-                        rules::PARSE,
+                        Code::PARSE,
                         "CIP is in effect, but the block has no intermediate point I1= K1=".into(),
                     );
                     return;
@@ -136,7 +136,7 @@ impl<'m> Sim<'m> {
                     None => {
                         self.push(
                             line,
-                            rules::PARSE,
+                            Code::PARSE,
                             "the start, intermediate and end point of the CIP lie on one line"
                                 .into(),
                         );
@@ -148,7 +148,7 @@ impl<'m> Sim<'m> {
                 if self.dialect == Dialect::Fanuc && !self.setup.plane_zx {
                     self.push(
                         line,
-                        rules::SETUP,
+                        Code::SETUP,
                         "an arc in X and Z before G18: a FANUC control starts in G17, the X-Y plane, and would not cut this arc in X and Z".into(),
                     );
                     return;
@@ -156,7 +156,7 @@ impl<'m> Sim<'m> {
                 let Some(r) = m.radius.map(|r| r.value) else {
                     self.push(
                         line,
-                        rules::PARSE,
+                        Code::PARSE,
                         "G02/G03 is in effect, but the block has no radius R".into(),
                     );
                     return;
@@ -167,7 +167,7 @@ impl<'m> Sim<'m> {
                     None => {
                         self.push(
                             line,
-                            rules::PARSE,
+                            Code::PARSE,
                             format!(
                                 "the arc radius R{} cannot join its start and end point",
                                 f3(r)
@@ -191,7 +191,7 @@ impl<'m> Sim<'m> {
                 let name = &self.profile.axes.swivel;
                 self.push(
                     line,
-                    rules::TRAVEL_LIMIT,
+                    Code::TRAVEL_LIMIT,
                     format!(
                         "swivel {name}={} is beyond the machine's limit of ±{} degrees about {}",
                         f4(a),
@@ -236,14 +236,14 @@ impl<'m> Sim<'m> {
             if kind == MoveKind::Rapid {
                 self.push(
                     line,
-                    rules::RAPID_CLEARANCE,
+                    Code::RAPID_CLEARANCE,
                     format!("{what} passes through the blank zone ({zone_text})"),
                 );
             }
             if let Some(why) = why {
                 self.push(
                     line,
-                    rules::DEPTH_UNCOUPLED,
+                    Code::DEPTH_UNCOUPLED,
                     format!("{what} enters the contact zone ({zone_text}) while {why}"),
                 );
             }
@@ -282,14 +282,14 @@ impl<'m> Sim<'m> {
             (Dialect::Fanuc, S::FanucM | S::FanucTB | S::FanucTC) if m.feed_code == Some(98) => {
                 self.push(
                     line,
-                    rules::SETUP,
+                    Code::SETUP,
                     format!("G98 is the canned-cycle return level in G-code system {}, not feed per minute: write G94", system.as_str()),
                 );
             }
             (Dialect::Fanuc, S::FanucTA) if m.distance.is_some() || m.feed_code == Some(94) => {
                 self.push(
                     line,
-                    rules::SETUP,
+                    Code::SETUP,
                     "G-code system A (fanuc_t_a) has no G90/G91 or G94: absolute is X/Z, incremental U/W, feed per minute G98".into(),
                 );
             }
@@ -297,7 +297,7 @@ impl<'m> Sim<'m> {
             | (Dialect::Sinumerik840d, S::FanucM | S::FanucTA | S::FanucTB | S::FanucTC) => {
                 self.push(
                     line,
-                    rules::SETUP,
+                    Code::SETUP,
                     format!(
                         "the machine profile names G-code system {} for a {} control",
                         system.as_str(),
@@ -338,7 +338,7 @@ impl<'m> Sim<'m> {
         if !missing.is_empty() {
             self.push(
                 line,
-                rules::SETUP,
+                Code::SETUP,
                 format!("the first move comes before {}", missing.join(", ")),
             );
         }
@@ -385,7 +385,7 @@ impl<'m> Sim<'m> {
                 f3(lo),
                 f3(hi)
             );
-            self.push(line, rules::TRAVEL_LIMIT, msg);
+            self.push(line, Code::TRAVEL_LIMIT, msg);
         }
     }
 
@@ -395,7 +395,7 @@ impl<'m> Sim<'m> {
             Some(f) if f > 0.0 && f <= max + MM => {}
             Some(f) if f > 0.0 => self.push(
                 line,
-                rules::FEED_LIMIT,
+                Code::FEED_LIMIT,
                 format!(
                     "feed F={} mm/min is above the machine's largest feed {} mm/min",
                     f3(f),
@@ -404,12 +404,12 @@ impl<'m> Sim<'m> {
             ),
             Some(_) => self.push(
                 line,
-                rules::FEED_LIMIT,
+                Code::FEED_LIMIT,
                 "a feed move with a zero feed F".into(),
             ),
             None => self.push(
                 line,
-                rules::FEED_LIMIT,
+                Code::FEED_LIMIT,
                 "a feed move without a feed F in effect".into(),
             ),
         }
@@ -420,7 +420,7 @@ impl<'m> Sim<'m> {
         if self.coupled.is_none() {
             self.push(
                 line,
-                rules::COUPLING_RATIO,
+                Code::COUPLING_RATIO,
                 "the shift move G01 G91 Y.. C.. corrects C for a coupled gearbox, but the gearbox is not coupled".into(),
             );
             return;
@@ -432,7 +432,7 @@ impl<'m> Sim<'m> {
             let table = &self.profile.axes.table;
             self.push(
                 line,
-                rules::COUPLING_RATIO,
+                Code::COUPLING_RATIO,
                 format!(
                     "the correction {table}{} for the shift {yn}{} differs from the model's {} ({} deg/mm)",
                     f4(c),
@@ -461,7 +461,7 @@ impl<'m> Sim<'m> {
             ),
             _ => return,
         };
-        self.push(line, rules::COUPLING_RATIO, msg);
+        self.push(line, Code::COUPLING_RATIO, msg);
     }
 
     // ----- M functions -----

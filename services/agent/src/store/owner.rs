@@ -1,6 +1,7 @@
 //! One program name, one part: the index records the part of every version,
 //! and a program of another part is refused under a name already taken.
 
+use gearcam_proto::Code;
 use gearcam_proto::{naming, Dialect, JobError, NcProgram, Stage};
 use rusqlite::OptionalExtension;
 
@@ -29,7 +30,7 @@ impl Store {
             None => "give the job its own `program_name` in [job]".to_string(),
         };
         Err(Stage::Agent.error(
-            "PROGRAM_NAME_TAKEN",
+            Code::PROGRAM_NAME_TAKEN,
             "name",
             format!("a program name not held by another part ({} belongs to part {owner:?})", p.name),
             format!("{} for part {:?}", p.name, p.part_number),

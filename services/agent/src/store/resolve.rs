@@ -7,6 +7,7 @@
 //! never stored after, whatever re-drives them); after a replacement they
 //! are delivered at their next re-drive.
 
+use gearcam_proto::Code;
 use std::fs;
 
 use gearcam_proto::{now_ms, DeliveryReceipt, JobError, JobId, NcProgram, Stage};
@@ -69,7 +70,7 @@ impl Store {
     ) -> Result<Resolved, JobError> {
         if !gearcam_proto::delivery::valid_by(by) {
             return Err(Stage::Agent.error(
-                "BAD_STORE_REQUEST",
+                Code::BAD_STORE_REQUEST,
                 "by",
                 "who resolves the edit: 1 to 64 characters on one line",
                 by.chars().take(80).collect::<String>(),
@@ -97,7 +98,7 @@ impl Store {
             .map_err(index_error)?
             .ok_or_else(|| {
                 Stage::Agent.error(
-                    "UNKNOWN_PROGRAM",
+                    Code::UNKNOWN_PROGRAM,
                     "name",
                     format!("a program in the store of {}", self.config.machine),
                     name,
@@ -107,7 +108,7 @@ impl Store {
         let path = self.config.program_dir.join(&latest.file_name);
         let io_error = |e: std::io::Error| {
             Stage::Agent.error(
-                "STORE_IO_ERROR",
+                Code::STORE_IO_ERROR,
                 "-",
                 "a readable and writable program directory",
                 e.to_string(),
@@ -121,7 +122,7 @@ impl Store {
         };
         let no_conflict = |got: String, message: &str| {
             Stage::Agent.error(
-                "NO_CONFLICT",
+                Code::NO_CONFLICT,
                 "name",
                 format!(
                     "a program of {} changed at the machine",
@@ -140,7 +141,7 @@ impl Store {
             }
             Some(bytes) => Some(String::from_utf8(bytes).map_err(|_| {
                 Stage::Agent.error(
-                    "NO_CONFLICT",
+                    Code::NO_CONFLICT,
                     "name",
                     "a text program at the machine",
                     format!("{} is not UTF-8 text", latest.file_name),
@@ -225,7 +226,7 @@ impl Store {
         let receipt = DeliveryReceipt {
             job_id: JobId::new(latest.job.clone()).map_err(|e| {
                 Stage::Agent.error(
-                    "STORE_INDEX_ERROR",
+                    Code::STORE_INDEX_ERROR,
                     "job",
                     "a valid job id",
                     latest.job.clone(),
@@ -253,7 +254,7 @@ impl Store {
     /// (its delivery was refused with `PROGRAM_CHANGED_AT_MACHINE`), so that
     /// an adoption of the edit ends it. Other refusals are not recorded.
     pub(super) fn hold(&self, p: &NcProgram, file_name: &str, error: &JobError) {
-        if error.code != gearcam_proto::codes::PROGRAM_CHANGED_AT_MACHINE {
+        if error.code != Code::PROGRAM_CHANGED_AT_MACHINE {
             return;
         }
         if let Err(e) = self.conn.execute(

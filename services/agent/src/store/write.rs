@@ -19,6 +19,7 @@
 //! happened) and deletes it otherwise (the old file is still there). So the
 //! machine never holds a program the history does not show as current.
 
+use gearcam_proto::Code;
 use std::fs::{self, File};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -50,7 +51,7 @@ pub(super) enum Prepared {
 
 fn io_error(dir: &Path, file_name: &str, e: &std::io::Error) -> JobError {
     Stage::Agent.error(
-        "STORE_IO_ERROR",
+        Code::STORE_IO_ERROR,
         "-",
         "a writable program directory",
         e.to_string(),

@@ -1,5 +1,6 @@
 //! `gearcam check`: the job computed locally, no bus.
 
+use gearcam_proto::Code;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -101,7 +102,7 @@ pub fn check(
                     }
                     Err(e) => check::CheckReport::failed(vec![gearcam_proto::JobError {
                         stage: gearcam_proto::Stage::Template,
-                        code: "TEMPLATE_LIBRARY_UNREADABLE".into(),
+                        code: Code::TEMPLATE_LIBRARY_UNREADABLE,
                         field: "data".into(),
                         expected: "a readable template library (templates.db)".into(),
                         got: data.join("templates.db").display().to_string(),

@@ -5,6 +5,7 @@
 //! Exit codes: 0 done, 1 refused (every error printed with field, expected
 //! and got), 2 the database or a file could not be opened.
 
+use gearcam_proto::Code;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -189,7 +190,7 @@ pub fn parse_sets(lib: &Library, sets: &[String]) -> Result<Record, Vec<JobError
     for s in sets {
         let Some((k, v)) = s.split_once('=') else {
             errors.push(Stage::Knowledge.error(
-                "BAD_ARGUMENT",
+                Code::BAD_ARGUMENT,
                 "--set",
                 "FIELD=VALUE",
                 s.as_str(),
@@ -502,7 +503,7 @@ pub fn run(args: KbArgs) -> ExitCode {
                     Some(r) => print_record(&r, args.json),
                     None => {
                         return Err(refused(&[Stage::Knowledge.error(
-                            "NOT_FOUND",
+                            Code::NOT_FOUND,
                             lib.key,
                             format!("an existing {} id (gearcam kb list {})", lib.name, lib.name),
                             id.as_str(),
@@ -530,7 +531,7 @@ pub fn run(args: KbArgs) -> ExitCode {
                             Ok(r) => r,
                             Err(e) => {
                                 return Err(refused(&[Stage::Knowledge.error(
-                                    "BAD_JSON",
+                                    Code::BAD_JSON,
                                     &path.display().to_string(),
                                     "a JSON object of the record's fields",
                                     e.to_string(),

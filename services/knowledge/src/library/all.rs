@@ -4,6 +4,7 @@
 //! own, so that the families' definitions depend on the shared helpers and
 //! not on one another.
 
+use gearcam_proto::Code;
 use gearcam_proto::{JobError, Stage};
 
 use super::defs::{CASES, CLASSES_LIB, HOBS, JOBS, MACHINES, MATERIALS, WEIGHTS, WORKPIECES};
@@ -37,7 +38,7 @@ pub fn library(name: &str) -> Result<Library, JobError> {
         .copied()
         .ok_or_else(|| {
             Stage::Knowledge.error(
-                "UNKNOWN_LIBRARY",
+                Code::UNKNOWN_LIBRARY,
                 "library",
                 format!("one of {}", names().join(", ")),
                 name,

@@ -2,6 +2,7 @@
 //! of its fields, what a field accepts, the library's table, the typed
 //! error of a library operation, and a field's value as text and back.
 
+use gearcam_proto::Code;
 use gearcam_proto::{JobError, Stage};
 use serde_json::{Map, Value};
 
@@ -141,7 +142,7 @@ fn internal(e: KnowledgeError) -> Vec<JobError> {
     // A file that is not CSV is the file's fault, not the database's.
     if let KnowledgeError::Csv(csv) = &e {
         return vec![Stage::Knowledge.error(
-            "CSV_UNREADABLE",
+            Code::CSV_UNREADABLE,
             "file",
             "a UTF-8 CSV file with a header of the library's columns (gearcam kb export LIBRARY shows one)",
             csv.to_string(),
@@ -149,7 +150,7 @@ fn internal(e: KnowledgeError) -> Vec<JobError> {
         )];
     }
     vec![Stage::Knowledge.error(
-        "KNOWLEDGE_BASE_ERROR",
+        Code::KNOWLEDGE_BASE_ERROR,
         "-",
         "a readable, writable knowledge base",
         e.to_string(),
@@ -192,7 +193,7 @@ pub fn parse_value(lib: &Library, name: &str, text: &str) -> Result<Value, JobEr
     };
     let bad = || {
         Stage::Knowledge.error(
-            "FIELD_INVALID",
+            Code::FIELD_INVALID,
             name,
             expected_of(field),
             format!("{t:?}"),

@@ -1,6 +1,7 @@
 //! The SQL reads and writes of the libraries' records: list, get, add,
 //! edit, remove.
 
+use gearcam_proto::Code;
 use gearcam_proto::{JobError, MachineProfile, Stage};
 use rusqlite::types::Value as SqlValue;
 use rusqlite::{params_from_iter, Connection, OptionalExtension};
@@ -123,7 +124,7 @@ fn not_found(lib: &Library, id: &str, conn: &Connection) -> Vec<JobError> {
         })
         .unwrap_or_default();
     vec![Stage::Knowledge.error(
-        "NOT_FOUND",
+        Code::NOT_FOUND,
         lib.key,
         if known.is_empty() {
             format!("an existing {} id (the library is empty)", lib.name)
@@ -181,7 +182,7 @@ pub fn add(conn: &Connection, lib: &Library, rec: &Record) -> Outcome<Record> {
     let id = key_of(lib, &rec);
     if get(conn, lib, &id)?.is_some() {
         return Err(vec![Stage::Knowledge.error(
-            "DUPLICATE_ID",
+            Code::DUPLICATE_ID,
             lib.key,
             format!("an id not yet in {}", lib.name),
             id.clone(),
@@ -205,7 +206,7 @@ fn set_path(rec: &mut Record, path: &str, v: Value) -> Result<(), JobError> {
             Some(Value::Object(m)) => m,
             _ => {
                 return Err(Stage::Knowledge.error(
-                    "UNKNOWN_FIELD",
+                    Code::UNKNOWN_FIELD,
                     path,
                     "a path into the record's nested fields",
                     path,
@@ -227,7 +228,7 @@ pub fn edit(conn: &Connection, lib: &Library, id: &str, set: &Record) -> Outcome
     for (path, v) in set {
         if path == lib.key {
             errors.push(Stage::Knowledge.error(
-                "KEY_IMMUTABLE",
+                Code::KEY_IMMUTABLE,
                 lib.key,
                 id,
                 show(v),
@@ -289,14 +290,14 @@ pub fn machine_error(
     let wanted = format!("a {family} machine: one of {}", own.join(", "));
     Ok(match other {
         Some(other) => gearcam_proto::Stage::Knowledge.error(
-            "MACHINE_FAMILY",
+            Code::MACHINE_FAMILY,
             "job.machine",
             wanted,
             format!("{machine} (a {other} machine)"),
             format!("a {family} job runs on a {family} machine (gearcam kb list {library})"),
         ),
         None => gearcam_proto::Stage::Knowledge.error(
-            "UNKNOWN_MACHINE",
+            Code::UNKNOWN_MACHINE,
             "job.machine",
             format!(
                 "{wanted}; the knowledge base's machines: {}",

@@ -1,6 +1,7 @@
 //! Validation of a record before it is written: field by field, the
 //! library's cross-field rules, and whole machine profiles.
 
+use gearcam_proto::Code;
 use gearcam_proto::{JobError, MachineProfile, Stage};
 use serde_json::Value;
 
@@ -30,7 +31,7 @@ fn check_field(field: &Field, v: Option<&Value>, errors: &mut Vec<JobError>) -> 
         None | Some(Value::Null) => match field.need {
             Need::Required => {
                 errors.push(Stage::Knowledge.error(
-                    "FIELD_MISSING",
+                    Code::FIELD_MISSING,
                     field.name,
                     expected_of(field),
                     "nothing",
@@ -50,7 +51,7 @@ fn check_field(field: &Field, v: Option<&Value>, errors: &mut Vec<JobError>) -> 
     };
     let bad = |errors: &mut Vec<JobError>| {
         errors.push(Stage::Knowledge.error(
-            "FIELD_INVALID",
+            Code::FIELD_INVALID,
             field.name,
             expected_of(field),
             show(&v),
@@ -108,7 +109,7 @@ pub fn validate(lib: &Library, rec: &Record) -> Outcome<Record> {
     for k in rec.keys() {
         if !lib.fields.iter().any(|f| f.name == k) {
             errors.push(Stage::Knowledge.error(
-                "UNKNOWN_FIELD",
+                Code::UNKNOWN_FIELD,
                 k,
                 format!(
                     "one of {}",
@@ -146,7 +147,7 @@ fn cross_checks(lib: &Library, r: &Record, errors: &mut Vec<JobError>) {
             if let (Some(u), Some(l)) = (num(r, "usable_length_mm"), num(r, "length_mm")) {
                 if u > l {
                     errors.push(Stage::Knowledge.error(
-                        "FIELD_INVALID",
+                        Code::FIELD_INVALID,
                         "usable_length_mm",
                         format!("≤ length_mm = {l}"),
                         u.to_string(),
@@ -156,7 +157,7 @@ fn cross_checks(lib: &Library, r: &Record, errors: &mut Vec<JobError>) {
                 if let Some(s) = num(r, "shift_position_mm") {
                     if s > u {
                         errors.push(Stage::Knowledge.error(
-                            "FIELD_INVALID",
+                            Code::FIELD_INVALID,
                             "shift_position_mm",
                             format!("≤ usable_length_mm = {u}"),
                             s.to_string(),
@@ -170,7 +171,7 @@ fn cross_checks(lib: &Library, r: &Record, errors: &mut Vec<JobError>) {
             let beta = num(r, "helix_angle_deg").unwrap_or(0.0);
             if beta != 0.0 && r.get("helix_hand").is_none_or(Value::is_null) {
                 errors.push(Stage::Knowledge.error(
-                    "FIELD_MISSING",
+                    Code::FIELD_MISSING,
                     "helix_hand",
                     "right or left (the helix angle is not zero)",
                     "nothing",
@@ -189,7 +190,7 @@ fn validate_machine(rec: &Record) -> Outcome<(MachineProfile, Record)> {
         Some(Value::String(s)) => s,
         Some(other) => {
             return Err(vec![Stage::Knowledge.error(
-                "FIELD_INVALID",
+                Code::FIELD_INVALID,
                 "source",
                 "a string",
                 show(&other),
@@ -200,7 +201,7 @@ fn validate_machine(rec: &Record) -> Outcome<(MachineProfile, Record)> {
     let value = Value::Object(rec);
     let profile: MachineProfile = serde_path_to_error::deserialize(&value).map_err(|e| {
         vec![Stage::Knowledge.error(
-            "FIELD_INVALID",
+            Code::FIELD_INVALID,
             &e.path().to_string(),
             "a complete machine profile (see `gearcam kb show machines H01` for one)",
             e.inner().to_string(),
@@ -216,7 +217,7 @@ fn validate_machine(rec: &Record) -> Outcome<(MachineProfile, Record)> {
     ] {
         if !(lo.is_finite() && hi.is_finite() && lo < hi) {
             errors.push(Stage::Knowledge.error(
-                "FIELD_INVALID",
+                Code::FIELD_INVALID,
                 name,
                 "[min, max] with min < max",
                 format!("[{lo}, {hi}]"),
@@ -234,7 +235,7 @@ fn validate_machine(rec: &Record) -> Outcome<(MachineProfile, Record)> {
     ] {
         if !(v.is_finite() && v > 0.0) {
             errors.push(Stage::Knowledge.error(
-                "FIELD_INVALID",
+                Code::FIELD_INVALID,
                 name,
                 "a number > 0",
                 v.to_string(),
@@ -245,7 +246,7 @@ fn validate_machine(rec: &Record) -> Outcome<(MachineProfile, Record)> {
     let s = profile.settings.swivel_sign;
     if s != 1.0 && s != -1.0 {
         errors.push(Stage::Knowledge.error(
-            "FIELD_INVALID",
+            Code::FIELD_INVALID,
             "settings.swivel_sign",
             "1 or -1",
             s.to_string(),
@@ -265,7 +266,7 @@ fn validate_machine(rec: &Record) -> Outcome<(MachineProfile, Record)> {
             || !axis.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
         {
             errors.push(Stage::Knowledge.error(
-                "FIELD_INVALID",
+                Code::FIELD_INVALID,
                 name,
                 "an axis name of 1–8 letters, digits or _",
                 format!("{axis:?}"),

@@ -22,6 +22,7 @@
 //! 5. `apply_overrides`: the job's own values on top;
 //! 6. `cases_used` and `assemble`: the plan with its cases and confidence.
 
+use gearcam_proto::Code;
 use std::collections::BTreeMap;
 
 use gearcam_proto::plan::Proposal;
@@ -76,7 +77,7 @@ pub fn plan_with(
 
 fn kb_error(e: KnowledgeError) -> Vec<JobError> {
     vec![Stage::Knowledge.error(
-        "KNOWLEDGE_BASE_ERROR",
+        Code::KNOWLEDGE_BASE_ERROR,
         "-",
         "a readable knowledge base",
         e.to_string(),
@@ -226,7 +227,7 @@ fn resolve_gear(
             .take(20)
             .collect();
         return Ok(Err(Stage::Knowledge.error(
-            "GEAR_MISSING",
+            Code::GEAR_MISSING,
             "gear",
             format!(
                 "a [gear] section or a part number in the workpiece library ({})",
@@ -270,7 +271,7 @@ fn resolve_gear(
     if let Some(missing) = history::workpiece_lacks_class_data(&record, !spec.units.is_empty()) {
         let class = record.class.as_str();
         return Ok(Err(Stage::Knowledge.error(
-            "WORKPIECE_INCOMPLETE",
+            Code::WORKPIECE_INCOMPLETE,
             "gear",
             format!("a [gear] section with {missing}"),
             format!("part number {part:?}: a {class} workpiece without {missing}"),
@@ -377,7 +378,7 @@ fn choose_hob(
     let h = &req.spec.hob;
     match (&h.id, h.has_inline_data()) {
         (Some(id), true) => Ok(Err(vec![Stage::Knowledge.error(
-            "HOB_AMBIGUOUS",
+            Code::HOB_AMBIGUOUS,
             "hob",
             "either hob.id or inline hob data",
             format!("hob.id = {id} and inline data"),
@@ -388,7 +389,7 @@ fn choose_hob(
             None => {
                 let known = library::keys(conn, &library::HOBS)?;
                 Ok(Err(vec![Stage::Knowledge.error(
-                    "UNKNOWN_HOB",
+                    Code::UNKNOWN_HOB,
                     "hob.id",
                     format!("one of {}", known.join(", ")),
                     id.to_string(),
@@ -406,7 +407,7 @@ fn inline_hob(h: &HobSpec) -> Result<HobData, Vec<JobError>> {
     fn need<T>(v: Option<T>, field: &str, errors: &mut Vec<JobError>) -> Option<T> {
         if v.is_none() {
             errors.push(Stage::Knowledge.error(
-                "HOB_FIELD_MISSING",
+                Code::HOB_FIELD_MISSING,
                 &format!("hob.{field}"),
                 "a value (inline hob data needs starts, od_mm, module_mm, lead_angle_deg, hand, length_mm)",
                 "nothing",
@@ -484,7 +485,7 @@ fn match_hob(
                 .collect::<Vec<_>>()
                 .join(" | ");
             let e = Stage::Knowledge.error(
-                "NO_MATCHING_HOB",
+                Code::NO_MATCHING_HOB,
                 "hob",
                 format!(
                     "a library hob with normal base pitch mn0·cos α0 = {pb:.4} mm, class for grade {}, usable length for {} parts",

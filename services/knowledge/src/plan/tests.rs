@@ -226,7 +226,7 @@ fn a_job_with_neither_gear_nor_library_part_is_refused_naming_the_gear() {
     // With an unknown machine as well, both are reported.
     let mut req = by_part("NO-SUCH-PART");
     req.spec.job.machine = MachineId::new("H99").unwrap();
-    let codes: Vec<String> = plan(&conn, &req)
+    let codes: Vec<Code> = plan(&conn, &req)
         .unwrap_err()
         .into_iter()
         .map(|e| e.code)

@@ -4,6 +4,7 @@
 //! job, the most similar cases or the cutting data, each with its
 //! provenance), and the learning loop's record of a planned spiral job.
 
+use gearcam_proto::Code;
 use gearcam_proto::{
     CaseRef, CutMode, Dialect, Family, HobSpec, JobError, JobRequest, MachineId, MillData,
     MillKind, MillProfile, MillingProcess, ProcessOverrides, Source, Sourced, SpiralDirection,
@@ -206,16 +207,6 @@ fn form(name: &str) -> Option<SpiralProgram> {
     SpiralProgram::ALL.into_iter().find(|f| f.as_str() == name)
 }
 
-pub(crate) fn knowledge(
-    code: &str,
-    field: &str,
-    expected: String,
-    got: String,
-    message: String,
-) -> JobError {
-    Stage::Knowledge.error(code, field, expected, got, message)
-}
-
 /// A milling machine's profile from its record.
 fn profile(r: &Record) -> Result<MillProfile, KnowledgeError> {
     let id = text(r, "id");
@@ -277,8 +268,8 @@ pub fn family_errors(req: &JobRequest) -> Vec<JobError> {
     let spec = &req.spec;
     let mut errors = Vec::new();
     let wrong = |section: &str, family: Family| {
-        knowledge(
-            "SECTION_FAMILY",
+        Stage::Knowledge.error(
+            Code::SECTION_FAMILY,
             section,
             format!("no [{section}] section in a {} job", family.as_str()),
             format!("a [{section}] section"),
@@ -316,28 +307,28 @@ pub fn family_errors(req: &JobRequest) -> Vec<JobError> {
     }
     match spec.job.family {
         Family::SpiralFace => match (&spec.face, &spec.groove) {
-            (Some(_), Some(_)) => errors.push(knowledge(
-                "SECTION_FAMILY",
+            (Some(_), Some(_)) => errors.push(Stage::Knowledge.error(
+                Code::SECTION_FAMILY,
                 "groove",
-                "either [face] or [groove]".into(),
-                "both".into(),
-                "a spiral job mills one face or one groove".into(),
+                "either [face] or [groove]",
+                "both",
+                "a spiral job mills one face or one groove",
             )),
-            (None, None) => errors.push(knowledge(
-                "MISSING_SECTION",
+            (None, None) => errors.push(Stage::Knowledge.error(
+                Code::MISSING_SECTION,
                 "face",
-                "a [face] (outer_radius_mm, inner_radius_mm, depth_mm, material) or a [groove] section".into(),
-                "neither".into(),
-                "a spiral-face job describes the face or the groove it mills".into(),
+                "a [face] (outer_radius_mm, inner_radius_mm, depth_mm, material) or a [groove] section",
+                "neither",
+                "a spiral-face job describes the face or the groove it mills",
             )),
             _ => {}
         },
-        Family::WireEdm if spec.die.is_none() => errors.push(knowledge(
-            "MISSING_SECTION",
+        Family::WireEdm if spec.die.is_none() => errors.push(Stage::Knowledge.error(
+            Code::MISSING_SECTION,
             "die",
-            "a [die] section (part, module_mm, teeth, thickness_mm, material)".into(),
-            "none".into(),
-            "a wire-edm job describes the gear whose punch or die it cuts".into(),
+            "a [die] section (part, module_mm, teeth, thickness_mm, material)",
+            "none",
+            "a wire-edm job describes the gear whose punch or die it cuts",
         )),
         _ => {}
     }
@@ -385,12 +376,12 @@ fn similarity(case: &Record, part: &SpiralPart, group: &str, tool_d: f64, machin
 pub fn plan_spiral(conn: &Connection, req: &JobRequest) -> Result<SpiralPlan, Vec<JobError>> {
     plan_inner(conn, req).map_err(|e| match e {
         Failed::Job(e) => e,
-        Failed::Kb(e) => vec![knowledge(
-            "KNOWLEDGE_BASE_ERROR",
+        Failed::Kb(e) => vec![Stage::Knowledge.error(
+            Code::KNOWLEDGE_BASE_ERROR,
             "-",
-            "a readable knowledge base".into(),
+            "a readable knowledge base",
             e.to_string(),
-            "the knowledge base could not be read; check the knowledge service's log and database file".into(),
+            "the knowledge base could not be read; check the knowledge service's log and database file",
         )],
     })
 }
@@ -463,12 +454,12 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<SpiralPlan, Failed>
         && data.is_none()
         && (o.cutting_speed_m_min.is_none() || o.feed_per_tooth_mm.is_none())
     {
-        return Err(Failed::Job(vec![knowledge(
-            "NO_CUTTING_DATA",
+        return Err(Failed::Job(vec![Stage::Knowledge.error(
+            Code::NO_CUTTING_DATA,
             &format!("{}.material", part.kind()),
-            "a material whose group has milling data or similar cases (gearcam kb list milling-data), or [milling] cutting_speed_m_min and feed_per_tooth_mm".into(),
+            "a material whose group has milling data or similar cases (gearcam kb list milling-data), or [milling] cutting_speed_m_min and feed_per_tooth_mm",
             format!("{} (group {group})", part.material()),
-            "the knowledge base has nothing to propose for this material".into(),
+            "the knowledge base has nothing to propose for this material",
         )]));
     }
     let job = |v: f64| Sourced {
@@ -605,12 +596,12 @@ fn choose_tool(
     if let Some(id) = &m.id {
         return Ok(match tools.iter().find(|t| text(t, "id") == id) {
             Some(t) => Ok(tool_of(t)),
-            None => Err(vec![knowledge(
-                "UNKNOWN_TOOL",
+            None => Err(vec![Stage::Knowledge.error(
+                Code::UNKNOWN_TOOL,
                 "mill.id",
                 format!("a mill of the tool library: one of {}", ids()),
                 id.clone(),
-                "the tool is not in the knowledge base (gearcam kb list mills), or give the tool inline: [mill] kind, radius_mm, flutes".into(),
+                "the tool is not in the knowledge base (gearcam kb list mills), or give the tool inline: [mill] kind, radius_mm, flutes",
             )]),
         });
     }
@@ -627,14 +618,14 @@ fn choose_tool(
             (Some(kind), Some(r), Some(z)) => {
                 let mut errors = Vec::new();
                 if !(r.is_finite() && r > 0.0) {
-                    errors.push(knowledge("TOOL_RANGE", "mill.radius_mm", "a radius > 0 mm".into(), format!("{r}"), "the tool's cutting radius".into()));
+                    errors.push(Stage::Knowledge.error(Code::TOOL_RANGE, "mill.radius_mm", "a radius > 0 mm", format!("{r}"), "the tool's cutting radius"));
                 }
                 if z == 0 {
-                    errors.push(knowledge("TOOL_RANGE", "mill.flutes", "1 or more".into(), "0".into(), "flutes or inserts of the tool".into()));
+                    errors.push(Stage::Knowledge.error(Code::TOOL_RANGE, "mill.flutes", "1 or more", "0", "flutes or inserts of the tool"));
                 }
                 let corner = m.corner_radius_mm.unwrap_or(0.0);
                 if !(corner.is_finite() && corner >= 0.0 && corner <= r) {
-                    errors.push(knowledge("TOOL_RANGE", "mill.corner_radius_mm", format!("0 to the tool's radius {r} mm"), format!("{corner}"), "the tool's corner radius".into()));
+                    errors.push(Stage::Knowledge.error(Code::TOOL_RANGE, "mill.corner_radius_mm", format!("0 to the tool's radius {r} mm"), format!("{corner}"), "the tool's corner radius"));
                 }
                 if errors.is_empty() {
                     Ok(MillData {
@@ -650,12 +641,12 @@ fn choose_tool(
                     Err(errors)
                 }
             }
-            _ => Err(vec![knowledge(
-                "MISSING_FIELD",
+            _ => Err(vec![Stage::Knowledge.error(
+                Code::MISSING_FIELD,
                 missing[0],
-                "an inline tool gives kind, radius_mm and flutes (or [mill] id names a library tool)".into(),
+                "an inline tool gives kind, radius_mm and flutes (or [mill] id names a library tool)",
                 format!("no {}", missing.join(", no ")),
-                "the tool is incomplete".into(),
+                "the tool is incomplete",
             )]),
         });
     }
@@ -666,8 +657,8 @@ fn choose_tool(
             .into_iter()
             .find(|t| t.kind == MillKind::EndMill && (2.0 * t.radius_mm - g.width_mm).abs() < 1e-3)
             .ok_or_else(|| {
-                vec![knowledge(
-                    "NO_TOOL",
+                vec![Stage::Knowledge.error(
+                    Code::NO_TOOL,
                     "groove.width_mm",
                     format!(
                         "the diameter of an end mill in the tool library ({})",
@@ -679,7 +670,7 @@ fn choose_tool(
                             .join(", ")
                     ),
                     format!("{}", g.width_mm),
-                    "a groove is cut in one pass of the tool's full width; add an end mill of this diameter or give [mill]".into(),
+                    "a groove is cut in one pass of the tool's full width; add an end mill of this diameter or give [mill]",
                 )]
             }),
         SpiralPart::Face(f) => {
@@ -688,12 +679,12 @@ fn choose_tool(
                 .find(|t| 2.0 * t.radius_mm <= f.outer_radius_mm)
                 .cloned();
             fits.or_else(|| candidates.last().cloned()).ok_or_else(|| {
-                vec![knowledge(
-                    "NO_TOOL",
+                vec![Stage::Knowledge.error(
+                    Code::NO_TOOL,
                     "mill",
-                    "a mill in the tool library".into(),
-                    "an empty tool library".into(),
-                    "add mills (gearcam kb add mills) or give [mill]".into(),
+                    "a mill in the tool library",
+                    "an empty tool library",
+                    "add mills (gearcam kb add mills) or give [mill]",
                 )]
             })
         }

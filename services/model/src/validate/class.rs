@@ -2,6 +2,7 @@
 //! the hob shift and the units of a multi-gear part.
 
 use super::*;
+use gearcam_proto::Code;
 
 /// Class markers, class-specific data, process options of the class, shift,
 /// measurement data, mate and the units of a multi-gear part.
@@ -13,7 +14,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
     if markers.len() > 1 {
         let names: Vec<&str> = markers.iter().map(|c| c.as_str()).collect();
         r.error(
-            codes::CLASS_AMBIGUOUS,
+            Code::CLASS_AMBIGUOUS,
             "gear",
             "at most one of cone, crowning, worm_wheel, curved_tooth",
             names.join(", "),
@@ -23,7 +24,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
     let class = plan.class;
     if markers.contains(&GearClass::CurvedTooth) {
         r.error(
-            codes::CLASS_NOT_PROGRAMMABLE,
+            Code::CLASS_NOT_PROGRAMMABLE,
             "gear.curved_tooth",
             "a programmable class: cylindrical, conical, crowned, worm_wheel or multi_gear",
             GearClass::CurvedTooth.as_str(),
@@ -33,7 +34,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
     let unit = gearcam_proto::class::unit_class(g);
     if o.infeed == Some(Infeed::RadialAxial) && unit != GearClass::Cylindrical {
         r.error(
-            codes::CLASS_OPTION_UNSUPPORTED,
+            Code::CLASS_OPTION_UNSUPPORTED,
             "process.infeed",
             "axial for a conical, crowned or worm-wheel gear",
             "radial_axial",
@@ -43,7 +44,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
     if let Some(cone) = &g.cone {
         if !open(cone.angle_deg, 0.0, 45.0) {
             r.error(
-                codes::CONE_ANGLE_RANGE,
+                Code::CONE_ANGLE_RANGE,
                 "gear.cone.angle_deg",
                 "(0°, 45°)",
                 format!("{}°", num(cone.angle_deg)),
@@ -56,7 +57,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
             let taper = 2.0 * g.face_width_mm * cone.angle_deg.to_radians().tan();
             if !(df - taper > 0.0) {
                 r.error(
-                    codes::CONE_ANGLE_RANGE,
+                    Code::CONE_ANGLE_RANGE,
                     "gear.cone.angle_deg",
                     format!(
                         "< {}° (the root cone reaches the axis within the face width)",
@@ -77,7 +78,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
         let half = g.face_width_mm / 2.0;
         if !(cr.amount_mm > 0.0 && cr.amount_mm < half) {
             r.error(
-                codes::CROWNING_RANGE,
+                Code::CROWNING_RANGE,
                 "gear.crowning.amount_mm",
                 format!("> 0 and < {} mm (half the face width)", num(half)),
                 format!("{} mm", num(cr.amount_mm)),
@@ -90,7 +91,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
             let chords = crate::path::parabolic_chords(cr.amount_mm, tol);
             if !(tol > 0.0) || chords > cfg.max_chords {
                 r.error(
-                    codes::CHORD_TOLERANCE_RANGE,
+                    Code::CHORD_TOLERANCE_RANGE,
                     "gear.crowning.chord_tolerance_mm",
                     format!(
                         "> 0 mm and at least {} mm (at most {} chords)",
@@ -107,7 +108,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
         if let Some(v) = v {
             if !(v > 0.0 && v.is_finite()) {
                 r.error(
-                    codes::FEED_RATE_RANGE,
+                    Code::FEED_RATE_RANGE,
                     field,
                     format!("> 0 {unit}"),
                     format!("{} {unit}", num(v)),
@@ -134,7 +135,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
         if let Some(d) = w.dwell_rev {
             if !(d >= 0.0 && d.is_finite()) {
                 r.error(
-                    codes::DWELL_RANGE,
+                    Code::DWELL_RANGE,
                     "gear.worm_wheel.dwell_rev",
                     "≥ 0 revolutions",
                     num(d),
@@ -144,7 +145,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
         }
         if w.infeed == WormInfeed::Tangential && o.shift.is_some() {
             r.error(
-                codes::CLASS_OPTION_UNSUPPORTED,
+                Code::CLASS_OPTION_UNSUPPORTED,
                 "process.shift",
                 "no hob shifting with tangential infeed",
                 "shift",
@@ -170,7 +171,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
         let whole = (2.0 * g.addendum_coef + g.clearance_coef) * g.module_mm;
         if !(a > 0.0 && a < whole) {
             r.error(
-                codes::FINISH_ALLOWANCE_RANGE,
+                Code::FINISH_ALLOWANCE_RANGE,
                 "process.finish_allowance_mm",
                 format!("> 0 and < {} mm (the whole depth)", num(whole)),
                 format!("{} mm", num(a)),
@@ -181,7 +182,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
     if let Some(dm) = g.ball_diameter_mm {
         if !(dm > 0.0 && dm.is_finite()) {
             r.error(
-                codes::BALL_DIAMETER_RANGE,
+                Code::BALL_DIAMETER_RANGE,
                 "gear.ball_diameter_mm",
                 "> 0 mm",
                 format!("{} mm", num(dm)),
@@ -195,7 +196,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
             .is_some_and(|a| !(a > 0.0 && a.is_finite()));
         if m.teeth < 1 || !m.profile_shift.is_finite() || bad_a {
             r.error(
-                codes::MATE_RANGE,
+                Code::MATE_RANGE,
                 "gear.mate",
                 "teeth ≥ 1, a finite profile shift and a positive centre distance",
                 format!(
@@ -239,7 +240,7 @@ pub(super) fn check_shift(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
     let [lo, hi] = res.usable_mm;
     if hi < 0.0 {
         r.error(
-            codes::HOB_TOO_SHORT_FOR_SHIFT,
+            Code::HOB_TOO_SHORT_FOR_SHIFT,
             if hob.usable_length_mm.is_some() {
                 "hob.usable_length_mm"
             } else {
@@ -253,7 +254,7 @@ pub(super) fn check_shift(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
     }
     if !(res.step_mm > 0.0 && res.step_mm.is_finite()) {
         r.error(
-            codes::SHIFT_RANGE,
+            Code::SHIFT_RANGE,
             "process.shift.step_mm",
             "> 0 mm",
             format!("{} mm", num(res.step_mm)),
@@ -262,7 +263,7 @@ pub(super) fn check_shift(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
     }
     if spec.parts_per_step == Some(0) {
         r.error(
-            codes::SHIFT_RANGE,
+            Code::SHIFT_RANGE,
             "process.shift.parts_per_step",
             "≥ 1",
             "0",
@@ -276,7 +277,7 @@ pub(super) fn check_shift(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
     ] {
         if !(v >= lo - tol && v <= hi + tol) {
             r.error(
-                codes::SHIFT_RANGE,
+                Code::SHIFT_RANGE,
                 field,
                 format!("{} to {} mm (usable hob length)", num(lo), num(hi)),
                 format!("{} mm", num(v)),
@@ -301,7 +302,7 @@ pub(super) fn check_units(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
         let field = format!("units[{i}].z_offset_mm");
         if !(u.z_offset_mm.is_finite() && u.z_offset_mm >= top - cfg.length_tolerance_mm) {
             r.error(
-                codes::UNIT_RANGE,
+                Code::UNIT_RANGE,
                 &field,
                 format!("≥ {} mm (above the previous unit's upper face)", num(top)),
                 format!("{} mm", num(u.z_offset_mm)),

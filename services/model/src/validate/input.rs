@@ -2,11 +2,12 @@
 //! the measurement over balls, the hob, and the process values.
 
 use super::*;
+use gearcam_proto::Code;
 
 pub(super) fn check_gear(r: &mut Report, g: &GearSpec) -> bool {
     if g.teeth < 1 || g.teeth > MAX_TEETH {
         r.error(
-            codes::TEETH_RANGE,
+            Code::TEETH_RANGE,
             "gear.teeth",
             format!("1 to {MAX_TEETH}"),
             g.teeth.to_string(),
@@ -15,7 +16,7 @@ pub(super) fn check_gear(r: &mut Report, g: &GearSpec) -> bool {
     }
     if !(g.module_mm > 0.0 && g.module_mm.is_finite()) {
         r.error(
-            codes::MODULE_RANGE,
+            Code::MODULE_RANGE,
             "gear.module_mm",
             "> 0 mm",
             format!("{} mm", num(g.module_mm)),
@@ -24,7 +25,7 @@ pub(super) fn check_gear(r: &mut Report, g: &GearSpec) -> bool {
     }
     if !open(g.pressure_angle_deg, 0.0, 45.0) {
         r.error(
-            codes::PRESSURE_ANGLE_RANGE,
+            Code::PRESSURE_ANGLE_RANGE,
             "gear.pressure_angle_deg",
             "(0°, 45°)",
             format!("{}°", num(g.pressure_angle_deg)),
@@ -33,7 +34,7 @@ pub(super) fn check_gear(r: &mut Report, g: &GearSpec) -> bool {
     }
     if !open(g.helix_angle_deg, -90.0, 90.0) {
         r.error(
-            codes::HELIX_RANGE,
+            Code::HELIX_RANGE,
             "gear.helix_angle_deg",
             "(-90°, 90°)",
             format!("{}°", num(g.helix_angle_deg)),
@@ -41,7 +42,7 @@ pub(super) fn check_gear(r: &mut Report, g: &GearSpec) -> bool {
         );
     } else if !is_spur(g) && g.helix_hand.is_none() {
         r.error(
-            codes::HELIX_HAND_MISSING,
+            Code::HELIX_HAND_MISSING,
             "gear.helix_hand",
             "right or left",
             "none",
@@ -50,7 +51,7 @@ pub(super) fn check_gear(r: &mut Report, g: &GearSpec) -> bool {
     }
     if !(g.face_width_mm > 0.0 && g.face_width_mm.is_finite()) {
         r.error(
-            codes::FACE_WIDTH_RANGE,
+            Code::FACE_WIDTH_RANGE,
             "gear.face_width_mm",
             "> 0 mm",
             format!("{} mm", num(g.face_width_mm)),
@@ -59,7 +60,7 @@ pub(super) fn check_gear(r: &mut Report, g: &GearSpec) -> bool {
     }
     if !(g.addendum_coef > 0.0 && g.addendum_coef.is_finite()) {
         r.error(
-            codes::ADDENDUM_RANGE,
+            Code::ADDENDUM_RANGE,
             "gear.addendum_coef",
             "> 0",
             num(g.addendum_coef),
@@ -68,7 +69,7 @@ pub(super) fn check_gear(r: &mut Report, g: &GearSpec) -> bool {
     }
     if !(g.clearance_coef >= 0.0 && g.clearance_coef.is_finite()) {
         r.error(
-            codes::CLEARANCE_COEF_RANGE,
+            Code::CLEARANCE_COEF_RANGE,
             "gear.clearance_coef",
             "≥ 0",
             num(g.clearance_coef),
@@ -82,7 +83,7 @@ pub(super) fn check_gear(r: &mut Report, g: &GearSpec) -> bool {
     ] {
         if !v.is_finite() {
             r.error(
-                codes::NOT_FINITE,
+                Code::NOT_FINITE,
                 field,
                 "a finite number",
                 num(v),
@@ -113,7 +114,7 @@ pub(super) fn check_ball(r: &mut Report, g: &GearSpec) {
     let min = crate::geometry::min_ball_mm(g);
     if dm <= min {
         r.error(
-            codes::BALL_DIAMETER_RANGE,
+            Code::BALL_DIAMETER_RANGE,
             "gear.ball_diameter_mm",
             format!("> {} mm (smaller balls drop below the base circle)", num(min)),
             format!("{} mm", num(dm)),
@@ -129,7 +130,7 @@ pub(super) fn check_hob(r: &mut Report, h: &HobData) -> bool {
     let before = r.errors.len();
     if h.starts < 1 {
         r.error(
-            codes::HOB_STARTS_RANGE,
+            Code::HOB_STARTS_RANGE,
             "hob.starts",
             "≥ 1",
             h.starts.to_string(),
@@ -138,7 +139,7 @@ pub(super) fn check_hob(r: &mut Report, h: &HobData) -> bool {
     }
     if !(h.od_mm > 0.0 && h.od_mm.is_finite()) {
         r.error(
-            codes::HOB_OD_RANGE,
+            Code::HOB_OD_RANGE,
             "hob.od_mm",
             "> 0 mm",
             format!("{} mm", num(h.od_mm)),
@@ -147,7 +148,7 @@ pub(super) fn check_hob(r: &mut Report, h: &HobData) -> bool {
     }
     if !(h.module_mm > 0.0 && h.module_mm.is_finite()) {
         r.error(
-            codes::HOB_MODULE_RANGE,
+            Code::HOB_MODULE_RANGE,
             "hob.module_mm",
             "> 0 mm",
             format!("{} mm", num(h.module_mm)),
@@ -156,7 +157,7 @@ pub(super) fn check_hob(r: &mut Report, h: &HobData) -> bool {
     }
     if !open(h.pressure_angle_deg, 0.0, 45.0) {
         r.error(
-            codes::HOB_PRESSURE_ANGLE_RANGE,
+            Code::HOB_PRESSURE_ANGLE_RANGE,
             "hob.pressure_angle_deg",
             "(0°, 45°)",
             format!("{}°", num(h.pressure_angle_deg)),
@@ -165,7 +166,7 @@ pub(super) fn check_hob(r: &mut Report, h: &HobData) -> bool {
     }
     if !open(h.lead_angle_deg, 0.0, 45.0) {
         r.error(
-            codes::HOB_LEAD_ANGLE_RANGE,
+            Code::HOB_LEAD_ANGLE_RANGE,
             "hob.lead_angle_deg",
             "(0°, 45°)",
             format!("{}°", num(h.lead_angle_deg)),
@@ -174,7 +175,7 @@ pub(super) fn check_hob(r: &mut Report, h: &HobData) -> bool {
     }
     if !(h.length_mm > 0.0 && h.length_mm.is_finite()) {
         r.error(
-            codes::HOB_LENGTH_RANGE,
+            Code::HOB_LENGTH_RANGE,
             "hob.length_mm",
             "> 0 mm",
             format!("{} mm", num(h.length_mm)),
@@ -189,7 +190,7 @@ pub(super) fn check_process(r: &mut Report, plan: &ProcessPlan, gear_ok: bool, c
     let quantity = plan.request.spec.job.quantity;
     if quantity < 1 {
         r.error(
-            codes::QUANTITY_RANGE,
+            Code::QUANTITY_RANGE,
             "job.quantity",
             "≥ 1",
             quantity.to_string(),
@@ -198,7 +199,7 @@ pub(super) fn check_process(r: &mut Report, plan: &ProcessPlan, gear_ok: bool, c
     }
     if !(1..=cfg.max_cuts).contains(&p.cuts) {
         r.error(
-            codes::CUTS_RANGE,
+            Code::CUTS_RANGE,
             "process.cuts",
             format!("1 to {}", cfg.max_cuts),
             p.cuts.to_string(),
@@ -207,7 +208,7 @@ pub(super) fn check_process(r: &mut Report, plan: &ProcessPlan, gear_ok: bool, c
     }
     if !(p.cutting_speed_m_min > 0.0 && p.cutting_speed_m_min.is_finite()) {
         r.error(
-            codes::CUTTING_SPEED_RANGE,
+            Code::CUTTING_SPEED_RANGE,
             "process.cutting_speed_m_min",
             "> 0 m/min",
             format!("{} m/min", num(p.cutting_speed_m_min)),
@@ -216,7 +217,7 @@ pub(super) fn check_process(r: &mut Report, plan: &ProcessPlan, gear_ok: bool, c
     }
     if !(p.feed_mm_per_rev > 0.0 && p.feed_mm_per_rev.is_finite()) {
         r.error(
-            codes::FEED_RANGE,
+            Code::FEED_RANGE,
             "process.feed_mm_per_rev",
             "> 0 mm/rev",
             format!("{} mm/rev", num(p.feed_mm_per_rev)),
@@ -226,7 +227,7 @@ pub(super) fn check_process(r: &mut Report, plan: &ProcessPlan, gear_ok: bool, c
         if let Some(pz) = lead_mm(&plan.gear) {
             if !(p.feed_mm_per_rev < pz) {
                 r.error(
-                    codes::FEED_RANGE,
+                    Code::FEED_RANGE,
                     "process.feed_mm_per_rev",
                     format!("< {} mm/rev (the helix lead)", num(pz)),
                     format!("{} mm/rev", num(p.feed_mm_per_rev)),
@@ -237,7 +238,7 @@ pub(super) fn check_process(r: &mut Report, plan: &ProcessPlan, gear_ok: bool, c
     }
     if !(p.safety_mm >= 0.0 && p.safety_mm.is_finite()) {
         r.error(
-            codes::SAFETY_RANGE,
+            Code::SAFETY_RANGE,
             "process.safety_mm",
             "≥ 0 mm",
             format!("{} mm", num(p.safety_mm)),

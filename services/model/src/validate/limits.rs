@@ -3,6 +3,7 @@
 //! speed limits.
 
 use super::*;
+use gearcam_proto::Code;
 
 /// The hob's run-out below the gear must stay clear of the table and the
 /// fixture: at the lowest hob centre Zl of the stroke, the tilted tip
@@ -61,7 +62,7 @@ pub(super) fn run_out(
     if lowest < -cfg.length_tolerance_mm && x_low - r < env.table_radius_mm {
         let need = gear.fixture_height_mm - lowest;
         errors.push(Stage::Model.error(
-            codes::ENVELOPE_COLLISION,
+            Code::ENVELOPE_COLLISION,
             &format!("{prefix}gear.fixture_height_mm"),
             format!("≥ {} mm", num(need)),
             format!("{} mm", num(gear.fixture_height_mm)),
@@ -87,7 +88,7 @@ pub(super) fn run_out(
         && fixture_r >= nearest - cfg.length_tolerance_mm
     {
         errors.push(Stage::Model.error(
-            codes::ENVELOPE_COLLISION,
+            Code::ENVELOPE_COLLISION,
             &format!("{prefix}gear.fixture_diameter_mm"),
             format!("< {} mm", num(2.0 * nearest)),
             format!(
@@ -161,7 +162,7 @@ pub(super) fn check_unit_collisions(errors: &mut Vec<JobError>, k: &Kinematics, 
             };
             if bad {
                 errors.push(Stage::Model.error(
-                    codes::UNIT_COLLISION,
+                    Code::UNIT_COLLISION,
                     &format!("units[{i}].model.positions"),
                     limit,
                     format!("hob centre at {} mm", num(got)),
@@ -186,7 +187,7 @@ pub(super) fn unit_limits(
 ) {
     let lim = &plan.machine.limits;
     let id = &plan.machine.id;
-    let mut over = |code: &str, field: &str, v: f64, max: f64, unit: &str, todo: &str| {
+    let mut over = |code: Code, field: &str, v: f64, max: f64, unit: &str, todo: &str| {
         if !(v.abs() <= max + cfg.length_tolerance_mm) {
             errors.push(Stage::Model.error(
                 code,
@@ -201,7 +202,7 @@ pub(super) fn unit_limits(
         }
     };
     over(
-        codes::HOB_RPM_LIMIT,
+        Code::HOB_RPM_LIMIT,
         "model.hob_rpm",
         k.hob_rpm,
         lim.max_hob_rpm,
@@ -209,7 +210,7 @@ pub(super) fn unit_limits(
         "lower process.cutting_speed_m_min or use a hob of larger diameter",
     );
     over(
-        codes::TABLE_RPM_LIMIT,
+        Code::TABLE_RPM_LIMIT,
         "model.table_rpm",
         k.table_rpm,
         lim.max_table_rpm,
@@ -217,7 +218,7 @@ pub(super) fn unit_limits(
         "lower process.cutting_speed_m_min or use a hob with fewer starts",
     );
     over(
-        codes::AXIAL_FEED_LIMIT,
+        Code::AXIAL_FEED_LIMIT,
         "model.axial_feed_mm_min",
         k.axial_feed_mm_min,
         lim.max_axial_feed_mm_min,
@@ -225,7 +226,7 @@ pub(super) fn unit_limits(
         "lower process.feed_mm_per_rev or the cutting speed",
     );
     over(
-        codes::SWIVEL_LIMIT,
+        Code::SWIVEL_LIMIT,
         "model.swivel_deg",
         k.swivel_deg,
         lim.max_swivel_deg,
@@ -234,7 +235,7 @@ pub(super) fn unit_limits(
     );
     for (i, c) in k.cuts.iter().enumerate().filter(|(_, c)| !c.finish) {
         over(
-            codes::TABLE_RPM_LIMIT,
+            Code::TABLE_RPM_LIMIT,
             &format!("model.cuts[{i}].table_rpm"),
             c.table_rpm,
             lim.max_table_rpm,
@@ -242,7 +243,7 @@ pub(super) fn unit_limits(
             "lower process.cutting_speed_m_min or use a hob with fewer starts",
         );
         over(
-            codes::AXIAL_FEED_LIMIT,
+            Code::AXIAL_FEED_LIMIT,
             &format!("model.cuts[{i}].axial_feed_mm_min"),
             c.axial_feed_mm_min,
             lim.max_axial_feed_mm_min,
@@ -262,7 +263,7 @@ pub(super) fn unit_limits(
             }
             let rate = m.feed_mm_min;
             over(
-                codes::FEED_RATE_LIMIT,
+                Code::FEED_RATE_LIMIT,
                 &format!("model.cuts[{i}].moves[{j}].feed_mm_min"),
                 rate,
                 lim.max_axial_feed_mm_min,
@@ -344,7 +345,7 @@ pub(super) fn check_travel(
         let field = field();
         if field.contains("cuts[")
             && errors.iter().any(|e| {
-                e.code == codes::POSITION_TRAVEL_LIMIT
+                e.code == Code::POSITION_TRAVEL_LIMIT
                     && e.got == got
                     && e.field.ends_with(&format!(".{axis}_mm"))
             })
@@ -352,7 +353,7 @@ pub(super) fn check_travel(
             continue;
         }
         errors.push(Stage::Model.error(
-            codes::POSITION_TRAVEL_LIMIT,
+            Code::POSITION_TRAVEL_LIMIT,
             &format!("{field}.{axis}_mm"),
             format!("{} to {} mm", num(lo), num(hi)),
             got,

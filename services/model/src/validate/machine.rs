@@ -2,6 +2,7 @@
 //! its limits, the hob's diameter and the blank's window.
 
 use super::*;
+use gearcam_proto::Code;
 
 pub(super) fn check_machine_settings(r: &mut Report, plan: &ProcessPlan) -> bool {
     let before = r.errors.len();
@@ -15,7 +16,7 @@ pub(super) fn check_machine_settings(r: &mut Report, plan: &ProcessPlan) -> bool
     ] {
         if !(v >= 0.0 && v.is_finite()) {
             r.error(
-                codes::MACHINE_SETTING_RANGE,
+                Code::MACHINE_SETTING_RANGE,
                 &format!("machine.settings.{name}"),
                 "≥ 0 mm",
                 format!("{} mm", num(v)),
@@ -34,7 +35,7 @@ pub(super) fn check_machine_settings(r: &mut Report, plan: &ProcessPlan) -> bool
     ] {
         if v != 1.0 && v != -1.0 {
             r.error(
-                codes::MACHINE_SETTING_RANGE,
+                Code::MACHINE_SETTING_RANGE,
                 &format!("machine.settings.{name}"),
                 "1 or -1",
                 num(v),
@@ -47,7 +48,7 @@ pub(super) fn check_machine_settings(r: &mut Report, plan: &ProcessPlan) -> bool
     }
     if !s.swivel_offset_deg.is_finite() {
         r.error(
-            codes::MACHINE_SETTING_RANGE,
+            Code::MACHINE_SETTING_RANGE,
             "machine.settings.swivel_offset_deg",
             "a finite angle",
             num(s.swivel_offset_deg),
@@ -63,7 +64,7 @@ pub(super) fn check_machine_settings(r: &mut Report, plan: &ProcessPlan) -> bool
     ] {
         if !(v >= 0.0 && v.is_finite()) {
             r.error(
-                codes::MACHINE_SETTING_RANGE,
+                Code::MACHINE_SETTING_RANGE,
                 &format!("machine.envelope.{name}"),
                 "≥ 0 mm",
                 format!("{} mm", num(v)),
@@ -77,7 +78,7 @@ pub(super) fn check_machine_settings(r: &mut Report, plan: &ProcessPlan) -> bool
     if let Some(d) = plan.gear.fixture_diameter_mm {
         if !(d >= 0.0 && d.is_finite()) {
             r.error(
-                codes::MACHINE_SETTING_RANGE,
+                Code::MACHINE_SETTING_RANGE,
                 "gear.fixture_diameter_mm",
                 "≥ 0 mm",
                 format!("{} mm", num(d)),
@@ -95,7 +96,7 @@ pub(super) fn check_machine_settings(r: &mut Report, plan: &ProcessPlan) -> bool
     };
     if first < lo || first + slots - 1 > hi {
         r.error(
-            codes::MACHINE_SETTING_RANGE,
+            Code::MACHINE_SETTING_RANGE,
             field,
             format!("{lo} to {}", hi + 1 - slots),
             first.to_string(),
@@ -120,7 +121,7 @@ pub(super) fn check_machine_limits(
     let mn = gear.module_mm;
     if !(mn >= lo - cfg.length_tolerance_mm && mn <= hi + cfg.length_tolerance_mm) {
         r.error(
-            codes::MACHINE_MODULE_LIMIT,
+            Code::MACHINE_MODULE_LIMIT,
             "gear.module_mm",
             format!("{} to {} mm", num(lo), num(hi)),
             format!("{} mm", num(mn)),
@@ -130,7 +131,7 @@ pub(super) fn check_machine_limits(
     let blank = gear.blank_od_mm.unwrap_or(geo.da_mm);
     if !(blank <= lim.max_workpiece_od_mm + cfg.length_tolerance_mm) {
         r.error(
-            codes::WORKPIECE_OD_LIMIT,
+            Code::WORKPIECE_OD_LIMIT,
             "gear.blank_od_mm",
             format!("≤ {} mm", num(lim.max_workpiece_od_mm)),
             format!("{} mm", num(blank)),
@@ -145,7 +146,7 @@ pub(super) fn check_hob_od_limit(r: &mut Report, plan: &ProcessPlan, cfg: &Confi
     let od = plan.hob.od_mm;
     if od.is_finite() && !(od <= lim.max_hob_od_mm + cfg.length_tolerance_mm) {
         r.error(
-            codes::HOB_OD_LIMIT,
+            Code::HOB_OD_LIMIT,
             "hob.od_mm",
             format!("≤ {} mm", num(lim.max_hob_od_mm)),
             format!("{} mm", num(od)),
@@ -165,7 +166,7 @@ pub(super) fn check_blank_window(r: &mut Report, plan: &ProcessPlan, geo: &Geome
     let (lo, hi) = (da - s.blank_od_below_mm, da + s.blank_od_above_mm);
     if !(blank >= lo - cfg.length_tolerance_mm && blank <= hi + cfg.length_tolerance_mm) {
         r.error(
-            codes::BLANK_OD_WINDOW,
+            Code::BLANK_OD_WINDOW,
             "gear.blank_od_mm",
             format!("{} to {} mm (tip diameter da {} mm)", num(lo), num(hi), num(da)),
             format!("{} mm", num(blank)),
@@ -185,7 +186,7 @@ pub(super) fn check_blank_window(r: &mut Report, plan: &ProcessPlan, geo: &Geome
     };
     if allowed > 0.0 && dev.abs() > (1.0 - cfg.edge_fraction) * allowed {
         r.warnings.push(Warning {
-            code: codes::BLANK_OD_EDGE.into(),
+            code: Code::BLANK_OD_EDGE,
             field: "gear.blank_od_mm".into(),
             message: format!(
                 "The blank OD {} mm is within {} % of the edge of its window {} to {} mm; check the blank before cutting.",

@@ -31,7 +31,7 @@
 
 use gearcam_proto::class::unit_markers;
 use gearcam_proto::{
-    CrowningShape, GearClass, GearSpec, Geometry, HobData, Infeed, JobError, Kinematics,
+    Code, CrowningShape, GearClass, GearSpec, Geometry, HobData, Infeed, JobError, Kinematics,
     MachineProfile, Move, Position, ProcessPlan, Stage, Warning, WormInfeed,
 };
 
@@ -58,7 +58,7 @@ pub const TOLERANCE_MM: f64 = 1e-6;
 pub const BASE_PITCH_TOLERANCE_MM: f64 = 1e-4;
 
 /// A blank OD that uses more than 1 − this fraction of its allowed deviation
-/// from da (on its side of da) gets a [`codes::BLANK_OD_EDGE`] warning.
+/// from da (on its side of da) gets a [`Code::BLANK_OD_EDGE`] warning.
 pub const EDGE_FRACTION: f64 = 0.1;
 
 /// Most cuts a job may ask for.
@@ -126,114 +126,6 @@ impl Config {
     }
 }
 
-/// Stable error and warning codes of the model stage.
-pub mod codes {
-    /// Blank OD outside the window around the tip diameter (check 1).
-    pub const BLANK_OD_WINDOW: &str = "BLANK_OD_WINDOW";
-    /// Warning: blank OD near the edge of its window.
-    pub const BLANK_OD_EDGE: &str = "BLANK_OD_EDGE";
-    /// Cut depth not positive or deeper than the whole depth plus allowance (check 2).
-    pub const CUT_DEPTH: &str = "CUT_DEPTH";
-    /// Hob and gear normal base pitches differ (check 3).
-    pub const BASE_PITCH_MISMATCH: &str = "BASE_PITCH_MISMATCH";
-    /// Hob OD below d0 + 2·(ha* + c*)·mn0 (check 4).
-    pub const HOB_OD_TOO_SMALL: &str = "HOB_OD_TOO_SMALL";
-    /// Final centre distance below the theoretical one (check 5).
-    pub const CENTRE_DISTANCE_TOO_SMALL: &str = "CENTRE_DISTANCE_TOO_SMALL";
-    /// Teeth below 1.
-    pub const TEETH_RANGE: &str = "TEETH_RANGE";
-    /// Normal module not positive.
-    pub const MODULE_RANGE: &str = "MODULE_RANGE";
-    /// Gear pressure angle outside (0°, 45°).
-    pub const PRESSURE_ANGLE_RANGE: &str = "PRESSURE_ANGLE_RANGE";
-    /// Helix angle outside (−90°, 90°).
-    pub const HELIX_RANGE: &str = "HELIX_RANGE";
-    /// Helical gear without a helix hand.
-    pub const HELIX_HAND_MISSING: &str = "HELIX_HAND_MISSING";
-    /// Face width not positive.
-    pub const FACE_WIDTH_RANGE: &str = "FACE_WIDTH_RANGE";
-    /// Addendum coefficient not positive.
-    pub const ADDENDUM_RANGE: &str = "ADDENDUM_RANGE";
-    /// Tip clearance coefficient negative.
-    pub const CLEARANCE_COEF_RANGE: &str = "CLEARANCE_COEF_RANGE";
-    /// A value that must be a finite number is not.
-    pub const NOT_FINITE: &str = "NOT_FINITE";
-    /// Quantity below 1.
-    pub const QUANTITY_RANGE: &str = "QUANTITY_RANGE";
-    /// Feed per revolution not positive, or not below the helix lead.
-    pub const FEED_RANGE: &str = "FEED_RANGE";
-    /// Cutting speed not positive.
-    pub const CUTTING_SPEED_RANGE: &str = "CUTTING_SPEED_RANGE";
-    /// Safety distance negative.
-    pub const SAFETY_RANGE: &str = "SAFETY_RANGE";
-    /// Number of cuts outside 1 to the most cuts.
-    pub const CUTS_RANGE: &str = "CUTS_RANGE";
-    /// Finish allowance not positive or not below the depth.
-    pub const FINISH_ALLOWANCE_RANGE: &str = "FINISH_ALLOWANCE_RANGE";
-    /// Radial, tangential or finishing feed not positive.
-    pub const FEED_RATE_RANGE: &str = "FEED_RATE_RANGE";
-    /// The gear is classified into a class that cannot be programmed yet.
-    pub const CLASS_NOT_PROGRAMMABLE: &str = "CLASS_NOT_PROGRAMMABLE";
-    /// The gear carries the markers of more than one class.
-    pub const CLASS_AMBIGUOUS: &str = "CLASS_AMBIGUOUS";
-    /// An option that the gear's class does not support.
-    pub const CLASS_OPTION_UNSUPPORTED: &str = "CLASS_OPTION_UNSUPPORTED";
-    /// Cone angle outside (0°, 45°) or a cone that ends below the root.
-    pub const CONE_ANGLE_RANGE: &str = "CONE_ANGLE_RANGE";
-    /// Crowning amount outside (0, b/2).
-    pub const CROWNING_RANGE: &str = "CROWNING_RANGE";
-    /// Chord tolerance not positive or needing too many chords.
-    pub const CHORD_TOLERANCE_RANGE: &str = "CHORD_TOLERANCE_RANGE";
-    /// Worm wheel dwell negative.
-    pub const DWELL_RANGE: &str = "DWELL_RANGE";
-    /// Shift settings outside the usable hob length or not positive.
-    pub const SHIFT_RANGE: &str = "SHIFT_RANGE";
-    /// The hob is too short to shift at all.
-    pub const HOB_TOO_SHORT_FOR_SHIFT: &str = "HOB_TOO_SHORT_FOR_SHIFT";
-    /// Ball diameter not positive.
-    pub const BALL_DIAMETER_RANGE: &str = "BALL_DIAMETER_RANGE";
-    /// Mating gear data out of range.
-    pub const MATE_RANGE: &str = "MATE_RANGE";
-    /// A unit of a multi-gear part is out of range.
-    pub const UNIT_RANGE: &str = "UNIT_RANGE";
-    /// The hob would cut into another unit of a multi-gear part.
-    pub const UNIT_COLLISION: &str = "UNIT_COLLISION";
-    /// Computed radial or tangential feed above the machine's feed limit.
-    pub const FEED_RATE_LIMIT: &str = "FEED_RATE_LIMIT";
-    /// Hob starts below 1.
-    pub const HOB_STARTS_RANGE: &str = "HOB_STARTS_RANGE";
-    /// Hob OD not positive.
-    pub const HOB_OD_RANGE: &str = "HOB_OD_RANGE";
-    /// Hob module not positive.
-    pub const HOB_MODULE_RANGE: &str = "HOB_MODULE_RANGE";
-    /// Hob pressure angle outside (0°, 45°).
-    pub const HOB_PRESSURE_ANGLE_RANGE: &str = "HOB_PRESSURE_ANGLE_RANGE";
-    /// Hob lead angle outside (0°, 45°).
-    pub const HOB_LEAD_ANGLE_RANGE: &str = "HOB_LEAD_ANGLE_RANGE";
-    /// Hob length not positive.
-    pub const HOB_LENGTH_RANGE: &str = "HOB_LENGTH_RANGE";
-    /// A machine setting outside its range.
-    pub const MACHINE_SETTING_RANGE: &str = "MACHINE_SETTING_RANGE";
-    /// Gear module outside the machine's module range.
-    pub const MACHINE_MODULE_LIMIT: &str = "MACHINE_MODULE_LIMIT";
-    /// Blank OD above the machine's largest workpiece.
-    pub const WORKPIECE_OD_LIMIT: &str = "WORKPIECE_OD_LIMIT";
-    /// Hob OD above the machine's largest hob.
-    pub const HOB_OD_LIMIT: &str = "HOB_OD_LIMIT";
-    /// Computed hob speed above the machine's limit.
-    pub const HOB_RPM_LIMIT: &str = "HOB_RPM_LIMIT";
-    /// Computed table speed above the machine's limit.
-    pub const TABLE_RPM_LIMIT: &str = "TABLE_RPM_LIMIT";
-    /// Computed axial feed above the machine's limit.
-    pub const AXIAL_FEED_LIMIT: &str = "AXIAL_FEED_LIMIT";
-    /// Computed swivel angle above the machine's limit.
-    pub const SWIVEL_LIMIT: &str = "SWIVEL_LIMIT";
-    /// A computed position outside the machine's travel.
-    pub const POSITION_TRAVEL_LIMIT: &str = "POSITION_TRAVEL_LIMIT";
-    /// The hob's run-out below the gear reaches the table or the fixture.
-    pub const ENVELOPE_COLLISION: &str = "ENVELOPE_COLLISION";
-}
-
 /// The outcome of [`validate`]: every error and warning found.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Report {
@@ -256,7 +148,7 @@ impl Report {
 
     fn error(
         &mut self,
-        code: &str,
+        code: Code,
         field: &str,
         expected: impl Into<String>,
         got: impl Into<String>,
@@ -371,6 +263,6 @@ pub fn check_limits_with(plan: &ProcessPlan, k: &Kinematics, cfg: &Config) -> Ve
     }
     check_unit_collisions(&mut errors, k, cfg);
     let mut seen = std::collections::BTreeSet::new();
-    errors.retain(|e| seen.insert((e.code.clone(), e.field.clone(), e.got.clone())));
+    errors.retain(|e| seen.insert((e.code, e.field.clone(), e.got.clone())));
     errors
 }

@@ -2,6 +2,7 @@
 //! hob diameter and centre distance (the blank's window is in `machine`).
 
 use super::*;
+use gearcam_proto::Code;
 
 /// Check 2: 0 < h ≤ whole depth − (da − Da1)/2 + allowance.
 pub(super) fn check_depth(r: &mut Report, geo: &Geometry, set: &Setup, cfg: &Config) {
@@ -22,7 +23,7 @@ pub(super) fn check_depth(r: &mut Report, geo: &Geometry, set: &Setup, cfg: &Con
         "check the blank OD and the hob OD and lead angle, or give process.depth_mm"
     };
     r.error(
-        codes::CUT_DEPTH,
+        Code::CUT_DEPTH,
         "process.depth_mm",
         format!(
             "> 0 and ≤ {} mm (whole depth {} mm for the blank, + allowance {} mm)",
@@ -44,7 +45,7 @@ pub(super) fn check_base_pitch(r: &mut Report, gear: &GearSpec, hob: &HobData, c
         return;
     }
     r.error(
-        codes::BASE_PITCH_MISMATCH,
+        Code::BASE_PITCH_MISMATCH,
         "hob.module_mm",
         format!(
             "mn0·cos α0 = {} mm ± {} mm (hob module {} mm at α0 {}°)",
@@ -76,7 +77,7 @@ pub(super) fn check_hob_od(r: &mut Report, gear: &GearSpec, hob: &HobData, cfg: 
         return;
     }
     r.error(
-        codes::HOB_OD_TOO_SMALL,
+        Code::HOB_OD_TOO_SMALL,
         "hob.od_mm",
         format!("≥ {} mm (d0 {} mm + 2·(ha* + c*)·mn0)", num(min), num(d0)),
         format!("{} mm", num(hob.od_mm)),
@@ -95,7 +96,7 @@ pub(super) fn check_centre_distance(r: &mut Report, set: &Setup, cfg: &Config) {
         return;
     }
     r.error(
-        codes::CENTRE_DISTANCE_TOO_SMALL,
+        Code::CENTRE_DISTANCE_TOO_SMALL,
         "process.depth_mm",
         format!("centre distance ≥ {} mm (depth ≤ {} mm)", num(theory), num(set.depth_mm - (theory - l))),
         format!("centre distance {} mm (depth {} mm)", num(l), num(set.depth_mm)),

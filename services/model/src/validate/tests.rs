@@ -3,7 +3,7 @@ use crate::fixtures;
 use crate::hobbing::{hob_reference_diameter_mm, kinematics};
 use gearcam_proto::Hand;
 
-fn codes_of(plan: &ProcessPlan) -> Vec<String> {
+fn codes_of(plan: &ProcessPlan) -> Vec<Code> {
     validate(plan).errors.into_iter().map(|e| e.code).collect()
 }
 
@@ -24,7 +24,7 @@ fn hob_module_2_5_for_module_3_gear_is_a_base_pitch_mismatch() {
     let e = report
         .errors
         .iter()
-        .find(|e| e.code == codes::BASE_PITCH_MISMATCH)
+        .find(|e| e.code == Code::BASE_PITCH_MISMATCH)
         .expect("BASE_PITCH_MISMATCH reported");
     assert_eq!(e.stage, Stage::Model);
     assert_eq!(e.field, "hob.module_mm");
@@ -299,7 +299,7 @@ fn tolerances_and_windows_come_from_the_config() {
     // machine configured for +1.5 mm; the defaults are documented.
     let mut plan = fixtures::plan();
     plan.gear.blank_od_mm = Some(82.0);
-    assert_eq!(codes_of(&plan), vec![codes::BLANK_OD_WINDOW]);
+    assert_eq!(codes_of(&plan), vec![Code::BLANK_OD_WINDOW]);
     let cfg = Config {
         blank_od_above_mm: 1.5,
         ..Config::for_machine(&plan.machine)
@@ -322,7 +322,7 @@ fn tolerances_and_windows_come_from_the_config() {
     // A base-pitch tolerance is a per-machine choice too.
     let mut off = fixtures::plan();
     off.hob.module_mm = 2.9995;
-    assert_eq!(codes_of(&off), vec![codes::BASE_PITCH_MISMATCH]);
+    assert_eq!(codes_of(&off), vec![Code::BASE_PITCH_MISMATCH]);
     let loose = Config {
         base_pitch_tolerance_mm: 1e-3,
         ..Config::default()
@@ -344,9 +344,9 @@ fn class_options_and_cut_settings_are_checked() {
     assert_eq!(
         codes_of(&plan),
         vec![
-            codes::CLASS_OPTION_UNSUPPORTED,
-            codes::FEED_RATE_RANGE,
-            codes::FINISH_ALLOWANCE_RANGE
+            Code::CLASS_OPTION_UNSUPPORTED,
+            Code::FEED_RATE_RANGE,
+            Code::FINISH_ALLOWANCE_RANGE
         ]
     );
 }
@@ -366,17 +366,17 @@ fn unit_errors_name_the_unit() {
     let report = validate(&plan);
     // The unit overlaps unit 1 (30 mm face) and a module-2 gear does not fit
     // the job's module-3 hob.
-    let fields: Vec<(&str, &str)> = report
+    let fields: Vec<(Code, &str)> = report
         .errors
         .iter()
-        .map(|e| (e.code.as_str(), e.field.as_str()))
+        .map(|e| (e.code, e.field.as_str()))
         .collect();
     assert!(
-        fields.contains(&(codes::UNIT_RANGE, "units[0].z_offset_mm")),
+        fields.contains(&(Code::UNIT_RANGE, "units[0].z_offset_mm")),
         "{fields:?}"
     );
     assert!(
-        fields.contains(&(codes::BASE_PITCH_MISMATCH, "units[0].hob.module_mm")),
+        fields.contains(&(Code::BASE_PITCH_MISMATCH, "units[0].hob.module_mm")),
         "{fields:?}"
     );
 }
