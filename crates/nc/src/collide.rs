@@ -20,6 +20,7 @@
 //! rounded to 0.0005 mm and the sampled surface lies within that of the true
 //! one after refinement.
 
+use gearcam_geom::Vector3;
 use gearcam_proto::{GearSpec, HobData, MachiningModel, MoveKind, PathFinding};
 
 use super::{finding, Trace};
@@ -43,23 +44,9 @@ const REFINE_ITERS: usize = 60;
 /// Deepest samples the refinement starts from.
 const REFINE_STARTS: usize = 4;
 
-type P3 = [f64; 3];
-
-fn add(a: P3, b: P3, k: f64) -> P3 {
-    [a[0] + b[0] * k, a[1] + b[1] * k, a[2] + b[2] * k]
-}
-
-fn dot(a: P3, b: P3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: P3, b: P3) -> P3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
+/// A point or direction in the machine-neutral frame (x radial, y
+/// tangential, z axial), mm.
+type P3 = Vector3<f64>;
 
 /// The hob at one pose: centre, axis and the two directions across it.
 #[derive(Debug, Clone, Copy)]
@@ -73,11 +60,11 @@ struct Pose {
 impl Pose {
     fn new(x: f64, z: f64, shift_along_axis: f64, eta_deg: f64) -> Pose {
         let e = eta_deg.to_radians();
-        let axis = [0.0, e.cos(), -e.sin()];
-        let e1 = [1.0, 0.0, 0.0];
-        let e2 = cross(axis, e1);
+        let axis = P3::new(0.0, e.cos(), -e.sin());
+        let e1 = P3::new(1.0, 0.0, 0.0);
+        let e2 = axis.cross(&e1);
         Pose {
-            centre: add([x, 0.0, z], axis, shift_along_axis),
+            centre: P3::new(x, 0.0, z) + axis * shift_along_axis,
             axis,
             e1,
             e2,
@@ -93,19 +80,15 @@ impl Pose {
             0 => (s.clamp(-hob.half, hob.half), hob.r),
             f => (f64::from(f) * hob.half, s.clamp(0.0, hob.r)),
         };
-        let radial = add(add([0.0; 3], self.e1, cos * radius), self.e2, sin * radius);
-        add(add(self.centre, self.axis, along), radial, 1.0)
+        let radial = self.e1 * (cos * radius) + self.e2 * (sin * radius);
+        self.centre + self.axis * along + radial
     }
 
     /// How deep a point lies inside the hob solid (positive inside).
     fn depth_of(&self, hob: &HobSolid, p: P3) -> f64 {
-        let v = [
-            p[0] - self.centre[0],
-            p[1] - self.centre[1],
-            p[2] - self.centre[2],
-        ];
-        let a = dot(v, self.axis);
-        let radial = (dot(v, v) - a * a).max(0.0).sqrt();
+        let v = p - self.centre;
+        let a = v.dot(&self.axis);
+        let radial = (v.dot(&v) - a * a).max(0.0).sqrt();
         (hob.r - radial).min(hob.half - a.abs())
     }
 }
@@ -535,7 +518,7 @@ fn coarse_margin(hob: &HobSolid, ob: &Obstacle, rims: &[(f64, f64)], step: f64) 
 
 /// A point of an edge circle at height `z`, radius `r`, angle `phi`.
 fn rim_point(z: f64, r: f64, phi: f64) -> P3 {
-    [r * phi.cos(), r * phi.sin(), z]
+    P3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
 /// Pattern search on (t, θ, s) from one sample: try a step either way along

@@ -9,11 +9,11 @@ use std::f64::consts::PI;
 use gearcam_proto::{Cutter, DiePart, DieSpec, WireProcess};
 
 use crate::gear::{RackGear, ToothSpace};
-use crate::involute::{inv, working_pressure_angle};
 use crate::offset::{offset, Side};
 use crate::outline::{outline, Outline, OutlineError, Piece, Tolerances};
 use crate::pinion::PinionGear;
 use crate::Segment;
+use gearcam_geom::involute::{inv, working_pressure_angle};
 
 /// Fewest teeth accepted: below five the rack's tooth space runs into the
 /// next, and the seed's method (one tooth space, rotated) has nothing to
@@ -98,7 +98,7 @@ pub fn centre_distance_mm(die: &DieSpec) -> Option<f64> {
     let z2 = die.mating_teeth?;
     let a = die.pressure_angle_deg.to_radians();
     let z = f64::from(die.teeth + z2);
-    let working = working_pressure_angle(a, z, die.profile_shift + die.mating_shift);
+    let working = working_pressure_angle(a, a, die.profile_shift + die.mating_shift, z);
     Some(die.module_mm * z / 2.0 * a.cos() / working.cos())
 }
 

@@ -55,6 +55,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use gearcam_arcfit::Curve;
 
 use crate::involute::Involute;
+use gearcam_geom::plane::rotate;
 
 /// The gear and its generating rack.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -138,10 +139,7 @@ impl RackGear {
     fn fillet_at(&self, phi: f64) -> ((f64, f64), (f64, f64)) {
         let (u_c, v_c, rho) = self.tip_circle();
         let r = self.r();
-        let rot = |p: (f64, f64)| {
-            let (s, c) = phi.sin_cos();
-            (c * p.0 - s * p.1, s * p.0 + c * p.1)
-        };
+        let rot = |p: (f64, f64)| rotate(p, phi);
         let c = rot((u_c + r * phi, r - v_c));
         let i = rot((0.0, r));
         let (dx, dy) = (c.0 - i.0, c.1 - i.1);

@@ -16,6 +16,7 @@
 //! within the flank's range; otherwise the nearer end point is.
 
 use gearcam_arcfit::Curve;
+use gearcam_geom::involute::roll_at;
 
 /// An involute flank of the base circle `base_radius_mm` between two roll angles.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -37,35 +38,6 @@ impl Involute {
             roll_to: roll_at(base_radius_mm, to_mm),
         }
     }
-}
-
-/// The involute function inv α = tan α − α: the polar angle of the
-/// involute at the radius where its pressure angle is α.
-pub fn inv(a: f64) -> f64 {
-    a.tan() - a
-}
-
-/// The working pressure angle α′ of two gears (or a gear and its shaper
-/// cutter) meshing without backlash, from the meshing equation
-/// inv α′ = inv α + 2·tan α·(x1 + x2)/(z1 + z2); inv rises on (0, π/2), so
-/// bisection.
-pub fn working_pressure_angle(alpha: f64, teeth_sum: f64, shift_sum: f64) -> f64 {
-    let target = inv(alpha) + 2.0 * alpha.tan() * shift_sum / teeth_sum;
-    let (mut lo, mut hi) = (1e-9, std::f64::consts::FRAC_PI_2 - 1e-9);
-    for _ in 0..100 {
-        let mid = 0.5 * (lo + hi);
-        if inv(mid) < target {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
-/// The roll angle at which the involute of `rb` reaches the radius `r`.
-pub fn roll_at(rb: f64, r: f64) -> f64 {
-    (r * r - rb * rb).max(0.0).sqrt() / rb
 }
 
 impl Curve for Involute {

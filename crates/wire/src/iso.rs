@@ -37,6 +37,7 @@
 //! M02 M30, M98 P and M99 within the same text, O numbers, comments, `%`)
 //! and refuses any other word, naming its line.
 
+use gearcam_geom::plane::rotate_about;
 use std::collections::HashMap;
 use std::fmt::Write as _;
 
@@ -238,13 +239,6 @@ fn words(raw: &str, line: usize) -> Result<Vec<(char, f64)>, ReadError> {
         }
     }
     Ok(out)
-}
-
-/// Turns `p` about `c` by `a` radians.
-fn rotate(p: (f64, f64), c: (f64, f64), a: f64) -> (f64, f64) {
-    let (s, co) = a.sin_cos();
-    let (x, y) = (p.0 - c.0, p.1 - c.1);
-    (c.0 + co * x - s * y, c.1 + s * x + co * y)
 }
 
 /// Follows a program as the control does and returns the programmed path.
@@ -497,9 +491,9 @@ fn motion(
 ) -> Result<(), ReadError> {
     let err = |message: String| ReadError { line, message };
     let (c, a) = st.turn.unwrap_or(((0.0, 0.0), 0.0));
-    let here = rotate(st.at, c, -a);
+    let here = rotate_about(st.at, c, -a);
     let end = (x.unwrap_or(here.0), y.unwrap_or(here.1));
-    let to = rotate(end, c, a);
+    let to = rotate_about(end, c, a);
     let offset_mm = match (st.side, st.d) {
         (None, _) => None,
         (Some(_), None) => return Err(err("compensation without a D register".into())),
@@ -519,7 +513,7 @@ fn motion(
         }
         Some(g) => {
             let centre = (here.0 + i.unwrap_or(0.0), here.1 + j.unwrap_or(0.0));
-            let centre = rotate(centre, c, a);
+            let centre = rotate_about(centre, c, a);
             let (r0, r1) = (
                 (st.at.0 - centre.0).hypot(st.at.1 - centre.1),
                 (to.0 - centre.0).hypot(to.1 - centre.1),

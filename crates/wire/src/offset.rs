@@ -11,6 +11,7 @@
 //! the segment and the radius.
 
 use crate::Segment;
+use gearcam_geom::plane::{length, sub};
 
 /// The side of travel the wire runs on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -44,20 +45,12 @@ impl std::fmt::Display for OffsetError {
 
 impl std::error::Error for OffsetError {}
 
-fn sub(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
-    (a.0 - b.0, a.1 - b.1)
-}
-
-fn len(v: (f64, f64)) -> f64 {
-    v.0.hypot(v.1)
-}
-
 /// The unit tangent of a segment at its start (`at_end` false) or end.
 fn tangent(s: &Segment, at_end: bool) -> (f64, f64) {
     match *s {
         Segment::Line { from, to } => {
             let v = sub(to, from);
-            (v.0 / len(v), v.1 / len(v))
+            (v.0 / length(v), v.1 / length(v))
         }
         Segment::Arc {
             from,
@@ -67,7 +60,7 @@ fn tangent(s: &Segment, at_end: bool) -> (f64, f64) {
         } => {
             let p = if at_end { to } else { from };
             let r = sub(p, centre);
-            let l = len(r);
+            let l = length(r);
             if ccw {
                 (-r.1 / l, r.0 / l)
             } else {
@@ -94,7 +87,7 @@ fn shifted(seg: &Segment, index: usize, s: f64) -> Result<Segment, OffsetError> 
             centre,
             ccw,
         } => {
-            let r = len(sub(from, centre));
+            let r = length(sub(from, centre));
             // Left of a counter-clockwise arc is towards its centre.
             let new_r = if ccw { r - s } else { r + s };
             if new_r <= 0.0 {
@@ -106,7 +99,7 @@ fn shifted(seg: &Segment, index: usize, s: f64) -> Result<Segment, OffsetError> 
             }
             let at = |p: (f64, f64)| {
                 let v = sub(p, centre);
-                let k = new_r / len(v);
+                let k = new_r / length(v);
                 (centre.0 + v.0 * k, centre.1 + v.1 * k)
             };
             Ok(Segment::Arc {
@@ -129,7 +122,7 @@ fn crossings(a: &Segment, b: &Segment) -> Vec<(f64, f64)> {
     fn carrier(s: &Segment) -> Carrier {
         match *s {
             Segment::Line { from, to } => Carrier::Line(from, sub(to, from)),
-            Segment::Arc { from, centre, .. } => Carrier::Circle(centre, len(sub(from, centre))),
+            Segment::Arc { from, centre, .. } => Carrier::Circle(centre, length(sub(from, centre))),
         }
     }
     let line_circle = |p: (f64, f64), v: (f64, f64), c: (f64, f64), r: f64| {
@@ -155,7 +148,7 @@ fn crossings(a: &Segment, b: &Segment) -> Vec<(f64, f64)> {
     match (carrier(a), carrier(b)) {
         (Carrier::Circle(c1, r1), Carrier::Circle(c2, r2)) => {
             let d = sub(c2, c1);
-            let dist = len(d);
+            let dist = length(d);
             if dist < 1e-15 {
                 return vec![];
             }
@@ -238,7 +231,7 @@ pub fn offset(outline: &[Segment], side: Side, d: f64) -> Result<Vec<Segment>, O
     for i in 0..n {
         let j = (i + 1) % n;
         let (a, b) = (pending[i], moved[j]);
-        let gap = len(sub(a.to(), b.from()));
+        let gap = length(sub(a.to(), b.from()));
         if gap < 1e-9 {
             out.push(a);
             continue;
@@ -277,8 +270,8 @@ pub fn offset(outline: &[Segment], side: Side, d: f64) -> Result<Vec<Segment>, O
             // offsets (a kink of rounded arcs), which meet half-way.
             let x = crossings(&a, &b)
                 .into_iter()
-                .min_by(|p, q| len(sub(*p, corner)).total_cmp(&len(sub(*q, corner))))
-                .filter(|x| len(sub(*x, a.to())) <= 4.0 * gap)
+                .min_by(|p, q| length(sub(*p, corner)).total_cmp(&length(sub(*q, corner))))
+                .filter(|x| length(sub(*x, a.to())) <= 4.0 * gap)
                 .unwrap_or((0.5 * (a.to().0 + b.from().0), 0.5 * (a.to().1 + b.from().1)));
             out.push(with_end(&a, x));
             if j == 0 {

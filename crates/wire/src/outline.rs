@@ -15,6 +15,7 @@
 //! The outline runs clockwise about the gear's centre (the material on the
 //! right of travel) and starts in the middle of a tooth's tip on +Y.
 
+use gearcam_geom::plane::{mirror, rotate};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use gearcam_arcfit::{fit, Curve, FitError, Options, Sampled};
@@ -93,18 +94,6 @@ impl std::error::Error for OutlineError {}
 /// fillets gearcam cuts: `Sampled::sag`).
 const FILLET_SAMPLES: usize = 1024;
 
-/// A point turned by `angle` about the origin.
-pub fn turn(p: (f64, f64), angle: f64) -> (f64, f64) {
-    let (s, c) = angle.sin_cos();
-    (c * p.0 - s * p.1, s * p.0 + c * p.1)
-}
-
-/// The mirror image of a point about the line through the origin at `angle`.
-fn mirror(p: (f64, f64), angle: f64) -> (f64, f64) {
-    let (s, c) = (2.0 * angle).sin_cos();
-    (c * p.0 + s * p.1, s * p.0 - c * p.1)
-}
-
 /// A segment mirrored about the line through the origin at `angle` and
 /// run the other way.
 fn mirrored_back(s: &Segment, angle: f64) -> Segment {
@@ -163,7 +152,7 @@ pub fn outline(gear: &dyn ToothSpace, tol: &Tolerances) -> Result<Outline, Outli
     let tooth_axis = FRAC_PI_2 - PI / z;
     let edge = half.last().expect("segments").to();
     let ra = edge.0.hypot(edge.1);
-    half.push(concentric(edge, turn((0.0, ra), -PI / z)));
+    half.push(concentric(edge, rotate((0.0, ra), -PI / z)));
     // The period from the tooth's axis: the half mirrored about it, run
     // backwards (to the next space's axis), then the half turned by one
     // pitch; the two root arcs either side of the space's axis are one.
@@ -173,7 +162,7 @@ pub fn outline(gear: &dyn ToothSpace, tol: &Tolerances) -> Result<Outline, Outli
         .rev()
         .map(|s| mirrored_back(s, tooth_axis))
         .collect();
-    let turned: Vec<Segment> = half.iter().map(|s| s.map(|p| turn(p, -pitch))).collect();
+    let turned: Vec<Segment> = half.iter().map(|s| s.map(|p| rotate(p, -pitch))).collect();
     let mut rest = turned.into_iter();
     if !on_axis {
         let root = rest.next().expect("a root arc");
@@ -182,7 +171,10 @@ pub fn outline(gear: &dyn ToothSpace, tol: &Tolerances) -> Result<Outline, Outli
     }
     period.extend(rest);
     // Start in the middle of the tooth on +Y.
-    let period = period.iter().map(|s| s.map(|p| turn(p, PI / z))).collect();
+    let period = period
+        .iter()
+        .map(|s| s.map(|p| rotate(p, PI / z)))
+        .collect();
     Ok(Outline {
         period,
         teeth: gear.teeth(),
@@ -250,7 +242,7 @@ impl Outline {
         (0..self.teeth)
             .flat_map(|k| {
                 let a = -pitch * f64::from(k);
-                self.period.iter().map(move |s| s.map(|p| turn(p, a)))
+                self.period.iter().map(move |s| s.map(|p| rotate(p, a)))
             })
             .collect()
     }
@@ -343,7 +335,7 @@ impl Outline {
         half.extend(along(&self.fillet));
         half.extend(along(&self.flank));
         half.extend(arc(f.tip_radius_mm, self.tip_to, FRAC_PI_2 - PI / z));
-        let right: Vec<(f64, f64)> = half.iter().map(|&p| turn(p, PI / z)).collect();
+        let right: Vec<(f64, f64)> = half.iter().map(|&p| rotate(p, PI / z)).collect();
         // The left half: the right mirrored about the space's axis.
         let axis = FRAC_PI_2 + PI / z;
         let mut out: Vec<(f64, f64)> = right.iter().rev().copied().collect();

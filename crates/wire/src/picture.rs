@@ -9,9 +9,9 @@ use svg::node::element::path::Data;
 use svg::node::element::{Circle, Group, Path, Text, SVG};
 use svg::Document;
 
-use crate::outline::turn;
 use crate::programs::Made;
 use crate::Segment;
+use gearcam_geom::plane::rotate;
 
 /// How much the deviation is magnified.
 pub const MAGNIFY: f64 = 500.0;
@@ -66,7 +66,11 @@ pub fn die_svg(made: &Made, title: &str) -> String {
     // pitch lies there (the contour runs clockwise from the tooth on +Y).
     let per = o.period.len();
     let pitch = std::f64::consts::TAU / z;
-    let arcs: Vec<Segment> = o.period.iter().map(|s| s.map(|p| turn(p, pitch))).collect();
+    let arcs: Vec<Segment> = o
+        .period
+        .iter()
+        .map(|s| s.map(|p| rotate(p, pitch)))
+        .collect();
     let mut magnified = Vec::new();
     for (i, s) in arcs.iter().enumerate() {
         let pts = points_of(s, 60);
@@ -96,7 +100,7 @@ pub fn die_svg(made: &Made, title: &str) -> String {
         .path
         .iter()
         .take(made.cut.path.len() / o.teeth as usize)
-        .flat_map(|s| points_of(&s.map(|p| turn(p, pitch)), 30))
+        .flat_map(|s| points_of(&s.map(|p| rotate(p, pitch)), 30))
         .collect();
     let dash = stroke(polyline(&path_pts), "#2171b5", 1.5 * w)
         .set("stroke-dasharray", format!("{} {}", 8.0 * w, 4.0 * w));

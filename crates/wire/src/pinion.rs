@@ -49,7 +49,8 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use gearcam_arcfit::Curve;
 
 use crate::gear::{self, Figures, Flank, RackGear, ToothSpace};
-use crate::involute::{inv, working_pressure_angle};
+use gearcam_geom::involute::{inv, working_pressure_angle};
+use gearcam_geom::plane::rotate;
 
 /// A gear cut by a pinion-type cutter.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -60,11 +61,6 @@ pub struct PinionGear {
     pub cutter_teeth: u32,
     /// Cutter profile shift x0.
     pub cutter_shift: f64,
-}
-
-fn rot(p: (f64, f64), a: f64) -> (f64, f64) {
-    let (s, c) = a.sin_cos();
-    (c * p.0 - s * p.1, s * p.0 + c * p.1)
 }
 
 /// What the generation needs, computed once.
@@ -91,7 +87,8 @@ impl PinionGear {
         let g = &self.gear;
         let (m, alpha) = (g.module_mm, g.pressure_angle_deg.to_radians());
         let (z, z0) = (f64::from(g.teeth), f64::from(self.cutter_teeth));
-        let working = working_pressure_angle(alpha, z + z0, g.profile_shift + self.cutter_shift);
+        let working =
+            working_pressure_angle(alpha, alpha, g.profile_shift + self.cutter_shift, z + z0);
         let a = m * (z + z0) / 2.0 * alpha.cos() / working.cos();
         let r0 = m * z0 / 2.0;
         let rb0 = r0 * alpha.cos();
@@ -138,14 +135,14 @@ impl PinionGear {
     /// at the round's tangent point, all in the gear's frame, at roll φ.
     fn at(&self, mesh: &Mesh, phi: f64) -> ((f64, f64), (f64, f64), (f64, f64)) {
         let psi = -phi * mesh.ratio;
-        let c = rot(mesh.centre, psi);
-        let c = rot((c.0, c.1 + mesh.a), -phi);
-        let i = rot((0.0, mesh.rp), -phi);
+        let c = rotate(mesh.centre, psi);
+        let c = rotate((c.0, c.1 + mesh.a), -phi);
+        let i = rotate((0.0, mesh.rp), -phi);
         let (dx, dy) = (c.0 - i.0, c.1 - i.1);
         let l = dx.hypot(dy);
         let u = (dx / l, dy / l);
         let f = (c.0 + mesh.rho * u.0, c.1 + mesh.rho * u.1);
-        (f, u, rot(rot(mesh.normal, psi), -phi))
+        (f, u, rotate(rotate(mesh.normal, psi), -phi))
     }
 
     /// The fillet's range of φ (before trimming), increasing along the

@@ -5,8 +5,9 @@
 use std::f64::consts::TAU;
 
 use gearcam_arcfit::Curve;
+use gearcam_geom::plane::rotate;
 use gearcam_wire::gear::RackGear;
-use gearcam_wire::outline::{outline, turn, Piece, Tolerances};
+use gearcam_wire::outline::{outline, Piece, Tolerances};
 use gearcam_wire::Segment;
 
 fn gear(m: f64, z: u32, x: f64) -> RackGear {
@@ -116,7 +117,7 @@ fn the_outline_distance_sees_every_tooth_and_both_flanks() {
         for i in 0..=10 {
             let p = curve.point(t0 + (t1 - t0) * f64::from(i) / 10.0);
             // Into the outline's frame (a tooth's middle on +Y), then tooth k.
-            let p = turn(p, std::f64::consts::PI / z - TAU * f64::from(k) / z);
+            let p = rotate(p, std::f64::consts::PI / z - TAU * f64::from(k) / z);
             let mirrored = (-p.0, p.1);
             for q in [p, mirrored] {
                 let (d, _) = o.distance(q);

@@ -7,6 +7,7 @@
 //! the functions are pure and total (a nonsensical input gives a non-finite
 //! result, which [`crate::validate`] rejects before anything uses it).
 
+use gearcam_geom::involute::{inv, inv_inverse, working_pressure_angle};
 use std::f64::consts::PI;
 
 use gearcam_proto::{GearSpec, Geometry, MateSpec, PairGeometry};
@@ -21,35 +22,6 @@ pub const DEFAULT_BALL_PER_MODULE: f64 = 1.7;
 /// True when the gear's helix angle is zero (within [`SPUR_EPS_DEG`]).
 pub fn is_spur(gear: &GearSpec) -> bool {
     gear.helix_angle_deg.abs() <= SPUR_EPS_DEG
-}
-
-/// The involute function inv α = tan α − α, radians.
-pub fn inv(alpha: f64) -> f64 {
-    alpha.tan() - alpha
-}
-
-/// The inverse of [`inv`]: the angle α in [0, π/2) with tan α − α = v, radians
-/// (Newton's method from α ≈ ∛(3v), which is exact to third order for small v).
-pub fn inv_inverse(v: f64) -> f64 {
-    if v == 0.0 {
-        return 0.0;
-    }
-    if v.is_nan() || v < 0.0 {
-        return f64::NAN;
-    }
-    let mut a = (3.0 * v).cbrt().min(1.5);
-    for _ in 0..50 {
-        let t = a.tan();
-        let step = (t - a - v) / (t * t);
-        a -= step;
-        if a <= 0.0 {
-            a = 1e-9;
-        }
-        if step.abs() < 1e-15 {
-            break;
-        }
-    }
-    a
 }
 
 /// Reference diameter d = z·mn / cos β, mm.
@@ -183,12 +155,6 @@ pub fn over_balls_mm(gear: &GearSpec, ball_mm: f64) -> f64 {
     } else {
         dk * (PI / (2.0 * z)).cos() + ball_mm
     }
-}
-
-/// Working transverse pressure angle from the sum of the profile shifts
-/// (ISO 21771 §7): inv αwt = inv αt + 2·(x1 + x2)·tan αn / (z1 + z2), radians.
-pub fn working_pressure_angle(alpha_n: f64, alpha_t: f64, x_sum: f64, z_sum: f64) -> f64 {
-    inv_inverse(inv(alpha_t) + 2.0 * x_sum * alpha_n.tan() / z_sum)
 }
 
 /// Transverse contact ratio εα = (√(ra1² − rb1²) + √(ra2² − rb2²) − a·sin αwt) / pbt,
