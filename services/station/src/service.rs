@@ -24,6 +24,7 @@
 //!   the missing token appears.
 //!
 //! Changes are applied in batches, one SQLite transaction each (group commit).
+//! A submission is checked (`submit`) before the transaction that journals it.
 
 use gearcam_proto::Code;
 use std::collections::HashSet;
@@ -32,16 +33,21 @@ use std::time::Duration;
 
 use gearcam_bus::query::Retry;
 use gearcam_bus::{Bus, BusError, CancellationToken};
-use gearcam_proto::plan::{KbReply, KbRequest, KbValue};
 use gearcam_proto::{
-    decode, encode, keys, now_ms, part_number_problem, CancelRequest, DeliveryReply, EventKind,
-    JobError, JobEvent, JobId, JobRequest, JobState, MachineId, Stage, StationReply,
-    MAX_PART_NUMBER,
+    decode, encode, keys, now_ms, CancelRequest, DeliveryReply, EventKind, JobError, JobEvent,
+    JobId, JobRequest, JobState, MachineId, Stage, StationReply,
 };
-use zenoh::query::Query;
-use zenoh::sample::SampleKind;
+use zenoh::handlers::FifoChannelHandler;
+use zenoh::pubsub::Subscriber;
+use zenoh::query::{Query, Queryable};
+use zenoh::sample::{Sample, SampleKind};
+use zenoh::Session;
 
 use crate::journal::{Due, Journal, JournalError};
+
+mod submit;
+
+use submit::{check_submits, Verdict};
 
 /// Configuration of the station service.
 #[derive(Debug, Clone)]
@@ -80,33 +86,7 @@ pub async fn run(
 ) -> Result<(), StationError> {
     let mut journal = Journal::open(&config.journal)?;
     let redrive_ms = config.redrive.as_millis() as u64;
-    let session = bus.session().clone();
-    let submits = session
-        .declare_queryable(keys::STATION_SUBMIT_ANY)
-        .await
-        .map_err(zerr("declare queryable"))?;
-    let views = session
-        .declare_queryable(keys::STATION_JOB_ANY)
-        .await
-        .map_err(zerr("declare queryable"))?;
-    let list_view = session
-        .declare_queryable(keys::STATION_JOBS)
-        .await
-        .map_err(zerr("declare queryable"))?;
-    let cancels = session
-        .declare_queryable(keys::STATION_CANCEL_ANY)
-        .await
-        .map_err(zerr("declare queryable"))?;
-    let events = session
-        .declare_subscriber(keys::ALL_JOB_EVENTS)
-        .await
-        .map_err(zerr("declare subscriber"))?;
-    let alive_sub = session
-        .liveliness()
-        .declare_subscriber(keys::ALIVE_ANY)
-        .history(true)
-        .await
-        .map_err(zerr("liveliness subscriber"))?;
+    let inputs = Inputs::declare(bus.session()).await?;
     let _token = bus.alive_token(keys::STATION_SERVICE).await?;
     let mut alive: HashSet<String> = HashSet::new();
     let mut machines: HashSet<MachineId> = HashSet::new();
@@ -124,40 +104,27 @@ pub async fn run(
         let mut drive_now = false;
         tokio::select! {
             _ = shutdown.cancelled() => break,
-            q = submits.recv_async() => if let Ok(q) = q { new_submits.push(q) },
-            s = events.recv_async() => if let Ok(s) = s {
+            q = inputs.submits.recv_async() => if let Ok(q) = q { new_submits.push(q) },
+            s = inputs.events.recv_async() => if let Ok(s) = s {
                 if let Some(ev) = reported(&s) { new_events.push(ev) }
             },
-            q = views.recv_async() => if let Ok(q) = q {
+            q = inputs.views.recv_async() => if let Ok(q) = q {
                 let reply = view_reply(&journal, q.key_expr().as_str());
                 reply_message(q, &reply).await
             },
-            q = list_view.recv_async() => if let Ok(q) = q {
+            q = inputs.list_view.recv_async() => if let Ok(q) = q {
                 let reply = view_reply(&journal, q.key_expr().as_str());
                 reply_message(q, &reply).await
             },
-            q = cancels.recv_async() => if let Ok(q) = q {
+            q = inputs.cancels.recv_async() => if let Ok(q) = q {
                 let (reply, cancelled) = cancel_reply(&journal, &q);
                 reply_message(q, &reply).await;
                 if let Some((job, by)) = cancelled {
-                    tracing::info!(%job, by, "job cancelled");
-                    if let Err(e) = bus.event(&job, Stage::Station, EventKind::Cancelled { by }).await {
-                        tracing::warn!(%job, error = %e, "cannot publish the cancelled event");
-                    }
+                    publish_cancelled(&bus, job, by).await;
                 }
             },
-            s = alive_sub.recv_async() => if let Ok(s) = s {
-                let name = keys::alive_of(s.key_expr().as_str()).unwrap_or_default().to_string();
-                if s.kind() == SampleKind::Put {
-                    if let Some(machine) = keys::agent_machine_of(&name) {
-                        journal.wake(Some(machine), now_ms())?;
-                    } else if PIPELINE.contains(&name.as_str()) {
-                        journal.wake(None, now_ms())?;
-                    }
-                    alive.insert(name);
-                } else {
-                    alive.remove(&name);
-                }
+            s = inputs.alive.recv_async() => if let Ok(s) = s {
+                track_alive(&journal, &mut alive, &s)?;
             },
             Some(done) = drives.tasks.join_next_with_id(), if !drives.tasks.is_empty() => {
                 let mut updates = Vec::new();
@@ -169,148 +136,16 @@ pub async fn run(
             },
             _ = tick.tick() => drive_now = true,
         }
-        // Group commit: take whatever else is already waiting.
-        while new_submits.len() < 1024 {
-            match submits.try_recv() {
-                Ok(Some(q)) => new_submits.push(q),
-                _ => break,
-            }
-        }
-        while new_events.len() < 4096 {
-            match events.try_recv() {
-                Ok(Some(s)) => {
-                    if let Some(ev) = reported(&s) {
-                        new_events.push(ev);
-                    }
-                }
-                _ => break,
-            }
-        }
+        inputs.take_waiting(&mut new_submits, &mut new_events);
         if !new_submits.is_empty() || !new_events.is_empty() {
             // Ids and machines are checked before the journal's transaction:
             // the machine check may ask the knowledge base.
-            let mut checked = Vec::with_capacity(new_submits.len());
-            for q in new_submits {
-                let payload = q
-                    .payload()
-                    .map(|p| p.to_bytes().into_owned())
-                    .unwrap_or_default();
-                let limit = gearcam_proto::keys::MAX_REQUEST_BYTES;
-                let key = q.key_expr().as_str();
-                // The submitter is the user of the key, which a secure
-                // router grants to that login only; a payload's own name
-                // is not proof of anything, and a key without a user is
-                // refused rather than trusted.
-                let user = keys::station_submit_of(key);
-                let verdict = match (payload.len() > limit, user) {
-                    // A request over the limit a secure router drops: the
-                    // same refusal on every deployment, before decoding.
-                    (true, _) => Err(vec![Stage::Station.error(
-                        Code::MESSAGE_TOO_LARGE,
-                        "-",
-                        format!("a job request of at most {limit} bytes"),
-                        format!("{} bytes", payload.len()),
-                        "the job request is larger than a request on the bus may be",
-                    )]),
-                    (false, None) => Err(vec![Stage::Station.error(
-                        Code::BAD_KEY,
-                        "key",
-                        keys::STATION_SUBMIT_FORM,
-                        key,
-                        "a job is submitted on the key of the user who submits it; the station journals that user as its submitter",
-                    )]),
-                    (false, Some(user)) => match decode::<JobRequest>(&payload) {
-                    Err(e) => {
-                        let mut errors =
-                            gearcam_proto::job::request_id_errors(&payload, Stage::Station);
-                        if errors.is_empty() {
-                            errors.push(gearcam_bus::stage::codec_error::<JobRequest>(
-                                Stage::Station,
-                                &e,
-                            ));
-                        }
-                        Err(errors)
-                    }
-                    Ok(mut req) => {
-                        req.submitted_by = user.to_string();
-                        if let Some(reason) = part_number_problem(&req.spec.job.part_number) {
-                            Err(vec![Stage::Station.error(
-                                Code::INVALID_PART_NUMBER,
-                                "spec.job.part_number",
-                                format!("the part (drawing) number: 1 to {MAX_PART_NUMBER} characters on one line"),
-                                req.spec.job.part_number.chars().take(80).collect::<String>(),
-                                format!("the part number is not usable: {reason}; it names the program and its history at the machine"),
-                            )])
-                        } else if let Some((field, f)) = gearcam_proto::job::non_finite(&req.spec) {
-                            Err(vec![Stage::Station.error(
-                                Code::NOT_FINITE,
-                                &format!("spec.{field}"),
-                                "a finite number",
-                                f.to_string(),
-                                format!("spec.{field} is {f}; no stage can plan with it: give a finite number"),
-                            )])
-                        } else {
-                            match known_machine(&bus, &mut machines, &req.spec.job.machine).await {
-                                Ok(()) => Ok(req),
-                                Err(e) => Err(vec![e]),
-                            }
-                        }
-                    }
-                    },
-                };
-                checked.push((q, verdict));
-            }
+            let checked = check_submits(&bus, &mut machines, new_submits).await;
             let now = now_ms();
-            let (replies, to_send) = journal.batch(|j| {
-                for (reporter, ev) in &new_events {
-                    if let Err(e) = j.apply(reporter, ev, now, redrive_ms) {
-                        tracing::error!(job = %ev.job_id, error = %e, "cannot journal event");
-                    }
-                }
-                let mut replies = Vec::new();
-                let mut to_send = Vec::new();
-                for (q, verdict) in checked {
-                    let reply = match verdict {
-                        Err(errors) => StationReply::Refused { errors },
-                        Ok(req) => match j.submit(&req, now) {
-                            Ok(status) => {
-                                if status.attempts == 0
-                                    && status.state == gearcam_proto::JobState::Accepted
-                                {
-                                    if let Ok(request) = encode(&req) {
-                                        to_send.push(Due {
-                                            job: req.job_id.clone(),
-                                            machine: req.spec.job.machine.clone(),
-                                            state: status.state,
-                                            attempts: 0,
-                                            waiting_for: None,
-                                            request,
-                                        });
-                                    }
-                                }
-                                StationReply::Accepted {
-                                    status: Box::new(status),
-                                }
-                            }
-                            Err(e) => StationReply::Refused { errors: vec![e] },
-                        },
-                    };
-                    replies.push((q, reply));
-                }
-                (replies, to_send)
-            })?;
+            let (replies, to_send) =
+                journal.batch(|j| journal_batch(j, &new_events, checked, now, redrive_ms))?;
             // The journal is committed: acknowledge, then drive the new jobs.
-            for (q, reply) in replies {
-                reply_message(q, &reply).await;
-            }
-            for d in &to_send {
-                let accepted = EventKind::Accepted {
-                    machine: d.machine.clone(),
-                };
-                if let Err(e) = bus.event(&d.job, Stage::Station, accepted).await {
-                    tracing::warn!(job = %d.job, error = %e, "cannot publish the accepted event");
-                }
-            }
+            acknowledge(&bus, replies, &to_send).await;
             drives.start(&bus, &alive, redrive_ms, to_send);
         }
         if drive_now && drives.has_room() {
@@ -323,6 +158,177 @@ pub async fn run(
     drives.tasks.abort_all();
     tracing::info!("station stopped");
     Ok(())
+}
+
+/// The station's inputs on the bus: the queries it answers, the job events
+/// it journals and the liveliness tokens of the services a job waits for.
+struct Inputs {
+    submits: Queryable<FifoChannelHandler<Query>>,
+    views: Queryable<FifoChannelHandler<Query>>,
+    list_view: Queryable<FifoChannelHandler<Query>>,
+    cancels: Queryable<FifoChannelHandler<Query>>,
+    events: Subscriber<FifoChannelHandler<Sample>>,
+    alive: Subscriber<FifoChannelHandler<Sample>>,
+}
+
+impl Inputs {
+    /// Declares every queryable and subscriber, before the station's own
+    /// token says it serves; the liveliness subscriber takes the tokens
+    /// already present (history) so a job waits only for what is offline.
+    async fn declare(session: &Session) -> Result<Inputs, StationError> {
+        let submits = session
+            .declare_queryable(keys::STATION_SUBMIT_ANY)
+            .await
+            .map_err(zerr("declare queryable"))?;
+        let views = session
+            .declare_queryable(keys::STATION_JOB_ANY)
+            .await
+            .map_err(zerr("declare queryable"))?;
+        let list_view = session
+            .declare_queryable(keys::STATION_JOBS)
+            .await
+            .map_err(zerr("declare queryable"))?;
+        let cancels = session
+            .declare_queryable(keys::STATION_CANCEL_ANY)
+            .await
+            .map_err(zerr("declare queryable"))?;
+        let events = session
+            .declare_subscriber(keys::ALL_JOB_EVENTS)
+            .await
+            .map_err(zerr("declare subscriber"))?;
+        let alive = session
+            .liveliness()
+            .declare_subscriber(keys::ALIVE_ANY)
+            .history(true)
+            .await
+            .map_err(zerr("liveliness subscriber"))?;
+        Ok(Inputs {
+            submits,
+            views,
+            list_view,
+            cancels,
+            events,
+            alive,
+        })
+    }
+
+    /// Group commit: takes whatever else is already waiting (up to a bound
+    /// per batch), so one transaction journals them all.
+    fn take_waiting(&self, new_submits: &mut Vec<Query>, new_events: &mut Vec<(String, JobEvent)>) {
+        while new_submits.len() < 1024 {
+            match self.submits.try_recv() {
+                Ok(Some(q)) => new_submits.push(q),
+                _ => break,
+            }
+        }
+        while new_events.len() < 4096 {
+            match self.events.try_recv() {
+                Ok(Some(s)) => {
+                    if let Some(ev) = reported(&s) {
+                        new_events.push(ev);
+                    }
+                }
+                _ => break,
+            }
+        }
+    }
+}
+
+/// Publishes the `cancelled` event of a job cancelled now, after its reply.
+async fn publish_cancelled(bus: &Bus, job: JobId, by: String) {
+    tracing::info!(%job, by, "job cancelled");
+    if let Err(e) = bus
+        .event(&job, Stage::Station, EventKind::Cancelled { by })
+        .await
+    {
+        tracing::warn!(%job, error = %e, "cannot publish the cancelled event");
+    }
+}
+
+/// Follows the liveliness tokens: a service or agent that appears wakes the
+/// jobs waiting for it (an agent its machine's jobs, a pipeline stage every
+/// job); one that disappears makes the next drives wait.
+fn track_alive(
+    journal: &Journal,
+    alive: &mut HashSet<String>,
+    s: &Sample,
+) -> Result<(), StationError> {
+    let name = keys::alive_of(s.key_expr().as_str())
+        .unwrap_or_default()
+        .to_string();
+    if s.kind() == SampleKind::Put {
+        if let Some(machine) = keys::agent_machine_of(&name) {
+            journal.wake(Some(machine), now_ms())?;
+        } else if PIPELINE.contains(&name.as_str()) {
+            journal.wake(None, now_ms())?;
+        }
+        alive.insert(name);
+    } else {
+        alive.remove(&name);
+    }
+    Ok(())
+}
+
+/// One group commit, inside the journal's transaction: journals the new
+/// events, then the checked submissions; returns each query's reply and
+/// the jobs accepted now, to send once the transaction is committed.
+fn journal_batch(
+    j: &Journal,
+    new_events: &[(String, JobEvent)],
+    checked: Vec<(Query, Verdict)>,
+    now: u64,
+    redrive_ms: u64,
+) -> (Vec<(Query, StationReply)>, Vec<Due>) {
+    for (reporter, ev) in new_events {
+        if let Err(e) = j.apply(reporter, ev, now, redrive_ms) {
+            tracing::error!(job = %ev.job_id, error = %e, "cannot journal event");
+        }
+    }
+    let mut replies = Vec::new();
+    let mut to_send = Vec::new();
+    for (q, verdict) in checked {
+        let reply = match verdict {
+            Err(errors) => StationReply::Refused { errors },
+            Ok(req) => match j.submit(&req, now) {
+                Ok(status) => {
+                    if status.attempts == 0 && status.state == gearcam_proto::JobState::Accepted {
+                        if let Ok(request) = encode(&req) {
+                            to_send.push(Due {
+                                job: req.job_id.clone(),
+                                machine: req.spec.job.machine.clone(),
+                                state: status.state,
+                                attempts: 0,
+                                waiting_for: None,
+                                request,
+                            });
+                        }
+                    }
+                    StationReply::Accepted {
+                        status: Box::new(status),
+                    }
+                }
+                Err(e) => StationReply::Refused { errors: vec![e] },
+            },
+        };
+        replies.push((q, reply));
+    }
+    (replies, to_send)
+}
+
+/// Once the journal is committed: answers every submission, then publishes
+/// the `accepted` event of each job accepted now.
+async fn acknowledge(bus: &Bus, replies: Vec<(Query, StationReply)>, to_send: &[Due]) {
+    for (q, reply) in replies {
+        reply_message(q, &reply).await;
+    }
+    for d in to_send {
+        let accepted = EventKind::Accepted {
+            machine: d.machine.clone(),
+        };
+        if let Err(e) = bus.event(&d.job, Stage::Station, accepted).await {
+            tracing::warn!(job = %d.job, error = %e, "cannot publish the accepted event");
+        }
+    }
 }
 
 /// Jobs driven at most at once: each may wait up to the store query's
@@ -476,77 +482,6 @@ async fn reply_message<T: gearcam_proto::Message>(q: Query, msg: &T) {
         tracing::warn!(error = %e, "cannot reply");
     }
 }
-
-/// Checks that the knowledge base knows `machine` (`UNKNOWN_MACHINE`
-/// otherwise). Known machines are remembered; when the knowledge base does
-/// not answer, the job is accepted and waits for it like any other job.
-async fn known_machine(
-    bus: &Bus,
-    known: &mut HashSet<MachineId>,
-    machine: &MachineId,
-) -> Result<(), JobError> {
-    if known.contains(machine) {
-        return Ok(());
-    }
-    let retry = Retry {
-        timeout: Duration::from_secs(2),
-        attempts: 1,
-        pause: Duration::ZERO,
-    };
-    // Hobbing, milling and wire EDM machines: every family's library.
-    let mut families: Vec<Vec<String>> = Vec::new();
-    for library in [MACHINES, MILL_MACHINES, WIRE_MACHINES] {
-        let key = keys::kb_library(library);
-        match bus.call::<KbRequest, KbReply>(&key, None, retry).await {
-            Ok(reply) if reply.errors.is_empty() => families.push(
-                reply
-                    .records
-                    .iter()
-                    .filter_map(|r| match r.get("id") {
-                        Some(KbValue::Text(id)) => Some(id.clone()),
-                        _ => None,
-                    })
-                    .collect(),
-            ),
-            Ok(reply) => {
-                tracing::warn!(library, errors = ?reply.errors, "the knowledge base refused the machine list");
-                return Ok(());
-            }
-            Err(e) => {
-                tracing::warn!(library, error = %e, "the knowledge base did not answer; the machine is checked when the job is planned");
-                return Ok(());
-            }
-        }
-    }
-    known.extend(
-        families
-            .iter()
-            .flatten()
-            .filter_map(|id| MachineId::new(id.as_str()).ok()),
-    );
-    if known.contains(machine) {
-        Ok(())
-    } else {
-        Err(JobError::new(
-            Stage::Station,
-            Code::UNKNOWN_MACHINE,
-            "spec.job.machine",
-            format!(
-                "one of the knowledge base's machines: {}",
-                gearcam_proto::job::machines_by_family(&families[0], &families[1], &families[2])
-            ),
-            machine.as_str(),
-            "the knowledge base has no such machine (gearcam kb list machines, mill-machines and wire-machines list them); the job was not journaled",
-        ))
-    }
-}
-
-/// The knowledge base's library of machines.
-const MACHINES: &str = "machines";
-/// The knowledge base's library of milling machines.
-const MILL_MACHINES: &str = "mill-machines";
-/// The knowledge base's library of wire EDM machines.
-const WIRE_MACHINES: &str = "wire-machines";
 
 /// The reply to a cancel query, and the job and who when it was cancelled
 /// now (the event to publish).
