@@ -9,6 +9,7 @@
 
 use gearcam_proto::Code;
 use std::fs;
+use std::path::Path;
 
 use gearcam_proto::{now_ms, DeliveryReceipt, JobError, JobId, NcProgram, Stage};
 use rusqlite::{params, OptionalExtension};
@@ -77,152 +78,30 @@ impl Store {
                 "a resolution is recorded with the name of the person who decided",
             ));
         }
-        let latest = self
-            .conn
-            .query_row(
-                "SELECT file_name, job, revision, sha256, text, part FROM programs
-                 WHERE name = ?1 AND state != 'pending' ORDER BY seq DESC LIMIT 1",
-                [name],
-                |r| {
-                    Ok(Latest {
-                        file_name: r.get(0)?,
-                        job: r.get(1)?,
-                        revision: r.get(2)?,
-                        sha256: r.get(3)?,
-                        text: r.get(4)?,
-                        part: r.get(5)?,
-                    })
-                },
-            )
-            .optional()
-            .map_err(index_error)?
-            .ok_or_else(|| {
-                Stage::Agent.error(
-                    Code::UNKNOWN_PROGRAM,
-                    "name",
-                    format!("a program in the store of {}", self.config.machine),
-                    name,
-                    "this machine's store has never held a program of this name",
-                )
-            })?;
+        let latest = self.latest(name)?;
         let path = self.config.program_dir.join(&latest.file_name);
-        let io_error = |e: std::io::Error| {
-            Stage::Agent.error(
-                Code::STORE_IO_ERROR,
-                "-",
-                "a readable and writable program directory",
-                e.to_string(),
-                format!("cannot read or write {}", path.display()),
-            )
+        let edit = self.edit_at_machine(&latest, &path, resolution)?;
+        let version = Version {
+            name,
+            latest: &latest,
+            dialect: self.config.dialect.as_str(),
+            now: now_ms(),
+            by,
         };
-        let on_disk = match fs::read(&path) {
-            Ok(bytes) => Some(bytes),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
-            Err(e) => return Err(io_error(e)),
-        };
-        let no_conflict = |got: String, message: &str| {
-            Stage::Agent.error(
-                Code::NO_CONFLICT,
-                "name",
-                format!(
-                    "a program of {} changed at the machine",
-                    self.config.machine
-                ),
-                got,
-                message.to_string(),
-            )
-        };
-        let edit = match on_disk {
-            Some(bytes) if sha256_hex(&bytes) == latest.sha256 => {
-                return Err(no_conflict(
-                    format!("{} as gearcam stored it", latest.file_name),
-                    "the file at the machine is the current version; there is nothing to resolve",
-                ))
-            }
-            Some(bytes) => Some(String::from_utf8(bytes).map_err(|_| {
-                Stage::Agent.error(
-                    Code::NO_CONFLICT,
-                    "name",
-                    "a text program at the machine",
-                    format!("{} is not UTF-8 text", latest.file_name),
-                    "the file at the machine is not a text program; look at it at the machine",
-                )
-            })?),
-            None if resolution == Resolution::Adopt => {
-                return Err(no_conflict(
-                    format!("no file {} at the machine", latest.file_name),
-                    "the program was deleted at the machine; there is no edit to adopt (--replace writes gearcam's version back)",
-                ))
-            }
-            None => None,
-        };
-        let now = now_ms();
-        let dialect = self.config.dialect.as_str();
-        let insert = |conn: &rusqlite::Connection, state: &str, text: &str| {
-            conn.execute(
-                "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text, part, by_user)
-                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12)",
-                params![
-                    name,
-                    latest.file_name,
-                    latest.job,
-                    latest.revision,
-                    sha256_hex(text.as_bytes()),
-                    text.len() as i64,
-                    dialect,
-                    now as i64,
-                    state,
-                    text,
-                    latest.part,
-                    by
-                ],
-            )
-        };
+        let now = version.now;
         let mut superseded = Vec::new();
         let current = match (resolution, edit) {
             (Resolution::Adopt, Some(edit)) => {
-                // The adopted version and the end of the jobs that waited to
-                // replace it, in one transaction: no crash leaves the edit
-                // adopted and a waiting job free to overwrite it.
-                let tx = self.conn.transaction().map_err(index_error)?;
-                insert(&tx, "adopted", &edit).map_err(index_error)?;
-                let seq = tx.last_insert_rowid();
-                superseded =
-                    supersede(&tx, &latest.file_name, name, seq, by, now).map_err(index_error)?;
-                tx.commit().map_err(index_error)?;
+                superseded = self.adopt(&version, &edit)?;
                 edit
             }
             (Resolution::Adopt, None) => unreachable!("refused above"),
             (Resolution::Replace, edit) => {
-                // The edit is recorded before the file is replaced: a crash in
-                // between leaves the edit as the newest version, as if
-                // adopted, never lost.
-                if let Some(edit) = &edit {
-                    insert(&self.conn, "machine-edit", edit).map_err(index_error)?;
-                }
-                write_atomically(
-                    &self.config.program_dir,
-                    &latest.file_name,
-                    latest.text.as_bytes(),
-                )
-                .map_err(io_error)?;
-                insert(&self.conn, "restored", &latest.text).map_err(index_error)?;
-                // gearcam's version is current again: the jobs that waited
-                // are delivered at their next re-drive.
-                self.conn
-                    .execute("DELETE FROM held WHERE file_name = ?1", [&latest.file_name])
-                    .map_err(index_error)?;
+                self.replace(&version, edit.as_deref(), &path)?;
                 latest.text.clone()
             }
         };
-        let seq = self
-            .conn
-            .query_row(
-                "SELECT MAX(seq) FROM programs WHERE file_name = ?1 AND state != 'pending'",
-                [&latest.file_name],
-                |r| r.get::<_, i64>(0),
-            )
-            .map_err(index_error)? as u64;
+        let seq = self.current_seq(&latest.file_name)?;
         let receipt = DeliveryReceipt {
             job_id: JobId::new(latest.job.clone()).map_err(|e| {
                 Stage::Agent.error(
@@ -248,6 +127,155 @@ impl Store {
             seq,
             superseded,
         })
+    }
+
+    /// The newest version of program `name` the index knows (pending ones
+    /// aside), or `UNKNOWN_PROGRAM` when this store never held it.
+    fn latest(&self, name: &str) -> Result<Latest, JobError> {
+        self.conn
+            .query_row(
+                "SELECT file_name, job, revision, sha256, text, part FROM programs
+                 WHERE name = ?1 AND state != 'pending' ORDER BY seq DESC LIMIT 1",
+                [name],
+                |r| {
+                    Ok(Latest {
+                        file_name: r.get(0)?,
+                        job: r.get(1)?,
+                        revision: r.get(2)?,
+                        sha256: r.get(3)?,
+                        text: r.get(4)?,
+                        part: r.get(5)?,
+                    })
+                },
+            )
+            .optional()
+            .map_err(index_error)?
+            .ok_or_else(|| {
+                Stage::Agent.error(
+                    Code::UNKNOWN_PROGRAM,
+                    "name",
+                    format!("a program in the store of {}", self.config.machine),
+                    name,
+                    "this machine's store has never held a program of this name",
+                )
+            })
+    }
+
+    /// The edit at the machine: the text of the file at `path` when it
+    /// differs from the newest version, or none when the file was deleted
+    /// (which only a replacement can resolve). `NO_CONFLICT` when the file
+    /// is the current version, is not text, or is gone and would be adopted.
+    fn edit_at_machine(
+        &self,
+        latest: &Latest,
+        path: &Path,
+        resolution: Resolution,
+    ) -> Result<Option<String>, JobError> {
+        let on_disk = match fs::read(path) {
+            Ok(bytes) => Some(bytes),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+            Err(e) => return Err(io_error(path)(e)),
+        };
+        let no_conflict = |got: String, message: &str| {
+            Stage::Agent.error(
+                Code::NO_CONFLICT,
+                "name",
+                format!(
+                    "a program of {} changed at the machine",
+                    self.config.machine
+                ),
+                got,
+                message.to_string(),
+            )
+        };
+        match on_disk {
+            Some(bytes) if sha256_hex(&bytes) == latest.sha256 => Err(no_conflict(
+                format!("{} as gearcam stored it", latest.file_name),
+                "the file at the machine is the current version; there is nothing to resolve",
+            )),
+            Some(bytes) => Ok(Some(String::from_utf8(bytes).map_err(|_| {
+                Stage::Agent.error(
+                    Code::NO_CONFLICT,
+                    "name",
+                    "a text program at the machine",
+                    format!("{} is not UTF-8 text", latest.file_name),
+                    "the file at the machine is not a text program; look at it at the machine",
+                )
+            })?)),
+            None if resolution == Resolution::Adopt => Err(no_conflict(
+                format!("no file {} at the machine", latest.file_name),
+                "the program was deleted at the machine; there is no edit to adopt (--replace writes gearcam's version back)",
+            )),
+            None => Ok(None),
+        }
+    }
+
+    /// Adopts `edit` as the current version. The adopted version and the end
+    /// of the jobs that waited to replace it are one transaction: no crash
+    /// leaves the edit adopted and a waiting job free to overwrite it.
+    /// Returns the jobs ended.
+    fn adopt(&mut self, version: &Version<'_>, edit: &str) -> Result<Vec<JobId>, JobError> {
+        let tx = self.conn.transaction().map_err(index_error)?;
+        version.insert(&tx, "adopted", edit).map_err(index_error)?;
+        let seq = tx.last_insert_rowid();
+        let latest = version.latest;
+        let superseded = supersede(
+            &tx,
+            &latest.file_name,
+            version.name,
+            seq,
+            version.by,
+            version.now,
+        )
+        .map_err(index_error)?;
+        tx.commit().map_err(index_error)?;
+        Ok(superseded)
+    }
+
+    /// Writes gearcam's newest version back to `path` and records it as
+    /// `restored`. The edit, if any, is recorded before the file is
+    /// replaced: a crash in between leaves the edit as the newest version,
+    /// as if adopted, never lost.
+    fn replace(
+        &self,
+        version: &Version<'_>,
+        edit: Option<&str>,
+        path: &Path,
+    ) -> Result<(), JobError> {
+        let latest = version.latest;
+        if let Some(edit) = edit {
+            version
+                .insert(&self.conn, "machine-edit", edit)
+                .map_err(index_error)?;
+        }
+        write_atomically(
+            &self.config.program_dir,
+            &latest.file_name,
+            latest.text.as_bytes(),
+        )
+        .map_err(io_error(path))?;
+        version
+            .insert(&self.conn, "restored", &latest.text)
+            .map_err(index_error)?;
+        // gearcam's version is current again: the jobs that waited
+        // are delivered at their next re-drive.
+        self.conn
+            .execute("DELETE FROM held WHERE file_name = ?1", [&latest.file_name])
+            .map_err(index_error)?;
+        Ok(())
+    }
+
+    /// The sequence number of the newest version of `file_name` (pending
+    /// ones aside): the version a resolution made current.
+    fn current_seq(&self, file_name: &str) -> Result<u64, JobError> {
+        Ok(self
+            .conn
+            .query_row(
+                "SELECT MAX(seq) FROM programs WHERE file_name = ?1 AND state != 'pending'",
+                [file_name],
+                |r| r.get::<_, i64>(0),
+            )
+            .map_err(index_error)? as u64)
     }
 
     /// Records that job `p` waits on the edit at the machine of `file_name`
@@ -281,6 +309,59 @@ impl Store {
             )
             .optional()
             .map_err(index_error)
+    }
+}
+
+/// A version a resolution records: of the newest version's program, file,
+/// job and part, with the store's dialect, the time and who decided.
+struct Version<'a> {
+    name: &'a str,
+    latest: &'a Latest,
+    dialect: &'a str,
+    now: u64,
+    by: &'a str,
+}
+
+impl Version<'_> {
+    /// Inserts the version with `state` and `text` into the index.
+    fn insert(
+        &self,
+        conn: &rusqlite::Connection,
+        state: &str,
+        text: &str,
+    ) -> rusqlite::Result<usize> {
+        let latest = self.latest;
+        conn.execute(
+            "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text, part, by_user)
+             VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12)",
+            params![
+                self.name,
+                latest.file_name,
+                latest.job,
+                latest.revision,
+                sha256_hex(text.as_bytes()),
+                text.len() as i64,
+                self.dialect,
+                self.now as i64,
+                state,
+                text,
+                latest.part,
+                self.by
+            ],
+        )
+    }
+}
+
+/// The error of a failed read or write of the program file at `path`.
+fn io_error(path: &Path) -> impl Fn(std::io::Error) -> JobError + '_ {
+    move |e| {
+        Stage::Agent.error(
+            Code::STORE_IO_ERROR,
+            "-",
+            "a readable and writable program directory",
+            e.to_string(),
+            format!("cannot read or write {}", path.display()),
+        )
     }
 }
 

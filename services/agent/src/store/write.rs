@@ -74,32 +74,8 @@ impl Store {
             return;
         }
         let dir = self.config.program_dir.clone();
-        // 1. Temporary files, written and fsynced in parallel: concurrent
-        // fsyncs share the file system's journal commits.
-        let written: Vec<std::io::Result<PathBuf>> = std::thread::scope(|scope| {
-            let handles: Vec<_> = pending
-                .chunks(pending.len().div_ceil(8))
-                .map(|chunk| {
-                    let dir = &dir;
-                    scope.spawn(move || {
-                        chunk
-                            .iter()
-                            .map(|q| {
-                                write_temp(dir, &q.file_name, programs[q.index].text.as_bytes())
-                            })
-                            .collect::<Vec<_>>()
-                    })
-                })
-                .collect();
-            handles
-                .into_iter()
-                .flat_map(|h| {
-                    h.join().unwrap_or_else(|_| {
-                        vec![Err(std::io::Error::other("writer thread panicked"))]
-                    })
-                })
-                .collect()
-        });
+        // 1. Temporary files, written and fsynced in parallel.
+        let written = write_temps(&dir, programs, &pending);
         let mut ready: Vec<(Pending, PathBuf)> = Vec::new();
         for (q, tmp) in pending.into_iter().zip(written) {
             match tmp {
@@ -109,35 +85,7 @@ impl Store {
         }
         // 2. The intent, durable before any rename.
         let stored_at = now_ms();
-        let intents = (|| -> rusqlite::Result<Vec<i64>> {
-            let tx = self.conn.transaction()?;
-            let mut seqs = Vec::with_capacity(ready.len());
-            {
-                let mut insert = tx.prepare_cached(
-                    "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text, part)
-                     VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'pending', ?9, ?10)",
-                )?;
-                for (q, _) in &ready {
-                    let p = &programs[q.index];
-                    insert.execute(params![
-                        p.name,
-                        q.file_name,
-                        p.job_id.as_str(),
-                        p.revision,
-                        q.hash,
-                        p.text.len() as i64,
-                        p.dialect.as_str(),
-                        stored_at as i64,
-                        p.text,
-                        p.part_number
-                    ])?;
-                    seqs.push(tx.last_insert_rowid());
-                }
-            }
-            tx.commit()?;
-            Ok(seqs)
-        })();
-        let seqs = match intents {
+        let seqs = match self.record_intents(programs, &ready, stored_at) {
             Ok(seqs) => seqs,
             Err(e) => {
                 for (q, tmp) in ready {
@@ -153,43 +101,14 @@ impl Store {
             ));
         }
         // 3. Compare again, then rename.
-        let mut renamed = Vec::new();
-        let mut undone = Vec::new();
-        for ((q, tmp), seq) in ready.into_iter().zip(seqs) {
-            let outcome = match self.disk_hash(&q.file_name) {
-                Err(e) => Err(e),
-                Ok(now) if now != q.seen => Err(self.changed_at_machine(
-                    &q.file_name,
-                    now.as_deref().unwrap_or("no file (deleted)"),
-                )),
-                Ok(_) => fs::rename(&tmp, dir.join(&q.file_name))
-                    .map_err(|e| io_error(&dir, &q.file_name, &e)),
-            };
-            match outcome {
-                Ok(()) => renamed.push((q, seq)),
-                Err(e) => {
-                    let _ = fs::remove_file(&tmp);
-                    results[q.index] = Some(Err(e));
-                    undone.push(seq);
-                }
-            }
-        }
+        let (renamed, undone) = self.rename_unchanged(&dir, ready, seqs, results);
         let synced = File::open(&dir).and_then(|d| d.sync_all());
         if self.config.faults.crash_after_rename && !renamed.is_empty() {
             tracing::error!("fault injection: aborting after the rename, before the index commit");
             std::process::abort();
         }
         // 4. Stored (or undone) in the index.
-        let committed = (|| -> rusqlite::Result<()> {
-            let tx = self.conn.transaction()?;
-            for (_, seq) in &renamed {
-                tx.execute("UPDATE programs SET state = 'stored' WHERE seq = ?1", [seq])?;
-            }
-            for seq in &undone {
-                tx.execute("DELETE FROM programs WHERE seq = ?1", [seq])?;
-            }
-            tx.commit()
-        })();
+        let committed = self.settle_intents(&renamed, &undone);
         for (q, _) in renamed {
             let p = &programs[q.index];
             results[q.index] = Some(match (&synced, &committed) {
@@ -209,6 +128,97 @@ impl Store {
                 }),
             });
         }
+    }
+
+    /// Step 2: one transaction inserts a `pending` row (the intent) per
+    /// program whose temporary file is ready, committed before any rename.
+    /// Returns the rows' sequence numbers, in the order of `ready`.
+    fn record_intents(
+        &mut self,
+        programs: &[NcProgram],
+        ready: &[(Pending, PathBuf)],
+        stored_at: u64,
+    ) -> rusqlite::Result<Vec<i64>> {
+        let tx = self.conn.transaction()?;
+        let mut seqs = Vec::with_capacity(ready.len());
+        {
+            let mut insert = tx.prepare_cached(
+                "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text, part)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'pending', ?9, ?10)",
+            )?;
+            for (q, _) in ready {
+                let p = &programs[q.index];
+                insert.execute(params![
+                    p.name,
+                    q.file_name,
+                    p.job_id.as_str(),
+                    p.revision,
+                    q.hash,
+                    p.text.len() as i64,
+                    p.dialect.as_str(),
+                    stored_at as i64,
+                    p.text,
+                    p.part_number
+                ])?;
+                seqs.push(tx.last_insert_rowid());
+            }
+        }
+        tx.commit()?;
+        Ok(seqs)
+    }
+
+    /// Step 3: per program, compares the file at the machine again with what
+    /// the checks saw (an operator's edit during the write is kept and the
+    /// program refused), then renames the temporary file over the final
+    /// name. A program not renamed gets its error in `results` and its
+    /// temporary file removed. Returns the renamed programs with their
+    /// rows, and the rows to undo.
+    fn rename_unchanged(
+        &self,
+        dir: &Path,
+        ready: Vec<(Pending, PathBuf)>,
+        seqs: Vec<i64>,
+        results: &mut [Option<Result<DeliveryReceipt, JobError>>],
+    ) -> (Vec<(Pending, i64)>, Vec<i64>) {
+        let mut renamed = Vec::new();
+        let mut undone = Vec::new();
+        for ((q, tmp), seq) in ready.into_iter().zip(seqs) {
+            let outcome = match self.disk_hash(&q.file_name) {
+                Err(e) => Err(e),
+                Ok(now) if now != q.seen => Err(self.changed_at_machine(
+                    &q.file_name,
+                    now.as_deref().unwrap_or("no file (deleted)"),
+                )),
+                Ok(_) => fs::rename(&tmp, dir.join(&q.file_name))
+                    .map_err(|e| io_error(dir, &q.file_name, &e)),
+            };
+            match outcome {
+                Ok(()) => renamed.push((q, seq)),
+                Err(e) => {
+                    let _ = fs::remove_file(&tmp);
+                    results[q.index] = Some(Err(e));
+                    undone.push(seq);
+                }
+            }
+        }
+        (renamed, undone)
+    }
+
+    /// Step 4: one transaction turns the renamed programs' rows to `stored`
+    /// and deletes the rows of those not renamed.
+    fn settle_intents(
+        &mut self,
+        renamed: &[(Pending, i64)],
+        undone: &[i64],
+    ) -> rusqlite::Result<()> {
+        let tx = self.conn.transaction()?;
+        for (_, seq) in renamed {
+            tx.execute("UPDATE programs SET state = 'stored' WHERE seq = ?1", [seq])?;
+        }
+        for seq in undone {
+            tx.execute("DELETE FROM programs WHERE seq = ?1", [seq])?;
+        }
+        tx.commit()
     }
 
     /// Finishes or undoes the writes a crash cut off (module docs): a
@@ -267,6 +277,37 @@ pub(super) fn remove_stale_temporaries(dir: &Path) {
             }
         }
     }
+}
+
+/// Step 1: writes each pending program to a temporary file beside its final
+/// name and fsyncs it, in parallel (concurrent fsyncs share the file
+/// system's journal commits). Returns each one's temporary file or error,
+/// in the order of `pending`.
+fn write_temps(
+    dir: &Path,
+    programs: &[NcProgram],
+    pending: &[Pending],
+) -> Vec<std::io::Result<PathBuf>> {
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = pending
+            .chunks(pending.len().div_ceil(8))
+            .map(|chunk| {
+                scope.spawn(move || {
+                    chunk
+                        .iter()
+                        .map(|q| write_temp(dir, &q.file_name, programs[q.index].text.as_bytes()))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| vec![Err(std::io::Error::other("writer thread panicked"))])
+            })
+            .collect()
+    })
 }
 
 /// Writes `bytes` to a temporary file beside `dir/file_name` and fsyncs it;
