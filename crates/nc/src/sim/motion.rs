@@ -3,8 +3,97 @@
 
 use super::*;
 
+/// Where a motion block sends the axes: the end point, which of X, Z and Y
+/// the block names, the swivel A and the FANUC shift move's C correction.
+struct Target {
+    x: f64,
+    z: f64,
+    y: f64,
+    x_set: bool,
+    z_set: bool,
+    y_set: bool,
+    a: Option<f64>,
+    c: Option<f64>,
+}
+
 impl<'m> Sim<'m> {
+    /// One motion block: its modal words take effect; a block that moves is
+    /// read, checked (dimensions, path, travel, feed, contact zone, shift)
+    /// and traced, and the axes stand at its end point.
     pub(super) fn motion(&mut self, line: u32, m: &Motion) {
+        self.motion_modes(line, m);
+        if m.words().is_empty() {
+            return;
+        }
+        let Some(interp) = self.interp else {
+            self.push(
+                line,
+                Code::PARSE,
+                "a move without G0 or G1 in effect".into(),
+            );
+            return;
+        };
+        let inc = self.incremental.is_some();
+        let Some(t) = self.target(line, m, inc) else {
+            return;
+        };
+        let shift_form = inc
+            && interp == Interp::Linear
+            && t.y_set
+            && t.c.is_some()
+            && !t.x_set
+            && !t.z_set
+            && t.a.is_none();
+        if !self.check_distance(line, shift_form, inc, t.c) {
+            return;
+        }
+        let kind = match interp {
+            Interp::Rapid => MoveKind::Rapid,
+            Interp::Linear => MoveKind::Feed,
+            _ => MoveKind::Arc,
+        };
+        let from = [self.x, self.z, self.y];
+        let to = [t.x, t.z, t.y];
+        let Some(path) = self.path(line, m, interp, from, to) else {
+            return;
+        };
+        self.check_travel(line, &t);
+        let feed = if kind == MoveKind::Rapid {
+            None
+        } else {
+            self.check_feed(line);
+            self.feed
+        };
+        let coupled = self.coupled.is_some();
+        self.check_zone(line, interp, kind, &path, from, to);
+
+        let dy = t.y - self.y;
+        if shift_form {
+            self.check_shift_correction(line, dy, t.c.unwrap_or(0.0));
+        } else if dy.abs() > TOL && coupled {
+            self.check_coupled_shift(line, from[2], t.y);
+        }
+
+        self.trace.moves.push(TraceMove {
+            line,
+            kind,
+            x_mm: t.x,
+            z_mm: t.z,
+            y_mm: t.y,
+            feed_mm_min: feed,
+            dwell_s: None,
+            coupled,
+            c_correction_deg: t.c,
+        });
+        (self.x, self.z, self.y) = (t.x, t.z, t.y);
+        self.last_move = Some(line);
+    }
+
+    /// The modal part of a motion block, which holds whether or not the
+    /// block moves: the set-up words, the G-code system and (before the
+    /// first move) the set-up check, the interpolation, absolute or
+    /// incremental dimensions and the feed.
+    fn motion_modes(&mut self, line: u32, m: &Motion) {
         self.setup.merge(m.setup);
         self.check_system(line, m);
         if !self.setup_checked && !m.words().is_empty() {
@@ -22,21 +111,23 @@ impl<'m> Sim<'m> {
         if let Some(f) = m.feed {
             self.feed = Some(f.value);
         }
-        if m.words().is_empty() {
-            return;
-        }
-        let Some(interp) = self.interp else {
-            self.push(
-                line,
-                Code::PARSE,
-                "a move without G0 or G1 in effect".into(),
-            );
-            return;
+    }
+
+    /// The block's axis words evaluated into its end point, absolute or
+    /// added to where the axes stand. `None` (with a finding) when a value
+    /// cannot be computed, a length has more than 3 decimals or a word
+    /// names an axis that a motion block does not move.
+    fn target(&mut self, line: u32, m: &Motion, inc: bool) -> Option<Target> {
+        let mut t = Target {
+            x: self.x,
+            z: self.z,
+            y: self.y,
+            x_set: false,
+            z_set: false,
+            y_set: false,
+            a: None,
+            c: None,
         };
-        let inc = self.incremental.is_some();
-        let (mut x, mut z, mut y) = (self.x, self.z, self.y);
-        let (mut x_set, mut z_set, mut y_set) = (false, false, false);
-        let (mut a, mut c) = (None, None);
         for w in m.words() {
             let v = match w.value.eval(&self.vars) {
                 Ok(v) => v,
@@ -46,7 +137,7 @@ impl<'m> Sim<'m> {
                         Code::PARSE,
                         format!("the value of {} cannot be computed: {e}", w.axis),
                     );
-                    return;
+                    return None;
                 }
             };
             let role = self.role(&w.axis);
@@ -60,16 +151,16 @@ impl<'m> Sim<'m> {
                             w.axis, n.decimals
                         ),
                     );
-                    return;
+                    return None;
                 }
             }
             let base = |old: f64| if inc { old + v } else { v };
             match role {
-                Role::X => (x, x_set) = (base(self.x), true),
-                Role::Z => (z, z_set) = (base(self.z), true),
-                Role::Y => (y, y_set) = (base(self.y), true),
-                Role::A => a = Some(base(self.a.unwrap_or(0.0))),
-                Role::C if self.dialect == Dialect::Fanuc => c = Some(v),
+                Role::X => (t.x, t.x_set) = (base(self.x), true),
+                Role::Z => (t.z, t.z_set) = (base(self.z), true),
+                Role::Y => (t.y, t.y_set) = (base(self.y), true),
+                Role::A => t.a = Some(base(self.a.unwrap_or(0.0))),
+                Role::C if self.dialect == Dialect::Fanuc => t.c = Some(v),
                 _ => {
                     let ax = &self.profile.axes;
                     let msg = format!(
@@ -77,17 +168,17 @@ impl<'m> Sim<'m> {
                         w.axis, ax.radial, ax.axial, ax.shift, ax.swivel
                     );
                     self.push(line, Code::PARSE, msg);
-                    return;
+                    return None;
                 }
             }
         }
-        let shift_form = inc
-            && interp == Interp::Linear
-            && y_set
-            && c.is_some()
-            && !x_set
-            && !z_set
-            && a.is_none();
+        Some(t)
+    }
+
+    /// Incremental dimensions and C belong only to the FANUC shift move
+    /// G01 G91 Y.. C..; any other use is a finding and the block is not
+    /// run (false).
+    fn check_distance(&mut self, line: u32, shift_form: bool, inc: bool, c: Option<f64>) -> bool {
         if let Some(g91) = self.incremental.filter(|_| !shift_form) {
             let since = if g91 == line {
                 String::new()
@@ -99,7 +190,7 @@ impl<'m> Sim<'m> {
                 Code::PARSE,
                 format!("incremental dimensions are used only for the shift move G01 G91 Y.. C..{since}"),
             );
-            return;
+            return false;
         }
         if c.is_some() && !inc {
             self.push(
@@ -107,19 +198,25 @@ impl<'m> Sim<'m> {
                 Code::PARSE,
                 "C is programmed only in the incremental shift move G01 G91 Y.. C..".into(),
             );
-            return;
+            return false;
         }
-        let kind = match interp {
-            Interp::Rapid => MoveKind::Rapid,
-            Interp::Linear => MoveKind::Feed,
-            _ => MoveKind::Arc,
-        };
-        let from = [self.x, self.z, self.y];
-        let to = [x, z, y];
+        true
+    }
 
-        // The path: a line, or the arc sampled.
-        let path = match interp {
-            Interp::Rapid | Interp::Linear => Path::line(from, to),
+    /// The path the tool takes from `from` to `to`: a line for G0 and G1,
+    /// the arc, sampled, for CIP (through its intermediate point) and
+    /// G02/G03 (by its radius). `None` (with a finding) when the arc is not fully given or
+    /// cannot be drawn.
+    fn path(
+        &mut self,
+        line: u32,
+        m: &Motion,
+        interp: Interp,
+        from: [f64; 3],
+        to: [f64; 3],
+    ) -> Option<Path> {
+        match interp {
+            Interp::Rapid | Interp::Linear => Some(Path::line(from, to)),
             Interp::CircleVia => {
                 let Some((vx, vz)) = m.via else {
                     self.push(
@@ -127,12 +224,12 @@ impl<'m> Sim<'m> {
                         Code::PARSE,
                         "CIP is in effect, but the block has no intermediate point I1= K1=".into(),
                     );
-                    return;
+                    return None;
                 };
                 self.travel(line, Role::X, vx.value);
                 self.travel(line, Role::Z, vz.value);
                 match circle_via((from[1], from[0]), (vz.value, vx.value), (to[1], to[0])) {
-                    Some((centre, t0, sweep)) => Path::arc(from, to, centre, t0, sweep),
+                    Some((centre, t0, sweep)) => Some(Path::arc(from, to, centre, t0, sweep)),
                     None => {
                         self.push(
                             line,
@@ -140,52 +237,68 @@ impl<'m> Sim<'m> {
                             "the start, intermediate and end point of the CIP lie on one line"
                                 .into(),
                         );
-                        return;
+                        None
                     }
                 }
             }
-            Interp::ArcCw | Interp::ArcCcw => {
-                if self.dialect == Dialect::Fanuc && !self.setup.plane_zx {
-                    self.push(
-                        line,
-                        Code::SETUP,
-                        "an arc in X and Z before G18: a FANUC control starts in G17, the X-Y plane, and would not cut this arc in X and Z".into(),
-                    );
-                    return;
-                }
-                let Some(r) = m.radius.map(|r| r.value) else {
-                    self.push(
-                        line,
-                        Code::PARSE,
-                        "G02/G03 is in effect, but the block has no radius R".into(),
-                    );
-                    return;
-                };
-                let ccw = interp == Interp::ArcCcw;
-                match arc_radius((from[1], from[0]), (to[1], to[0]), r, ccw) {
-                    Some((centre, t0, sweep)) => Path::arc(from, to, centre, t0, sweep),
-                    None => {
-                        self.push(
-                            line,
-                            Code::PARSE,
-                            format!(
-                                "the arc radius R{} cannot join its start and end point",
-                                f3(r)
-                            ),
-                        );
-                        return;
-                    }
-                }
-            }
-        };
+            Interp::ArcCw | Interp::ArcCcw => self.arc_path(line, m, interp, from, to),
+        }
+    }
 
-        if x_set {
-            self.travel(line, Role::X, x);
+    /// The G02/G03 arc by its radius R, in the X-Z plane (which a FANUC
+    /// control cuts only after G18).
+    fn arc_path(
+        &mut self,
+        line: u32,
+        m: &Motion,
+        interp: Interp,
+        from: [f64; 3],
+        to: [f64; 3],
+    ) -> Option<Path> {
+        if self.dialect == Dialect::Fanuc && !self.setup.plane_zx {
+            self.push(
+                line,
+                Code::SETUP,
+                "an arc in X and Z before G18: a FANUC control starts in G17, the X-Y plane, and would not cut this arc in X and Z".into(),
+            );
+            return None;
         }
-        if z_set {
-            self.travel(line, Role::Z, z);
+        let Some(r) = m.radius.map(|r| r.value) else {
+            self.push(
+                line,
+                Code::PARSE,
+                "G02/G03 is in effect, but the block has no radius R".into(),
+            );
+            return None;
+        };
+        let ccw = interp == Interp::ArcCcw;
+        match arc_radius((from[1], from[0]), (to[1], to[0]), r, ccw) {
+            Some((centre, t0, sweep)) => Some(Path::arc(from, to, centre, t0, sweep)),
+            None => {
+                self.push(
+                    line,
+                    Code::PARSE,
+                    format!(
+                        "the arc radius R{} cannot join its start and end point",
+                        f3(r)
+                    ),
+                );
+                None
+            }
         }
-        if let Some(a) = a {
+    }
+
+    /// The named X and Z against the machine's travel, and a swivel A
+    /// against its largest swivel about the set-up's offset; the swivel is
+    /// traced and taken.
+    fn check_travel(&mut self, line: u32, t: &Target) {
+        if t.x_set {
+            self.travel(line, Role::X, t.x);
+        }
+        if t.z_set {
+            self.travel(line, Role::Z, t.z);
+        }
+        if let Some(a) = t.a {
             let max = self.profile.limits.max_swivel_deg;
             if (a - self.profile.settings.swivel_offset_deg).abs() > max + DEG {
                 let name = &self.profile.axes.swivel;
@@ -203,15 +316,20 @@ impl<'m> Sim<'m> {
             self.trace.swivel_deg.push((line, a));
             self.a = Some(a);
         }
+    }
 
-        let feed = if kind == MoveKind::Rapid {
-            None
-        } else {
-            self.check_feed(line);
-            self.feed
-        };
-
-        let coupled = self.coupled.is_some();
+    /// A move into the contact zone: a rapid may never pass through the
+    /// blank, and no move may enter it unless the gearbox is coupled and
+    /// the hob turning.
+    fn check_zone(
+        &mut self,
+        line: u32,
+        interp: Interp,
+        kind: MoveKind,
+        path: &Path,
+        from: [f64; 3],
+        to: [f64; 3],
+    ) {
         // A move that only increases X is a radial withdrawal: it can leave
         // the zone (a worm wheel's D → E retract from the throat) but never
         // enter it.
@@ -222,9 +340,9 @@ impl<'m> Sim<'m> {
         let zone = if withdrawal {
             None
         } else {
-            self.zone_crossed(&path)
+            self.zone_crossed(path)
         };
-        let why = match (coupled, self.turning()) {
+        let why = match (self.coupled.is_some(), self.turning()) {
             (true, true) => None,
             (false, true) => Some("the gearbox is not coupled"),
             (true, false) => Some("the hob is not turning"),
@@ -248,27 +366,6 @@ impl<'m> Sim<'m> {
                 );
             }
         }
-
-        let dy = y - self.y;
-        if shift_form {
-            self.check_shift_correction(line, dy, c.unwrap_or(0.0));
-        } else if dy.abs() > TOL && coupled {
-            self.check_coupled_shift(line, from[2], y);
-        }
-
-        self.trace.moves.push(TraceMove {
-            line,
-            kind,
-            x_mm: x,
-            z_mm: z,
-            y_mm: y,
-            feed_mm_min: feed,
-            dwell_s: None,
-            coupled,
-            c_correction_deg: c,
-        });
-        (self.x, self.z, self.y) = (x, z, y);
-        self.last_move = Some(line);
     }
 
     /// The program's G codes mean what the machine's G-code system says:
