@@ -236,6 +236,9 @@ impl<'m> Sim<'m> {
         active
     }
 
+    /// FANUC G81: the gearbox couples the table to the hob by T teeth and L
+    /// hob starts, with the helical compensation Q (module) and P (helix
+    /// angle); a coupling from the uncoupled state starts the next unit.
     pub(super) fn g81(
         &mut self,
         line: u32,
@@ -251,12 +254,35 @@ impl<'m> Sim<'m> {
             }
             self.started = true;
         }
-        let u = self.unit();
-        let k = u.kin;
-        // T and L are the teeth and hob starts themselves (the model keeps z0/z reduced).
-        let (z0, z) = (u.hob.starts, u.gear.teeth);
         let t = teeth.integer().unwrap_or(0);
         let l = starts.integer().unwrap_or(0);
+        self.check_g81_ratio(line, t, l);
+        let implied = self.check_g81_helical(line, t, module, helix);
+        let active = Active {
+            num: l,
+            den: t,
+            z: implied,
+            y: None,
+        };
+        self.trace.couplings.push(TraceCoupling {
+            line,
+            num: l,
+            den: t,
+            c_per_z_deg_per_mm: implied,
+            c_per_y_deg_per_mm: None,
+            unit_start,
+        });
+        self.coupled = Some(active);
+        self.check_table_speed(line);
+    }
+
+    /// G81 T and L against the unit's model: T is the gear's teeth and L the
+    /// hob's starts themselves (the model keeps z0/z reduced), L signed by
+    /// the table's direction against the hob.
+    fn check_g81_ratio(&mut self, line: u32, t: i64, l: i64) {
+        let u = self.unit();
+        let k = u.kin;
+        let (z0, z) = (u.hob.starts, u.gear.teeth);
         if !(1..=1000).contains(&t) {
             self.push(
                 line,
@@ -296,7 +322,20 @@ impl<'m> Sim<'m> {
                 ),
             );
         }
-        let diff = k.factors.c_per_z_deg_per_mm;
+    }
+
+    /// G81 Q and P against the model's differential: both or neither, Q the
+    /// gear's normal module and |P| its helix angle, P signed like the
+    /// differential. Returns the C per Z (deg/mm) that Q, P and T imply.
+    fn check_g81_helical(
+        &mut self,
+        line: u32,
+        t: i64,
+        module: Option<Num>,
+        helix: Option<Num>,
+    ) -> Option<f64> {
+        let u = self.unit();
+        let diff = u.kin.factors.c_per_z_deg_per_mm;
         let mut implied = None;
         match (module, helix) {
             (Some(q), Some(p)) => {
@@ -360,22 +399,7 @@ impl<'m> Sim<'m> {
                 "G81 takes Q and P together (alarm PS0594 otherwise)".into(),
             ),
         }
-        let active = Active {
-            num: l,
-            den: t,
-            z: implied,
-            y: None,
-        };
-        self.trace.couplings.push(TraceCoupling {
-            line,
-            num: l,
-            den: t,
-            c_per_z_deg_per_mm: implied,
-            c_per_y_deg_per_mm: None,
-            unit_start,
-        });
-        self.coupled = Some(active);
-        self.check_table_speed(line);
+        implied
     }
 
     pub(super) fn gear_off(&mut self, line: u32, following: Option<AxisName>) {
