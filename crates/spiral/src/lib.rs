@@ -24,6 +24,7 @@ pub mod fanuc;
 pub mod groove;
 pub mod linuxcnc;
 pub mod macrob;
+mod macrob_expr;
 pub mod picture;
 pub mod verify;
 

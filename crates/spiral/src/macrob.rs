@@ -16,6 +16,8 @@
 
 use std::collections::HashMap;
 
+use crate::macrob_expr::{eval, var};
+
 /// A move the program commands.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Move {
@@ -57,196 +59,265 @@ struct Machine {
 /// Replays `program`; the moves, or the first error. `budget` bounds the
 /// blocks executed (a runaway loop stops there).
 pub fn replay(program: &str, budget: usize) -> Result<Vec<Move>, ReplayError> {
-    let lines: Vec<String> = program.lines().map(strip_comments).collect();
-    let labels: HashMap<u32, usize> = lines
-        .iter()
-        .enumerate()
-        .filter_map(|(i, l)| {
-            let t = l.trim();
-            let rest = t.strip_prefix('N')?;
-            let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
-            digits.parse().ok().map(|n| (n, i))
-        })
-        .collect();
-    let mut m = Machine {
-        vars: HashMap::new(),
-        motion: 0,
-        polar: false,
-        absolute: true,
-        feed_mode: false,
-        pos: (0.0, 0.0, 0.0),
-        polar_words: (0.0, 0.0),
-        moves: Vec::new(),
-    };
-    // Where each program `O####` starts, for `G65 P####`.
-    let programs: HashMap<u32, usize> = lines
-        .iter()
-        .enumerate()
-        .filter_map(|(i, l)| {
-            let rest = l.trim().strip_prefix('O')?;
-            let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
-            digits.parse().ok().map(|n| (n, i))
-        })
-        .collect();
-    let mut loops: Vec<(u32, usize)> = Vec::new();
-    // The macro call stack: where to return, the caller's locals and loops.
-    let mut frames: Vec<Frame> = Vec::new();
-    let mut pc = 0;
-    let mut steps = 0;
+    let listing = Listing::read(program);
+    let mut control = Control::new();
     let err = |line: usize, message: String| ReplayError {
         line: line + 1,
         message,
     };
-    while pc < lines.len() {
+    let mut steps = 0;
+    while control.pc < listing.lines.len() {
         steps += 1;
         if steps > budget {
             return Err(err(
-                pc,
+                control.pc,
                 format!("more than {budget} blocks: a runaway loop?"),
             ));
         }
-        let line = lines[pc].trim();
-        let line = strip_sequence(line);
-        if line.is_empty() || line == "%" || line.starts_with('O') {
-            if line.starts_with('O') && pc > 0 && frames.is_empty() && !m.moves.is_empty() {
-                // The main program ran into the next program without M30.
-                return Err(err(
-                    pc,
-                    "the main program ran into another program: M30 missing".into(),
-                ));
-            }
-            pc += 1;
-            continue;
-        }
-        if line == "M30" || line == "M02" || line == "M2" {
+        let at = control.pc;
+        if !control.step(&listing).map_err(|e| err(at, e))? {
             break;
         }
-        if line == "M99" {
-            let Some(frame) = frames.pop() else {
-                return Err(err(pc, "M99 outside a called macro".into()));
-            };
-            if let Some((id, _)) = loops.last() {
-                return Err(err(pc, format!("M99 inside WHILE … DO{id}")));
-            }
-            for n in LOCALS {
-                m.vars.remove(&n);
-            }
-            m.vars.extend(frame.locals);
-            loops = frame.loops;
-            pc = frame.back;
-            continue;
+    }
+    if let Some((id, _)) = control.loops.pop() {
+        return Err(err(listing.lines.len() - 1, format!("DO{id} never ended")));
+    }
+    Ok(control.m.moves)
+}
+
+/// A program read for replay: its lines without comments, and where each
+/// sequence number `Nn` (for `GOTOn`) and each program `O####` (for
+/// `G65 P####`) stands.
+struct Listing {
+    lines: Vec<String>,
+    labels: HashMap<u32, usize>,
+    programs: HashMap<u32, usize>,
+}
+
+impl Listing {
+    /// The program's lines, comments stripped, and its labels and programs.
+    fn read(program: &str) -> Listing {
+        let lines: Vec<String> = program.lines().map(strip_comments).collect();
+        let labels: HashMap<u32, usize> = lines
+            .iter()
+            .enumerate()
+            .filter_map(|(i, l)| {
+                let t = l.trim();
+                let rest = t.strip_prefix('N')?;
+                let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
+                digits.parse().ok().map(|n| (n, i))
+            })
+            .collect();
+        let programs: HashMap<u32, usize> = lines
+            .iter()
+            .enumerate()
+            .filter_map(|(i, l)| {
+                let rest = l.trim().strip_prefix('O')?;
+                let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
+                digits.parse().ok().map(|n| (n, i))
+            })
+            .collect();
+        Listing {
+            lines,
+            labels,
+            programs,
         }
-        if let Some(rest) = line.strip_prefix("G65") {
-            let args = call_arguments(&m, rest).map_err(|e| err(pc, e))?;
-            let target = args
-                .iter()
-                .find(|(l, _)| *l == 'P')
-                .map(|(_, p)| p.round() as u32)
-                .ok_or_else(|| err(pc, "G65 without P (the program number)".into()))?;
-            let start = *programs
-                .get(&target)
-                .ok_or_else(|| err(pc, format!("G65 P{target}: no program O{target:04}")))?;
-            if frames.len() >= 4 {
-                return Err(err(pc, "more than 4 nested macro calls".into()));
-            }
-            let locals = LOCALS
-                .filter_map(|n| m.vars.remove(&n).map(|v| (n, v)))
-                .collect();
-            frames.push(Frame {
-                back: pc + 1,
-                locals,
-                loops: std::mem::take(&mut loops),
-            });
-            for (letter, v) in args {
-                if let Some(n) = argument_variable(letter) {
-                    m.vars.insert(n, v);
-                } else if letter != 'P' && letter != 'L' {
-                    return Err(err(
-                        pc,
-                        format!("G65 argument {letter} is not an argument letter"),
-                    ));
-                }
-            }
-            pc = start + 1;
-            continue;
+    }
+
+    /// The line that sequence number `N{target}` starts.
+    fn label(&self, target: u32) -> Result<usize, String> {
+        self.labels
+            .get(&target)
+            .copied()
+            .ok_or_else(|| format!("no N{target}"))
+    }
+}
+
+/// The control running a listing: the machine, the open `WHILE` loops (id
+/// and line), the macro call stack and the line it is at (`pc`).
+struct Control {
+    m: Machine,
+    loops: Vec<(u32, usize)>,
+    frames: Vec<Frame>,
+    pc: usize,
+}
+
+impl Control {
+    /// The control at the first line: no variable set, G00, absolute,
+    /// Cartesian, at the origin.
+    fn new() -> Control {
+        Control {
+            m: Machine {
+                vars: HashMap::new(),
+                motion: 0,
+                polar: false,
+                absolute: true,
+                feed_mode: false,
+                pos: (0.0, 0.0, 0.0),
+                polar_words: (0.0, 0.0),
+                moves: Vec::new(),
+            },
+            loops: Vec::new(),
+            frames: Vec::new(),
+            pc: 0,
         }
-        if let Some(rest) = line.strip_prefix("WHILE") {
-            let (cond, after) = bracketed(rest).map_err(|e| err(pc, e))?;
-            let id: u32 = after
-                .trim()
-                .strip_prefix("DO")
-                .and_then(|d| d.trim().parse().ok())
-                .ok_or_else(|| err(pc, format!("WHILE without DOm: {line}")))?;
-            if eval(&m, &cond).map_err(|e| err(pc, e))? != 0.0 {
-                loops.push((id, pc));
-                pc += 1;
-            } else {
-                // Skip to the matching ENDm.
-                let end = format!("END{id}");
-                pc = (pc + 1..lines.len())
-                    .find(|&j| strip_sequence(lines[j].trim()) == end)
-                    .ok_or_else(|| err(pc, format!("no {end} for DO{id}")))?
-                    + 1;
+    }
+
+    /// Runs the line at `pc` as the control would and moves `pc` to the
+    /// next line to run; `false` when the main program ends (M30, M02).
+    /// An error is the message for this line.
+    fn step(&mut self, p: &Listing) -> Result<bool, String> {
+        let line = strip_sequence(p.lines[self.pc].trim());
+        if line.is_empty() || line == "%" || line.starts_with('O') {
+            if line.starts_with('O')
+                && self.pc > 0
+                && self.frames.is_empty()
+                && !self.m.moves.is_empty()
+            {
+                // The main program ran into the next program without M30.
+                return Err("the main program ran into another program: M30 missing".into());
             }
-            continue;
-        }
-        if let Some(id) = line.strip_prefix("END") {
-            let id: u32 = id
-                .trim()
-                .parse()
-                .map_err(|_| err(pc, format!("bad END: {line}")))?;
-            match loops.pop() {
-                Some((open, start)) if open == id => pc = start,
-                _ => return Err(err(pc, format!("END{id} without its WHILE … DO{id}"))),
-            }
-            continue;
-        }
-        if let Some(rest) = line.strip_prefix("IF") {
-            let (cond, after) = bracketed(rest).map_err(|e| err(pc, e))?;
-            let target: u32 = after
-                .trim()
-                .strip_prefix("GOTO")
-                .and_then(|d| d.trim().parse().ok())
-                .ok_or_else(|| err(pc, format!("IF without GOTOn: {line}")))?;
-            if eval(&m, &cond).map_err(|e| err(pc, e))? != 0.0 {
-                pc = *labels
-                    .get(&target)
-                    .ok_or_else(|| err(pc, format!("no N{target}")))?;
-            } else {
-                pc += 1;
-            }
-            continue;
-        }
-        if let Some(target) = line.strip_prefix("GOTO") {
+            self.pc += 1;
+        } else if line == "M30" || line == "M02" || line == "M2" {
+            return Ok(false);
+        } else if line == "M99" {
+            self.macro_return()?;
+        } else if let Some(rest) = line.strip_prefix("G65") {
+            self.macro_call(p, rest)?;
+        } else if let Some(rest) = line.strip_prefix("WHILE") {
+            self.while_do(p, line, rest)?;
+        } else if let Some(id) = line.strip_prefix("END") {
+            self.end(line, id)?;
+        } else if let Some(rest) = line.strip_prefix("IF") {
+            self.if_goto(p, line, rest)?;
+        } else if let Some(target) = line.strip_prefix("GOTO") {
             let target: u32 = target
                 .trim()
                 .parse()
-                .map_err(|_| err(pc, format!("bad GOTO: {line}")))?;
-            pc = *labels
-                .get(&target)
-                .ok_or_else(|| err(pc, format!("no N{target}")))?;
-            continue;
-        }
-        if let Some(rest) = line.strip_prefix('#') {
+                .map_err(|_| format!("bad GOTO: {line}"))?;
+            self.pc = p.label(target)?;
+        } else if let Some(rest) = line.strip_prefix('#') {
             let (var, expr) = rest
                 .split_once('=')
-                .ok_or_else(|| err(pc, format!("not an assignment: {line}")))?;
+                .ok_or_else(|| format!("not an assignment: {line}"))?;
             let n: u32 = var
                 .trim()
                 .parse()
-                .map_err(|_| err(pc, format!("bad variable: {line}")))?;
-            let v = eval(&m, expr).map_err(|e| err(pc, e))?;
-            m.vars.insert(n, v);
-            pc += 1;
-            continue;
+                .map_err(|_| format!("bad variable: {line}"))?;
+            let v = eval(&self.m.vars, expr)?;
+            self.m.vars.insert(n, v);
+            self.pc += 1;
+        } else {
+            block(&mut self.m, line)?;
+            self.pc += 1;
         }
-        block(&mut m, line).map_err(|e| err(pc, e))?;
-        pc += 1;
+        Ok(true)
     }
-    if let Some((id, _)) = loops.pop() {
-        return Err(err(lines.len() - 1, format!("DO{id} never ended")));
+
+    /// `M99`: back to the caller of the macro, with its local variables
+    /// and loops restored (a loop still open in the macro is an error).
+    fn macro_return(&mut self) -> Result<(), String> {
+        let Some(frame) = self.frames.pop() else {
+            return Err("M99 outside a called macro".into());
+        };
+        if let Some((id, _)) = self.loops.last() {
+            return Err(format!("M99 inside WHILE … DO{id}"));
+        }
+        for n in LOCALS {
+            self.m.vars.remove(&n);
+        }
+        self.m.vars.extend(frame.locals);
+        self.loops = frame.loops;
+        self.pc = frame.back;
+        Ok(())
     }
-    Ok(m.moves)
+
+    /// `G65 P#### <arguments>`: the arguments evaluated in the caller, the
+    /// caller's locals and loops kept on the call stack (at most 4 deep),
+    /// the argument letters set in the macro's locals, and on to the line
+    /// after `O####`.
+    fn macro_call(&mut self, p: &Listing, rest: &str) -> Result<(), String> {
+        let args = call_arguments(&self.m, rest)?;
+        let target = args
+            .iter()
+            .find(|(l, _)| *l == 'P')
+            .map(|(_, p)| p.round() as u32)
+            .ok_or_else(|| "G65 without P (the program number)".to_string())?;
+        let start = *p
+            .programs
+            .get(&target)
+            .ok_or_else(|| format!("G65 P{target}: no program O{target:04}"))?;
+        if self.frames.len() >= 4 {
+            return Err("more than 4 nested macro calls".into());
+        }
+        let locals = LOCALS
+            .filter_map(|n| self.m.vars.remove(&n).map(|v| (n, v)))
+            .collect();
+        self.frames.push(Frame {
+            back: self.pc + 1,
+            locals,
+            loops: std::mem::take(&mut self.loops),
+        });
+        for (letter, v) in args {
+            if let Some(n) = argument_variable(letter) {
+                self.m.vars.insert(n, v);
+            } else if letter != 'P' && letter != 'L' {
+                return Err(format!("G65 argument {letter} is not an argument letter"));
+            }
+        }
+        self.pc = start + 1;
+        Ok(())
+    }
+
+    /// `WHILE [cond] DOm`: into the loop while the condition holds, else on
+    /// past its `ENDm`.
+    fn while_do(&mut self, p: &Listing, line: &str, rest: &str) -> Result<(), String> {
+        let (cond, after) = bracketed(rest)?;
+        let id: u32 = after
+            .trim()
+            .strip_prefix("DO")
+            .and_then(|d| d.trim().parse().ok())
+            .ok_or_else(|| format!("WHILE without DOm: {line}"))?;
+        if eval(&self.m.vars, &cond)? != 0.0 {
+            self.loops.push((id, self.pc));
+            self.pc += 1;
+        } else {
+            // Skip to the matching ENDm.
+            let end = format!("END{id}");
+            self.pc = (self.pc + 1..p.lines.len())
+                .find(|&j| strip_sequence(p.lines[j].trim()) == end)
+                .ok_or_else(|| format!("no {end} for DO{id}"))?
+                + 1;
+        }
+        Ok(())
+    }
+
+    /// `ENDm`: back to the `WHILE` of the innermost loop, which must be
+    /// `DOm`.
+    fn end(&mut self, line: &str, id: &str) -> Result<(), String> {
+        let id: u32 = id.trim().parse().map_err(|_| format!("bad END: {line}"))?;
+        match self.loops.pop() {
+            Some((open, start)) if open == id => self.pc = start,
+            _ => return Err(format!("END{id} without its WHILE … DO{id}")),
+        }
+        Ok(())
+    }
+
+    /// `IF [cond] GOTOn`: to `Nn` if the condition holds, else on.
+    fn if_goto(&mut self, p: &Listing, line: &str, rest: &str) -> Result<(), String> {
+        let (cond, after) = bracketed(rest)?;
+        let target: u32 = after
+            .trim()
+            .strip_prefix("GOTO")
+            .and_then(|d| d.trim().parse().ok())
+            .ok_or_else(|| format!("IF without GOTOn: {line}"))?;
+        if eval(&self.m.vars, &cond)? != 0.0 {
+            self.pc = p.label(target)?;
+        } else {
+            self.pc += 1;
+        }
+        Ok(())
+    }
 }
 
 /// Replays a LinuxCNC program of the subset gearcam emits by reading it into
@@ -523,7 +594,7 @@ fn block(m: &mut Machine, line: &str) -> Result<(), String> {
 fn word_value<'a>(m: &Machine, s: &'a str) -> Result<(f64, &'a str), String> {
     if s.starts_with('[') {
         let (expr, after) = bracketed(s)?;
-        return Ok((eval(m, &expr)?, after));
+        return Ok((eval(&m.vars, &expr)?, after));
     }
     if let Some(rest) = s.strip_prefix('#') {
         let end = rest
@@ -532,7 +603,7 @@ fn word_value<'a>(m: &Machine, s: &'a str) -> Result<(f64, &'a str), String> {
         let n: u32 = rest[..end]
             .parse()
             .map_err(|_| format!("bad variable in {s}"))?;
-        return Ok((var(m, n)?, &rest[end..]));
+        return Ok((var(&m.vars, n)?, &rest[end..]));
     }
     let end = s
         .char_indices()
@@ -540,213 +611,6 @@ fn word_value<'a>(m: &Machine, s: &'a str) -> Result<(f64, &'a str), String> {
         .map_or(s.len(), |(i, _)| i);
     let v: f64 = s[..end].parse().map_err(|_| format!("bad number in {s}"))?;
     Ok((v, &s[end..]))
-}
-
-fn var(m: &Machine, n: u32) -> Result<f64, String> {
-    m.vars
-        .get(&n)
-        .copied()
-        .ok_or_else(|| format!("#{n} is used before it is set"))
-}
-
-/// Evaluates an expression (the subset's grammar, with precedence
-/// OR < AND < comparison < + - < * / < unary < primary).
-fn eval(m: &Machine, s: &str) -> Result<f64, String> {
-    let tokens = tokenize(s)?;
-    let mut p = Parser { m, tokens, i: 0 };
-    let v = p.or()?;
-    if p.i != p.tokens.len() {
-        return Err(format!("unexpected {:?} in {s}", p.tokens[p.i]));
-    }
-    Ok(v)
-}
-
-#[derive(Debug, Clone, PartialEq)]
-enum Tok {
-    Num(f64),
-    Var(u32),
-    Word(String),
-    Op(char),
-    Open,
-    Close,
-}
-
-fn tokenize(s: &str) -> Result<Vec<Tok>, String> {
-    let mut out = Vec::new();
-    let cs: Vec<char> = s.chars().collect();
-    let mut i = 0;
-    while i < cs.len() {
-        let c = cs[i];
-        if c.is_whitespace() {
-            i += 1;
-        } else if c.is_ascii_digit() || c == '.' {
-            let start = i;
-            while i < cs.len() && (cs[i].is_ascii_digit() || cs[i] == '.') {
-                i += 1;
-            }
-            let t: String = cs[start..i].iter().collect();
-            out.push(Tok::Num(t.parse().map_err(|_| format!("bad number {t}"))?));
-        } else if c == '#' {
-            let start = i + 1;
-            i += 1;
-            while i < cs.len() && cs[i].is_ascii_digit() {
-                i += 1;
-            }
-            let t: String = cs[start..i].iter().collect();
-            out.push(Tok::Var(
-                t.parse().map_err(|_| format!("bad variable #{t}"))?,
-            ));
-        } else if c.is_ascii_alphabetic() {
-            let start = i;
-            while i < cs.len() && cs[i].is_ascii_alphabetic() {
-                i += 1;
-            }
-            out.push(Tok::Word(cs[start..i].iter().collect()));
-        } else if "+-*/".contains(c) {
-            out.push(Tok::Op(c));
-            i += 1;
-        } else if c == '[' {
-            out.push(Tok::Open);
-            i += 1;
-        } else if c == ']' {
-            out.push(Tok::Close);
-            i += 1;
-        } else {
-            return Err(format!("character {c:?} outside the subset"));
-        }
-    }
-    Ok(out)
-}
-
-struct Parser<'a> {
-    m: &'a Machine,
-    tokens: Vec<Tok>,
-    i: usize,
-}
-
-impl Parser<'_> {
-    fn peek_word(&self, w: &str) -> bool {
-        matches!(self.tokens.get(self.i), Some(Tok::Word(x)) if x == w)
-    }
-
-    fn or(&mut self) -> Result<f64, String> {
-        let mut v = self.and()?;
-        while self.peek_word("OR") {
-            self.i += 1;
-            let r = self.and()?;
-            v = f64::from(u8::from(v != 0.0 || r != 0.0));
-        }
-        Ok(v)
-    }
-
-    fn and(&mut self) -> Result<f64, String> {
-        let mut v = self.cmp()?;
-        while self.peek_word("AND") {
-            self.i += 1;
-            let r = self.cmp()?;
-            v = f64::from(u8::from(v != 0.0 && r != 0.0));
-        }
-        Ok(v)
-    }
-
-    fn cmp(&mut self) -> Result<f64, String> {
-        let a = self.sum()?;
-        for op in ["EQ", "NE", "GT", "GE", "LT", "LE"] {
-            if self.peek_word(op) {
-                self.i += 1;
-                let b = self.sum()?;
-                let t = match op {
-                    "EQ" => a == b,
-                    "NE" => a != b,
-                    "GT" => a > b,
-                    "GE" => a >= b,
-                    "LT" => a < b,
-                    _ => a <= b,
-                };
-                return Ok(f64::from(u8::from(t)));
-            }
-        }
-        Ok(a)
-    }
-
-    fn sum(&mut self) -> Result<f64, String> {
-        let mut v = self.product()?;
-        while let Some(Tok::Op(c @ ('+' | '-'))) = self.tokens.get(self.i).cloned() {
-            self.i += 1;
-            let r = self.product()?;
-            v = if c == '+' { v + r } else { v - r };
-        }
-        Ok(v)
-    }
-
-    fn product(&mut self) -> Result<f64, String> {
-        let mut v = self.unary()?;
-        while let Some(Tok::Op(c @ ('*' | '/'))) = self.tokens.get(self.i).cloned() {
-            self.i += 1;
-            let r = self.unary()?;
-            if c == '/' && r == 0.0 {
-                return Err("division by zero".into());
-            }
-            v = if c == '*' { v * r } else { v / r };
-        }
-        Ok(v)
-    }
-
-    fn unary(&mut self) -> Result<f64, String> {
-        match self.tokens.get(self.i) {
-            Some(Tok::Op('-')) => {
-                self.i += 1;
-                Ok(-self.unary()?)
-            }
-            Some(Tok::Op('+')) => {
-                self.i += 1;
-                self.unary()
-            }
-            _ => self.primary(),
-        }
-    }
-
-    fn primary(&mut self) -> Result<f64, String> {
-        let t = self
-            .tokens
-            .get(self.i)
-            .cloned()
-            .ok_or("an expression ends too soon")?;
-        self.i += 1;
-        match t {
-            Tok::Num(v) => Ok(v),
-            Tok::Var(n) => var(self.m, n),
-            Tok::Open => {
-                let v = self.or()?;
-                match self.tokens.get(self.i) {
-                    Some(Tok::Close) => {
-                        self.i += 1;
-                        Ok(v)
-                    }
-                    _ => Err("a [ is not closed".into()),
-                }
-            }
-            Tok::Word(f) => {
-                if self.tokens.get(self.i) != Some(&Tok::Open) {
-                    return Err(format!("{f} needs [ … ]"));
-                }
-                let x = self.primary()?;
-                Ok(match f.as_str() {
-                    "SIN" => x.to_radians().sin(),
-                    "COS" => x.to_radians().cos(),
-                    "TAN" => x.to_radians().tan(),
-                    "ATAN" => x.atan().to_degrees(),
-                    "SQRT" => x.sqrt(),
-                    "ABS" => x.abs(),
-                    "ROUND" => x.round(),
-                    "FIX" => x.trunc(),
-                    "FUP" => x.signum() * x.abs().ceil(),
-                    other => return Err(format!("function {other} outside the subset")),
-                })
-            }
-            other => Err(format!("unexpected {other:?}")),
-        }
-    }
 }
 
 #[cfg(test)]
