@@ -104,13 +104,38 @@ pub struct Spiral {
 /// the material; a hole too small for that is refused), and ends at
 /// Ro + rt + outer overtravel. n = ⌈|R1 − R2| / L⌉.
 pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
+    let mut errors = face_and_tool_errors(spec);
+    errors.extend(milling_errors(spec));
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    let (r1, r2) = centre_radii(spec)?;
+    let l = spec.step_over_mm;
+    let turns = ((r1 - r2).abs() / l - 1e-9).ceil().max(1.0) as u32;
+    Ok(Spiral {
+        start_radius_mm: r1,
+        end_radius_mm: r2,
+        start_angle_deg: spec.start_angle_deg,
+        turns,
+        sense: 1,
+    })
+}
+
+/// A finite number above zero.
+fn positive(v: f64) -> bool {
+    v.is_finite() && v > 0.0
+}
+
+/// The face and the tool checked: a positive outer radius, an inner radius
+/// of 0 (a full circle) or below the outer, a positive tool radius no
+/// larger than the face.
+fn face_and_tool_errors(spec: &SpiralSpec) -> Vec<JobError> {
     let mut errors = Vec::new();
     let Region {
         outer_radius_mm: ro,
         inner_radius_mm: ri,
     } = spec.region;
     let rt = spec.tool_radius_mm;
-    let positive = |v: f64| v.is_finite() && v > 0.0;
     if !positive(ro) {
         errors.push(Stage::Model.error(
             Code::SPIRAL_RANGE,
@@ -154,6 +179,14 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
             "a tool larger than the face: mill it in one plunge, not with a spiral",
         ));
     }
+    errors
+}
+
+/// The milling data checked: a positive step-over below the tool's
+/// diameter, overtravels of 0 mm or more, a finite start angle.
+fn milling_errors(spec: &SpiralSpec) -> Vec<JobError> {
+    let mut errors = Vec::new();
+    let rt = spec.tool_radius_mm;
     let l = spec.step_over_mm;
     if !positive(l) {
         errors.push(Stage::Model.error(
@@ -195,9 +228,20 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
             "the start angle must be a number",
         ));
     }
-    if !errors.is_empty() {
-        return Err(errors);
-    }
+    errors
+}
+
+/// R1 and R2 of a checked spec, in the direction it runs: the outer radius
+/// clear of the face and the largest inner radius that leaves no ring; a
+/// spiral without length, or an inside-out spiral whose hole has no room
+/// to plunge, is refused.
+fn centre_radii(spec: &SpiralSpec) -> Result<(f64, f64), Vec<JobError>> {
+    let Region {
+        outer_radius_mm: ro,
+        inner_radius_mm: ri,
+    } = spec.region;
+    let rt = spec.tool_radius_mm;
+    let l = spec.step_over_mm;
     let outer = ro + rt + spec.outer_overtravel_mm;
     // A spiral reaches its end radius only at its end angle: one turn
     // earlier it is a step-over further out. So the inner edge is covered
@@ -214,8 +258,8 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
             "the spiral has no length",
         )]);
     }
-    let (r1, r2) = match spec.direction {
-        Direction::OutsideIn => (outer, inner),
+    match spec.direction {
+        Direction::OutsideIn => Ok((outer, inner)),
         Direction::InsideOut => {
             // The tool plunges in the hole, clear of the material, as
             // outside-in it plunges clear of the outer edge: its centre
@@ -234,17 +278,9 @@ pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
                     "inside-out the tool plunges in the hole; in a smaller hole it would plunge into the face's material",
                 )]);
             }
-            (start, outer)
+            Ok((start, outer))
         }
-    };
-    let turns = ((r1 - r2).abs() / l - 1e-9).ceil().max(1.0) as u32;
-    Ok(Spiral {
-        start_radius_mm: r1,
-        end_radius_mm: r2,
-        start_angle_deg: spec.start_angle_deg,
-        turns,
-        sense: 1,
-    })
+    }
 }
 
 impl Spiral {
