@@ -182,103 +182,24 @@ fn every_move(moves: &[Move], model: &SpiralModel) -> Vec<PathFinding> {
     findings
 }
 
+/// The replayed moves against the model: the rules of every move, the
+/// depth passes, each pass's blocks, ends and distance from the spiral, and
+/// the retract at the end.
 fn compare(moves: &[Move], model: &SpiralModel) -> (Vec<PathFinding>, Replayed) {
     let mut findings = Vec::new();
     let spiral = spiral_of(model);
     let tol = model.cut.tolerance_mm;
     let total = std::f64::consts::TAU * f64::from(spiral.turns);
     findings.extend(every_move(moves, model));
-    // The passes: runs of feed moves at one depth below the face.
-    let mut passes: Vec<(f64, Vec<Piece>, (f64, f64))> = Vec::new();
-    let mut from = (0.0, 0.0, 0.0);
-    for m in moves {
-        let xy_moved = (m.x - from.0).abs() + (m.y - from.1).abs() > 1e-12;
-        if m.feed && m.z < 0.0 && xy_moved {
-            let start = (from.0, from.1);
-            let piece = match m.arc {
-                Some((centre, ccw)) => Piece::Arc(Arc {
-                    start,
-                    end: (m.x, m.y),
-                    centre,
-                    radius: ((start.0 - centre.0).powi(2) + (start.1 - centre.1).powi(2)).sqrt(),
-                    ccw,
-                    end_phi: 0.0,
-                }),
-                None => Piece::Line(start, (m.x, m.y)),
-            };
-            match passes.last_mut() {
-                Some((z, pieces, _)) if (*z - m.z).abs() < 1e-9 && (from.2 - m.z).abs() < 1e-9 => {
-                    pieces.push(piece)
-                }
-                _ => passes.push((m.z, vec![piece], start)),
-            }
-        }
-        from = (m.x, m.y, m.z);
-    }
-    let expected: Vec<f64> = (1..=model.cut.passes)
-        .map(|k| -model.cut.depth_mm * f64::from(k) / f64::from(model.cut.passes))
-        .collect();
-    let depths: Vec<f64> = passes.iter().map(|p| p.0).collect();
-    if depths.len() != expected.len()
-        || depths
-            .iter()
-            .zip(&expected)
-            .any(|(a, b)| (a - b).abs() > 1e-4)
-    {
-        findings.push(finding(
-            0,
-            Code::PASS_DEPTHS,
-            format!(
-                "the program cuts at Z {:?}; the model's passes are at Z {:?}",
-                depths, expected
-            ),
-        ));
-    }
+    let passes = passes(moves);
+    findings.extend(depth_finding(&passes, model));
     let mut worst: f64 = 0.0;
     let mut blocks = 0;
-    let begin = spiral.point_at(0.0);
-    let end = spiral.point_at(total);
-    for (z, pieces, start) in &passes {
-        blocks = pieces.len();
-        if blocks != model.spiral.blocks as usize {
-            findings.push(finding(
-                0,
-                Code::BLOCK_COUNT,
-                format!(
-                    "the pass at Z{z:.4} has {blocks} blocks along the spiral; the model has {}",
-                    model.spiral.blocks
-                ),
-            ));
-        }
-        let last = match pieces.last() {
-            Some(Piece::Line(_, b)) => *b,
-            Some(Piece::Arc(a)) => a.end,
-            None => *start,
-        };
-        for (what, got, want) in [("starts", *start, begin), ("ends", last, end)] {
-            let d = ((got.0 - want.0).powi(2) + (got.1 - want.1).powi(2)).sqrt();
-            if d > PRINT_SLACK_MM {
-                findings.push(finding(
-                    0,
-                    Code::SPIRAL_ENDS,
-                    format!(
-                        "the pass at Z{z:.4} {what} at X{:.4} Y{:.4}, {d:.4} mm from the model's X{:.4} Y{:.4}",
-                        got.0, got.1, want.0, want.1
-                    ),
-                ));
-            }
-        }
-        // Every spiral point near the path: the pieces run in order, so a
-        // window moving with the nearest piece suffices.
-        let mut i = 0usize;
-        for k in 0..=SAMPLES {
-            let p = spiral.point_at(total * k as f64 / SAMPLES as f64);
-            let (best, d) = (i.saturating_sub(2)..(i + 3).min(pieces.len()))
-                .map(|j| (j, pieces[j].distance(p)))
-                .fold((i, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
-            i = best;
-            worst = worst.max(d);
-        }
+    let ends = (spiral.point_at(0.0), spiral.point_at(total));
+    for pass in &passes {
+        blocks = pass.pieces.len();
+        findings.extend(pass_findings(pass, model, ends));
+        worst = deviation(&spiral, total, &pass.pieces, worst);
     }
     if worst > tol * 1.01 + PRINT_SLACK_MM {
         findings.push(finding(
@@ -309,4 +230,129 @@ fn compare(moves: &[Move], model: &SpiralModel) -> (Vec<PathFinding>, Replayed) 
             passes: passes.len(),
         },
     )
+}
+
+/// A depth pass of the replay: its depth, its pieces along the spiral and
+/// where it starts.
+struct Pass {
+    z: f64,
+    pieces: Vec<Piece>,
+    start: (f64, f64),
+}
+
+/// The passes: runs of feed moves at one depth below the face, each a line
+/// or an arc in X/Y.
+fn passes(moves: &[Move]) -> Vec<Pass> {
+    let mut passes: Vec<Pass> = Vec::new();
+    let mut from = (0.0, 0.0, 0.0);
+    for m in moves {
+        let xy_moved = (m.x - from.0).abs() + (m.y - from.1).abs() > 1e-12;
+        if m.feed && m.z < 0.0 && xy_moved {
+            let start = (from.0, from.1);
+            let piece = match m.arc {
+                Some((centre, ccw)) => Piece::Arc(Arc {
+                    start,
+                    end: (m.x, m.y),
+                    centre,
+                    radius: ((start.0 - centre.0).powi(2) + (start.1 - centre.1).powi(2)).sqrt(),
+                    ccw,
+                    end_phi: 0.0,
+                }),
+                None => Piece::Line(start, (m.x, m.y)),
+            };
+            match passes.last_mut() {
+                Some(p) if (p.z - m.z).abs() < 1e-9 && (from.2 - m.z).abs() < 1e-9 => {
+                    p.pieces.push(piece)
+                }
+                _ => passes.push(Pass {
+                    z: m.z,
+                    pieces: vec![piece],
+                    start,
+                }),
+            }
+        }
+        from = (m.x, m.y, m.z);
+    }
+    passes
+}
+
+/// The passes' depths against the model's: the cut's depth in equal steps.
+fn depth_finding(passes: &[Pass], model: &SpiralModel) -> Option<PathFinding> {
+    let expected: Vec<f64> = (1..=model.cut.passes)
+        .map(|k| -model.cut.depth_mm * f64::from(k) / f64::from(model.cut.passes))
+        .collect();
+    let depths: Vec<f64> = passes.iter().map(|p| p.z).collect();
+    if depths.len() != expected.len()
+        || depths
+            .iter()
+            .zip(&expected)
+            .any(|(a, b)| (a - b).abs() > 1e-4)
+    {
+        return Some(finding(
+            0,
+            Code::PASS_DEPTHS,
+            format!(
+                "the program cuts at Z {:?}; the model's passes are at Z {:?}",
+                depths, expected
+            ),
+        ));
+    }
+    None
+}
+
+/// One pass against the model: its block count, and its start and end
+/// against the spiral's (`ends`), within the printed rounding.
+fn pass_findings(
+    pass: &Pass,
+    model: &SpiralModel,
+    (begin, end): ((f64, f64), (f64, f64)),
+) -> Vec<PathFinding> {
+    let mut findings = Vec::new();
+    let (z, pieces, start) = (pass.z, &pass.pieces, &pass.start);
+    let blocks = pieces.len();
+    if blocks != model.spiral.blocks as usize {
+        findings.push(finding(
+            0,
+            Code::BLOCK_COUNT,
+            format!(
+                "the pass at Z{z:.4} has {blocks} blocks along the spiral; the model has {}",
+                model.spiral.blocks
+            ),
+        ));
+    }
+    let last = match pieces.last() {
+        Some(Piece::Line(_, b)) => *b,
+        Some(Piece::Arc(a)) => a.end,
+        None => *start,
+    };
+    for (what, got, want) in [("starts", *start, begin), ("ends", last, end)] {
+        let d = ((got.0 - want.0).powi(2) + (got.1 - want.1).powi(2)).sqrt();
+        if d > PRINT_SLACK_MM {
+            findings.push(finding(
+                0,
+                Code::SPIRAL_ENDS,
+                format!(
+                    "the pass at Z{z:.4} {what} at X{:.4} Y{:.4}, {d:.4} mm from the model's X{:.4} Y{:.4}",
+                    got.0, got.1, want.0, want.1
+                ),
+            ));
+        }
+    }
+    findings
+}
+
+/// The largest of `worst` and the distances of the spiral's sample points
+/// (over its whole sweep `total`, radians) from a pass's pieces. The pieces
+/// run in order, so a window moving with the nearest piece suffices.
+fn deviation(spiral: &Spiral, total: f64, pieces: &[Piece], mut worst: f64) -> f64 {
+    let mut i = 0usize;
+    for k in 0..=SAMPLES {
+        let p = spiral.point_at(total * k as f64 / SAMPLES as f64);
+        let (best, d) = (i.saturating_sub(2)..(i + 3).min(pieces.len()))
+            .map(|j| (j, pieces[j].distance(p)))
+            .fold((i, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+        i = best;
+        worst = worst.max(d);
+    }
+    worst
 }
