@@ -35,6 +35,7 @@ pub mod pinion;
 pub mod programs;
 pub mod threeb;
 pub mod verify;
+mod winding;
 
 /// A piece of a wire path: a line or a circular arc, in mm.
 #[derive(Debug, Clone, Copy, PartialEq)]

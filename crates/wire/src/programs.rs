@@ -18,6 +18,7 @@ use crate::fourb;
 use crate::iso::{self, IsoProgram};
 use crate::offset::{offset, Side};
 use crate::verify::{measure, Measure, SAMPLES};
+use crate::winding::{lead_crossing, winding};
 use crate::{threeb, Segment};
 
 /// How far outside the tip circle a punch's start hole lies, mm.
@@ -330,14 +331,44 @@ pub fn certify(
     layout: &Layout,
     tolerances: (f64, f64),
 ) -> Result<Certificate, Problem> {
-    let unreadable = |e: String| {
-        replay_problem(
-            Code::WIRE_REPLAY_FAILED,
-            "a program the reader follows".into(),
-            e,
-            "the program cannot be read back".into(),
-        )
-    };
+    let Replayed {
+        start,
+        lead_in,
+        contour,
+        lead_out,
+        blocks,
+        compensation,
+    } = read_back(text, form, layout)?;
+    let path = wire_path(form, cut, &contour, compensation)?;
+    // The measure below is a distance from the outline: blind to the side.
+    // The wire runs in the scrap — inside a die's opening, outside a punch —
+    // or the part comes out a wire's width too large or too small.
+    let scrap_inside = cut.side == Side::Right;
+    check_scrap_side(cut, &path, scrap_inside)?;
+    check_lead_out_end(start, &lead_out)?;
+    check_leads(&lead_in, &lead_out, &contour, scrap_inside)?;
+    let m = measure(&cut.outline, &path, cut.offset_mm, SAMPLES);
+    check_measure(&m, tolerances)?;
+    Ok(Certificate {
+        measure: m,
+        blocks,
+        bytes: text.len() as u32,
+    })
+}
+
+/// A program the certificate cannot read back or replay: `WIRE_REPLAY_FAILED`.
+fn unreadable(e: String) -> Problem {
+    replay_problem(
+        Code::WIRE_REPLAY_FAILED,
+        "a program the reader follows".into(),
+        e,
+        "the program cannot be read back".into(),
+    )
+}
+
+/// The program read back and replayed as its form is run, which must
+/// start at the job's start hole.
+fn read_back(text: &str, form: WireProgram, layout: &Layout) -> Result<Replayed, Problem> {
     let replayed = match form {
         WireProgram::ThreeB | WireProgram::FourB => replay_b(text, form, layout.start_hole),
         WireProgram::IsoWire => replay_iso(text),
@@ -349,31 +380,34 @@ pub fn certify(
             replayed.start.0, replayed.start.1, layout.start_hole.0, layout.start_hole.1
         )));
     }
-    let Replayed {
-        start,
-        lead_in,
-        contour,
-        lead_out,
-        blocks,
-        compensation,
-    } = replayed;
-    // 3B is the wire's path; 4B is set off by the control for the job's
-    // wire (each arc's R and L3/L4 as written); ISO by the side and D value
-    // the program itself sets.
+    Ok(replayed)
+}
+
+/// The wire's path of the replayed contour. 3B is the wire's path; 4B is
+/// set off by the control for the job's wire (each arc's R and L3/L4 as
+/// written); ISO by the side and D value the program itself sets.
+fn wire_path(
+    form: WireProgram,
+    cut: &Cut,
+    contour: &[Segment],
+    compensation: Option<(Side, f64)>,
+) -> Result<Vec<Segment>, Problem> {
     let (side, d) = compensation.unwrap_or((cut.side, cut.offset_mm));
-    let path = match form {
-        WireProgram::ThreeB => contour.clone(),
-        _ => offset(&contour, side, d).map_err(|e| {
+    match form {
+        WireProgram::ThreeB => Ok(contour.to_vec()),
+        _ => offset(contour, side, d).map_err(|e| {
             unreadable(format!(
                 "the control's offset fails at contour move {}: {e}",
                 e.index + 1
             ))
-        })?,
-    };
-    // The measure below is a distance from the outline: blind to the side.
-    // The wire runs in the scrap — inside a die's opening, outside a punch —
-    // or the part comes out a wire's width too large or too small.
-    let scrap_inside = cut.side == Side::Right;
+        }),
+    }
+}
+
+/// The wire on the scrap side of the outline (inside a die's opening,
+/// outside a punch), tried at the middle of some sixteen moves spread
+/// along the path: `WIRE_DEVIATION` if not.
+fn check_scrap_side(cut: &Cut, path: &[Segment], scrap_inside: bool) -> Result<(), Problem> {
     if let Some(p) = path
         .iter()
         .step_by((path.len() / 16).max(1))
@@ -392,6 +426,12 @@ pub fn certify(
             "the replayed program sets the wire off to the wrong side of the outline (G41/G42, or the path itself)".into(),
         ));
     }
+    Ok(())
+}
+
+/// The lead-out back at the start hole, where the program began:
+/// `WIRE_LEAD_OUT` if not.
+fn check_lead_out_end(start: (f64, f64), lead_out: &Ran) -> Result<(), Problem> {
     let end = lead_out.segment.to();
     if distance(end, start) > END_MM {
         return Err(replay_problem(
@@ -410,12 +450,23 @@ pub fn certify(
             "the program does not end where it began: the lead-out would cut elsewhere".into(),
         ));
     }
-    // 3B is the wire's path; 4B and ISO the outline the control sets off.
+    Ok(())
+}
+
+/// The lead-in and lead-out through the scrap only, clear of the kept
+/// part: `WIRE_LEAD_CROSSES_PART` if not. 3B is the wire's path; 4B and ISO
+/// the outline the control sets off.
+fn check_leads(
+    lead_in: &Ran,
+    lead_out: &Ran,
+    contour: &[Segment],
+    scrap_inside: bool,
+) -> Result<(), Problem> {
     for (name, lead, join) in [
-        ("lead-in", &lead_in, contour[0].from()),
-        ("lead-out", &lead_out, contour[contour.len() - 1].to()),
+        ("lead-in", lead_in, contour[0].from()),
+        ("lead-out", lead_out, contour[contour.len() - 1].to()),
     ] {
-        if let Some(place) = lead_crossing(&lead.segment, join, &contour, scrap_inside) {
+        if let Some(place) = lead_crossing(&lead.segment, join, contour, scrap_inside) {
             let kept = if scrap_inside {
                 "the die plate"
             } else {
@@ -432,8 +483,13 @@ pub fn certify(
             ));
         }
     }
-    let m = measure(&cut.outline, &path, cut.offset_mm, SAMPLES);
-    let (flank_tol, fillet_tol) = tolerances;
+    Ok(())
+}
+
+/// The measure against the tolerances (flank, fillet): within them on the
+/// flanks and fillets (`WIRE_DEVIATION`), closed within the flank's and
+/// once round the part (`WIRE_CLOSURE`).
+fn check_measure(m: &Measure, (flank_tol, fillet_tol): (f64, f64)) -> Result<(), Problem> {
     if m.flank_mm > flank_tol || m.fillet_mm > fillet_tol {
         return Err(replay_problem(
             Code::WIRE_DEVIATION,
@@ -461,11 +517,7 @@ pub fn certify(
             "the replayed program does not close on itself".into(),
         ));
     }
-    Ok(Certificate {
-        measure: m,
-        blocks,
-        bytes: text.len() as u32,
-    })
+    Ok(())
 }
 
 /// How far the replayed end may lie from the start hole, mm: the 3B/4B
@@ -611,58 +663,6 @@ fn replay_iso(text: &str) -> Result<Replayed, String> {
     let mut replayed = Replayed::of(r.start, ran, blocks.len() as u32)?;
     replayed.compensation = Some((side, offset_mm));
     Ok(replayed)
-}
-
-/// Where a lead — a line from the start hole to the contour's point `join`
-/// — enters the kept part: the start hole itself when it lies in the part
-/// (inside the contour for a punch, outside for a die's opening), else the
-/// first point where the line meets the contour away from `join` (2 µm).
-fn lead_crossing(
-    lead: &Segment,
-    join: (f64, f64),
-    contour: &[Segment],
-    scrap_inside: bool,
-) -> Option<(f64, f64)> {
-    let (a, b) = (lead.from(), lead.to());
-    let hole = if distance(a, join) < distance(b, join) {
-        b
-    } else {
-        a
-    };
-    let inside = winding(hole, contour).abs() > 0.5;
-    if inside != scrap_inside {
-        return Some(hole);
-    }
-    let mut hits: Vec<(f64, f64)> = contour
-        .iter()
-        .flat_map(|s| crate::intersect::line_segment(a, b, s))
-        .filter(|&p| distance(p, join) > 0.002)
-        .collect();
-    hits.sort_by(|p, q| distance(*p, hole).total_cmp(&distance(*q, hole)));
-    hits.first().copied()
-}
-
-/// Turns of the closed `path` about `p` (counter-clockwise positive), from
-/// points 1° apart at most on every arc.
-fn winding(p: (f64, f64), path: &[Segment]) -> f64 {
-    let mut angle = 0.0;
-    let mut last: Option<f64> = None;
-    let mut add = |q: (f64, f64)| {
-        let a = (q.1 - p.1).atan2(q.0 - p.0);
-        if let Some(l) = last {
-            angle += (a - l + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-                - std::f64::consts::PI;
-        }
-        last = Some(a);
-    };
-    for s in path {
-        let arc = s.arc();
-        let n = (s.sweep().to_degrees().ceil() as usize).max(1);
-        for i in 0..=n {
-            add(arc.point_at(arc.length * i as f64 / n as f64));
-        }
-    }
-    angle / std::f64::consts::TAU
 }
 
 /// A die job made: the cut, the program and its certificate.
