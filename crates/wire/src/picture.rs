@@ -9,6 +9,7 @@ use svg::node::element::path::Data;
 use svg::node::element::{Circle, Group, Path, Text, SVG};
 use svg::Document;
 
+use crate::outline::Outline;
 use crate::programs::Made;
 use crate::Segment;
 use gearcam_geom::plane::rotate;
@@ -43,11 +44,33 @@ fn stroke(d: Data, colour: &str, width: f64) -> Path {
         .set("stroke-width", width)
 }
 
-/// The SVG of a made die job.
+/// The SVG of a made die job: the tooth space on the left, the whole part
+/// on the right, the title and the caption below.
 pub fn die_svg(made: &Made, title: &str) -> String {
+    let (left, caption) = tooth_space_view(made);
+    let right = whole_part_view(made);
+    Document::new()
+        .set("viewBox", (0, 0, 1200, 660))
+        .set("width", 1200)
+        .set("height", 660)
+        .add(left)
+        .add(right)
+        .add(
+            Text::new(format!("{title} — {caption}"))
+                .set("x", 10)
+                .set("y", 640)
+                .set("font-size", 13)
+                .set("font-family", "sans-serif"),
+        )
+        .to_string()
+}
+
+/// The left view, framed on one tooth space: the theoretical outline, the
+/// fitted arcs with their deviation magnified, and the wire's path; and
+/// the caption that says what it shows, with the certificate's measure.
+fn tooth_space_view(made: &Made) -> (SVG, String) {
     let o = &made.cut.outline;
     let z = f64::from(o.teeth);
-    let f = &o.figures;
     // The tooth space counter-clockwise of the tooth on +Y.
     let theory = o.theory_space(200);
     let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
@@ -61,11 +84,41 @@ pub fn die_svg(made: &Made, title: &str) -> String {
     let side = (x1 - x0).max(y1 - y0) + 2.0 * margin;
     let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
     let w = side / 500.0;
-    let mut space = Group::new().add(stroke(polyline(&theory), "black", 2.0 * w));
-    // The arcs of that space: the contour's last period turned back one
-    // pitch lies there (the contour runs clockwise from the tooth on +Y).
+    let space = Group::new().add(stroke(polyline(&theory), "black", 2.0 * w));
     let per = o.period.len();
     let pitch = std::f64::consts::TAU / z;
+    let mut space = fitted_arcs(space, o, pitch, w);
+    let path_pts: Vec<(f64, f64)> = made
+        .cut
+        .path
+        .iter()
+        .take(made.cut.path.len() / o.teeth as usize)
+        .flat_map(|s| points_of(&s.map(|p| rotate(p, pitch)), 30))
+        .collect();
+    let dash = stroke(polyline(&path_pts), "#2171b5", 1.5 * w)
+        .set("stroke-dasharray", format!("{} {}", 8.0 * w, 4.0 * w));
+    space = space.add(dash);
+    let m = &made.certificate.measure;
+    let caption = format!(
+        "one tooth space: outline (black), {} arcs (green/orange), wire path (blue), deviation x{} (pink): flank {:.3} um, fillet {:.3} um",
+        per, MAGNIFY, m.flank_mm * 1e3, m.fillet_mm * 1e3
+    );
+    let left = SVG::new()
+        .set("x", 0)
+        .set("y", 0)
+        .set("width", 600)
+        .set("height", 600)
+        .set("viewBox", (cx - side / 2.0, -cy - side / 2.0, side, side))
+        .add(space);
+    (left, caption)
+}
+
+/// `space` with the fitted arcs of the tooth space in alternating colours,
+/// a dot at each junction, and the outline's distance from them magnified
+/// [`MAGNIFY`] times along their normals (line width `w`). The arcs of that
+/// space: the contour's last period turned back one pitch lies there (the
+/// contour runs clockwise from the tooth on +Y).
+fn fitted_arcs(mut space: Group, o: &Outline, pitch: f64, w: f64) -> Group {
     let arcs: Vec<Segment> = o
         .period
         .iter()
@@ -94,30 +147,14 @@ pub fn die_svg(made: &Made, title: &str) -> String {
             magnified.push((q.0 + k * n.0, q.1 + k * n.1));
         }
     }
-    space = space.add(stroke(polyline(&magnified), "#e7298a", 1.5 * w));
-    let path_pts: Vec<(f64, f64)> = made
-        .cut
-        .path
-        .iter()
-        .take(made.cut.path.len() / o.teeth as usize)
-        .flat_map(|s| points_of(&s.map(|p| rotate(p, pitch)), 30))
-        .collect();
-    let dash = stroke(polyline(&path_pts), "#2171b5", 1.5 * w)
-        .set("stroke-dasharray", format!("{} {}", 8.0 * w, 4.0 * w));
-    space = space.add(dash);
-    let m = &made.certificate.measure;
-    let caption = format!(
-        "one tooth space: outline (black), {} arcs (green/orange), wire path (blue), deviation x{} (pink): flank {:.3} um, fillet {:.3} um",
-        per, MAGNIFY, m.flank_mm * 1e3, m.fillet_mm * 1e3
-    );
-    let left = SVG::new()
-        .set("x", 0)
-        .set("y", 0)
-        .set("width", 600)
-        .set("height", 600)
-        .set("viewBox", (cx - side / 2.0, -cy - side / 2.0, side, side))
-        .add(space);
-    // The whole part.
+    space.add(stroke(polyline(&magnified), "#e7298a", 1.5 * w))
+}
+
+/// The right view: the whole part's contour, the wire's path, the lead-in
+/// (dashed) from the start hole and the hole itself, framed to the largest
+/// of the path, the tip circle and the start hole.
+fn whole_part_view(made: &Made) -> SVG {
+    let f = &made.cut.outline.figures;
     let extent = made
         .cut
         .path
@@ -154,25 +191,11 @@ pub fn die_svg(made: &Made, title: &str) -> String {
                 .set("stroke", "black")
                 .set("stroke-width", ww),
         );
-    let right = SVG::new()
+    SVG::new()
         .set("x", 600)
         .set("y", 0)
         .set("width", 600)
         .set("height", 600)
         .set("viewBox", (-extent, -extent, 2.0 * extent, 2.0 * extent))
-        .add(whole);
-    Document::new()
-        .set("viewBox", (0, 0, 1200, 660))
-        .set("width", 1200)
-        .set("height", 660)
-        .add(left)
-        .add(right)
-        .add(
-            Text::new(format!("{title} — {caption}"))
-                .set("x", 10)
-                .set("y", 640)
-                .set("font-size", 13)
-                .set("font-family", "sans-serif"),
-        )
-        .to_string()
+        .add(whole)
 }
