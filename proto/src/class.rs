@@ -117,7 +117,8 @@ mod tests {
     use crate::job::JobSpec;
 
     fn class_of(s: &JobSpec) -> GearClass {
-        classify(s.gear.as_ref().expect("a gear"), &s.units)
+        let h = s.hobbing().expect("a hobbing job");
+        classify(h.gear.as_ref().expect("a gear"), &h.units)
     }
 
     /// A job from JSON: a spur gear plus `gear_extra` keys in `[gear]` and
@@ -164,7 +165,7 @@ mod tests {
             "",
         );
         assert_eq!(
-            unit_markers(s.gear.as_ref().unwrap()),
+            unit_markers(s.hobbing().unwrap().gear.as_ref().unwrap()),
             vec![GearClass::CurvedTooth, GearClass::Conical]
         );
         assert_eq!(class_of(&s), GearClass::CurvedTooth);

@@ -549,8 +549,8 @@ catalogue! {
     SAFETY_RANGE: "model",
         "The safety distance is negative.",
         "Correct `process.safety_mm`.";
-    SECTION_FAMILY: "knowledge",
-        "A job file carries a section of another part family (`[gear]` in a spiral face milling job, `[face]` in a hobbing job, `[die]` in either), or both `[face]` and `[groove]`.",
+    SECTION_FAMILY: "station, knowledge",
+        "A job file carries a section of another part family (`[gear]` in a spiral face milling job, `[face]` in a hobbing job, `[die]` in either; refused when the file is read), or a spiral job both `[face]` and `[groove]`, or a family's planner was handed another family's job.",
         "Remove the section, or set `[job]` family to the job's family.";
     SETUP: "template (path check)",
         "Path check finding: the program does not set unit, work offset, diameter mode or G-code system as the machine profile needs, or writes a parameter outside the profile's free block.",

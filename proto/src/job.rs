@@ -1,31 +1,32 @@
-//! The job: what a planning office asks for. The same structure is the TOML job
-//! file (`examples/*.toml`) and the body of the [`JobRequest`] message.
+//! The job: what a planning office asks for, typed by its part family. The
+//! same structure is the TOML job file (`examples/*.toml`) and the body of the
+//! [`JobRequest`] message.
 //!
-//! Drawing data is required: in the `[gear]` section, or by a `[job]
-//! part_number` that names a workpiece in the knowledge base's library (the
-//! knowledge service resolves the gear and the plan carries it, see
-//! [`crate::ProcessPlan::gear`]).
-//! Everything else has a decided default that the knowledge service fills in
-//! and records as such. Unknown keys are rejected so a misspelt key never
-//! silently falls back to a default.
+//! A job file names its family in `[job] family`; each family has its own
+//! sections, and only those:
+//!
+//! | family | sections | module |
+//! |---|---|---|
+//! | `hobbing` (the default) | `[gear]`, `[hob]`, `[process]`, `[options]`, `[[units]]` | [`crate::hobbing`] |
+//! | `spiral-face` | `[face]` or `[groove]`, `[mill]`, `[milling]` | [`crate::milling`] |
+//! | `wire-edm` | `[die]`, `[wire]` | [`crate::die`] |
+//!
+//! [`JobSpec`] holds the header and one [`FamilySpec`] variant, so code that
+//! plans a family reads that family's sections and nothing else. A section of
+//! another family is refused when the job is decoded (a job file, a request on
+//! the bus): [`ForeignSections`] names every such section. On the wire and in
+//! a job file the job keeps its flat shape ([`JobFile`]: the header and the
+//! sections side by side), so readers in other languages see one table per
+//! section as before.
 
 use serde::{Deserialize, Serialize};
 
 use crate::codec::Message;
-pub use crate::cutting::CutMode;
-use crate::ids::{HobId, JobId, MachineId};
-
-/// Hand of a helix (gear tooth trace or hob thread).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Hand {
-    /// Right hand.
-    #[serde(alias = "rh", alias = "RH", alias = "R")]
-    Right,
-    /// Left hand.
-    #[serde(alias = "lh", alias = "LH", alias = "L")]
-    Left,
-}
+use crate::die::{DieSpec, WireOverrides};
+use crate::hobbing::one;
+pub use crate::hobbing::*;
+use crate::ids::{JobId, MachineId};
+use crate::milling::{FaceSpec, GrooveSpec, MillSpec, MillingOverrides};
 
 /// The part family of a job: which process, which stages' models.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -43,12 +44,24 @@ pub enum Family {
 }
 
 impl Family {
+    /// Every family, in the order documents list them.
+    pub const ALL: [Family; 3] = [Family::Hobbing, Family::SpiralFace, Family::WireEdm];
+
     /// The name as written in job files.
     pub fn as_str(self) -> &'static str {
         match self {
             Family::Hobbing => "hobbing",
             Family::SpiralFace => "spiral-face",
             Family::WireEdm => "wire-edm",
+        }
+    }
+
+    /// The sections a job of this family may have, as a job file writes them.
+    pub fn sections(self) -> &'static [&'static str] {
+        match self {
+            Family::Hobbing => &["[gear]", "[hob]", "[process]", "[options]", "[[units]]"],
+            Family::SpiralFace => &["[face] or [groove]", "[mill]", "[milling]"],
+            Family::WireEdm => &["[die]", "[wire]"],
         }
     }
 }
@@ -131,444 +144,334 @@ pub fn non_finite(spec: &JobSpec) -> Option<(String, f64)> {
     walk(&toml::Value::try_from(spec).ok()?, "")
 }
 
-/// `[gear]`: drawing data of the gear (patent step 1, workpiece parameters).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct GearSpec {
-    /// Normal module mn, mm.
-    pub module_mm: f64,
-    /// Number of teeth z.
-    pub teeth: u32,
-    /// Normal pressure angle αn, degrees (default 20).
-    #[serde(default = "twenty")]
-    pub pressure_angle_deg: f64,
-    /// Helix angle β at the reference circle, degrees, magnitude (default 0 = spur).
-    #[serde(default)]
-    pub helix_angle_deg: f64,
-    /// Hand of the helix; required when the helix angle is not zero.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub helix_hand: Option<Hand>,
-    /// Face width b, mm.
-    pub face_width_mm: f64,
-    /// Profile shift coefficient x (default 0).
-    #[serde(default)]
-    pub profile_shift: f64,
-    /// Addendum coefficient ha* (default 1).
-    #[serde(default = "one_f")]
-    pub addendum_coef: f64,
-    /// Tip clearance coefficient c* (default 0.25).
-    #[serde(default = "quarter")]
-    pub clearance_coef: f64,
-    /// Blank outside diameter Da1, mm (default: the theoretical tip diameter).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub blank_od_mm: Option<f64>,
-    /// OD correction Δx added to every X position, mm (patent "X 方向修正量"; default 0).
-    #[serde(default)]
-    pub od_correction_mm: f64,
-    /// Material, e.g. `20CrMnTi`, `16MnCr5`, `42CrMo4`, `C45`, `GG25`.
-    #[serde(default = "unspecified")]
-    pub material: String,
-    /// Accuracy grade (ISO 1328 / GB 10095), 1–12 (default 8).
-    #[serde(default = "eight")]
-    pub quality_grade: u8,
-    /// Distance H from the lower tooth face to the table (fixture height), mm.
-    pub fixture_height_mm: f64,
-    /// Diameter of the fixture (riser, support ring) between the table and
-    /// the gear's lower face, mm (default: the machine profile's).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub fixture_diameter_mm: Option<f64>,
-    /// Ball (pin) diameter DM for the measurement over balls, mm (default 1.7·mn).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub ball_diameter_mm: Option<f64>,
-    /// The mating gear, for the pair geometry (working pressure angle, centre
-    /// distance, contact ratio).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub mate: Option<MateSpec>,
-    /// `[gear.cone]`: a conical involute gear (beveloid); tip and root on a cone.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub cone: Option<ConeSpec>,
-    /// `[gear.crowning]`: a crowned (barrel) gear.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub crowning: Option<CrowningSpec>,
-    /// `[gear.worm_wheel]`: a worm wheel (throated), hobbed radially or tangentially.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub worm_wheel: Option<WormWheelSpec>,
-    /// `[gear.curved_tooth]`: a gear with a curved tooth trace.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub curved_tooth: Option<CurvedToothSpec>,
-}
-
-/// `[gear.mate]`: the gear this one meshes with.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MateSpec {
-    /// Teeth of the mate z2.
-    pub teeth: u32,
-    /// Profile shift coefficient x2 (default 0).
-    #[serde(default)]
-    pub profile_shift: f64,
-    /// Tip diameter da2, mm (default d2 + 2·mn·(ha* + x2)).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tip_diameter_mm: Option<f64>,
-    /// Working centre distance, mm; when given the working pressure angle is
-    /// taken from it, otherwise from the sum of the profile shifts.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub centre_distance_mm: Option<f64>,
-}
-
-/// Which face of a conical gear has the larger diameter.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum LargeEnd {
-    /// The lower face (nearer the table).
-    #[default]
-    Bottom,
-    /// The upper face.
-    Top,
-}
-
-/// `[gear.cone]`: the cone of a conical involute gear.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ConeSpec {
-    /// Cone angle δ between the tip line and the gear axis, degrees (seed 000: 6.5°).
-    pub angle_deg: f64,
-    /// The face with the larger diameter (default bottom); `blank_od_mm` is taken there.
-    #[serde(default)]
-    pub large_end: LargeEnd,
-}
-
-/// Shape of a crowning.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum CrowningShape {
-    /// Circular arc (exact G2/G3 / CIP arc in X–Z).
-    #[default]
-    Circular,
-    /// Parabola, approximated by chords.
-    Parabolic,
-}
-
-/// `[gear.crowning]`: crowning along the face width.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CrowningSpec {
-    /// Crowning amount Cb: how much deeper the hob cuts (radially, X) at each face than in the middle, so the teeth are thickest in the middle, mm.
-    pub amount_mm: f64,
-    /// Shape (default circular).
-    #[serde(default)]
-    pub shape: CrowningShape,
-    /// Chord tolerance of a parabolic crowning, mm (default 0.001).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub chord_tolerance_mm: Option<f64>,
-}
-
-/// How a worm wheel is hobbed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum WormInfeed {
-    /// Radial infeed to the final centre distance.
-    #[default]
-    Radial,
-    /// Tangential infeed along the hob axis at the final centre distance.
-    Tangential,
-}
-
-/// `[gear.worm_wheel]`: hobbing data of a worm wheel.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct WormWheelSpec {
-    /// Infeed method (default radial).
-    #[serde(default)]
-    pub infeed: WormInfeed,
-    /// Radial feed per wheel revolution, mm/rev (default: a third of the axial feed).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub radial_feed_mm_per_rev: Option<f64>,
-    /// Tangential feed per wheel revolution, mm/rev (default: the axial feed).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tangential_feed_mm_per_rev: Option<f64>,
-    /// Dwell at the final centre distance, wheel revolutions (default 2).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub dwell_rev: Option<f64>,
-}
-
-/// `[gear.curved_tooth]`: a curved tooth trace (classified, not yet programmable).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CurvedToothSpec {
-    /// Radius of the tooth trace (cutter radius), mm.
-    pub trace_radius_mm: f64,
-}
-
-/// `[[units]]`: a further gear unit of a multi-gear (cluster) part. The job's
-/// `[gear]` and `[hob]` are the first unit, at Z offset 0.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct UnitSpec {
-    /// Name of the unit, e.g. `upper gear` (default `unit N`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub name: Option<String>,
-    /// Height of the unit's lower tooth face above the first unit's, mm.
-    pub z_offset_mm: f64,
-    /// Drawing data of the unit (its own class: cylindrical, conical, crowned).
-    pub gear: GearSpec,
-    /// The unit's hob, inline; empty means the job's hob.
-    #[serde(default)]
-    pub hob: HobSpec,
-}
-
-/// `[hob]`: either a library `id` or the hob's data inline, or nothing (the
-/// knowledge service then picks a matching hob from the library).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct HobSpec {
-    /// Hob id in the tool library.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub id: Option<HobId>,
-    /// Number of starts z0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub starts: Option<u32>,
-    /// Outside diameter da0, mm.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub od_mm: Option<f64>,
-    /// Normal module mn0, mm.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub module_mm: Option<f64>,
-    /// Normal pressure angle α0, degrees.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub pressure_angle_deg: Option<f64>,
-    /// Lead angle γ0 at the reference diameter, degrees.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub lead_angle_deg: Option<f64>,
-    /// Hand of the hob thread.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub hand: Option<Hand>,
-    /// Overall length, mm.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub length_mm: Option<f64>,
-}
-
-impl HobSpec {
-    /// True when any inline data field is given.
-    pub fn has_inline_data(&self) -> bool {
-        self.starts.is_some()
-            || self.od_mm.is_some()
-            || self.module_mm.is_some()
-            || self.pressure_angle_deg.is_some()
-            || self.lead_angle_deg.is_some()
-            || self.hand.is_some()
-            || self.length_mm.is_some()
-    }
-}
-
-/// Rough or finish hobbing.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Operation {
-    /// Roughing: the cut leaves stock for a later operation (finish hobbing,
-    /// shaving, grinding), as in seed 000's bevel-gear example.
-    Rough,
-    /// Finishing: the cut gives the final flanks (the default).
-    #[default]
-    Finish,
-}
-
-impl Operation {
-    /// As written in job files and the knowledge base: `rough` or `finish`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Operation::Rough => "rough",
-            Operation::Finish => "finish",
-        }
-    }
-}
-
-/// `[process]`: optional overrides of the proposed process data.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ProcessOverrides {
-    /// Rough or finish hobbing (default finish). Case retrieval proposes the
-    /// cutting data from cases of the same operation first (docs/knowledge.md#case-based-reasoning).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub operation: Option<Operation>,
-    /// Cutting mode (default conventional, as in the patent).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub cut_mode: Option<CutMode>,
-    /// Number of cuts: rough cuts leave `finish_allowance_mm`, the last cut finishes.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub cuts: Option<u32>,
-    /// Cutting speed vc, m/min.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub cutting_speed_m_min: Option<f64>,
-    /// Axial feed per workpiece revolution fa, mm/rev.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub feed_mm_per_rev: Option<f64>,
-    /// Radial cut depth h, mm (default: so that the final centre distance is the theoretical one).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub depth_mm: Option<f64>,
-    /// Safety distance added to the clearance ΔH′ in the Z positions, mm (default from the machine).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub safety_mm: Option<f64>,
-    /// Infeed mode of a cylindrical gear (default axial).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub infeed: Option<Infeed>,
-    /// Radial stock the rough cuts leave for the finishing cut, mm (default 0.1·mn).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub finish_allowance_mm: Option<f64>,
-    /// Axial feed of the finishing cut, mm/rev (default the rough feed).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub finish_feed_mm_per_rev: Option<f64>,
-    /// Radial feed of a radial plunge, mm per workpiece revolution (default a third of the axial feed).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub radial_feed_mm_per_rev: Option<f64>,
-    /// Hob shifting (patent: shift start, end, per step, parts per step).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub shift: Option<ShiftSpec>,
-}
-
-/// Infeed mode of hobbing.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Infeed {
-    /// Axial feed over the face width from outside the blank.
-    #[default]
-    Axial,
-    /// A radial plunge at the entry face, then axial feed.
-    RadialAxial,
-}
-
-/// When the hob shifts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ShiftMode {
-    /// After every `parts_per_step` parts.
-    #[default]
-    Part,
-    /// Before every cut after the first, and per part as well.
-    Cut,
-}
-
-/// `[process.shift]`: hob shifting along its axis (Y).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ShiftSpec {
-    /// Per part or per cut (default part).
-    #[serde(default)]
-    pub mode: ShiftMode,
-    /// First shift position relative to the hob centre, mm (default: the start of the usable range).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub start_mm: Option<f64>,
-    /// Last shift position, mm (default: the end of the usable range).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub end_mm: Option<f64>,
-    /// Shift per step, mm (default: one axial pitch of the hob, π·mn0/cos γ0).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub step_mm: Option<f64>,
-    /// Parts cut before each step (default 1).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub parts_per_step: Option<u32>,
-}
-
-/// `[options]`: machine functions switched on or off (patent "other parameters").
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Options {
-    /// Coolant on during cutting (default true).
-    #[serde(default = "yes")]
-    pub coolant: bool,
-    /// Outer hob support engaged (default false).
-    #[serde(default)]
-    pub outer_support: bool,
-    /// Fixture clamped (default true).
-    #[serde(default = "yes")]
-    pub fixture_clamp: bool,
-    /// Cancel the gearbox coupling at the end (default true).
-    #[serde(default = "yes")]
-    pub sync_cancel: bool,
-    /// Chip conveyor on (default true).
-    #[serde(default = "yes")]
-    pub chip_conveyor: bool,
-    /// Oil-mist separator on (default false).
-    #[serde(default)]
-    pub mist_separator: bool,
-}
-
-impl Default for Options {
-    fn default() -> Self {
-        Options {
-            coolant: true,
-            outer_support: false,
-            fixture_clamp: true,
-            sync_cancel: true,
-            chip_conveyor: true,
-            mist_separator: false,
-        }
-    }
-}
-
-/// A whole job file.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct JobSpec {
-    /// `[job]`
-    pub job: JobHeader,
+/// A hobbing job's sections.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct HobbingSpec {
     /// `[gear]`: the drawing data. A job file may leave the section out when
     /// its `part_number` names a workpiece in the knowledge base's library.
     /// The request keeps what was asked; the plan carries the resolved gear
     /// beside it ([`crate::ProcessPlan::gear`]), and every stage after the
     /// knowledge service reads that one.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gear: Option<GearSpec>,
     /// `[hob]`
-    #[serde(default)]
     pub hob: HobSpec,
     /// `[process]`
-    #[serde(default)]
     pub process: ProcessOverrides,
     /// `[options]`
-    #[serde(default)]
     pub options: Options,
     /// `[[units]]`: further gear units of a multi-gear part (empty for one gear).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub units: Vec<UnitSpec>,
-    /// `[face]` (spiral family): a circular or annular face.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub face: Option<crate::milling::FaceSpec>,
-    /// `[groove]` (spiral family): a planar spiral groove.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub groove: Option<crate::milling::GrooveSpec>,
-    /// `[mill]` (spiral family): the tool.
-    #[serde(default, skip_serializing_if = "is_default_mill")]
-    pub mill: crate::milling::MillSpec,
-    /// `[milling]` (spiral family): the process values fixed by the planner.
-    #[serde(default, skip_serializing_if = "is_default_milling")]
-    pub milling: crate::milling::MillingOverrides,
-    /// `[die]` (wire family): the gear whose punch or die is cut.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub die: Option<crate::die::DieSpec>,
-    /// `[wire]` (wire family): the wire and program fixed by the planner.
-    #[serde(default, skip_serializing_if = "is_default_wire")]
-    pub wire: crate::die::WireOverrides,
 }
 
-fn is_default_wire(w: &crate::die::WireOverrides) -> bool {
-    *w == crate::die::WireOverrides::default()
+/// A spiral face milling job's sections.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SpiralSpec {
+    /// `[face]`: a circular or annular face.
+    pub face: Option<FaceSpec>,
+    /// `[groove]`: a planar spiral groove.
+    pub groove: Option<GrooveSpec>,
+    /// `[mill]`: the tool.
+    pub mill: MillSpec,
+    /// `[milling]`: the process values fixed by the planner.
+    pub milling: MillingOverrides,
 }
 
-fn is_default_mill(m: &crate::milling::MillSpec) -> bool {
-    *m == crate::milling::MillSpec::default()
+/// A wire EDM job's sections.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct WireSpec {
+    /// `[die]`: the gear whose punch or die is cut.
+    pub die: Option<DieSpec>,
+    /// `[wire]`: the wire and program fixed by the planner.
+    pub wire: WireOverrides,
 }
 
-fn is_default_milling(m: &crate::milling::MillingOverrides) -> bool {
-    *m == crate::milling::MillingOverrides::default()
+/// The sections of a job, by its family.
+// A job is made once per request and moved whole; the hobbing sections are
+// the largest, and boxing them would buy nothing but indirection.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone, PartialEq)]
+pub enum FamilySpec {
+    /// Gear hobbing.
+    Hobbing(HobbingSpec),
+    /// Spiral face milling.
+    SpiralFace(SpiralSpec),
+    /// Wire EDM.
+    WireEdm(WireSpec),
+}
+
+impl FamilySpec {
+    /// The family of these sections.
+    pub fn family(&self) -> Family {
+        match self {
+            FamilySpec::Hobbing(_) => Family::Hobbing,
+            FamilySpec::SpiralFace(_) => Family::SpiralFace,
+            FamilySpec::WireEdm(_) => Family::WireEdm,
+        }
+    }
+}
+
+/// A whole job: the `[job]` header and the sections of its family.
+///
+/// `job.family` names the variant of `part`; [`JobSpec::new`] keeps them
+/// together, and decoding refuses a job whose sections belong to another
+/// family.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "JobFile", into = "JobFile")]
+pub struct JobSpec {
+    /// `[job]`
+    pub job: JobHeader,
+    /// The family's sections.
+    pub part: FamilySpec,
 }
 
 impl JobSpec {
-    /// True when the job gives its drawing data in a `[gear]` section; false
-    /// when it names the part only (`[job] part_number`), for the knowledge
-    /// service to fill the gear from the workpiece library.
+    /// A job of `part`'s family (`job.family` set to it).
+    pub fn new(mut job: JobHeader, part: FamilySpec) -> JobSpec {
+        job.family = part.family();
+        JobSpec { job, part }
+    }
+
+    /// The job's family.
+    pub fn family(&self) -> Family {
+        self.part.family()
+    }
+
+    /// The hobbing sections, if this is a hobbing job.
+    pub fn hobbing(&self) -> Option<&HobbingSpec> {
+        match &self.part {
+            FamilySpec::Hobbing(h) => Some(h),
+            _ => None,
+        }
+    }
+
+    /// The hobbing sections to change, if this is a hobbing job.
+    pub fn hobbing_mut(&mut self) -> Option<&mut HobbingSpec> {
+        match &mut self.part {
+            FamilySpec::Hobbing(h) => Some(h),
+            _ => None,
+        }
+    }
+
+    /// The spiral face milling sections, if this is a spiral job.
+    pub fn spiral(&self) -> Option<&SpiralSpec> {
+        match &self.part {
+            FamilySpec::SpiralFace(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    /// The spiral sections to change, if this is a spiral job.
+    pub fn spiral_mut(&mut self) -> Option<&mut SpiralSpec> {
+        match &mut self.part {
+            FamilySpec::SpiralFace(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    /// The wire EDM sections, if this is a wire job.
+    pub fn wire(&self) -> Option<&WireSpec> {
+        match &self.part {
+            FamilySpec::WireEdm(w) => Some(w),
+            _ => None,
+        }
+    }
+
+    /// The wire sections to change, if this is a wire job.
+    pub fn wire_mut(&mut self) -> Option<&mut WireSpec> {
+        match &mut self.part {
+            FamilySpec::WireEdm(w) => Some(w),
+            _ => None,
+        }
+    }
+
+    /// True when a hobbing job gives its drawing data in a `[gear]` section;
+    /// false when it names the part only (`[job] part_number`), for the
+    /// knowledge service to fill the gear from the workpiece library.
     pub fn has_gear(&self) -> bool {
-        self.gear.is_some()
+        self.hobbing().is_some_and(|h| h.gear.is_some())
+    }
+}
+
+/// A job in the shape of its file: the header and every family's sections
+/// side by side. [`JobSpec`] is written in this shape and read from it;
+/// [`JobSpec::try_from`] keeps the sections of the job's family and refuses
+/// the others.
+///
+/// A section that has defaults counts as given when it differs from them
+/// (a job written out carries `[hob]`, `[process]` and `[options]` at their
+/// defaults whatever its family, as it always has).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JobFile {
+    /// `[job]`
+    pub job: JobHeader,
+    /// `[gear]` (hobbing)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gear: Option<GearSpec>,
+    /// `[hob]` (hobbing)
+    #[serde(default)]
+    pub hob: HobSpec,
+    /// `[process]` (hobbing)
+    #[serde(default)]
+    pub process: ProcessOverrides,
+    /// `[options]` (hobbing)
+    #[serde(default)]
+    pub options: Options,
+    /// `[[units]]` (hobbing)
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub units: Vec<UnitSpec>,
+    /// `[face]` (spiral face milling)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub face: Option<FaceSpec>,
+    /// `[groove]` (spiral face milling)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub groove: Option<GrooveSpec>,
+    /// `[mill]` (spiral face milling)
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub mill: MillSpec,
+    /// `[milling]` (spiral face milling)
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub milling: MillingOverrides,
+    /// `[die]` (wire EDM)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub die: Option<DieSpec>,
+    /// `[wire]` (wire EDM)
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub wire: WireOverrides,
+}
+
+fn is_default<T: Default + PartialEq>(v: &T) -> bool {
+    *v == T::default()
+}
+
+/// The sections of a job file that belong to another family than its
+/// `[job] family`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ForeignSections {
+    /// The job's family.
+    pub family: Family,
+    /// Each section given that belongs to another family, with that family,
+    /// in file order (`gear`, `face`, …).
+    pub sections: Vec<(&'static str, Family)>,
+}
+
+impl std::fmt::Display for ForeignSections {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let named: Vec<String> = self
+            .sections
+            .iter()
+            .map(|(s, fam)| format!("[{s}] belongs to the {} family", fam.as_str()))
+            .collect();
+        let lists: Vec<String> = Family::ALL
+            .iter()
+            .map(|fam| format!("{}: {}", fam.as_str(), fam.sections().join(", ")))
+            .collect();
+        write!(
+            f,
+            "{}; this job's [job] family is \"{}\" ({})",
+            named.join(", "),
+            self.family.as_str(),
+            lists.join("; ")
+        )
+    }
+}
+
+impl std::error::Error for ForeignSections {}
+
+impl JobFile {
+    /// Every section given, with its family.
+    fn given(&self) -> Vec<(&'static str, Family)> {
+        [
+            ("gear", Family::Hobbing, self.gear.is_some()),
+            ("hob", Family::Hobbing, !is_default(&self.hob)),
+            ("process", Family::Hobbing, !is_default(&self.process)),
+            ("options", Family::Hobbing, !is_default(&self.options)),
+            ("units", Family::Hobbing, !self.units.is_empty()),
+            ("face", Family::SpiralFace, self.face.is_some()),
+            ("groove", Family::SpiralFace, self.groove.is_some()),
+            ("mill", Family::SpiralFace, !is_default(&self.mill)),
+            ("milling", Family::SpiralFace, !is_default(&self.milling)),
+            ("die", Family::WireEdm, self.die.is_some()),
+            ("wire", Family::WireEdm, !is_default(&self.wire)),
+        ]
+        .into_iter()
+        .filter(|(_, _, given)| *given)
+        .map(|(s, f, _)| (s, f))
+        .collect()
+    }
+}
+
+impl TryFrom<JobFile> for JobSpec {
+    type Error = ForeignSections;
+
+    fn try_from(file: JobFile) -> Result<JobSpec, ForeignSections> {
+        let family = file.job.family;
+        let foreign: Vec<(&'static str, Family)> = file
+            .given()
+            .into_iter()
+            .filter(|(_, f)| *f != family)
+            .collect();
+        if !foreign.is_empty() {
+            return Err(ForeignSections {
+                family,
+                sections: foreign,
+            });
+        }
+        let part = match family {
+            Family::Hobbing => FamilySpec::Hobbing(HobbingSpec {
+                gear: file.gear,
+                hob: file.hob,
+                process: file.process,
+                options: file.options,
+                units: file.units,
+            }),
+            Family::SpiralFace => FamilySpec::SpiralFace(SpiralSpec {
+                face: file.face,
+                groove: file.groove,
+                mill: file.mill,
+                milling: file.milling,
+            }),
+            Family::WireEdm => FamilySpec::WireEdm(WireSpec {
+                die: file.die,
+                wire: file.wire,
+            }),
+        };
+        Ok(JobSpec {
+            job: file.job,
+            part,
+        })
+    }
+}
+
+impl From<JobSpec> for JobFile {
+    fn from(spec: JobSpec) -> JobFile {
+        let mut file = JobFile {
+            job: spec.job,
+            gear: None,
+            hob: HobSpec::default(),
+            process: ProcessOverrides::default(),
+            options: Options::default(),
+            units: Vec::new(),
+            face: None,
+            groove: None,
+            mill: MillSpec::default(),
+            milling: MillingOverrides::default(),
+            die: None,
+            wire: WireOverrides::default(),
+        };
+        file.job.family = spec.part.family();
+        match spec.part {
+            FamilySpec::Hobbing(h) => {
+                (file.gear, file.hob, file.process) = (h.gear, h.hob, h.process);
+                (file.options, file.units) = (h.options, h.units);
+            }
+            FamilySpec::SpiralFace(s) => {
+                (file.face, file.groove) = (s.face, s.groove);
+                (file.mill, file.milling) = (s.mill, s.milling);
+            }
+            FamilySpec::WireEdm(w) => (file.die, file.wire) = (w.die, w.wire),
+        }
+        file
     }
 }
 
@@ -633,28 +536,6 @@ pub fn request_id_errors(bytes: &[u8], stage: crate::Stage) -> Vec<crate::JobErr
     errors
 }
 
-fn one() -> u32 {
-    1
-}
-fn one_f() -> f64 {
-    1.0
-}
-fn twenty() -> f64 {
-    20.0
-}
-fn quarter() -> f64 {
-    0.25
-}
-fn eight() -> u8 {
-    8
-}
-fn yes() -> bool {
-    true
-}
-fn unspecified() -> String {
-    "unspecified".into()
-}
-
 /// The machines of every family, as the station and the knowledge service
 /// both name them when a job names a machine that is not there:
 /// `H01, H02 (hobbing); M01, M02 (spiral face milling); W01, W02 (wire
@@ -694,7 +575,7 @@ mod tests {
     fn a_job_may_name_its_part_instead_of_giving_a_gear_section() {
         let req = by_part();
         assert!(!req.spec.has_gear());
-        assert!(req.spec.gear.is_none());
+        assert!(req.spec.hobbing().unwrap().gear.is_none());
         // The absent gear is not written out, on the wire or as JSON.
         let json = serde_json::to_value(&req.spec).unwrap();
         assert!(json.get("gear").is_none(), "{json}");
@@ -706,7 +587,7 @@ mod tests {
     #[test]
     fn a_gear_section_is_kept_and_written_out() {
         let mut req = by_part();
-        req.spec.gear = Some(
+        req.spec.hobbing_mut().unwrap().gear = Some(
             serde_json::from_value(serde_json::json!({
                 "module_mm": 3.0, "teeth": 25, "face_width_mm": 30.0, "fixture_height_mm": 100.0,
             }))
@@ -714,7 +595,65 @@ mod tests {
         );
         assert!(req.spec.has_gear());
         let back: JobRequest = decode(&encode(&req).unwrap()).unwrap();
-        assert_eq!(back.spec.gear.as_ref().map(|g| g.teeth), Some(25));
+        assert_eq!(
+            back.spec.hobbing().unwrap().gear.as_ref().map(|g| g.teeth),
+            Some(25)
+        );
         assert!(back.spec.has_gear());
+    }
+
+    fn file(toml_text: &str) -> Result<JobSpec, String> {
+        toml::from_str::<JobSpec>(toml_text).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn each_family_keeps_its_own_sections() {
+        let hob = file("[job]\nmachine = \"H01\"\npart_number = \"P\"\n[gear]\nmodule_mm = 3\nteeth = 20\nface_width_mm = 20\nfixture_height_mm = 100\n").unwrap();
+        assert_eq!(hob.family(), Family::Hobbing);
+        assert_eq!(hob.hobbing().unwrap().gear.as_ref().unwrap().teeth, 20);
+        assert!(hob.spiral().is_none() && hob.wire().is_none());
+        let die = file("[job]\nfamily = \"wire-edm\"\nmachine = \"W01\"\npart_number = \"D\"\n[wire]\nprogram = \"3b\"\n").unwrap();
+        assert_eq!(die.family(), Family::WireEdm);
+        assert!(die.wire().unwrap().die.is_none());
+        assert!(!die.has_gear());
+    }
+
+    #[test]
+    fn a_section_of_another_family_is_a_decode_error_naming_it() {
+        let err = file("[job]\nfamily = \"spiral-face\"\nmachine = \"M01\"\npart_number = \"F\"\n[gear]\nmodule_mm = 3\nteeth = 20\nface_width_mm = 20\nfixture_height_mm = 100\n[wire]\nprogram = \"3b\"\n").unwrap_err();
+        assert!(
+            err.contains("[gear] belongs to the hobbing family"),
+            "{err}"
+        );
+        assert!(
+            err.contains("[wire] belongs to the wire-edm family"),
+            "{err}"
+        );
+        assert!(err.contains("family is \"spiral-face\""), "{err}");
+        let direct: JobFile = toml::from_str("[job]\nmachine = \"H01\"\npart_number = \"P\"\n[die]\nteeth = 30\nmodule_mm = 2\npart = \"die\"\nthickness_mm = 10\nmaterial = \"Cr12MoV\"\n").unwrap();
+        let foreign = JobSpec::try_from(direct).unwrap_err();
+        assert_eq!(foreign.sections, [("die", Family::WireEdm)]);
+        assert_eq!(foreign.family, Family::Hobbing);
+    }
+
+    #[test]
+    fn a_job_is_written_in_its_file_shape_and_read_back() {
+        let spec = file("[job]\nfamily = \"spiral-face\"\nmachine = \"M01\"\npart_number = \"F\"\n[face]\nouter_radius_mm = 100\ndepth_mm = 1\nmaterial = \"C45\"\n[milling]\npasses = 2\n").unwrap();
+        let bytes = rmp_serde::to_vec_named(&spec).unwrap();
+        let back: JobSpec = rmp_serde::from_slice(&bytes).unwrap();
+        assert_eq!(back, spec);
+        // The file shape: hobbing's defaulted sections are written for every
+        // family, as before the job was typed, and read back as absent.
+        let json = serde_json::to_value(&spec).unwrap();
+        assert!(
+            json.get("hob").is_some() && json.get("face").is_some(),
+            "{json}"
+        );
+        assert_eq!(json["job"]["family"], "spiral-face");
+        // new() keeps the header's family with the sections.
+        let mut header = spec.job.clone();
+        header.family = Family::Hobbing;
+        let typed = JobSpec::new(header, FamilySpec::WireEdm(WireSpec::default()));
+        assert_eq!(typed.job.family, Family::WireEdm);
     }
 }

@@ -7,7 +7,10 @@
 //! - [`ids`]: validating id newtypes ([`JobId`], [`MachineId`], [`HobId`]).
 //! - [`keys`]: key-expression builders; the only place key strings are spelled.
 //! - [`codec`]: MessagePack with field names in a versioned envelope.
-//! - [`job`]: the job file / [`JobRequest`].
+//! - [`job`]: the job typed by its part family ([`JobSpec`]), the job file's
+//!   shape ([`JobFile`]) and the [`JobRequest`].
+//! - [`family`]: the plan and model of any family ([`AnyPlan`], [`AnyModel`]).
+//! - [`hobbing`]: the hobbing family's job sections (`[gear]`, `[hob]`, …).
 //! - [`plan`]: machine profiles, hobs, the [`ProcessPlan`].
 //! - [`model`]: geometry and the [`MachiningModel`].
 //! - [`program`]: [`NcProgram`], [`DeliveryReceipt`], [`JobEvent`].
@@ -30,6 +33,8 @@ pub mod cutting;
 pub mod delivery;
 pub mod die;
 pub mod error;
+pub mod family;
+pub mod hobbing;
 pub mod ids;
 pub mod job;
 pub mod keys;
@@ -50,12 +55,13 @@ pub use delivery::{
 };
 pub use die::{Cutter, DiePart, DieSpec, WireOverrides, WireProgram};
 pub use error::{CodecError, IdError, JobError, Stage};
+pub use family::{AnyModel, AnyPlan};
 pub use ids::{HobId, JobId, MachineId};
 pub use job::{
     part_number_problem, ConeSpec, CrowningShape, CrowningSpec, CurvedToothSpec, CutMode, Family,
-    GearSpec, Hand, HobSpec, Infeed, JobHeader, JobRequest, JobSpec, LargeEnd, MateSpec, Operation,
-    Options, ProcessOverrides, ShiftMode, ShiftSpec, UnitSpec, WormInfeed, WormWheelSpec,
-    MAX_PART_NUMBER,
+    FamilySpec, ForeignSections, GearSpec, Hand, HobSpec, HobbingSpec, Infeed, JobFile, JobHeader,
+    JobRequest, JobSpec, LargeEnd, MateSpec, Operation, Options, ProcessOverrides, ShiftMode,
+    ShiftSpec, SpiralSpec, UnitSpec, WireSpec, WormInfeed, WormWheelSpec, MAX_PART_NUMBER,
 };
 pub use milling::{
     FaceSpec, GrooveSpec, MillKind, MillSpec, MillingOverrides, SpiralDirection, SpiralProgram,
@@ -75,7 +81,7 @@ pub use program::{
     TemplateRef,
 };
 pub use spiral::{
-    AnyModel, AnyPlan, CoverageCheck, GrooveFigures, MillData, MillProfile, MillingProcess,
-    SpiralCut, SpiralFigures, SpiralModel, SpiralPart, SpiralPlan,
+    CoverageCheck, GrooveFigures, MillData, MillProfile, MillingProcess, SpiralCut, SpiralFigures,
+    SpiralModel, SpiralPart, SpiralPlan,
 };
 pub use wire::{DieFigures, WireMachine, WireModel, WirePlan, WireProcess};

@@ -526,6 +526,27 @@ impl ProcessPlan {
     pub fn hob_library_id(&self) -> Option<HobId> {
         HobId::new(self.hob.id.clone()).ok()
     }
+
+    /// The hobbing sections of the job the plan was made for.
+    ///
+    /// Only the hobbing planner makes a process plan, from a hobbing job, and
+    /// a process plan that carries another family's job does not decode
+    /// ([`crate::AnyPlan`], [`crate::AnyModel`]); a plan built in memory from
+    /// another family's job is a bug, and this panics on it.
+    pub fn sections(&self) -> &crate::HobbingSpec {
+        self.request
+            .spec
+            .hobbing()
+            .expect("a process plan is made for a hobbing job")
+    }
+
+    /// The hobbing sections to change ([`ProcessPlan::sections`]).
+    pub fn sections_mut(&mut self) -> &mut crate::HobbingSpec {
+        self.request
+            .spec
+            .hobbing_mut()
+            .expect("a process plan is made for a hobbing job")
+    }
 }
 
 #[cfg(test)]

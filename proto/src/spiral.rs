@@ -11,15 +11,12 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::codec::{decode, kind_of, Incoming};
 use crate::cutting::CutMode;
-use crate::error::CodecError;
 use crate::ids::{JobId, MachineId};
 use crate::job::JobRequest;
 use crate::milling::{FaceSpec, GrooveSpec, MillKind, SpiralDirection, SpiralProgram};
-use crate::model::{MachiningModel, Warning};
-use crate::plan::{CaseRef, Dialect, ProcessPlan, Source, Sourced};
-use crate::wire::{WireModel, WirePlan};
+use crate::model::Warning;
+use crate::plan::{CaseRef, Dialect, Source, Sourced};
 use crate::Message;
 
 impl SpiralProgram {
@@ -287,87 +284,4 @@ pub struct SpiralModel {
 
 impl Message for SpiralModel {
     const KIND: &'static str = "spiral_model";
-}
-
-/// A plan of any family, as the model service receives it.
-#[derive(Debug, Clone, PartialEq)]
-pub enum AnyPlan {
-    /// Hobbing.
-    Hobbing(Box<ProcessPlan>),
-    /// Spiral face milling.
-    Spiral(Box<SpiralPlan>),
-    /// Wire EDM.
-    Wire(Box<WirePlan>),
-}
-
-impl AnyPlan {
-    /// The job's id.
-    pub fn job_id(&self) -> &JobId {
-        match self {
-            AnyPlan::Hobbing(p) => &p.job_id,
-            AnyPlan::Spiral(p) => &p.job_id,
-            AnyPlan::Wire(p) => &p.job_id,
-        }
-    }
-}
-
-impl Incoming for AnyPlan {
-    const KINDS: &'static str = "process_plan, spiral_plan or wire_plan";
-    fn decode_incoming(bytes: &[u8]) -> Result<Self, CodecError> {
-        match kind_of(bytes, Self::KINDS)?.as_str() {
-            WirePlan::KIND => Ok(AnyPlan::Wire(Box::new(decode(bytes)?))),
-            SpiralPlan::KIND => Ok(AnyPlan::Spiral(Box::new(decode(bytes)?))),
-            ProcessPlan::KIND => Ok(AnyPlan::Hobbing(Box::new(decode(bytes)?))),
-            got => Err(CodecError::WrongKind {
-                expected: Self::KINDS,
-                got: got.to_string(),
-            }),
-        }
-    }
-}
-
-/// A model of any family, as the template service and the agents receive it.
-#[derive(Debug, Clone, PartialEq)]
-pub enum AnyModel {
-    /// Hobbing.
-    Hobbing(Box<MachiningModel>),
-    /// Spiral face milling.
-    Spiral(Box<SpiralModel>),
-    /// Wire EDM.
-    Wire(Box<WireModel>),
-}
-
-impl AnyModel {
-    /// The job's id.
-    pub fn job_id(&self) -> &JobId {
-        match self {
-            AnyModel::Hobbing(m) => &m.job_id,
-            AnyModel::Spiral(m) => &m.job_id,
-            AnyModel::Wire(m) => &m.job_id,
-        }
-    }
-
-    /// The machine the model is for.
-    pub fn machine(&self) -> &MachineId {
-        match self {
-            AnyModel::Hobbing(m) => &m.plan.machine.id,
-            AnyModel::Spiral(m) => &m.plan.machine.id,
-            AnyModel::Wire(m) => &m.plan.machine.id,
-        }
-    }
-}
-
-impl Incoming for AnyModel {
-    const KINDS: &'static str = "machining_model, spiral_model or wire_model";
-    fn decode_incoming(bytes: &[u8]) -> Result<Self, CodecError> {
-        match kind_of(bytes, Self::KINDS)?.as_str() {
-            WireModel::KIND => Ok(AnyModel::Wire(Box::new(decode(bytes)?))),
-            SpiralModel::KIND => Ok(AnyModel::Spiral(Box::new(decode(bytes)?))),
-            MachiningModel::KIND => Ok(AnyModel::Hobbing(Box::new(decode(bytes)?))),
-            got => Err(CodecError::WrongKind {
-                expected: Self::KINDS,
-                got: got.to_string(),
-            }),
-        }
-    }
 }

@@ -155,7 +155,12 @@ fn a_program_name_belongs_to_one_part() {
     // module inf.
     let mut spec: JobSpec =
         toml::from_str(&gearcam_testkit::examples::example("spur_840d.toml")).unwrap();
-    spec.gear.as_mut().expect("the example's gear").module_mm = f64::INFINITY;
+    spec.hobbing_mut()
+        .unwrap()
+        .gear
+        .as_mut()
+        .expect("the example's gear")
+        .module_mm = f64::INFINITY;
     let reply = submit_raw(&c.endpoint, spec);
     let StationReply::Refused { errors } = reply else {
         panic!("accepted: {reply:?}")

@@ -304,7 +304,7 @@ pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> Chec
     }
     // Before the model has validated the gear, its figures are shown only
     // when they describe a gear (a module of -3 gives d -75 mm: no figures).
-    if let Some(gear) = &spec.gear {
+    if let Some(gear) = spec.hobbing().and_then(|h| h.gear.as_ref()) {
         report.geometry = Some(gearcam_model::geometry_of(gear)).filter(describes_a_gear);
     }
     let plan = match gearcam_knowledge::plan::plan(conn, req) {
@@ -386,7 +386,12 @@ pub fn check_spiral(
             "passes",
             Sourced {
                 value: f64::from(p.passes),
-                source: if plan.request.spec.milling.passes.is_some() {
+                source: if plan
+                    .request
+                    .spec
+                    .spiral()
+                    .is_some_and(|s| s.milling.passes.is_some())
+                {
                     Source::Job
                 } else {
                     Source::Case

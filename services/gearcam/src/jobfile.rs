@@ -7,13 +7,14 @@ use std::process::ExitCode;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 use gearcam_proto::{
-    now_ms, part_number_problem, JobError, JobId, JobRequest, JobSpec, Stage, MAX_PART_NUMBER,
+    now_ms, part_number_problem, ForeignSections, JobError, JobFile, JobId, JobRequest, JobSpec,
+    Stage, MAX_PART_NUMBER,
 };
 
 /// Parses a job file's text. `origin` names it in messages.
 pub fn parse(text: &str, origin: &str) -> Result<JobSpec, JobError> {
     let de = toml::Deserializer::new(text);
-    let spec = serde_path_to_error::deserialize::<_, JobSpec>(de).map_err(|e| {
+    let file = serde_path_to_error::deserialize::<_, JobFile>(de).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.into_inner();
         let detail = inner.message().to_string();
@@ -36,9 +37,31 @@ pub fn parse(text: &str, origin: &str) -> Result<JobSpec, JobError> {
             .unwrap_or_default();
         file_error(&path, &detail, &format!("{origin}{location}"))
     })?;
+    let spec = JobSpec::try_from(file).map_err(|e| foreign_sections(&e, origin))?;
     check_part_number(&spec)?;
     check_finite(&spec, origin)?;
     Ok(spec)
+}
+
+/// `SECTION_FAMILY` for the sections of a job file that belong to another
+/// family than its `[job] family`, on the first of them.
+fn foreign_sections(e: &ForeignSections, origin: &str) -> JobError {
+    let first = e.sections.first().map_or("job.family", |(s, _)| *s);
+    Stage::Station.error(
+        Code::SECTION_FAMILY,
+        first,
+        format!(
+            "the sections of a {} job: {}",
+            e.family.as_str(),
+            e.family.sections().join(", ")
+        ),
+        e.sections
+            .iter()
+            .map(|(s, _)| format!("[{s}]"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        format!("{origin}: {e}; remove the section, or set [job] family to the job's family"),
+    )
 }
 
 /// `NOT_FINITE` for the first number of the job that is `inf` or `nan`
@@ -409,9 +432,17 @@ fixture_height_mm = 100.0
     #[test]
     fn parses_a_minimal_job_with_defaults() {
         let spec = parse(MINIMAL, "t.toml").unwrap();
-        assert_eq!(spec.gear.as_ref().unwrap().pressure_angle_deg, 20.0);
+        assert_eq!(
+            spec.hobbing()
+                .unwrap()
+                .gear
+                .as_ref()
+                .unwrap()
+                .pressure_angle_deg,
+            20.0
+        );
         assert_eq!(spec.job.quantity, 1);
-        assert!(spec.options.coolant);
+        assert!(spec.hobbing().unwrap().options.coolant);
         let id = job_id(&spec);
         assert!(id.as_str().starts_with("SP-1-"), "{id}");
         // Part, milliseconds, process, counter: four fields, the last two
@@ -422,6 +453,30 @@ fixture_height_mm = 100.0
         assert_eq!(fields[1], (std::process::id() % 1000).to_string(), "{next}");
         assert!(fields[0].parse::<u64>().is_ok(), "{next}");
         assert_ne!(id, next);
+    }
+
+    #[test]
+    fn a_section_of_another_family_is_named_when_the_file_is_read() {
+        let text = format!("{MINIMAL}[wire]\nprogram = \"3b\"\n");
+        let err = parse(&text, "t.toml").unwrap_err();
+        assert_eq!(err.code, Code::SECTION_FAMILY);
+        assert_eq!(err.stage, Stage::Station);
+        assert_eq!(err.field, "wire");
+        assert_eq!(err.got, "[wire]");
+        assert!(err.expected.contains("[gear]"), "{}", err.expected);
+        assert!(
+            err.message
+                .contains("[wire] belongs to the wire-edm family"),
+            "{}",
+            err.message
+        );
+        // The same file as a wire job: its [gear] is the foreign one.
+        let text = text.replace("[job]\n", "[job]\nfamily = \"wire-edm\"\n");
+        let err = parse(&text, "t.toml").unwrap_err();
+        assert_eq!(
+            (err.code, err.field.as_str()),
+            (Code::SECTION_FAMILY, "gear")
+        );
     }
 
     #[test]
@@ -450,10 +505,11 @@ fixture_height_mm = 100.0
         )
         .unwrap();
         assert_eq!(
-            spec.process.operation,
+            spec.hobbing().unwrap().process.operation,
             Some(gearcam_proto::Operation::Rough)
         );
-        assert_eq!(parse(MINIMAL, "t.toml").unwrap().process.operation, None);
+        let spec = parse(MINIMAL, "t.toml").unwrap();
+        assert_eq!(spec.hobbing().unwrap().process.operation, None);
         let err = parse(
             &format!("{MINIMAL}[process]\noperation = \"semi\"\n"),
             "t.toml",

@@ -275,7 +275,7 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
         "hob_coating": lib_hob.as_ref().map_or("unknown", |h| h.coating.as_str()),
         "hob_starts": plan.hob.starts,
         "hob_od_mm": plan.hob.od_mm,
-        "operation": plan.request.spec.process.operation.unwrap_or_default().as_str(),
+        "operation": plan.sections().process.operation.unwrap_or_default().as_str(),
         "cutting_speed_m_min": vc,
         "feed_mm_per_rev": fa,
         "hob_rpm": vc * 1000.0 / (std::f64::consts::PI * plan.hob.od_mm),

@@ -16,14 +16,14 @@ use gearcam_bus::stage::{run_stage, Handled, Output};
 use gearcam_bus::{Bus, BusError, CancellationToken};
 use gearcam_proto::plan::{KbOp, KbRecord, KbReply, KbRequest, KbValue};
 use gearcam_proto::{
-    decode, encode, keys, now_ms, EventKind, Family, JobError, JobEvent, JobRequest, Message, Stage,
+    decode, encode, keys, EventKind, JobError, JobEvent, JobRequest, Message, Stage,
 };
 use rusqlite::Connection;
 use serde_json::Value;
 
 use crate::cbr::CaseBase;
 use crate::library::{self, Record};
-use crate::{db, history, learn, plan, spiral, KnowledgeError};
+use crate::{db, history, learn, KnowledgeError};
 
 /// Configuration of the knowledge service.
 #[derive(Debug, Clone)]
@@ -213,32 +213,10 @@ pub async fn run(
             if let Err(e) = cases.refresh(&conn) {
                 tracing::warn!(error = %e, "cannot reload the case base; planning with the one in memory");
             }
-            // Each family plans its own way; both plans go out on the job's
-            // plan key under their own envelope kind.
-            let (tool, confidence, payload) = match req.spec.job.family {
-                Family::Hobbing => {
-                    let plan = plan::plan_with(&conn, &cases.base, &req)?;
-                    if let Err(e) = learn::record_planned(&conn, &plan, now_ms()) {
-                        tracing::warn!(job = %plan.job_id, error = %e, "cannot record the planned job");
-                    }
-                    (plan.hob.id.clone(), plan.confidence, encode(&plan))
-                }
-                Family::SpiralFace => {
-                    let plan = spiral::plan_spiral(&conn, &req)?;
-                    if let Err(e) = spiral::record_planned(&conn, &plan, now_ms()) {
-                        tracing::warn!(job = %plan.job_id, error = %e, "cannot record the planned job");
-                    }
-                    (plan.tool.id.clone(), plan.confidence, encode(&plan))
-                }
-                Family::WireEdm => {
-                    let plan = crate::wire::plan_wire(&conn, &req)?;
-                    if let Err(e) = crate::wire::record_planned(&conn, &plan, now_ms()) {
-                        tracing::warn!(job = %plan.job_id, error = %e, "cannot record the planned job");
-                    }
-                    (plan.process.wire.clone(), plan.confidence, encode(&plan))
-                }
-            };
-            let payload = payload.map_err(|e| {
+            // Each family plans its own way; every plan goes out on the job's
+            // plan key under its own envelope kind.
+            let planned = crate::family::plan(&conn, &cases.base, &req)?;
+            let payload = planned.payload.map_err(|e| {
                 vec![gearcam_bus::stage::codec_error::<JobRequest>(
                     Stage::Knowledge,
                     &e,
@@ -246,8 +224,8 @@ pub async fn run(
             })?;
             Ok(Handled {
                 events: vec![EventKind::Planned {
-                    hob_id: tool,
-                    confidence,
+                    hob_id: planned.tool,
+                    confidence: planned.confidence,
                 }],
                 outputs: vec![Output {
                     key: keys::job_plan(&req.job_id),

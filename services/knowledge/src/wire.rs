@@ -3,10 +3,9 @@
 //! wire and its spark gap, the starting technology for the plate's material
 //! group, and the program form — each value with its source.
 
-use gearcam_proto::Code;
 use gearcam_proto::{
-    CaseRef, Dialect, JobError, JobRequest, MachineId, Source, Sourced, Stage, WireMachine,
-    WirePlan, WireProcess, WireProgram,
+    CaseRef, Code, Dialect, Family, JobError, JobRequest, JobSpec, MachineId, Source, Sourced,
+    Stage, WireMachine, WirePlan, WireProcess, WireProgram,
 };
 use rusqlite::{Connection, Transaction};
 use serde_json::json;
@@ -188,9 +187,19 @@ pub fn plan_wire(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Vec<Jo
 }
 
 fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
-    let spec = &req.spec;
-    let mut errors = crate::spiral::family_errors(req);
-    let machine_id = spec.job.machine.as_str();
+    let spec = crate::sections::sections(req, Family::WireEdm, JobSpec::wire)
+        .map_err(|e| Failed::Job(vec![e]))?;
+    let mut errors = Vec::new();
+    if spec.die.is_none() {
+        errors.push(Stage::Knowledge.error(
+            Code::MISSING_SECTION,
+            "die",
+            "a [die] section (part, module_mm, teeth, thickness_mm, material)",
+            "none",
+            "a wire-edm job describes the gear whose punch or die it cuts",
+        ));
+    }
+    let machine_id = req.spec.job.machine.as_str();
     let record = library::get(conn, &library::WIRE_MACHINES, machine_id)?;
     let machine = match record {
         Some(ref r) => Some(profile(r)?),
@@ -204,7 +213,7 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
         let four_b = spec.wire.program.unwrap_or(m.default_program) == WireProgram::FourB;
         errors.extend(gearcam_proto::naming::name_error(
             m.dialect,
-            &spec.job,
+            &req.spec.job,
             four_b,
             Stage::Knowledge,
         ));
@@ -399,7 +408,7 @@ mod tests {
 
         // W02 threads brass; a plate of an unknown group takes the `any` row.
         let mut req = die("W02", json!({}));
-        req.spec.die.as_mut().unwrap().material = "unobtainium".into();
+        req.spec.wire_mut().unwrap().die.as_mut().unwrap().material = "unobtainium".into();
         let plan = plan_wire(&conn, &req).unwrap();
         assert_eq!(plan.process.wire, "BR-025");
         assert_eq!(plan.cases[0].id, "WD-BR-ANY");
@@ -438,20 +447,19 @@ mod tests {
         let e = plan_wire(&conn, &die("H01", json!({}))).unwrap_err();
         assert_eq!(e[0].code, "MACHINE_FAMILY");
         assert!(e[0].expected.contains("W01"), "{:?}", e[0]);
-        let e = plan_wire(
-            &conn,
-            &die(
-                "W01",
-                json!({"gear": {"module_mm": 2.0, "teeth": 20, "face_width_mm": 10.0, "fixture_height_mm": 100.0}}),
-            ),
-        )
+        let foreign = serde_json::from_value::<gearcam_proto::JobSpec>(json!({
+            "job": {"family": "wire-edm", "machine": "W01", "part_number": "PD-1"},
+            "gear": {"module_mm": 2.0, "teeth": 20, "face_width_mm": 10.0, "fixture_height_mm": 100.0},
+        }))
         .unwrap_err();
-        assert_eq!(
-            (e[0].code.as_str(), e[0].field.as_str()),
-            ("SECTION_FAMILY", "gear")
+        assert!(
+            foreign
+                .to_string()
+                .contains("[gear] belongs to the hobbing family"),
+            "{foreign}"
         );
         let mut req = die("W01", json!({}));
-        req.spec.die = None;
+        req.spec.wire_mut().unwrap().die = None;
         let e = plan_wire(&conn, &req).unwrap_err();
         assert_eq!(
             (e[0].code.as_str(), e[0].field.as_str()),

@@ -198,7 +198,7 @@ fn hob(plan: &ProcessPlan) -> Vec<Explained> {
 /// The process values, with the rough cuts' and the radial feed when they apply.
 fn process(plan: &ProcessPlan, k: &Kinematics) -> Vec<Explained> {
     let g = &plan.gear;
-    let o = &plan.request.spec.process;
+    let o = &plan.sections().process;
     let from_values = |name: &str| from_values(plan, name);
     let mut out = vec![
         e(

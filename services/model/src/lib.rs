@@ -107,9 +107,9 @@ pub(crate) mod fixtures {
     use std::collections::BTreeMap;
 
     use gearcam_proto::{
-        CaseRef, CutMode, GearSpec, Hand, HobData, HobId, HobSpec, JobHeader, JobId, JobRequest,
-        JobSpec, MachineProfile, Options, ProcessData, ProcessOverrides, ProcessPlan, Source,
-        Sourced,
+        CaseRef, CutMode, FamilySpec, GearSpec, Hand, HobData, HobId, HobSpec, HobbingSpec,
+        JobHeader, JobId, JobRequest, JobSpec, MachineProfile, Options, ProcessData,
+        ProcessOverrides, ProcessPlan, Source, Sourced,
     };
 
     /// Spur gear mn 3, z 25, αn 20°, b 30, x 0, ha* 1, c* 0.25, H 50, blank at da.
@@ -151,8 +151,8 @@ pub(crate) mod fixtures {
             job_id: job_id.clone(),
             submitted_at_ms: 1_700_000_000_000,
             submitted_by: "test".into(),
-            spec: JobSpec {
-                job: JobHeader {
+            spec: JobSpec::new(
+                JobHeader {
                     family: Default::default(),
                     id: Some(job_id.clone()),
                     machine: machine.id.clone(),
@@ -160,21 +160,17 @@ pub(crate) mod fixtures {
                     part_number: "SP-1001".into(),
                     program_name: None,
                 },
-                gear: Some(gear.clone()),
-                hob: HobSpec {
-                    id: Some(HobId::new("HOB-M3-80").unwrap()),
-                    ..HobSpec::default()
-                },
-                process: ProcessOverrides::default(),
-                options: Options::default(),
-                units: Vec::new(),
-                face: None,
-                groove: None,
-                mill: Default::default(),
-                milling: Default::default(),
-                die: None,
-                wire: Default::default(),
-            },
+                FamilySpec::Hobbing(HobbingSpec {
+                    gear: Some(gear.clone()),
+                    hob: HobSpec {
+                        id: Some(HobId::new("HOB-M3-80").unwrap()),
+                        ..HobSpec::default()
+                    },
+                    process: ProcessOverrides::default(),
+                    options: Options::default(),
+                    units: Vec::new(),
+                }),
+            ),
         };
         let mut values = BTreeMap::new();
         values.insert(

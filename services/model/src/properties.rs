@@ -95,11 +95,11 @@ fn plans() -> impl Strategy<Value = ProcessPlan> {
                     }
                     _ => {
                         if radial_axial {
-                            plan.request.spec.process.infeed = Some(Infeed::RadialAxial);
+                            plan.sections_mut().process.infeed = Some(Infeed::RadialAxial);
                         }
                     }
                 }
-                plan.class = gearcam_proto::classify(&plan.gear, &plan.request.spec.units);
+                plan.class = gearcam_proto::classify(&plan.gear, &plan.sections().units);
                 // A machine large enough for the positions most of the time.
                 let lim = &mut plan.machine.limits;
                 lim.module_mm = [0.1, 10.0];

@@ -115,7 +115,9 @@ pub fn hob_differs(a: &HobData, b: &HobData) -> bool {
 pub fn unit_plan(plan: &ProcessPlan, index: usize, unit: &UnitSpec, hob: HobData) -> ProcessPlan {
     let mut p = plan.clone();
     p.gear = unit_gear(plan, unit);
-    p.request.spec.units.clear();
+    if let Some(h) = p.request.spec.hobbing_mut() {
+        h.units.clear();
+    }
     p.hob = hob;
     p.class = unit_class(&p.gear);
     let _ = index;
@@ -139,7 +141,7 @@ pub fn kinematics(plan: &ProcessPlan, first: Kinematics) -> Kinematics {
         model: first.clone(),
     }];
     let mut previous = plan.hob.clone();
-    for (i, u) in spec.units.iter().enumerate() {
+    for (i, u) in plan.sections().units.iter().enumerate() {
         let hob = unit_hob(plan, i, u).expect("validated unit hob");
         let gear = unit_gear(plan, u);
         let geo = geometry(&gear);
@@ -147,7 +149,7 @@ pub fn kinematics(plan: &ProcessPlan, first: Kinematics) -> Kinematics {
             gear: &gear,
             hob: &hob,
             process: &plan.process,
-            overrides: &spec.process,
+            overrides: &plan.sections().process,
             machine: &plan.machine,
             quantity: spec.job.quantity,
             class: unit_class(&gear),

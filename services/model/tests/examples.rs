@@ -39,7 +39,7 @@ fn every_example_runs_or_fails_with_its_named_error() {
                 // The plan's gear: a job that names its part only gets the
                 // gear from the workpiece library; the plan's class is the
                 // class of that gear, and the model's is the plan's.
-                let class = classify(&model.plan.gear, &model.plan.request.spec.units);
+                let class = classify(&model.plan.gear, &model.plan.sections().units);
                 assert_eq!(model.plan.class, class, "{name}");
                 assert_eq!(model.model.class, class, "{name}");
                 // The machine names the dialect: H01 840D, H02 FANUC EGB.

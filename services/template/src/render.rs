@@ -429,9 +429,9 @@ mod tests {
     use std::collections::BTreeMap;
 
     use gearcam_proto::{
-        AxisNames, CaseRef, CouplingFactors, Cut, CutMode, GearClass, Geometry, Hand, HobData,
-        HobSpec, Infeed, JobHeader, JobId, JobRequest, JobSpec, Kinematics, Move, MoveKind,
-        Options, Position, Positions, ProcessData, ProcessOverrides, ProcessPlan, Ratio, Source,
+        AxisNames, CaseRef, CouplingFactors, Cut, CutMode, FamilySpec, GearClass, Geometry, Hand,
+        HobData, HobbingSpec, Infeed, JobHeader, JobId, JobRequest, JobSpec, Kinematics, Move,
+        MoveKind, Options, Position, Positions, ProcessData, ProcessPlan, Ratio, Source,
     };
 
     use super::*;
@@ -449,8 +449,8 @@ mod tests {
         machine.home_z_mm = 400.0;
         let mut gear = gearcam_testkit::pipeline::gear(3.0, 25, 0.0);
         gear.material = "20CrMnTi".into();
-        let spec = JobSpec {
-            job: JobHeader {
+        let spec = JobSpec::new(
+            JobHeader {
                 family: Default::default(),
                 id: Some(job_id.clone()),
                 machine: machine.id.clone(),
@@ -458,18 +458,11 @@ mod tests {
                 part_number: "SP-1001".into(),
                 program_name: None,
             },
-            gear: Some(gear.clone()),
-            hob: HobSpec::default(),
-            process: ProcessOverrides::default(),
-            options: Options::default(),
-            units: Vec::new(),
-            face: None,
-            groove: None,
-            mill: Default::default(),
-            milling: Default::default(),
-            die: None,
-            wire: Default::default(),
-        };
+            FamilySpec::Hobbing(HobbingSpec {
+                gear: Some(gear.clone()),
+                ..HobbingSpec::default()
+            }),
+        );
         let hob = HobData {
             id: "HOB-M3-80".into(),
             starts: 1,
@@ -890,7 +883,7 @@ mod tests {
     #[test]
     fn options_off_leave_their_m_codes_out() {
         let mut model = spur_model();
-        model.plan.request.spec.options = Options {
+        model.plan.sections_mut().options = Options {
             coolant: false,
             outer_support: false,
             fixture_clamp: false,
@@ -907,7 +900,7 @@ mod tests {
     #[test]
     fn options_on_emit_their_m_codes_paired() {
         let mut model = spur_model();
-        model.plan.request.spec.options = Options {
+        model.plan.sections_mut().options = Options {
             coolant: true,
             outer_support: true,
             fixture_clamp: true,

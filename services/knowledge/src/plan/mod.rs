@@ -27,8 +27,9 @@ use std::collections::BTreeMap;
 
 use gearcam_proto::plan::Proposal;
 use gearcam_proto::{
-    CaseRef, CutMode, GearClass, GearSpec, HobData, HobSpec, JobError, JobRequest, JobSpec,
-    MachineProfile, ProcessData, ProcessPlan, Source, Sourced, Stage, WorkpieceRef,
+    CaseRef, CutMode, Family, GearClass, GearSpec, HobData, HobSpec, HobbingSpec, JobError,
+    JobRequest, JobSpec, MachineProfile, ProcessData, ProcessOverrides, ProcessPlan, Source,
+    Sourced, Stage, WorkpieceRef,
 };
 use rusqlite::Connection;
 
@@ -102,18 +103,16 @@ fn plan_inner(
     cases: &CaseBase,
     req: &JobRequest,
 ) -> Result<ProcessPlan, PlanError> {
-    // A spiral family's section in a hobbing job is refused before anything.
-    let family = crate::spiral::family_errors(req);
-    if !family.is_empty() {
-        return Err(PlanError::Job(family));
-    }
+    // The hobbing sections: a job of another family is not planned here.
+    let h = crate::sections::sections(req, Family::Hobbing, JobSpec::hobbing)
+        .map_err(|e| PlanError::Job(vec![e]))?;
     let mut proposal = Proposal::default();
     // The drawing data first: every later step reads the resolved gear; the
     // plan carries it beside the request as it was asked.
     let (WithGear { gear, hardness_hb }, machine) =
-        resolve_gear_and_machine(conn, req, &mut proposal)?;
-    let class = gearcam_proto::classify(&gear, &req.spec.units);
-    let hob = choose_hob(conn, req, &gear, &machine, &mut proposal)?;
+        resolve_gear_and_machine(conn, req, h, &mut proposal)?;
+    let class = gearcam_proto::classify(&gear, &h.units);
+    let hob = choose_hob(conn, req, h, &gear, &machine, &mut proposal)?;
     // What retrieval reads of the knowledge base is read before the job's
     // hob errors are reported: a knowledge base that cannot be read is
     // reported first.
@@ -122,7 +121,7 @@ fn plan_inner(
     let hob = hob.map_err(PlanError::Job)?;
 
     let problem = retrieval_problem(
-        req,
+        h,
         &gear,
         class,
         &machine,
@@ -147,10 +146,11 @@ fn plan_inner(
         &hob.data,
         gear.teeth,
     );
-    let values = apply_overrides(&mut proposal, &req.spec);
+    let values = apply_overrides(&mut proposal, h);
     let used = cases_used(cases, &hits, &values);
     Ok(assemble(
         req.clone(),
+        &h.process,
         Resolved {
             gear,
             class,
@@ -180,9 +180,10 @@ struct WithGear {
 fn resolve_gear_and_machine(
     conn: &Connection,
     req: &JobRequest,
+    h: &HobbingSpec,
     proposal: &mut Proposal,
 ) -> Result<(WithGear, MachineProfile), PlanError> {
-    let resolved = resolve_gear(conn, req, proposal)?;
+    let resolved = resolve_gear(conn, req, h, proposal)?;
     let machine = records::machine(conn, &req.spec.job.machine)?;
     // The program's name by the control's rule, before anything is planned.
     let name = machine.as_ref().and_then(|m| {
@@ -211,12 +212,13 @@ fn resolve_gear_and_machine(
 fn resolve_gear(
     conn: &Connection,
     req: &JobRequest,
+    h: &HobbingSpec,
     proposal: &mut Proposal,
 ) -> Result<Result<WithGear, JobError>, KnowledgeError> {
     let spec = &req.spec;
     let part = spec.job.part_number.trim();
     let Some(record) = records::workpiece(conn, part)? else {
-        if let Some(gear) = &spec.gear {
+        if let Some(gear) = &h.gear {
             return Ok(Ok(WithGear {
                 gear: gear.clone(),
                 hardness_hb: None,
@@ -256,7 +258,7 @@ fn resolve_gear(
             .hardness_hb
             .filter(|_| g.material.trim() == library_gear.material.trim())
     };
-    if let Some(gear) = &spec.gear {
+    if let Some(gear) = &h.gear {
         proposal.workpiece = Some(WorkpieceRef {
             part_number: part.to_string(),
             provenance: record.source.clone(),
@@ -268,7 +270,7 @@ fn resolve_gear(
             hardness_hb: hardness(gear),
         }));
     }
-    if let Some(missing) = history::workpiece_lacks_class_data(&record, !spec.units.is_empty()) {
+    if let Some(missing) = history::workpiece_lacks_class_data(&record, !h.units.is_empty()) {
         let class = record.class.as_str();
         return Ok(Err(Stage::Knowledge.error(
             Code::WORKPIECE_INCOMPLETE,
@@ -371,11 +373,12 @@ type JobOutcome<T> = Result<Result<T, Vec<JobError>>, KnowledgeError>;
 fn choose_hob(
     conn: &Connection,
     req: &JobRequest,
+    job: &HobbingSpec,
     gear: &GearSpec,
     machine: &MachineProfile,
     proposal: &mut Proposal,
 ) -> JobOutcome<JobHob> {
-    let h = &req.spec.hob;
+    let h = &job.hob;
     match (&h.id, h.has_inline_data()) {
         (Some(id), true) => Ok(Err(vec![Stage::Knowledge.error(
             Code::HOB_AMBIGUOUS,
@@ -505,7 +508,7 @@ fn match_hob(
 /// material and coating when it is a library hob (unknown for an inline
 /// one); finish hobbing unless the job says rough.
 fn retrieval_problem(
-    req: &JobRequest,
+    job: &HobbingSpec,
     g: &GearSpec,
     class: GearClass,
     machine: &MachineProfile,
@@ -530,7 +533,7 @@ fn retrieval_problem(
         hob_coating: hob.record.as_ref().map(|h| h.coating.clone()),
         hob_starts: hob.data.starts,
         // `[process] operation`; a job that does not say finishes the flanks.
-        operation: req.spec.process.operation.unwrap_or_default().into(),
+        operation: job.process.operation.unwrap_or_default().into(),
         machine: Some(machine.id.to_string()),
     }
 }
@@ -671,7 +674,7 @@ fn within_machine_limits(
 /// A job that names a library part and gives its own `[gear]` overrides the
 /// record's drawing data as a whole; then every process value the job sets.
 /// The names of the proposed values the job overrode go into the proposal.
-fn apply_overrides(proposal: &mut Proposal, spec: &JobSpec) -> BTreeMap<String, Sourced> {
+fn apply_overrides(proposal: &mut Proposal, spec: &HobbingSpec) -> BTreeMap<String, Sourced> {
     let p = &spec.process;
     let overrides: [(&str, Option<f64>); 7] = [
         (
@@ -755,13 +758,13 @@ struct Resolved {
 /// when cases or defaults gave a value, 1 when the job set them all.
 fn assemble(
     req: JobRequest,
+    p: &ProcessOverrides,
     resolved: Resolved,
     proposed: Proposed,
     values: BTreeMap<String, Sourced>,
     cases: Option<Vec<CaseRef>>,
     proposal: Proposal,
 ) -> ProcessPlan {
-    let p = &req.spec.process;
     let value = |name: &str| values[name].value;
     let process = ProcessData {
         cut_mode: p.cut_mode.unwrap_or(proposed.cut_mode),

@@ -142,7 +142,7 @@ fn record(v: serde_json::Value) -> library::Record {
 fn by_part(part: &str) -> JobRequest {
     let mut req = request(json!({}), json!({}));
     req.spec.job.part_number = part.into();
-    req.spec.gear = None;
+    req.spec.hobbing_mut().unwrap().gear = None;
     req
 }
 
@@ -177,7 +177,7 @@ fn a_gear_section_wins_over_the_library_part_and_the_plan_says_where_they_differ
     let mut req = request(json!({}), json!({}));
     req.spec.job.part_number = "SP-1001".into();
     let plan = plan(&conn, &req).unwrap();
-    assert_eq!(plan.request.spec.gear, req.spec.gear);
+    assert_eq!(plan.sections().gear, req.spec.hobbing().unwrap().gear);
     assert_eq!(plan.values["gear.teeth"].source, Source::Job);
     assert_eq!(
         plan.proposal.values["gear.face_width_mm"],
@@ -453,7 +453,13 @@ fn a_proposal_above_the_machines_hob_speed_is_clamped_to_the_machine() {
 fn an_unknown_material_gets_defaults_and_low_confidence() {
     let conn = db::open_in_memory().unwrap();
     let mut req = request(json!({}), json!({}));
-    req.spec.gear.as_mut().unwrap().material = "unobtainium".into();
+    req.spec
+        .hobbing_mut()
+        .unwrap()
+        .gear
+        .as_mut()
+        .unwrap()
+        .material = "unobtainium".into();
     let plan = plan(&conn, &req).unwrap();
     assert_eq!(plan.values["cutting_speed_m_min"].source, Source::Default);
     assert_eq!(
@@ -467,7 +473,13 @@ fn an_unknown_material_gets_defaults_and_low_confidence() {
 fn no_fitting_hob_names_every_rejection() {
     let conn = db::open_in_memory().unwrap();
     let mut req = request(json!({}), json!({}));
-    req.spec.gear.as_mut().unwrap().module_mm = 5.0;
+    req.spec
+        .hobbing_mut()
+        .unwrap()
+        .gear
+        .as_mut()
+        .unwrap()
+        .module_mm = 5.0;
     let errors = plan(&conn, &req).unwrap_err();
     assert_eq!(errors[0].code, "NO_MATCHING_HOB");
     assert!(

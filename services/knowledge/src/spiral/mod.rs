@@ -4,11 +4,10 @@
 //! job, the most similar cases or the cutting data, each with its
 //! provenance), and the learning loop's record of a planned spiral job.
 
-use gearcam_proto::Code;
 use gearcam_proto::{
-    CaseRef, CutMode, Dialect, Family, HobSpec, JobError, JobRequest, MachineId, MillData,
-    MillKind, MillProfile, MillingProcess, ProcessOverrides, Source, Sourced, SpiralDirection,
-    SpiralPart, SpiralPlan, SpiralProgram, Stage,
+    CaseRef, Code, CutMode, Dialect, Family, JobError, JobRequest, JobSpec, MachineId, MillData,
+    MillKind, MillProfile, MillingProcess, Source, Sourced, SpiralDirection, SpiralPart,
+    SpiralPlan, SpiralProgram, SpiralSpec, Stage,
 };
 use rusqlite::{Connection, Transaction};
 use serde_json::{json, Value};
@@ -262,77 +261,26 @@ fn tool_of(r: &Record) -> MillData {
     }
 }
 
-/// The errors of a job's sections against its family (empty when they
-/// fit): the sections a job of another family must not carry.
-pub fn family_errors(req: &JobRequest) -> Vec<JobError> {
-    let spec = &req.spec;
-    let mut errors = Vec::new();
-    let wrong = |section: &str, family: Family| {
-        Stage::Knowledge.error(
+/// The errors of a spiral job's sections (empty when they fit): it mills
+/// one face or one groove, so exactly one of `[face]` and `[groove]`.
+fn section_errors(spec: &SpiralSpec) -> Vec<JobError> {
+    match (&spec.face, &spec.groove) {
+        (Some(_), Some(_)) => vec![Stage::Knowledge.error(
             Code::SECTION_FAMILY,
-            section,
-            format!("no [{section}] section in a {} job", family.as_str()),
-            format!("a [{section}] section"),
-            format!(
-                "[{section}] belongs to another part family; [job] family = \"{}\" (hobbing: [gear], [hob], [process], [[units]]; spiral-face: [face] or [groove], [mill], [milling]; wire-edm: [die], [wire])",
-                family.as_str()
-            ),
-        )
-    };
-    // Each section belongs to one family.
-    let sections = [
-        (Family::Hobbing, "gear", spec.gear.is_some()),
-        (Family::Hobbing, "hob", spec.hob != HobSpec::default()),
-        (
-            Family::Hobbing,
-            "process",
-            spec.process != ProcessOverrides::default(),
-        ),
-        (Family::Hobbing, "units", !spec.units.is_empty()),
-        (Family::SpiralFace, "face", spec.face.is_some()),
-        (Family::SpiralFace, "groove", spec.groove.is_some()),
-        (Family::SpiralFace, "mill", spec.mill != Default::default()),
-        (
-            Family::SpiralFace,
-            "milling",
-            spec.milling != Default::default(),
-        ),
-        (Family::WireEdm, "die", spec.die.is_some()),
-        (Family::WireEdm, "wire", spec.wire != Default::default()),
-    ];
-    for (family, section, present) in sections {
-        if present && family != spec.job.family {
-            errors.push(wrong(section, spec.job.family));
-        }
-    }
-    match spec.job.family {
-        Family::SpiralFace => match (&spec.face, &spec.groove) {
-            (Some(_), Some(_)) => errors.push(Stage::Knowledge.error(
-                Code::SECTION_FAMILY,
-                "groove",
-                "either [face] or [groove]",
-                "both",
-                "a spiral job mills one face or one groove",
-            )),
-            (None, None) => errors.push(Stage::Knowledge.error(
-                Code::MISSING_SECTION,
-                "face",
-                "a [face] (outer_radius_mm, inner_radius_mm, depth_mm, material) or a [groove] section",
-                "neither",
-                "a spiral-face job describes the face or the groove it mills",
-            )),
-            _ => {}
-        },
-        Family::WireEdm if spec.die.is_none() => errors.push(Stage::Knowledge.error(
+            "groove",
+            "either [face] or [groove]",
+            "both",
+            "a spiral job mills one face or one groove",
+        )],
+        (None, None) => vec![Stage::Knowledge.error(
             Code::MISSING_SECTION,
-            "die",
-            "a [die] section (part, module_mm, teeth, thickness_mm, material)",
-            "none",
-            "a wire-edm job describes the gear whose punch or die it cuts",
-        )),
-        _ => {}
+            "face",
+            "a [face] (outer_radius_mm, inner_radius_mm, depth_mm, material) or a [groove] section",
+            "neither",
+            "a spiral-face job describes the face or the groove it mills",
+        )],
+        _ => Vec::new(),
     }
-    errors
 }
 
 /// A case's similarity to the job, 0–1: the material group (weight 3), the
@@ -398,9 +346,10 @@ impl From<KnowledgeError> for Failed {
 }
 
 fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<SpiralPlan, Failed> {
-    let spec = &req.spec;
-    let mut errors = family_errors(req);
-    let machine_id = spec.job.machine.as_str();
+    let spec = crate::sections::sections(req, Family::SpiralFace, JobSpec::spiral)
+        .map_err(|e| Failed::Job(vec![e]))?;
+    let mut errors = section_errors(spec);
+    let machine_id = req.spec.job.machine.as_str();
     let machine = match library::get(conn, &library::MILL_MACHINES, machine_id)? {
         Some(r) => Some(profile(&r)?),
         None => {
@@ -422,7 +371,7 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<SpiralPlan, Failed>
         let dialect = spec.milling.program.unwrap_or(m.default_program).dialect();
         errors.extend(gearcam_proto::naming::name_error(
             dialect,
-            &spec.job,
+            &req.spec.job,
             false,
             Stage::Knowledge,
         ));
@@ -434,7 +383,7 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<SpiralPlan, Failed>
     let group = material
         .as_ref()
         .map_or("unknown".to_string(), |m| m.material_group.clone());
-    let tool = choose_tool(conn, req, &part)?.map_err(Failed::Job)?;
+    let tool = choose_tool(conn, spec, &part)?.map_err(Failed::Job)?;
     let o = &spec.milling;
     let program = o.program.unwrap_or(machine.default_program);
 
@@ -581,10 +530,10 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<SpiralPlan, Failed>
 /// mill no wider than the face's radius).
 fn choose_tool(
     conn: &Connection,
-    req: &JobRequest,
+    spec: &SpiralSpec,
     part: &SpiralPart,
 ) -> Result<Result<MillData, Vec<JobError>>, KnowledgeError> {
-    let m = &req.spec.mill;
+    let m = &spec.mill;
     let tools = library::list(conn, &library::MILLS)?;
     let ids = || {
         tools

@@ -134,19 +134,20 @@ fn wrong_sections_machines_and_tools_are_refused_on_their_fields() {
         ("MACHINE_FAMILY", "job.machine")
     );
     assert!(e[0].expected.contains("M01, M02"), "{}", e[0].expected);
-    let e = plan_spiral(
-        &conn,
-        &face(
-            "M01",
-            json!({"gear": {"module_mm": 3.0, "teeth": 20, "face_width_mm": 20.0,
-                                      "material": "C45", "quality_grade": 8,
-                                      "fixture_height_mm": 50.0}}),
-        ),
-    )
+    // A hobbing section in a spiral job does not decode: the job is typed by
+    // its family.
+    let foreign = serde_json::from_value::<gearcam_proto::JobSpec>(json!({
+        "job": {"family": "spiral-face", "machine": "M01", "part_number": "FL-1"},
+        "face": {"outer_radius_mm": 100.0, "depth_mm": 1.0, "material": "C45"},
+        "gear": {"module_mm": 3.0, "teeth": 20, "face_width_mm": 20.0,
+                 "fixture_height_mm": 50.0},
+    }))
     .unwrap_err();
-    assert_eq!(
-        (e[0].code.as_str(), e[0].field.as_str()),
-        ("SECTION_FAMILY", "gear")
+    assert!(
+        foreign
+            .to_string()
+            .contains("[gear] belongs to the hobbing family"),
+        "{foreign}"
     );
     let e = plan_spiral(&conn, &face("M01", json!({"mill": {"id": "FM-999"}}))).unwrap_err();
     assert_eq!(
@@ -158,13 +159,13 @@ fn wrong_sections_machines_and_tools_are_refused_on_their_fields() {
         (e[0].code.as_str(), e[0].field.as_str()),
         ("MISSING_FIELD", "mill.kind")
     );
-    // A hobbing job carrying a [face] is refused by the dispatch.
+    // The spiral planner plans spiral jobs only.
     let mut req = face("H01", json!({}));
-    req.spec.job.family = Family::Hobbing;
-    let e = family_errors(&req);
+    req.spec.part = gearcam_proto::FamilySpec::Hobbing(Default::default());
+    let e = plan_spiral(&conn, &req).unwrap_err();
     assert_eq!(
         (e[0].code.as_str(), e[0].field.as_str()),
-        ("SECTION_FAMILY", "face")
+        ("SECTION_FAMILY", "job.family")
     );
 }
 

@@ -105,7 +105,7 @@ impl<'a> Unit<'a> {
             gear: &plan.gear,
             hob: &plan.hob,
             process: &plan.process,
-            overrides: &spec.process,
+            overrides: &plan.sections().process,
             machine: &plan.machine,
             quantity: spec.job.quantity,
             class: unit_class(&plan.gear),

@@ -337,7 +337,7 @@ fn rough_cuts_leave_the_allowance_from_job_case_or_default() {
         },
     );
     assert_relative_eq!(kin(&plan).cuts[1].allowance_mm, 0.4, epsilon = 1e-12);
-    plan.request.spec.process.finish_allowance_mm = Some(0.25);
+    plan.sections_mut().process.finish_allowance_mm = Some(0.25);
     assert_relative_eq!(kin(&plan).cuts[1].allowance_mm, 0.25, epsilon = 1e-12);
     // Each cut is timed from its own feed stroke; the part time is their sum.
     let k = kin(&plan);

@@ -7,9 +7,8 @@ use gearcam_proto::Code;
 /// Class markers, class-specific data, process options of the class, shift,
 /// measurement data, mate and the units of a multi-gear part.
 pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
-    let spec = &plan.request.spec;
     let g = &plan.gear;
-    let o = &spec.process;
+    let o = &plan.sections().process;
     let markers = unit_markers(g);
     if markers.len() > 1 {
         let names: Vec<&str> = markers.iter().map(|c| c.as_str()).collect();
@@ -220,7 +219,7 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
 /// Hob shifting: positive step and parts per step, positions inside the
 /// usable hob length.
 pub(super) fn check_shift(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
-    let Some(spec) = &plan.request.spec.process.shift else {
+    let Some(spec) = &plan.sections().process.shift else {
         return;
     };
     let hob = &plan.hob;
@@ -296,9 +295,8 @@ pub(super) fn check_shift(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
 /// resolvable hob, and every check of a job for each unit (errors with the
 /// unit's field names).
 pub(super) fn check_units(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
-    let spec = &plan.request.spec;
     let mut top = plan.gear.face_width_mm;
-    for (i, u) in spec.units.iter().enumerate() {
+    for (i, u) in plan.sections().units.iter().enumerate() {
         let field = format!("units[{i}].z_offset_mm");
         if !(u.z_offset_mm.is_finite() && u.z_offset_mm >= top - cfg.length_tolerance_mm) {
             r.error(

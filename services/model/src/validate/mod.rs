@@ -251,7 +251,7 @@ pub fn check_limits_with(plan: &ProcessPlan, k: &Kinematics, cfg: &Config) -> Ve
     let mut errors = Vec::new();
     unit_limits(&mut errors, plan, k, cfg, "");
     for (i, unit) in k.units.iter().enumerate().skip(1) {
-        let spec = &plan.request.spec.units[i - 1];
+        let spec = &plan.sections().units[i - 1];
         let unit_plan = crate::units::unit_plan(plan, i - 1, spec, unit.hob.clone());
         unit_limits(
             &mut errors,

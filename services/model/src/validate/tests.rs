@@ -337,10 +337,10 @@ fn class_options_and_cut_settings_are_checked() {
         angle_deg: 6.5,
         large_end: gearcam_proto::LargeEnd::Bottom,
     });
-    plan.request.spec.process.infeed = Some(Infeed::RadialAxial);
+    plan.sections_mut().process.infeed = Some(Infeed::RadialAxial);
     plan.process.cuts = 2;
-    plan.request.spec.process.finish_allowance_mm = Some(9.0);
-    plan.request.spec.process.radial_feed_mm_per_rev = Some(0.0);
+    plan.sections_mut().process.finish_allowance_mm = Some(9.0);
+    plan.sections_mut().process.radial_feed_mm_per_rev = Some(0.0);
     assert_eq!(
         codes_of(&plan),
         vec![
@@ -356,7 +356,7 @@ fn unit_errors_name_the_unit() {
     let mut plan = fixtures::plan();
     let mut g = fixtures::gear();
     g.module_mm = 2.0;
-    plan.request.spec.units.push(gearcam_proto::UnitSpec {
+    plan.sections_mut().units.push(gearcam_proto::UnitSpec {
         name: None,
         z_offset_mm: 10.0,
         gear: g,
