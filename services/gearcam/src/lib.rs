@@ -17,7 +17,7 @@
 
 pub mod bus_config;
 pub mod check;
-pub mod check_wire;
+
 pub mod cli;
 pub mod cmd;
 pub mod data_dir;

@@ -39,16 +39,11 @@ fn write_file(path: &Path, bytes: &[u8]) -> Result<String, String> {
 
 /// Writes the picture of a spiral or wire model to `svg`, and a wire
 /// job's outline as DXF to `dxf`.
-fn write_drawings(
-    model: &crate::check_wire::Drawing,
-    report: &mut CheckReport,
-    svg: &Path,
-    dxf: &Path,
-) {
+fn write_drawings(model: &crate::check::Drawing, report: &mut CheckReport, svg: &Path, dxf: &Path) {
     let files = match model {
-        crate::check_wire::Drawing::Spiral(m) => Ok((check::spiral_picture(m), None)),
-        crate::check_wire::Drawing::Wire(m, made) => {
-            crate::check_wire::die_drawings(m, made).map(|(svg, dxf)| (svg, Some(dxf)))
+        crate::check::Drawing::Spiral(m) => Ok((check::spiral_picture(m), None)),
+        crate::check::Drawing::Wire(m, made) => {
+            crate::check::die_drawings(m, made).map(|(svg, dxf)| (svg, Some(dxf)))
         }
     };
     match files {
@@ -89,8 +84,7 @@ pub fn check(
             match gearcam_knowledge::db::open(&data.join("knowledge.db")) {
                 Ok(conn) => match template_library(data) {
                     Ok(templates) => {
-                        let (mut report, model) =
-                            crate::check_wire::check_any(&conn, &templates, &req);
+                        let (mut report, model) = crate::check::check(&conn, &templates, &req);
                         if let Some(model) = model {
                             let svg =
                                 svg.map_or_else(|| default_picture(job, data), Path::to_path_buf);

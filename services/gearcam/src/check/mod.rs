@@ -1,19 +1,33 @@
 //! `gearcam check`: the whole computation done locally, without the bus —
 //! knowledge (from the local database), model, template — and its report, as
 //! JSON (a contract other tools read) or for a person.
+//!
+//! One module per family runs its pipeline into the one [`CheckReport`]
+//! ([`hobbing`], [`spiral`], [`wire`]); [`check`] picks it by the job's
+//! family, the only place here that tells families apart; [`human`] writes
+//! the report for a person.
 
 use std::collections::BTreeMap;
-use std::fmt::Write as _;
 
 use gearcam_proto::plan::HobChoice;
 use gearcam_proto::{
     CoverageCheck, Family, Geometry, GrooveFigures, JobError, JobRequest, Kinematics, MillData,
-    Source, Sourced, SpiralCut, SpiralFigures, SpiralModel, SpiralPart, Stage, TemplateRef,
-    Warning, WorkpieceRef,
+    Source, Sourced, SpiralCut, SpiralFigures, SpiralModel, Stage, TemplateRef, Warning, WireModel,
+    WorkpieceRef,
 };
 use gearcam_template::Templates;
+use gearcam_wire::programs::Made;
 use rusqlite::Connection;
 use serde::Serialize;
+
+pub mod hobbing;
+pub mod human;
+pub mod spiral;
+pub mod wire;
+
+pub use human::{format_errors, format_human};
+pub use spiral::spiral_picture;
+pub use wire::die_drawings;
 
 /// The job as checked.
 #[derive(Debug, Clone, Serialize)]
@@ -39,7 +53,7 @@ pub struct CaseSummary {
     pub provenance: String,
 }
 
-fn case_summaries(cases: &[gearcam_proto::CaseRef]) -> Vec<CaseSummary> {
+pub(crate) fn case_summaries(cases: &[gearcam_proto::CaseRef]) -> Vec<CaseSummary> {
     cases
         .iter()
         .map(|c| CaseSummary {
@@ -284,499 +298,37 @@ pub(crate) fn job_summary(req: &JobRequest) -> CheckReport {
     report
 }
 
-/// True when the figures are those of a gear: every diameter, the depth
-/// and the tooth thickness finite and positive, the root inside the tip.
-fn describes_a_gear(g: &Geometry) -> bool {
-    let positive = |v: f64| v.is_finite() && v > 0.0;
-    [g.d_mm, g.db_mm, g.da_mm, g.df_mm, g.whole_depth_mm, g.sn_mm]
-        .into_iter()
-        .all(positive)
-        && g.df_mm < g.da_mm
+/// The model of a job that has a picture.
+#[derive(Debug, Clone)]
+pub enum Drawing {
+    /// A spiral job's.
+    Spiral(Box<SpiralModel>),
+    /// A wire job's, with its die as made (outline, path, program).
+    Wire(Box<WireModel>, Box<Made>),
 }
 
-/// Runs knowledge → model → template locally for one hobbing or spiral
-/// request ([`crate::check_wire::check_any`] runs every family).
-pub fn check(conn: &Connection, templates: &Templates, req: &JobRequest) -> CheckReport {
-    let spec = &req.spec;
-    let mut report = job_summary(req);
-    if spec.job.family == Family::SpiralFace {
-        return check_spiral(conn, req, report).0;
-    }
-    // Before the model has validated the gear, its figures are shown only
-    // when they describe a gear (a module of -3 gives d -75 mm: no figures).
-    if let Some(gear) = spec.hobbing().and_then(|h| h.gear.as_ref()) {
-        report.geometry = Some(gearcam_model::geometry_of(gear)).filter(describes_a_gear);
-    }
-    let plan = match gearcam_knowledge::plan::plan(conn, req) {
-        Ok(p) => p,
-        Err(errors) => {
-            report.errors = errors;
-            return report;
-        }
-    };
-    // The plan's gear: the job's, or the workpiece library's for a job that
-    // names its part only.
-    report.geometry = Some(gearcam_model::geometry_of(&plan.gear)).filter(describes_a_gear);
-    report.plan = Some(PlanSummary {
-        class: plan.class.to_string(),
-        machine: MachineSummary::of(&plan.machine.id, &plan.machine.name, plan.machine.dialect),
-        hob_id: plan.hob.id.clone(),
-        confidence: plan.confidence,
-        cases: case_summaries(&plan.cases),
-        values: plan.values.clone(),
-        proposed: plan.proposal.values.clone(),
-        overridden: plan.proposal.overridden.clone(),
-        tool: None,
-        hob_choice: plan.proposal.hob.clone(),
-        workpiece: plan.proposal.workpiece.clone(),
-    });
-    let model = match gearcam_model::compute(&plan) {
-        Ok(m) => m,
-        Err(errors) => {
-            report.errors = errors;
-            return report;
-        }
-    };
-    report.geometry = Some(model.geometry.clone());
-    report.model = Some(ModelReport::Hobbing(Box::new(model.model.clone())));
-    report.warnings = model.warnings.clone();
-    match templates.instantiate(&model) {
-        Ok(p) => {
-            report.errors = gearcam_template::render::path_check_errors(&p);
-            report.ok = report.errors.is_empty();
-            report.program = Some(ProgramSummary {
-                name: p.name,
-                dialect: p.dialect.as_str().into(),
-                template: p.template,
-                sha256: p.sha256,
-                path_check: p.path_check,
-                text: p.text,
-            });
-        }
-        Err(errors) => report.errors = errors,
-    }
-    report
-}
-
-/// Knowledge → model → program for a spiral job; the report and the model
-/// (for the picture).
-pub fn check_spiral(
+/// Runs knowledge → model → program locally for one request of any
+/// family; a spiral or wire job's model comes back too (for its picture).
+pub fn check(
     conn: &Connection,
+    templates: &Templates,
     req: &JobRequest,
-    mut report: CheckReport,
-) -> (CheckReport, Option<SpiralModel>) {
-    let plan = match gearcam_knowledge::spiral::plan_spiral(conn, req) {
-        Ok(p) => p,
-        Err(errors) => {
-            report.errors = errors;
-            return (report, None);
+) -> (CheckReport, Option<Drawing>) {
+    let report = job_summary(req);
+    match req.spec.family() {
+        Family::Hobbing => (hobbing::check_hobbing(conn, templates, req, report), None),
+        Family::SpiralFace => {
+            let (r, m) = spiral::check_spiral(conn, req, report);
+            (r, m.map(|m| Drawing::Spiral(Box::new(m))))
         }
-    };
-    let p = &plan.process;
-    let face = matches!(plan.part, SpiralPart::Face(_));
-    let values: BTreeMap<String, Sourced> = [
-        ("step_over_mm", p.step_over_mm),
-        ("cutting_speed_m_min", p.cutting_speed_m_min),
-        ("feed_per_tooth_mm", p.feed_per_tooth_mm),
-        ("outer_overtravel_mm", p.outer_overtravel_mm),
-        ("inner_overtravel_mm", p.inner_overtravel_mm),
-        ("start_angle_deg", p.start_angle_deg),
-        ("tolerance_mm", p.tolerance_mm),
-        (
-            "passes",
-            Sourced {
-                value: f64::from(p.passes),
-                source: if plan
-                    .request
-                    .spec
-                    .spiral()
-                    .is_some_and(|s| s.milling.passes.is_some())
-                {
-                    Source::Job
-                } else {
-                    Source::Case
-                },
-            },
-        ),
-    ]
-    .into_iter()
-    // A groove's step-over is its pitch; the overtravels are a face's.
-    .filter(|(k, _)| face || !k.ends_with("overtravel_mm"))
-    .map(|(k, v)| (k.to_string(), v))
-    .collect();
-    report.plan = Some(PlanSummary::of_sourced(
-        format!("spiral-{}", plan.part.kind()),
-        MachineSummary::of(&plan.machine.id, &plan.machine.name, plan.machine.dialect),
-        plan.tool.id.clone(),
-        plan.confidence,
-        &plan.cases,
-        values,
-        Some(plan.tool.clone()),
-    ));
-    let model = match gearcam_model::spiral::compute_spiral(&plan) {
-        Ok(m) => m,
-        Err(errors) => {
-            report.errors = errors;
-            return (report, None);
-        }
-    };
-    report.model = Some(ModelReport::Spiral(Box::new(SpiralReport {
-        spiral: model.spiral.clone(),
-        cut: model.cut,
-        groove: model.groove,
-        part_time_min: model.part_time_min,
-    })));
-    report.coverage = Some(model.coverage);
-    report.warnings = model.warnings.clone();
-    match gearcam_template::spiral::instantiate(&model) {
-        Ok(p) => {
-            report.errors = gearcam_template::render::path_check_errors(&p);
-            report.ok = report.errors.is_empty();
-            report.program = Some(ProgramSummary {
-                name: p.name,
-                dialect: p.form.map_or(p.dialect.as_str(), |f| f.as_str()).into(),
-                template: p.template,
-                sha256: p.sha256,
-                path_check: p.path_check,
-                text: p.text,
-            });
-        }
-        Err(errors) => report.errors = errors,
-    }
-    (report, Some(model))
-}
-
-/// The SVG picture of a spiral model: the region (or the groove's band),
-/// the swept band of the tool, the tool-centre path and the worst gap.
-pub fn spiral_picture(model: &SpiralModel) -> String {
-    let spiral = gearcam_spiral::verify::spiral_of(model);
-    let (_, points) = spiral.chords(model.cut.tolerance_mm);
-    let region = gearcam_spiral::Region {
-        outer_radius_mm: model.spiral.outer_radius_mm,
-        inner_radius_mm: model.spiral.inner_radius_mm,
-    };
-    let coverage = gearcam_spiral::Coverage {
-        ok: model.coverage.ok,
-        max_gap_mm: match model.plan.part {
-            SpiralPart::Face(_) => model.coverage.max_gap_mm,
-            SpiralPart::Groove(_) => 0.0,
-        },
-        worst_point: model.coverage.worst_point_mm,
-        samples: model.coverage.samples as usize,
-    };
-    gearcam_spiral::picture::face_svg(&region, model.spiral.tool_radius_mm, &points, &coverage)
-}
-
-fn src(s: Source) -> &'static str {
-    match s {
-        Source::Job => "job",
-        Source::Case => "case",
-        Source::Machine => "machine",
-        Source::Default => "default",
-        Source::Library => "library",
-    }
-}
-
-/// Formats errors for a person, one block each.
-pub fn format_errors(errors: &[JobError]) -> String {
-    let mut out = String::new();
-    for e in errors {
-        let _ = writeln!(
-            out,
-            "  ✗ [{}] {} — {}\n      field {}: expected {}, got {}",
-            e.stage.as_str(),
-            e.code,
-            e.message,
-            e.field,
-            e.expected,
-            e.got
-        );
-    }
-    out
-}
-
-/// The wire model's lines for a person.
-fn format_die(out: &mut String, d: &gearcam_proto::DieFigures) {
-    let _ = writeln!(
-        out,
-        "{} m {} z {} α {}° x {}  radii base {:.4} tip {:.4} root {:.4} form {:.4} mm{}{}",
-        d.part.as_str(),
-        d.module_mm,
-        d.teeth,
-        d.pressure_angle_deg,
-        d.profile_shift,
-        d.base_radius_mm,
-        d.tip_radius_mm,
-        d.root_radius_mm,
-        d.form_radius_mm,
-        if d.undercut { "  UNDERCUT" } else { "" },
-        d.centre_distance_mm
-            .map_or(String::new(), |a| format!("  centre distance {a:.4} mm"))
-    );
-    let _ = writeln!(
-        out,
-        "  arcs per flank {} (tolerance {} µm)  per fillet {} ({} µm)  outline {} arcs  tip thickness {:.3} mm",
-        d.arcs_per_flank,
-        d.flank_tolerance_um,
-        d.arcs_per_fillet,
-        d.fillet_tolerance_um,
-        d.outline_arcs,
-        d.tip_thickness_mm
-    );
-    let _ = writeln!(
-        out,
-        "  wire offset {:.4} mm  path {:.1} mm  {:.1} min  teeth written {} of {}",
-        d.offset_mm, d.path_length_mm, d.cutting_time_min, d.teeth_written, d.teeth
-    );
-    let _ = writeln!(
-        out,
-        "certificate (the program replayed): max deviation {:.3} µm (flank {:.3}, fillet {:.3})  closure {:.3} µm  {} blocks  {} bytes",
-        d.max_deviation_um,
-        d.flank_deviation_um,
-        d.fillet_deviation_um,
-        d.closure_um,
-        d.blocks,
-        d.bytes
-    );
-}
-
-/// The report for a person.
-pub fn format_human(r: &CheckReport) -> String {
-    let mut out = String::new();
-    if let Some(j) = &r.job {
-        let _ = writeln!(
-            out,
-            "job {}  part {}  machine {}  quantity {}",
-            j.id, j.part_number, j.machine, j.quantity
-        );
-    }
-    if let Some(p) = &r.plan {
-        let _ = writeln!(
-            out,
-            "machine {} ({}, {})",
-            p.machine.id, p.machine.name, p.machine.dialect
-        );
-        match &p.tool {
-            Some(t) => {
-                let _ = writeln!(
-                    out,
-                    "class {}  tool {} ({} Ø{} mm, corner R{} mm, {} flutes, from {})  confidence {:.2}",
-                    p.class,
-                    t.id,
-                    t.kind.as_str(),
-                    2.0 * t.radius_mm,
-                    t.corner_radius_mm,
-                    t.flutes,
-                    src(t.source),
-                    p.confidence
-                );
-            }
-            None => {
-                // A wire job's "tool" is its wire.
-                let tool = if p.class.starts_with("wire-") {
-                    "wire"
-                } else {
-                    "hob"
-                };
-                let _ = writeln!(
-                    out,
-                    "class {}  {tool} {}  confidence {:.2}",
-                    p.class, p.hob_id, p.confidence
-                );
-            }
-        }
-        for c in &p.cases {
-            let _ = writeln!(
-                out,
-                "  case {} (similarity {:.2}): {}",
-                c.id, c.similarity, c.provenance
-            );
-        }
-        if let Some(w) = &p.workpiece {
-            if w.supplied_gear {
-                let _ = writeln!(
-                    out,
-                    "  drawing data: workpiece {} from the library ({})",
-                    w.part_number, w.provenance
-                );
-            } else {
-                let _ = writeln!(
-                    out,
-                    "  drawing data: the job's [gear], over workpiece {} of the library{}",
-                    w.part_number,
-                    if w.differs.is_empty() {
-                        " (the same values)".to_string()
-                    } else {
-                        format!(" (differs in {})", w.differs.join(", "))
-                    }
-                );
-            }
-        }
-        if let Some(h) = &p.hob_choice {
-            let _ = writeln!(out, "  hob choice: {}", h.reason);
-            if !h.alternatives.is_empty() {
-                let _ = writeln!(out, "    also fit: {}", h.alternatives.join(", "));
-            }
-            for r in &h.rejected {
-                let _ = writeln!(out, "    rejected {}: {}", r.id, r.reasons.join("; "));
-            }
-        }
-        for (k, v) in &p.values {
-            let proposed = match p.proposed.get(k) {
-                Some(pv) if p.overridden.contains(k) => {
-                    format!("  (proposed {:.4} from {})", pv.value, src(pv.source))
-                }
-                _ => String::new(),
-            };
-            let _ = writeln!(
-                out,
-                "  {k:<22} {:>10.4}  from {}{proposed}",
-                v.value,
-                src(v.source)
-            );
+        Family::WireEdm => {
+            let (r, m) = wire::check_wire(conn, req, report);
+            (
+                r,
+                m.map(|(model, made)| Drawing::Wire(Box::new(model), Box::new(made))),
+            )
         }
     }
-    if let Some(g) = &r.geometry {
-        let _ = writeln!(
-            out,
-            "geometry  d {:.4}  db {:.4}  da {:.4}  df {:.4} mm",
-            g.d_mm, g.db_mm, g.da_mm, g.df_mm
-        );
-        let _ = writeln!(
-            out,
-            "  sn {:.4}  span over k = {} teeth Wk {:.4}  over {} mm balls MdK {:.4} mm",
-            g.sn_mm, g.span_teeth, g.span_mm, g.ball_mm, g.over_balls_mm
-        );
-    }
-    if let Some(ModelReport::Spiral(m)) = &r.model {
-        let s = &m.spiral;
-        let _ = writeln!(
-            out,
-            "spiral  region Ro {} Ri {} mm  tool radius {} mm  centre R1 {:.4} → R2 {:.4} mm  {} turns  step-over {:.4} mm  {}",
-            s.outer_radius_mm,
-            s.inner_radius_mm,
-            s.tool_radius_mm,
-            s.start_radius_mm,
-            s.end_radius_mm,
-            s.turns,
-            s.step_over_mm,
-            if s.sense > 0 { "counter-clockwise" } else { "clockwise" }
-        );
-        let _ = writeln!(
-            out,
-            "  path {:.1} mm per pass  {} blocks ({} arcs or {} chords at {} mm, angle step {:.4}°)",
-            s.path_length_mm, s.blocks, s.arcs, s.chords, m.cut.tolerance_mm, s.angle_step_deg
-        );
-        let _ = writeln!(
-            out,
-            "  {} pass(es) to {} mm  {:.0} rpm  feed {:.1} mm/min (plunge {:.1})  {:.2} min per part",
-            m.cut.passes,
-            m.cut.depth_mm,
-            m.cut.spindle_rpm,
-            m.cut.feed_mm_min,
-            m.cut.plunge_feed_mm_min,
-            m.part_time_min
-        );
-        if let Some(g) = &m.groove {
-            let _ = writeln!(
-                out,
-                "  groove width {} mm  pitch {} mm  land {} mm",
-                g.width_mm, g.pitch_mm, g.land_mm
-            );
-        }
-    }
-    if let Some(ModelReport::Wire(w)) = &r.model {
-        format_die(&mut out, &w.die);
-    }
-    let groove = matches!(&r.model, Some(ModelReport::Spiral(m)) if m.groove.is_some());
-    if let Some(c) = &r.coverage {
-        let _ = writeln!(
-            out,
-            "{} {}  {} {:.4} mm  max deviation from the spiral {:.5} mm  ({} {})",
-            if groove { "pitch check" } else { "coverage" },
-            if c.ok { "ok" } else { "FAILED" },
-            if groove {
-                "worst pitch error"
-            } else {
-                "max gap"
-            },
-            c.max_gap_mm,
-            c.max_deviation_mm,
-            c.samples,
-            if groove { "rays" } else { "points of the face" }
-        );
-    }
-    if let Some(p) = &r.picture {
-        let _ = writeln!(out, "picture: {p}");
-    }
-    if let Some(p) = &r.drawing {
-        let _ = writeln!(out, "outline (DXF): {p}");
-    }
-    if let Some(ModelReport::Hobbing(m)) = &r.model {
-        let _ = writeln!(
-            out,
-            "model  swivel {:.4}°  ΔH′ {:.3} mm (+{:.3} safety)  L {:.3} mm  depth {:.3} mm",
-            m.swivel_deg, m.clearance_mm, m.safety_mm, m.centre_distance_mm, m.depth_mm
-        );
-        let p = &m.positions;
-        for (name, pos) in [("A", p.A), ("B", p.B), ("C", p.C), ("D", p.D), ("E", p.E)] {
-            let _ = writeln!(out, "  {name}  X {:>9.3}  Z {:>9.3}", pos.x_mm, pos.z_mm);
-        }
-        let _ = writeln!(
-            out,
-            "  hob {:.3} rpm  table {:.4} rpm  feed {:.3} mm/min  differential {:.6}°/mm  ratio {}/{}  {:.2} min/cut",
-            m.hob_rpm,
-            m.table_rpm,
-            m.axial_feed_mm_min,
-            m.differential_deg_per_mm,
-            m.coupling.num,
-            m.coupling.den,
-            m.cut_time_min
-        );
-        let _ = writeln!(
-            out,
-            "  class {}  {} cut(s)  {:.2} min per part",
-            m.class,
-            m.cuts.len(),
-            m.part_time_min
-        );
-        for e in &m.explain {
-            let _ = writeln!(
-                out,
-                "    {:<34} {:>12.4} {:<6} from {:?}: {}",
-                e.name, e.value, e.unit, e.origin, e.note
-            );
-        }
-    }
-    for w in &r.warnings {
-        let _ = writeln!(out, "  ! {} {}: {}", w.code, w.field, w.message);
-    }
-    if !r.errors.is_empty() {
-        let _ = writeln!(out, "{} error(s):", r.errors.len());
-        out.push_str(&format_errors(&r.errors));
-    }
-    if let Some(p) = &r.program {
-        let _ = writeln!(
-            out,
-            "program {} ({}, template {} v{}, sha256 {})",
-            p.name, p.dialect, p.template.id, p.template.version, p.sha256
-        );
-        if p.path_check.ok {
-            let _ = writeln!(out, "path check: ok\n");
-        } else {
-            let _ = writeln!(
-                out,
-                "path check: {} finding(s); the program would not be sent",
-                p.path_check.findings.len()
-            );
-            for f in &p.path_check.findings {
-                let _ = writeln!(out, "  line {} [{}] {}", f.line, f.rule, f.message);
-            }
-            out.push('\n');
-        }
-        out.push_str(&p.text);
-    }
-    out
 }
 
 /// The stage a check error belongs to, for exit codes and summaries.
@@ -786,8 +338,9 @@ pub fn first_stage(r: &CheckReport) -> Option<Stage> {
 
 #[cfg(test)]
 mod tests {
+    use super::Drawing;
     use super::*;
-    use crate::check_wire::{check_any, Drawing};
+    use gearcam_proto::SpiralPart;
 
     /// Every valid hobbing example of `examples/` moved to machine H02 (FANUC).
     fn examples_on_h02() -> Vec<(String, String)> {
@@ -804,7 +357,7 @@ mod tests {
         let path = gearcam_testkit::examples::dir().join(name);
         let spec = crate::jobfile::load(&path).unwrap();
         let conn = gearcam_knowledge::db::open_in_memory().unwrap();
-        check(&conn, &Templates::builtin(), &crate::jobfile::request(spec))
+        check(&conn, &Templates::builtin(), &crate::jobfile::request(spec)).0
     }
 
     #[test]
@@ -880,7 +433,7 @@ mod tests {
             "t.toml",
         )
         .unwrap();
-        let report = check(&conn, &Templates::builtin(), &crate::jobfile::request(spec));
+        let report = check(&conn, &Templates::builtin(), &crate::jobfile::request(spec)).0;
         assert!(!report.ok);
         assert!(report.geometry.is_none() && report.plan.is_none());
         let e = &report.errors[0];
@@ -907,7 +460,7 @@ mod tests {
         assert!(spiral.len() >= 10, "{} spiral examples", spiral.len());
         for (name, text) in spiral {
             let spec = crate::jobfile::parse(&text, &name).unwrap();
-            let (report, model) = check_any(&conn, &templates, &crate::jobfile::request(spec));
+            let (report, model) = check(&conn, &templates, &crate::jobfile::request(spec));
             match gearcam_testkit::examples::expected_code(&text) {
                 Some(code) => assert!(
                     report.errors.iter().any(|e| e.code == code),
@@ -989,7 +542,7 @@ mod tests {
         assert!(all.len() >= 10, "{} examples", all.len());
         for (name, text) in all {
             let spec = crate::jobfile::parse(&text, &name).unwrap();
-            let report = check(&conn, &templates, &crate::jobfile::request(spec));
+            let report = check(&conn, &templates, &crate::jobfile::request(spec)).0;
             let plan = report
                 .plan
                 .as_ref()

@@ -1,49 +1,14 @@
 //! `gearcam check` for a wire EDM job: knowledge → model → program, the
 //! figures and certificate (`model.die`), and the picture of the seed's
-//! graphical check; and [`check_any`], the check of a job of any family.
+//! graphical check.
 
 use std::collections::BTreeMap;
 
-use gearcam_proto::{Family, JobRequest, Sourced, SpiralModel, WireModel};
-use gearcam_template::Templates;
+use gearcam_proto::{JobRequest, Sourced, WireModel};
 use gearcam_wire::programs::Made;
 use rusqlite::Connection;
 
-use crate::check::{
-    job_summary, CheckReport, MachineSummary, ModelReport, PlanSummary, ProgramSummary, WireReport,
-};
-
-/// The model of a job that has a picture.
-#[derive(Debug, Clone)]
-pub enum Drawing {
-    /// A spiral job's.
-    Spiral(Box<SpiralModel>),
-    /// A wire job's, with its die as made (outline, path, program).
-    Wire(Box<WireModel>, Box<Made>),
-}
-
-/// Runs knowledge → model → program locally for one request of any
-/// family; a spiral or wire job's model comes back too (for its picture).
-pub fn check_any(
-    conn: &Connection,
-    templates: &Templates,
-    req: &JobRequest,
-) -> (CheckReport, Option<Drawing>) {
-    match req.spec.job.family {
-        Family::SpiralFace => {
-            let (r, m) = crate::check::check_spiral(conn, req, job_summary(req));
-            (r, m.map(|m| Drawing::Spiral(Box::new(m))))
-        }
-        Family::WireEdm => {
-            let (r, m) = check_wire(conn, req, job_summary(req));
-            (
-                r,
-                m.map(|(model, made)| Drawing::Wire(Box::new(model), Box::new(made))),
-            )
-        }
-        Family::Hobbing => (crate::check::check(conn, templates, req), None),
-    }
-}
+use super::{CheckReport, MachineSummary, ModelReport, PlanSummary, ProgramSummary, WireReport};
 
 /// Knowledge → model → program for a wire job; the report, and the model
 /// with its die as made (for the picture).
@@ -129,7 +94,8 @@ pub fn die_drawings(model: &WireModel, made: &Made) -> Result<(String, Vec<u8>),
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::check::format_errors;
+    use crate::check::{check as check_any, format_errors, Drawing};
+    use gearcam_template::Templates;
 
     /// Every wire example of `examples/` through knowledge, model and
     /// program as `gearcam check` runs it: a valid one is certified by its
