@@ -116,6 +116,56 @@ pub struct JobError {
     pub message: String,
 }
 
+/// A typed problem found by code that belongs to no stage — a shared
+/// crate's validation, a replay that several stages run — for the stage that
+/// runs it to raise as its own [`JobError`] ([`Problem::raise`]). The same
+/// five parts as a [`JobError`]: what was wrong (`code`, `field`), what was
+/// expected, what was given, and what to do.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Problem {
+    /// Stable code.
+    pub code: Code,
+    /// Field concerned, e.g. `die.teeth`.
+    pub field: String,
+    /// The expected value or range, as text.
+    pub expected: String,
+    /// The given value, as text.
+    pub got: String,
+    /// A sentence saying what is wrong and what to do.
+    pub message: String,
+}
+
+impl Problem {
+    /// A problem on `field`.
+    pub fn new(
+        code: Code,
+        field: &str,
+        expected: impl Into<String>,
+        got: impl Into<String>,
+        message: impl Into<String>,
+    ) -> Problem {
+        Problem {
+            code,
+            field: field.into(),
+            expected: expected.into(),
+            got: got.into(),
+            message: message.into(),
+        }
+    }
+
+    /// The problem as the typed error of `stage`.
+    pub fn raise(self, stage: Stage) -> JobError {
+        JobError {
+            stage,
+            code: self.code,
+            field: self.field,
+            expected: self.expected,
+            got: self.got,
+            message: self.message,
+        }
+    }
+}
+
 impl Stage {
     /// A typed error found by this stage: what was wrong (`code`, `field`),
     /// what was expected, what was given, and what to do (`message`).

@@ -54,7 +54,7 @@ pub use delivery::{
     ProgramVersion, StationReply, StoreReply, StoreRequest,
 };
 pub use die::{Cutter, DiePart, DieSpec, WireOverrides, WireProgram};
-pub use error::{CodecError, IdError, JobError, Stage};
+pub use error::{CodecError, IdError, JobError, Problem, Stage};
 pub use family::{AnyModel, AnyPlan};
 pub use ids::{HobId, JobId, MachineId};
 pub use job::{

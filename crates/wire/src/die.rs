@@ -3,7 +3,7 @@
 //! the figures of `model.die`. The programs and their replay are in
 //! [`crate::programs`].
 
-use gearcam_proto::Code;
+use gearcam_proto::{Code, Problem};
 use std::f64::consts::PI;
 
 use gearcam_proto::{Cutter, DiePart, DieSpec, WireProcess};
@@ -26,31 +26,6 @@ pub const MAX_TEETH: u32 = 1000;
 pub const MIN_TIP_THICKNESS: f64 = 0.2;
 /// Smallest wire arc radius, mm: a control's arc below this is a point.
 pub const MIN_ARC_RADIUS_MM: f64 = 0.005;
-
-/// A problem with the job, for the stage to raise as a typed error.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Problem {
-    /// The error code (docs/errors.md).
-    pub code: Code,
-    /// The field, e.g. `die.teeth`.
-    pub field: String,
-    /// What was expected.
-    pub expected: String,
-    /// What was given.
-    pub got: String,
-    /// What it means.
-    pub message: String,
-}
-
-fn problem(code: Code, field: &str, expected: String, got: String, message: &str) -> Problem {
-    Problem {
-        code,
-        field: field.to_string(),
-        expected,
-        got,
-        message: message.to_string(),
-    }
-}
 
 /// The rack-generated gear of a `[die]`.
 pub fn gear_of(die: &DieSpec) -> RackGear {
@@ -108,7 +83,7 @@ pub fn check(die: &DieSpec) -> Vec<Problem> {
     let mut out = Vec::new();
     let mut range = |field: &str, v: f64, lo: f64, hi: f64, unit: &str| {
         if !(lo..=hi).contains(&v) {
-            out.push(problem(
+            out.push(Problem::new(
                 Code::DIE_RANGE,
                 &format!("die.{field}"),
                 format!("{lo} to {hi}{unit}"),
@@ -152,7 +127,7 @@ pub fn check(die: &DieSpec) -> Vec<Problem> {
     range("thickness_mm", die.thickness_mm, 0.1, 500.0, " mm");
     range("cutter_shift", die.cutter_shift, -1.0, 1.0, "");
     if !(MIN_TEETH..=MAX_TEETH).contains(&die.teeth) {
-        out.push(problem(
+        out.push(Problem::new(
             Code::DIE_RANGE,
             "die.teeth",
             format!("{MIN_TEETH} to {MAX_TEETH}"),
@@ -161,17 +136,17 @@ pub fn check(die: &DieSpec) -> Vec<Problem> {
         ));
     }
     match (die.cutter, die.cutter_teeth) {
-        (Cutter::Pinion, None) => out.push(problem(
+        (Cutter::Pinion, None) => out.push(Problem::new(
             Code::DIE_RANGE,
             "die.cutter_teeth",
-            "the pinion cutter's teeth, 10 to 200".into(),
-            "none".into(),
+            "the pinion cutter's teeth, 10 to 200",
+            "none",
             "a pinion-type cutter's fillet depends on its teeth",
         )),
-        (Cutter::Pinion, Some(z0)) if !(10..=200).contains(&z0) => out.push(problem(
+        (Cutter::Pinion, Some(z0)) if !(10..=200).contains(&z0) => out.push(Problem::new(
             Code::DIE_RANGE,
             "die.cutter_teeth",
-            "10 to 200".into(),
+            "10 to 200",
             z0.to_string(),
             "shaper cutters have 10 to 200 teeth",
         )),
@@ -182,7 +157,7 @@ pub fn check(die: &DieSpec) -> Vec<Problem> {
     // runs through the pitch point and the envelope degenerates.
     let limit = die.addendum_coef + die.clearance_coef - die.cutter_tip_radius_coef;
     if out.is_empty() && die.cutter == Cutter::Rack && die.profile_shift >= limit {
-        out.push(problem(
+        out.push(Problem::new(
             Code::DIE_RANGE,
             "die.profile_shift",
             format!("below ha* + c* − ρ* = {limit:.3} (the rack's tip round inside the pitch circle)"),
@@ -191,10 +166,10 @@ pub fn check(die: &DieSpec) -> Vec<Problem> {
         ));
     }
     if out.is_empty() && !space_of(die).fillet_meets_involute() {
-        out.push(problem(
+        out.push(Problem::new(
             Code::UNDERCUT_TOO_DEEP,
             "die.profile_shift",
-            "a gear clearly undercut or not: the fillet ending on the involute".into(),
+            "a gear clearly undercut or not: the fillet ending on the involute",
             format!("{} teeth shifted by {}", die.teeth, die.profile_shift),
             "the rack's flank reaches just past the interference point and the fillet ends off the involute: gearcam does not model that outline; change the shift by a tenth",
         ));
@@ -203,7 +178,7 @@ pub fn check(die: &DieSpec) -> Vec<Problem> {
         let sa = tip_thickness_mm(die);
         let least = MIN_TIP_THICKNESS * die.module_mm;
         if sa < least {
-            out.push(problem(
+            out.push(Problem::new(
                 Code::TIP_TOO_SHARP,
                 "die.profile_shift",
                 format!("a tooth at least {least:.3} mm thick at the tip ({MIN_TIP_THICKNESS}·m)"),
@@ -248,7 +223,7 @@ pub fn cut(die: &DieSpec, process: &WireProcess) -> Result<Cut, Problem> {
         min_radius_mm: MIN_ARC_RADIUS_MM,
     };
     let outline = outline(space_of(die).as_ref(), &tol).map_err(|e| match e {
-        OutlineError::Fit { piece, error } => problem(
+        OutlineError::Fit { piece, error } => Problem::new(
             Code::ARC_FIT,
             &format!("die.{piece}_tolerance_um"),
             format!("a {piece} within {} arcs", error.max_arcs),
@@ -271,7 +246,7 @@ pub fn cut(die: &DieSpec, process: &WireProcess) -> Result<Cut, Problem> {
             Piece::Flank | Piece::Tip => "flank",
         };
         let tooth = e.index / outline.period.len() + 1;
-        problem(
+        Problem::new(
             Code::WIRE_TOO_THICK,
             "wire.wire_diameter_mm",
             format!(
@@ -279,7 +254,7 @@ pub fn cut(die: &DieSpec, process: &WireProcess) -> Result<Cut, Problem> {
                 e.radius_mm
             ),
             format!("{d:.4} mm"),
-            &format!(
+            format!(
                 "the wire cannot follow the {place} of tooth {tooth} at ({:.3}, {:.3}) mm: choose a thinner wire",
                 at.0, at.1
             ),

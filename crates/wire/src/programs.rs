@@ -10,10 +10,10 @@
 //! middle of the tooth on +Y, where the contour starts, and the lead-out
 //! back.
 
-use gearcam_proto::Code;
+use gearcam_proto::{Code, Problem};
 use gearcam_proto::{DiePart, WireProgram};
 
-use crate::die::{Cut, Problem};
+use crate::die::Cut;
 use crate::fourb;
 use crate::iso::{self, IsoProgram};
 use crate::offset::{offset, Side};

@@ -6,21 +6,20 @@
 
 use gearcam_proto::Code;
 use gearcam_proto::{DieFigures, JobError, Stage, WireModel, WirePlan};
-use gearcam_wire::die::{centre_distance_mm, check, length_mm, tip_thickness_mm, Problem};
+use gearcam_wire::die::{centre_distance_mm, check, length_mm, tip_thickness_mm};
 use gearcam_wire::programs::{make, Made};
 
 use crate::MODEL_VERSION;
-
-fn error(p: Problem) -> JobError {
-    Stage::Model.error(p.code, &p.field, p.expected, p.got, p.message)
-}
 
 /// The job's die made, or the typed errors that stop it.
 pub fn made(plan: &WirePlan) -> Result<Made, Vec<JobError>> {
     let m = &plan.machine;
     let p = &plan.process;
     let die = &plan.die;
-    let mut errors: Vec<JobError> = check(die).into_iter().map(error).collect();
+    let mut errors: Vec<JobError> = check(die)
+        .into_iter()
+        .map(|p| p.raise(Stage::Model))
+        .collect();
     if !m.programs.contains(&p.program) {
         let forms: Vec<&str> = m.programs.iter().map(|f| f.as_str()).collect();
         errors.push(crate::program_form_error(
@@ -43,7 +42,7 @@ pub fn made(plan: &WirePlan) -> Result<Made, Vec<JobError>> {
     if !errors.is_empty() {
         return Err(errors);
     }
-    let made = make(die, p, &[], 1).map_err(|e| vec![error(e)])?;
+    let made = make(die, p, &[], 1).map_err(|e| vec![e.raise(Stage::Model)])?;
     let reach = made
         .cut
         .path

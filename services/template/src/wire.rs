@@ -134,7 +134,7 @@ pub fn render(model: &WireModel) -> Result<NcProgram, Vec<JobError>> {
     // `make` writes the text, reads it back, replays it and measures it:
     // it returns a program only when the replay holds the tolerances.
     let made = make(&plan.die, &plan.process, &lines, number(&name))
-        .map_err(|p| vec![Stage::Template.error(p.code, &p.field, p.expected, p.got, p.message)])?;
+        .map_err(|p| vec![p.raise(Stage::Template)])?;
     let text = made.written.text;
     let path_check = PathCheck {
         ok: true,
