@@ -637,6 +637,50 @@ mod tests {
     }
 
     #[test]
+    fn a_request_on_the_bus_with_a_foreign_section_does_not_decode() {
+        // A client's request in the flat shape with a [die] in a hobbing job:
+        // the envelope is a job_request, and its body does not decode.
+        #[derive(Serialize)]
+        struct Loose<'a> {
+            job_id: &'a str,
+            submitted_at_ms: u64,
+            submitted_by: &'a str,
+            spec: JobFile,
+        }
+        #[derive(Serialize)]
+        struct Envelope<'a> {
+            schema: u16,
+            kind: &'a str,
+            body: Loose<'a>,
+        }
+        let mut spec = JobFile::from(by_part().spec);
+        spec.die = Some(
+            toml::from_str(
+                "part = \"die\"\nmodule_mm = 2\nteeth = 20\nthickness_mm = 10\nmaterial = \"Cr12MoV\"",
+            )
+            .unwrap(),
+        );
+        let bytes = rmp_serde::to_vec_named(&Envelope {
+            schema: crate::SCHEMA_VERSION,
+            kind: JobRequest::KIND,
+            body: Loose {
+                job_id: "J1",
+                submitted_at_ms: 0,
+                submitted_by: "client",
+                spec,
+            },
+        })
+        .unwrap();
+        let err = crate::decode::<JobRequest>(&bytes).unwrap_err();
+        assert_eq!(err.code(), crate::Code::MALFORMED_MESSAGE);
+        assert!(
+            err.to_string()
+                .contains("[die] belongs to the wire-edm family"),
+            "{err}"
+        );
+    }
+
+    #[test]
     fn a_job_is_written_in_its_file_shape_and_read_back() {
         let spec = file("[job]\nfamily = \"spiral-face\"\nmachine = \"M01\"\npart_number = \"F\"\n[face]\nouter_radius_mm = 100\ndepth_mm = 1\nmaterial = \"C45\"\n[milling]\npasses = 2\n").unwrap();
         let bytes = rmp_serde::to_vec_named(&spec).unwrap();
