@@ -150,7 +150,26 @@ pub struct Confirmed {
 /// Confirms a delivered job: it becomes a case, the hob's shift position and
 /// remaining life move on, the job is marked confirmed; all in one transaction.
 pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
-    // The case and the hob's wear are recorded as this confirmation's.
+    act_as_confirmer(conn, c)?;
+    let job = confirmable_job(conn, c)?;
+    if matches!(job.class, JobClass::SpiralFace | JobClass::SpiralGroove) {
+        return confirm_spiral(conn, c, &job.plan_json);
+    }
+    if job.class == JobClass::Wire {
+        return Err(vec![Stage::Knowledge.error(
+            Code::CONFIRM_FAMILY,
+            "job",
+            "a hobbing or spiral face milling job",
+            "a wire EDM job",
+            "the wire EDM family keeps no cases yet: its technology comes from the wire-data library; tune it with gearcam kb edit wire-data",
+        )]);
+    }
+    confirm_hobbing(conn, c, &job.plan_json)
+}
+
+/// Names this confirmation as the one acting, so that the audit trail
+/// records the case and the hob's wear as the confirmer's, for this job.
+fn act_as_confirmer(conn: &Connection, c: &Confirmation) -> Outcome<()> {
     crate::audit::acting_as(conn, &format!("{} (confirm {})", c.by, c.job_id)).map_err(|e| {
         vec![Stage::Knowledge.error(
             Code::KNOWLEDGE_BASE_ERROR,
@@ -159,7 +178,13 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
             e.to_string(),
             "the confirmation could not be recorded",
         )]
-    })?;
+    })
+}
+
+/// The job to confirm: one this knowledge base planned, not refused, and
+/// either delivered or, when the planner allows an undelivered job, still
+/// planned with the values that ran given.
+fn confirmable_job(conn: &Connection, c: &Confirmation) -> Outcome<records::JobRecord> {
     let Some(job) = records::job(conn, &c.job_id)? else {
         return Err(vec![Stage::Knowledge.error(
             Code::UNKNOWN_JOB,
@@ -169,7 +194,15 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
             "only jobs planned by this knowledge base can be confirmed",
         )]);
     };
-    let state = job.state;
+    not_refused(c, job.state)?;
+    values_that_ran_given(c, job.state)?;
+    confirmable_state(c, job.state)?;
+    Ok(job)
+}
+
+/// A job a later stage refused was never cut from gearcam's program, so it
+/// never becomes a case.
+fn not_refused(c: &Confirmation, state: JobState) -> Outcome<()> {
     if state == JobState::Refused {
         return Err(vec![Stage::Knowledge.error(
             Code::JOB_STATE,
@@ -182,8 +215,12 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
             ),
         )]);
     }
-    // A job whose delivery was not heard becomes a case only with the values
-    // that really ran, given by the planner.
+    Ok(())
+}
+
+/// A job whose delivery was not heard becomes a case only with the values
+/// that really ran, given by the planner: the plan's may not be what ran.
+fn values_that_ran_given(c: &Confirmation, state: JobState) -> Outcome<()> {
     if c.allow_undelivered && state == JobState::Planned {
         let missing: Vec<&str> = [
             ("--cutting-speed", c.cutting_speed_m_min.is_none()),
@@ -202,6 +239,12 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
             )]);
         }
     }
+    Ok(())
+}
+
+/// A job is confirmed once, after delivery: it must be delivered, or
+/// planned when the planner allows an undelivered job.
+fn confirmable_state(c: &Confirmation, state: JobState) -> Outcome<()> {
     let ok_state =
         state == JobState::Delivered || (c.allow_undelivered && state == JobState::Planned);
     if !ok_state {
@@ -221,27 +264,55 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
             ),
         )]);
     }
-    if matches!(job.class, JobClass::SpiralFace | JobClass::SpiralGroove) {
-        return confirm_spiral(conn, c, &job.plan_json);
-    }
-    if job.class == JobClass::Wire {
-        return Err(vec![Stage::Knowledge.error(
-            Code::CONFIRM_FAMILY,
-            "job",
-            "a hobbing or spiral face milling job",
-            "a wire EDM job",
-            "the wire EDM family keeps no cases yet: its technology comes from the wire-data library; tune it with gearcam kb edit wire-data",
-        )]);
-    }
-    let plan = stored_plan(&job.plan_json)?;
-    let g = &plan.gear;
+    Ok(())
+}
+
+/// Confirms a delivered hobbing job (state checked by the caller): it
+/// becomes a case with the values that ran, a library hob's shift position
+/// and remaining life move on by the quantity cut, and the job is marked
+/// confirmed; one transaction.
+fn confirm_hobbing(conn: &Connection, c: &Confirmation, plan_json: &str) -> Outcome<Confirmed> {
+    let plan = stored_plan(plan_json)?;
     let quantity = c.quantity.unwrap_or(plan.request.spec.job.quantity);
-    let material = records::material(conn, &g.material)?;
+    let material = records::material(conn, &plan.gear.material)?;
     let lib_hob = if plan.hob.source == Source::Library {
         records::hob(conn, &plan.hob.id)?
     } else {
         None
     };
+    let case_id = format!("JOB-{}", c.job_id);
+    let case = hobbing_case(
+        c,
+        &plan,
+        material.as_ref(),
+        lib_hob.as_ref(),
+        quantity,
+        &case_id,
+    );
+    let tx = conn.unchecked_transaction().map_err(KnowledgeError::from)?;
+    let case = library::add(&tx, &library::CASES, &case)?;
+    let hob = match lib_hob {
+        Some(h) => Some(wear_hob(&tx, &h, &plan.hob.id, quantity)?),
+        None => None,
+    };
+    let job = mark_confirmed(&tx, c, quantity, &case_id)?;
+    tx.commit().map_err(KnowledgeError::from)?;
+    Ok(Confirmed { case, hob, job })
+}
+
+/// The case a confirmed hobbing job becomes: the gear, the machine, the hob
+/// and the values that ran (the plan's unless the planner gives others),
+/// with a provenance naming the values that differ. A material or hob the
+/// knowledge base does not know is recorded as unknown.
+fn hobbing_case(
+    c: &Confirmation,
+    plan: &ProcessPlan,
+    material: Option<&records::MaterialRecord>,
+    lib_hob: Option<&records::HobRecord>,
+    quantity: u32,
+    case_id: &str,
+) -> Record {
+    let g = &plan.gear;
     let vc = c
         .cutting_speed_m_min
         .unwrap_or(plan.process.cutting_speed_m_min);
@@ -257,22 +328,20 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
     if c.cuts.is_some() {
         changed.push(format!("{cuts} cuts"));
     }
-    let case_id = format!("JOB-{}", c.job_id);
     let case = json!({
         "id": case_id,
         "class": plan.class,
         "machine": plan.machine.id.as_str(),
         "material": g.material.trim(),
-        // A material or hob the knowledge base does not know is recorded as unknown.
-        "material_group": material.as_ref().map_or("unknown", |m| m.material_group.as_str()),
-        "hardness_hb": material.as_ref().and_then(|m| m.hardness_hb),
+        "material_group": material.map_or("unknown", |m| m.material_group.as_str()),
+        "hardness_hb": material.and_then(|m| m.hardness_hb),
         "module_mm": g.module_mm,
         "teeth": g.teeth,
         "helix_angle_deg": g.helix_angle_deg.abs(),
         "face_width_mm": g.face_width_mm,
         "quality_grade": g.quality_grade,
-        "hob_material": lib_hob.as_ref().map_or("unknown", |h| h.material.as_str()),
-        "hob_coating": lib_hob.as_ref().map_or("unknown", |h| h.coating.as_str()),
+        "hob_material": lib_hob.map_or("unknown", |h| h.material.as_str()),
+        "hob_coating": lib_hob.map_or("unknown", |h| h.coating.as_str()),
         "hob_starts": plan.hob.starts,
         "hob_od_mm": plan.hob.od_mm,
         "operation": plan.sections().process.operation.unwrap_or_default().as_str(),
@@ -295,23 +364,25 @@ pub fn confirm(conn: &Connection, c: &Confirmation) -> Outcome<Confirmed> {
     let Value::Object(case) = case else {
         unreachable!("a JSON object")
     };
-    let tx = conn.unchecked_transaction().map_err(KnowledgeError::from)?;
-    let case = library::add(&tx, &library::CASES, &case)?;
-    let hob = match lib_hob {
-        Some(h) => {
-            let used = hobmatch::shift_needed_mm(&h, quantity);
-            let pos = (h.shift_position_mm + used).min(h.usable_length_mm);
-            let life = h.remaining_life_parts.saturating_sub(u64::from(quantity));
-            let mut set = Record::new();
-            set.insert("shift_position_mm".into(), json!(pos));
-            set.insert("remaining_life_parts".into(), json!(life));
-            Some(library::edit(&tx, &library::HOBS, &plan.hob.id, &set)?)
-        }
-        None => None,
-    };
-    let job = mark_confirmed(&tx, c, quantity, &case_id)?;
-    tx.commit().map_err(KnowledgeError::from)?;
-    Ok(Confirmed { case, hob, job })
+    case
+}
+
+/// Moves a library hob on by the parts cut: its shift position by the
+/// shift they need (up to its usable length), its remaining life by their
+/// number.
+fn wear_hob(
+    tx: &rusqlite::Transaction<'_>,
+    h: &records::HobRecord,
+    hob_id: &str,
+    quantity: u32,
+) -> Outcome<Record> {
+    let used = hobmatch::shift_needed_mm(h, quantity);
+    let pos = (h.shift_position_mm + used).min(h.usable_length_mm);
+    let life = h.remaining_life_parts.saturating_sub(u64::from(quantity));
+    let mut set = Record::new();
+    set.insert("shift_position_mm".into(), json!(pos));
+    set.insert("remaining_life_parts".into(), json!(life));
+    library::edit(tx, &library::HOBS, hob_id, &set)
 }
 
 /// Confirms a delivered spiral job (state checked by the caller): it
