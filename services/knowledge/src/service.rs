@@ -20,6 +20,10 @@ use gearcam_proto::{
 };
 use rusqlite::Connection;
 use serde_json::Value;
+use zenoh::handlers::FifoChannelHandler;
+use zenoh::pubsub::Subscriber;
+use zenoh::query::{Query, Queryable};
+use zenoh::sample::Sample;
 
 use crate::cbr::CaseBase;
 use crate::library::{self, Record};
@@ -102,98 +106,8 @@ pub async fn run(
         .declare_subscriber(keys::ALL_JOB_EVENTS)
         .await
         .map_err(zerr("declare subscriber"))?;
-    let stop = shutdown.clone();
-    let kb_task = tokio::spawn(async move {
-        loop {
-            let query = tokio::select! {
-                _ = stop.cancelled() => break,
-                q = queryable.recv_async() => match q {
-                    Ok(q) => q,
-                    Err(_) => break,
-                },
-                q = changes.recv_async() => match q {
-                    Ok(q) => q,
-                    Err(_) => break,
-                },
-            };
-            let key = query.key_expr().as_str().to_string();
-            let payload = query
-                .payload()
-                .map(|p| p.to_bytes().into_owned())
-                .unwrap_or_default();
-            let reply = answer(&kb_conn, &key, &payload);
-            if !reply.errors.is_empty() {
-                tracing::info!(
-                    key,
-                    code = reply.errors[0].code.as_str(),
-                    "kb query refused"
-                );
-            }
-            let bytes = match encode(&reply) {
-                Ok(b) => b,
-                Err(e) => {
-                    tracing::error!(key, error = %e, "cannot encode kb reply");
-                    continue;
-                }
-            };
-            if let Err(e) = query.reply(query.key_expr().clone(), bytes).await {
-                tracing::warn!(key, error = %e, "cannot send kb reply");
-            }
-        }
-    });
-    let stop = shutdown.clone();
-    let events_task = tokio::spawn(async move {
-        loop {
-            let sample = tokio::select! {
-                _ = stop.cancelled() => break,
-                s = events.recv_async() => match s {
-                    Ok(s) => s,
-                    Err(_) => break,
-                },
-            };
-            let Ok(ev) = decode::<JobEvent>(&sample.payload().to_bytes()) else {
-                continue;
-            };
-            // Only the reporter that owns an event is believed: a delivery
-            // from the machine's agent, a refusal from the stage's service.
-            let reporter = keys::reporter_of(sample.key_expr().as_str()).unwrap_or_default();
-            let machine = match &ev.event {
-                EventKind::Delivered { receipt } => Some(receipt.machine.clone()),
-                _ => None,
-            };
-            let owned = match &machine {
-                Some(m) => keys::reporter_owns(reporter, &ev, m),
-                None if ev.stage == Stage::Agent => reporter.starts_with("agent-"),
-                None => reporter == ev.stage.as_str(),
-            };
-            if !owned {
-                tracing::warn!(job = %ev.job_id, reporter, "ignored an event its reporter does not own");
-                continue;
-            }
-            if let EventKind::Delivered { receipt } = &ev.event {
-                match learn::record_delivered(&events_conn, receipt) {
-                    Ok(true) => {
-                        tracing::info!(job = %receipt.job_id, "job delivered; ready to confirm")
-                    }
-                    Ok(false) => {}
-                    Err(e) => {
-                        tracing::warn!(job = %receipt.job_id, error = %e, "cannot record delivery")
-                    }
-                }
-            }
-            // A later stage's refusal: the job is never left `planned`. The
-            // knowledge service's own refusals come before a job is planned.
-            if matches!(ev.event, EventKind::Failed { .. }) && ev.stage != Stage::Knowledge {
-                match learn::record_refused(&events_conn, ev.job_id.as_str()) {
-                    Ok(true) => tracing::info!(job = %ev.job_id, "job refused by a later stage"),
-                    Ok(false) => {}
-                    Err(e) => {
-                        tracing::warn!(job = %ev.job_id, error = %e, "cannot record the refusal")
-                    }
-                }
-            }
-        }
-    });
+    let kb_task = tokio::spawn(serve_library(queryable, changes, kb_conn, shutdown.clone()));
+    let events_task = tokio::spawn(follow_events(events, events_conn, shutdown.clone()));
 
     let result = run_stage::<JobRequest, _>(
         &bus,
@@ -201,38 +115,7 @@ pub async fn run(
         SERVICE,
         Stage::Knowledge,
         shutdown.clone(),
-        move |key, req| {
-            if keys::job_of(key).as_ref() != Some(&req.job_id) {
-                return Err(vec![JobError::job_id_mismatch(
-                    Stage::Knowledge,
-                    key,
-                    &req.job_id,
-                    "request",
-                )]);
-            }
-            if let Err(e) = cases.refresh(&conn) {
-                tracing::warn!(error = %e, "cannot reload the case base; planning with the one in memory");
-            }
-            // Each family plans its own way; every plan goes out on the job's
-            // plan key under its own envelope kind.
-            let planned = crate::family::plan(&conn, &cases.base, &req)?;
-            let payload = planned.payload.map_err(|e| {
-                vec![gearcam_bus::stage::codec_error::<JobRequest>(
-                    Stage::Knowledge,
-                    &e,
-                )]
-            })?;
-            Ok(Handled {
-                events: vec![EventKind::Planned {
-                    hob_id: planned.tool,
-                    confidence: planned.confidence,
-                }],
-                outputs: vec![Output {
-                    key: keys::job_plan(&req.job_id),
-                    payload,
-                }],
-            })
-        },
+        move |key, req| plan_request(&conn, &mut cases, key, &req),
     )
     .await;
     shutdown.cancel();
@@ -240,6 +123,173 @@ pub async fn run(
     let _ = events_task.await;
     result?;
     Ok(())
+}
+
+/// The library task: answers the queries on the read keys and on the change
+/// keys, one at a time on its own connection, until `stop` is cancelled or
+/// a queryable closes.
+async fn serve_library(
+    queryable: Queryable<FifoChannelHandler<Query>>,
+    changes: Queryable<FifoChannelHandler<Query>>,
+    conn: Connection,
+    stop: CancellationToken,
+) {
+    loop {
+        let query = tokio::select! {
+            _ = stop.cancelled() => break,
+            q = queryable.recv_async() => match q {
+                Ok(q) => q,
+                Err(_) => break,
+            },
+            q = changes.recv_async() => match q {
+                Ok(q) => q,
+                Err(_) => break,
+            },
+        };
+        let key = query.key_expr().as_str().to_string();
+        let Some(bytes) = encoded_answer(&conn, &key, &query) else {
+            continue;
+        };
+        if let Err(e) = query.reply(query.key_expr().clone(), bytes).await {
+            tracing::warn!(key, error = %e, "cannot send kb reply");
+        }
+    }
+}
+
+/// The encoded reply to one library query (a refusal is logged with its
+/// first code), or `None` when the reply cannot be encoded: that is logged
+/// and the query gets no reply.
+fn encoded_answer(conn: &Connection, key: &str, query: &Query) -> Option<Vec<u8>> {
+    let payload = query
+        .payload()
+        .map(|p| p.to_bytes().into_owned())
+        .unwrap_or_default();
+    let reply = answer(conn, key, &payload);
+    if !reply.errors.is_empty() {
+        tracing::info!(
+            key,
+            code = reply.errors[0].code.as_str(),
+            "kb query refused"
+        );
+    }
+    match encode(&reply) {
+        Ok(b) => Some(b),
+        Err(e) => {
+            tracing::error!(key, error = %e, "cannot encode kb reply");
+            None
+        }
+    }
+}
+
+/// The events task: records, for the learning loop, every delivery and
+/// every later stage's refusal heard on the job events, on its own
+/// connection, until `stop` is cancelled or the subscriber closes.
+async fn follow_events(
+    events: Subscriber<FifoChannelHandler<Sample>>,
+    conn: Connection,
+    stop: CancellationToken,
+) {
+    loop {
+        let sample = tokio::select! {
+            _ = stop.cancelled() => break,
+            s = events.recv_async() => match s {
+                Ok(s) => s,
+                Err(_) => break,
+            },
+        };
+        record_event(&conn, &sample);
+    }
+}
+
+/// Records one job event: a delivery marks the job delivered, a later
+/// stage's failure marks it refused. An event that does not decode is
+/// skipped; one its reporter does not own is ignored (and logged).
+fn record_event(conn: &Connection, sample: &Sample) {
+    let Ok(ev) = decode::<JobEvent>(&sample.payload().to_bytes()) else {
+        return;
+    };
+    let reporter = keys::reporter_of(sample.key_expr().as_str()).unwrap_or_default();
+    if !believed(reporter, &ev) {
+        tracing::warn!(job = %ev.job_id, reporter, "ignored an event its reporter does not own");
+        return;
+    }
+    if let EventKind::Delivered { receipt } = &ev.event {
+        match learn::record_delivered(conn, receipt) {
+            Ok(true) => {
+                tracing::info!(job = %receipt.job_id, "job delivered; ready to confirm")
+            }
+            Ok(false) => {}
+            Err(e) => {
+                tracing::warn!(job = %receipt.job_id, error = %e, "cannot record delivery")
+            }
+        }
+    }
+    // A later stage's refusal: the job is never left `planned`. The
+    // knowledge service's own refusals come before a job is planned.
+    if matches!(ev.event, EventKind::Failed { .. }) && ev.stage != Stage::Knowledge {
+        match learn::record_refused(conn, ev.job_id.as_str()) {
+            Ok(true) => tracing::info!(job = %ev.job_id, "job refused by a later stage"),
+            Ok(false) => {}
+            Err(e) => {
+                tracing::warn!(job = %ev.job_id, error = %e, "cannot record the refusal")
+            }
+        }
+    }
+}
+
+/// Only the reporter that owns an event is believed: a delivery from the
+/// machine's agent, a refusal from the stage's service.
+fn believed(reporter: &str, ev: &JobEvent) -> bool {
+    let machine = match &ev.event {
+        EventKind::Delivered { receipt } => Some(receipt.machine.clone()),
+        _ => None,
+    };
+    match &machine {
+        Some(m) => keys::reporter_owns(reporter, ev, m),
+        None if ev.stage == Stage::Agent => reporter.starts_with("agent-"),
+        None => reporter == ev.stage.as_str(),
+    }
+}
+
+/// The stage's handler: plans one job request, received on `key`, with the
+/// case base reloaded first when the database changed (a reload that fails
+/// is logged and the one in memory serves). Each family plans its own way;
+/// every plan goes out on the job's plan key under its own envelope kind,
+/// after its `planned` event.
+fn plan_request(
+    conn: &Connection,
+    cases: &mut Cases,
+    key: &str,
+    req: &JobRequest,
+) -> Result<Handled, Vec<JobError>> {
+    if keys::job_of(key).as_ref() != Some(&req.job_id) {
+        return Err(vec![JobError::job_id_mismatch(
+            Stage::Knowledge,
+            key,
+            &req.job_id,
+            "request",
+        )]);
+    }
+    if let Err(e) = cases.refresh(conn) {
+        tracing::warn!(error = %e, "cannot reload the case base; planning with the one in memory");
+    }
+    let planned = crate::family::plan(conn, &cases.base, req)?;
+    let payload = planned.payload.map_err(|e| {
+        vec![gearcam_bus::stage::codec_error::<JobRequest>(
+            Stage::Knowledge,
+            &e,
+        )]
+    })?;
+    Ok(Handled {
+        events: vec![EventKind::Planned {
+            hob_id: planned.tool,
+            confidence: planned.confidence,
+        }],
+        outputs: vec![Output {
+            key: keys::job_plan(&req.job_id),
+            payload,
+        }],
+    })
 }
 
 /// A wire record as a JSON record.
@@ -298,147 +348,33 @@ pub fn answer(conn: &Connection, key: &str, payload: &[u8]) -> KbReply {
     reply
 }
 
+/// Answers one library query (see [`answer`]), writing the library's name
+/// into `library_name` as soon as the key gives it: the key is read, the
+/// request decoded, the operation checked against the key, the change (if
+/// any) recorded as its user's, and the operation done.
 fn answer_inner(
     conn: &Connection,
     key: &str,
     payload: &[u8],
     library_name: &mut String,
 ) -> Result<Vec<Record>, Vec<JobError>> {
-    // A change key names the user who asks, whom a secure router lets use
-    // only their own name: the change is recorded as theirs.
-    let (user, (lib, id)) = match (keys::kb_of(key), keys::kb_change_of(key)) {
-        (Some(read), _) => (None, read),
-        (None, Some((user, change))) => (Some(user), change),
-        (None, None) => {
-            return Err(vec![Stage::Knowledge.error(
-                Code::BAD_KEY,
-                "key",
-                keys::KB_KEY_FORMS,
-                key,
-                "a knowledge-base query names a library and, for one record, its id",
-            )])
-        }
-    };
-    *library_name = lib.clone();
-    let lib = library::library(&lib).map_err(|e| vec![e])?;
-    let req = if payload.is_empty() {
-        KbRequest {
-            op: if id.is_some() { KbOp::Get } else { KbOp::List },
-            record: None,
-            set: KbRecord::new(),
-            by: String::new(),
-        }
-    } else {
-        decode::<KbRequest>(payload).map_err(|e| {
-            vec![Stage::Knowledge.error(
-                e.code(),
-                "payload",
-                format!(
-                    "a MessagePack {} message, schema {}",
-                    KbRequest::KIND,
-                    gearcam_proto::SCHEMA_VERSION
-                ),
-                e.to_string(),
-                "the query's payload is not a knowledge-base request",
-            )]
-        })?
-    };
-    let need_id = |op: &str| {
-        id.clone().ok_or_else(|| {
-            vec![Stage::Knowledge.error(
-                Code::MISSING_ID,
-                "key",
-                keys::kb_record_form(lib.name),
-                key,
-                format!("{op} needs the record's id in the key"),
-            )]
-        })
-    };
-    // Reads on the read keys, changes on the change keys (with who makes
-    // them): the access control grants them to different users.
-    let is_change = matches!(req.op, KbOp::Add | KbOp::Edit | KbOp::Remove);
-    if is_change != user.is_some() {
-        let (expected, message) = if is_change {
-            (
-                format!(
-                    "list or get on {key}; a change on {}",
-                    keys::kb_change("{user}", lib.name, id.as_deref())
-                ),
-                "changes to the knowledge base are asked on the kb-changes keys, which the access control grants to administrators",
-            )
-        } else {
-            (
-                format!(
-                    "add, edit or remove on {key}; reads on {}",
-                    keys::kb_library(lib.name)
-                ),
-                "the kb-changes keys take changes only",
-            )
-        };
-        return Err(vec![Stage::Knowledge.error(
-            Code::KB_WRONG_KEY,
-            "op",
-            expected,
-            format!("{:?}", req.op).to_lowercase(),
-            message,
-        )]);
-    }
+    let KbKey {
+        user,
+        library: name,
+        id,
+    } = kb_key(key)?;
+    *library_name = name.clone();
+    let lib = library::library(&name).map_err(|e| vec![e])?;
+    let req = request_of(payload, id.is_some())?;
+    check_key_for_op(key, &lib, id.as_deref(), user.is_some(), req.op)?;
     if let Some(user) = &user {
-        crate::audit::acting_as(conn, user).map_err(|e| {
-            vec![Stage::Knowledge.error(
-                Code::KNOWLEDGE_BASE_ERROR,
-                "-",
-                "a writable knowledge base",
-                e.to_string(),
-                "the change could not be recorded",
-            )]
-        })?;
+        act_as_user(conn, user)?;
     }
+    let need_id = |op: &str| record_id(key, &lib, id.as_ref(), op);
     match req.op {
         KbOp::List => Ok(library::list(conn, &lib)?),
-        KbOp::Get => {
-            let id = need_id("get")?;
-            match library::get(conn, &lib, &id)? {
-                Some(r) => Ok(vec![r]),
-                None => Err(vec![Stage::Knowledge.error(
-                    Code::NOT_FOUND,
-                    lib.key,
-                    format!("an existing {} id", lib.name),
-                    id.as_str(),
-                    format!("there is no record {id:?} in {}", lib.name),
-                )]),
-            }
-        }
-        KbOp::Add => {
-            let Some(rec) = req.record.as_ref() else {
-                return Err(vec![Stage::Knowledge.error(
-                    Code::FIELD_MISSING,
-                    "record",
-                    "the record to add",
-                    "nothing",
-                    "an add request carries the whole record",
-                )]);
-            };
-            let mut rec = record_from_wire(rec);
-            if let Some(id) = &id {
-                match rec.get(lib.key) {
-                    None => {
-                        rec.insert(lib.key.to_string(), Value::from(id.as_str()));
-                    }
-                    Some(v) if v.as_str() == Some(id.as_str()) => {}
-                    Some(v) => {
-                        return Err(vec![Stage::Knowledge.error(
-                            Code::ID_MISMATCH,
-                            lib.key,
-                            id.as_str(),
-                            library::cell(v),
-                            "the record's key differs from the id in the query's key",
-                        )])
-                    }
-                }
-            }
-            Ok(vec![library::add(conn, &lib, &rec)?])
-        }
+        KbOp::Get => get_record(conn, &lib, &need_id("get")?),
+        KbOp::Add => add_record(conn, &lib, id.as_ref(), req.record.as_ref()),
         KbOp::Edit => {
             let id = need_id("edit")?;
             Ok(vec![library::edit(
@@ -453,4 +389,192 @@ fn answer_inner(
             Ok(vec![library::remove(conn, &lib, &id)?])
         }
     }
+}
+
+/// What a library query's key names.
+struct KbKey {
+    /// The user who asks, on a change key only.
+    user: Option<String>,
+    /// The library.
+    library: String,
+    /// The record, when the key names one.
+    id: Option<String>,
+}
+
+/// A library query's key read: a read key, or a change key. A change key
+/// names the user who asks, whom a secure router lets use only their own
+/// name: the change is recorded as theirs.
+fn kb_key(key: &str) -> Result<KbKey, Vec<JobError>> {
+    match (keys::kb_of(key), keys::kb_change_of(key)) {
+        (Some((library, id)), _) => Ok(KbKey {
+            user: None,
+            library,
+            id,
+        }),
+        (None, Some((user, (library, id)))) => Ok(KbKey {
+            user: Some(user),
+            library,
+            id,
+        }),
+        (None, None) => Err(vec![Stage::Knowledge.error(
+            Code::BAD_KEY,
+            "key",
+            keys::KB_KEY_FORMS,
+            key,
+            "a knowledge-base query names a library and, for one record, its id",
+        )]),
+    }
+}
+
+/// The query's request: decoded from its payload, or, for an empty
+/// payload, a read (get when the key names a record, list otherwise).
+fn request_of(payload: &[u8], has_id: bool) -> Result<KbRequest, Vec<JobError>> {
+    if payload.is_empty() {
+        return Ok(KbRequest {
+            op: if has_id { KbOp::Get } else { KbOp::List },
+            record: None,
+            set: KbRecord::new(),
+            by: String::new(),
+        });
+    }
+    decode::<KbRequest>(payload).map_err(|e| {
+        vec![Stage::Knowledge.error(
+            e.code(),
+            "payload",
+            format!(
+                "a MessagePack {} message, schema {}",
+                KbRequest::KIND,
+                gearcam_proto::SCHEMA_VERSION
+            ),
+            e.to_string(),
+            "the query's payload is not a knowledge-base request",
+        )]
+    })
+}
+
+/// Reads on the read keys, changes on the change keys (with who makes
+/// them): the access control grants them to different users.
+fn check_key_for_op(
+    key: &str,
+    lib: &library::Library,
+    id: Option<&str>,
+    on_change_key: bool,
+    op: KbOp,
+) -> Result<(), Vec<JobError>> {
+    let is_change = matches!(op, KbOp::Add | KbOp::Edit | KbOp::Remove);
+    if is_change == on_change_key {
+        return Ok(());
+    }
+    let (expected, message) = if is_change {
+        (
+            format!(
+                "list or get on {key}; a change on {}",
+                keys::kb_change("{user}", lib.name, id)
+            ),
+            "changes to the knowledge base are asked on the kb-changes keys, which the access control grants to administrators",
+        )
+    } else {
+        (
+            format!(
+                "add, edit or remove on {key}; reads on {}",
+                keys::kb_library(lib.name)
+            ),
+            "the kb-changes keys take changes only",
+        )
+    };
+    Err(vec![Stage::Knowledge.error(
+        Code::KB_WRONG_KEY,
+        "op",
+        expected,
+        format!("{op:?}").to_lowercase(),
+        message,
+    )])
+}
+
+/// Names the user of a change key as the one acting, so that the audit
+/// trail records the change as theirs.
+fn act_as_user(conn: &Connection, user: &str) -> Result<(), Vec<JobError>> {
+    crate::audit::acting_as(conn, user).map_err(|e| {
+        vec![Stage::Knowledge.error(
+            Code::KNOWLEDGE_BASE_ERROR,
+            "-",
+            "a writable knowledge base",
+            e.to_string(),
+            "the change could not be recorded",
+        )]
+    })
+}
+
+/// The record's id from the key, which `op` (get, edit, remove) needs.
+fn record_id(
+    key: &str,
+    lib: &library::Library,
+    id: Option<&String>,
+    op: &str,
+) -> Result<String, Vec<JobError>> {
+    id.cloned().ok_or_else(|| {
+        vec![Stage::Knowledge.error(
+            Code::MISSING_ID,
+            "key",
+            keys::kb_record_form(lib.name),
+            key,
+            format!("{op} needs the record's id in the key"),
+        )]
+    })
+}
+
+/// Get: the one record of that id, or a typed error when there is none.
+fn get_record(
+    conn: &Connection,
+    lib: &library::Library,
+    id: &str,
+) -> Result<Vec<Record>, Vec<JobError>> {
+    match library::get(conn, lib, id)? {
+        Some(r) => Ok(vec![r]),
+        None => Err(vec![Stage::Knowledge.error(
+            Code::NOT_FOUND,
+            lib.key,
+            format!("an existing {} id", lib.name),
+            id,
+            format!("there is no record {id:?} in {}", lib.name),
+        )]),
+    }
+}
+
+/// Add: the whole record, whose key is the id in the query's key when that
+/// names one (filled in when the record leaves it out).
+fn add_record(
+    conn: &Connection,
+    lib: &library::Library,
+    id: Option<&String>,
+    rec: Option<&KbRecord>,
+) -> Result<Vec<Record>, Vec<JobError>> {
+    let Some(rec) = rec else {
+        return Err(vec![Stage::Knowledge.error(
+            Code::FIELD_MISSING,
+            "record",
+            "the record to add",
+            "nothing",
+            "an add request carries the whole record",
+        )]);
+    };
+    let mut rec = record_from_wire(rec);
+    if let Some(id) = id {
+        match rec.get(lib.key) {
+            None => {
+                rec.insert(lib.key.to_string(), Value::from(id.as_str()));
+            }
+            Some(v) if v.as_str() == Some(id.as_str()) => {}
+            Some(v) => {
+                return Err(vec![Stage::Knowledge.error(
+                    Code::ID_MISMATCH,
+                    lib.key,
+                    id.as_str(),
+                    library::cell(v),
+                    "the record's key differs from the id in the query's key",
+                )])
+            }
+        }
+    }
+    Ok(vec![library::add(conn, lib, &rec)?])
 }
