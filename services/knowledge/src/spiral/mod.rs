@@ -2,12 +2,12 @@
 //! its seed (milling machines, mills, starting cutting data, starting
 //! cases), the plan of a spiral job (machine, tool, process values from the
 //! job, the most similar cases or the cutting data, each with its
-//! provenance), and the learning loop's record of a planned spiral job.
+//! provenance; the values in `values`), and the learning loop's record of
+//! a planned spiral job.
 
 use gearcam_proto::{
-    CaseRef, Code, CutMode, Dialect, Family, JobError, JobRequest, JobSpec, MachineId, MillData,
-    MillKind, MillProfile, MillingProcess, Source, Sourced, SpiralDirection, SpiralPart,
-    SpiralPlan, SpiralProgram, SpiralSpec, Stage,
+    Code, Dialect, Family, JobError, JobRequest, JobSpec, MachineId, MillData, MillKind,
+    MillProfile, Source, SpiralPart, SpiralPlan, SpiralProgram, SpiralSpec, Stage,
 };
 use rusqlite::{Connection, Transaction};
 use serde_json::{json, Value};
@@ -15,6 +15,10 @@ use serde_json::{json, Value};
 use crate::library::{self, Record};
 use crate::records;
 use crate::KnowledgeError;
+
+mod values;
+
+use values::{case_refs, milling_process, proposed, ranked_cases, within_machine};
 
 /// Provenance of the seeded milling machines.
 pub const MACHINES_SEED: &str = "gearcam seed: example machine (engineering estimate of a typical \
@@ -58,9 +62,21 @@ pub(crate) fn add(
     crate::seed::insert(tx, lib, v)
 }
 
-/// Seeds the tables of migration 7.
+/// Seeds the tables of migration 7, each from its own example rows: the
+/// milling machines, the mills, the face milling example materials, the
+/// starting cutting data and the starting cases, in that order.
 pub fn seed_v7(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     crate::audit::acting_as(tx, "seed")?;
+    seed_mill_machines(tx)?;
+    seed_mills(tx)?;
+    seed_milling_materials(tx)?;
+    seed_milling_data(tx)?;
+    seed_milling_cases(tx)
+}
+
+/// The example milling machines: a FANUC machining centre and a LinuxCNC
+/// knee mill, so that every program form has a machine.
+fn seed_mill_machines(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     add(
         tx,
         &library::MILL_MACHINES,
@@ -78,7 +94,12 @@ pub fn seed_v7(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
                "programs": "linuxcnc", "default_program": "linuxcnc",
                "max_rpm": 4000.0, "max_feed_mm_min": 3000.0, "max_radius_mm": 150.0,
                "safe_z_mm": 5.0, "work_offset": "G54", "source": MACHINES_SEED}),
-    )?;
+    )
+}
+
+/// The example tool library: face mills and end mills of catalogue-typical
+/// geometry.
+fn seed_mills(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     for (id, kind, d, corner, flutes) in [
         ("FM-125", "face-mill", 125.0, 0.8, 8),
         ("FM-063", "face-mill", 63.0, 0.8, 5),
@@ -93,12 +114,24 @@ pub fn seed_v7(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
                    "flutes": flutes, "material": "carbide", "source": TOOLS_SEED}),
         )?;
     }
+    Ok(())
+}
+
+/// The aluminium materials of the face milling examples (a shop's own
+/// material of the same name is kept).
+fn seed_milling_materials(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     for (name, group) in [("AlMg3", "aluminium"), ("6061-T6", "aluminium")] {
         tx.execute(
             "INSERT OR IGNORE INTO materials (name, material_group, source) VALUES (?1, ?2, ?3)",
             rusqlite::params![name, group, "gearcam seed: face milling example material"],
         )?;
     }
+    Ok(())
+}
+
+/// The starting cutting data of coated carbide face milling, one row per
+/// material group.
+fn seed_milling_data(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     for (id, group, vc, fz, ratio, depth, conf) in [
         (
             "MD-QT-STEEL",
@@ -130,6 +163,12 @@ pub fn seed_v7(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
                    "max_depth_per_pass_mm": depth, "confidence": conf, "source": DATA_SEED}),
         )?;
     }
+    Ok(())
+}
+
+/// The starting cases: a face of steel, a face of cast iron and a groove,
+/// so that retrieval has something to show before the shop's own cases.
+fn seed_milling_cases(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     for (id, kind, material, group, ro, ri, tool, d, z, step, passes, depth, vc, fz) in [
         (
             "MC-FACE-C45-100",
@@ -283,43 +322,6 @@ fn section_errors(spec: &SpiralSpec) -> Vec<JobError> {
     }
 }
 
-/// A case's similarity to the job, 0–1: the material group (weight 3), the
-/// outer radius (1) and the inner radius as a share of it (0.5) by relative
-/// difference, the tool's diameter (1), the machine (0.5). Cases of the
-/// other kind (face or groove) are not compared.
-fn similarity(case: &Record, part: &SpiralPart, group: &str, tool_d: f64, machine: &str) -> f64 {
-    let close = |a: f64, b: f64| {
-        if a.max(b) <= 0.0 {
-            1.0
-        } else {
-            1.0 - (a - b).abs() / a.max(b)
-        }
-    };
-    let (ro, ri) = match part {
-        SpiralPart::Face(f) => (f.outer_radius_mm, f.inner_radius_mm),
-        SpiralPart::Groove(g) => (g.outer_radius_mm, 0.0),
-    };
-    let terms = [
-        (
-            3.0,
-            f64::from(u8::from(text(case, "material_group") == group)),
-        ),
-        (1.0, close(ro, num(case, "outer_radius_mm"))),
-        (
-            0.5,
-            1.0 - (ri / ro - num(case, "inner_radius_mm") / num(case, "outer_radius_mm")).abs(),
-        ),
-        (1.0, close(tool_d, num(case, "tool_diameter_mm"))),
-        (0.5, f64::from(u8::from(text(case, "machine") == machine))),
-    ];
-    let total: f64 = terms.iter().map(|t| t.0).sum();
-    terms
-        .iter()
-        .map(|(w, s)| w * s.clamp(0.0, 1.0))
-        .sum::<f64>()
-        / total
-}
-
 /// Plans a spiral job: every typed error found, or the plan.
 pub fn plan_spiral(conn: &Connection, req: &JobRequest) -> Result<SpiralPlan, Vec<JobError>> {
     plan_inner(conn, req).map_err(|e| match e {
@@ -345,9 +347,62 @@ impl From<KnowledgeError> for Failed {
     }
 }
 
+/// Plans a checked job: its machine and part, the material's group, the
+/// tool, the most similar cases and the cutting data; the values they
+/// propose, kept within the machine; the cases cited and the confidence.
 fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<SpiralPlan, Failed> {
     let spec = crate::sections::sections(req, Family::SpiralFace, JobSpec::spiral)
         .map_err(|e| Failed::Job(vec![e]))?;
+    let (machine, part) = machine_and_part(conn, req, spec)?;
+    let material = records::material(conn, part.material())?;
+    let group = material
+        .as_ref()
+        .map_or("unknown".to_string(), |m| m.material_group.clone());
+    let tool = choose_tool(conn, spec, &part)?.map_err(Failed::Job)?;
+    let o = &spec.milling;
+    let program = o.program.unwrap_or(machine.default_program);
+
+    // The most similar cases of this kind.
+    let d = 2.0 * tool.radius_mm;
+    let scored = ranked_cases(conn, &part, &group, d, req.spec.job.machine.as_str())?;
+    let best = scored.first().filter(|(s, _)| *s >= MIN_SIMILARITY);
+    let data = library::list(conn, &library::MILLING_DATA)?
+        .into_iter()
+        .find(|r| text(r, "material_group") == group);
+    if best.is_none()
+        && data.is_none()
+        && (o.cutting_speed_m_min.is_none() || o.feed_per_tooth_mm.is_none())
+    {
+        return Err(Failed::Job(vec![no_cutting_data(&part, &group)]));
+    }
+    let values = proposed(o, &part, best.map(|(_, c)| c), data.as_ref(), d);
+    let values = within_machine(values, &machine, &tool, d);
+    let cases = case_refs(&scored);
+    let confidence = match (best, &data) {
+        (Some((s, c)), _) => s * num(c, "confidence"),
+        (None, Some(r)) => num(r, "confidence"),
+        (None, None) => 1.0,
+    };
+    Ok(SpiralPlan {
+        job_id: req.job_id.clone(),
+        request: req.clone(),
+        part,
+        machine,
+        tool,
+        process: milling_process(o, values, program),
+        cases,
+        confidence,
+    })
+}
+
+/// The job's machine and part, once the job is checked: its sections, its
+/// machine, and its program's name by the control's rule, before anything
+/// is planned. Every error found, in that order, or both.
+fn machine_and_part(
+    conn: &Connection,
+    req: &JobRequest,
+    spec: &SpiralSpec,
+) -> Result<(MillProfile, SpiralPart), Failed> {
     let mut errors = section_errors(spec);
     let machine_id = req.spec.job.machine.as_str();
     let machine = match library::get(conn, &library::MILL_MACHINES, machine_id)? {
@@ -379,150 +434,20 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<SpiralPlan, Failed>
     let (Some(machine), Some(part), true) = (machine, part, errors.is_empty()) else {
         return Err(Failed::Job(errors));
     };
-    let material = records::material(conn, part.material())?;
-    let group = material
-        .as_ref()
-        .map_or("unknown".to_string(), |m| m.material_group.clone());
-    let tool = choose_tool(conn, spec, &part)?.map_err(Failed::Job)?;
-    let o = &spec.milling;
-    let program = o.program.unwrap_or(machine.default_program);
+    Ok((machine, part))
+}
 
-    // The most similar cases of this kind.
-    let d = 2.0 * tool.radius_mm;
-    let mut scored: Vec<(f64, Record)> = library::list(conn, &library::MILLING_CASES)?
-        .into_iter()
-        .filter(|c| text(c, "kind") == part.kind() && text(c, "outcome") != "scrap")
-        .map(|c| (similarity(&c, &part, &group, d, machine_id), c))
-        .collect();
-    scored.sort_by(|a, b| b.0.total_cmp(&a.0));
-    let best = scored.first().filter(|(s, _)| *s >= MIN_SIMILARITY);
-    let data = library::list(conn, &library::MILLING_DATA)?
-        .into_iter()
-        .find(|r| text(r, "material_group") == group);
-    if best.is_none()
-        && data.is_none()
-        && (o.cutting_speed_m_min.is_none() || o.feed_per_tooth_mm.is_none())
-    {
-        return Err(Failed::Job(vec![Stage::Knowledge.error(
-            Code::NO_CUTTING_DATA,
-            &format!("{}.material", part.kind()),
-            "a material whose group has milling data or similar cases (gearcam kb list milling-data), or [milling] cutting_speed_m_min and feed_per_tooth_mm",
-            format!("{} (group {group})", part.material()),
-            "the knowledge base has nothing to propose for this material",
-        )]));
-    }
-    let job = |v: f64| Sourced {
-        value: v,
-        source: Source::Job,
-    };
-    let case = |v: f64| Sourced {
-        value: v,
-        source: Source::Case,
-    };
-    let default = |v: f64| Sourced {
-        value: v,
-        source: Source::Default,
-    };
-    // A value: the job's, else the best case's (adapted), else the cutting data's.
-    let pick = |given: Option<f64>, from_case: Option<f64>, from_data: Option<f64>| {
-        given
-            .map(job)
-            .or_else(|| from_case.map(case))
-            .or_else(|| from_data.map(case))
-    };
-    let case_rec = best.map(|(_, c)| c);
-    let cutting_speed_m_min = pick(
-        o.cutting_speed_m_min,
-        case_rec.map(|c| num(c, "cutting_speed_m_min")),
-        data.as_ref().map(|r| num(r, "cutting_speed_m_min")),
-    );
-    let feed_per_tooth_mm = pick(
-        o.feed_per_tooth_mm,
-        case_rec.map(|c| num(c, "feed_per_tooth_mm")),
-        data.as_ref().map(|r| num(r, "feed_per_tooth_mm")),
-    );
-    // A groove's step-over is its pitch; a face's is the case's share of its
-    // tool's diameter, or the data's.
-    let step_over_mm = match &part {
-        SpiralPart::Groove(g) => Some(job(g.pitch_mm)),
-        SpiralPart::Face(_) => pick(
-            o.step_over_mm,
-            case_rec.map(|c| num(c, "step_over_mm") / num(c, "tool_diameter_mm") * d),
-            data.as_ref().map(|r| num(r, "step_over_ratio") * d),
-        ),
-    };
-    let depth = part.depth_mm();
-    let passes = o.passes.unwrap_or_else(|| {
-        let per_pass = case_rec
-            .map(|c| num(c, "depth_mm") / num(c, "passes"))
-            .or_else(|| data.as_ref().map(|r| num(r, "max_depth_per_pass_mm")))
-            .unwrap_or(depth);
-        ((depth / per_pass).ceil().max(1.0)) as u32
-    });
-    let (Some(mut cutting_speed_m_min), Some(mut feed_per_tooth_mm), Some(step_over_mm)) =
-        (cutting_speed_m_min, feed_per_tooth_mm, step_over_mm)
-    else {
-        unreachable!("checked above: the job, a case or the data gives every value")
-    };
-    // A proposal the machine cannot run is lowered to its limit (source
-    // `machine`); a value the job gives is the planner's and is checked,
-    // never changed, by the model service.
-    let vc_max = machine.max_rpm * std::f64::consts::PI * d / 1000.0;
-    if cutting_speed_m_min.source != Source::Job && cutting_speed_m_min.value > vc_max {
-        cutting_speed_m_min = Sourced {
-            value: (vc_max * 10.0).floor() / 10.0,
-            source: Source::Machine,
-        };
-    }
-    let rpm = 1000.0 * cutting_speed_m_min.value / (std::f64::consts::PI * d);
-    let fz_max = machine.max_feed_mm_min / (f64::from(tool.flutes) * rpm);
-    if feed_per_tooth_mm.source != Source::Job && feed_per_tooth_mm.value > fz_max {
-        feed_per_tooth_mm = Sourced {
-            value: (fz_max * 10_000.0).floor() / 10_000.0,
-            source: Source::Machine,
-        };
-    }
-    let cases: Vec<CaseRef> = scored
-        .iter()
-        .take(3)
-        .filter(|(s, _)| *s >= MIN_SIMILARITY)
-        .map(|(s, c)| CaseRef {
-            id: text(c, "id").to_string(),
-            similarity: *s,
-            provenance: text(c, "provenance").to_string(),
-        })
-        .collect();
-    let confidence = match (best, &data) {
-        (Some((s, c)), _) => s * num(c, "confidence"),
-        (None, Some(r)) => num(r, "confidence"),
-        (None, None) => 1.0,
-    };
-    Ok(SpiralPlan {
-        job_id: req.job_id.clone(),
-        request: req.clone(),
-        part,
-        machine,
-        tool,
-        process: MillingProcess {
-            step_over_mm,
-            passes,
-            cutting_speed_m_min,
-            feed_per_tooth_mm,
-            direction: o.direction.unwrap_or(SpiralDirection::OutsideIn),
-            cut_mode: o.cut_mode.unwrap_or(CutMode::Climb),
-            outer_overtravel_mm: o
-                .outer_overtravel_mm
-                .map_or(default(DEFAULT_OUTER_OVERTRAVEL_MM), job),
-            inner_overtravel_mm: o
-                .inner_overtravel_mm
-                .map_or(default(DEFAULT_INNER_OVERTRAVEL_MM), job),
-            start_angle_deg: o.start_angle_deg.map_or(default(0.0), job),
-            tolerance_mm: o.tolerance_mm.map_or(default(DEFAULT_TOLERANCE_MM), job),
-            program,
-        },
-        cases,
-        confidence,
-    })
+/// The refusal of a job for whose material the knowledge base has neither a
+/// similar case nor cutting data, and whose `[milling]` does not give both
+/// the cutting speed and the feed.
+fn no_cutting_data(part: &SpiralPart, group: &str) -> JobError {
+    Stage::Knowledge.error(
+        Code::NO_CUTTING_DATA,
+        &format!("{}.material", part.kind()),
+        "a material whose group has milling data or similar cases (gearcam kb list milling-data), or [milling] cutting_speed_m_min and feed_per_tooth_mm",
+        format!("{} (group {group})", part.material()),
+        "the knowledge base has nothing to propose for this material",
+    )
 }
 
 /// The tool: the job's library id, the job's inline tool, or the library's
