@@ -4,8 +4,8 @@
 //! group, and the program form — each value with its source.
 
 use gearcam_proto::{
-    CaseRef, Code, Dialect, Family, JobError, JobRequest, JobSpec, MachineId, Source, Sourced,
-    Stage, WireMachine, WirePlan, WireProcess, WireProgram,
+    CaseRef, Code, Dialect, DieSpec, Family, JobError, JobRequest, JobSpec, MachineId, Source,
+    Sourced, Stage, WireMachine, WireOverrides, WirePlan, WireProcess, WireProgram, WireSpec,
 };
 use rusqlite::{Connection, Transaction};
 use serde_json::json;
@@ -186,9 +186,48 @@ pub fn plan_wire(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Vec<Jo
     })
 }
 
+/// Plans a checked job: its machine and die, the wire, the technology for
+/// the wire and the plate's material group, the program form, and the
+/// process with each value's source.
 fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
     let spec = crate::sections::sections(req, Family::WireEdm, JobSpec::wire)
         .map_err(|e| Failed::Job(vec![e]))?;
+    let (machine, record, die) = machine_and_die(conn, req, spec)?;
+    let o = &spec.wire;
+    let (wire_id, wire) = wire_of(conn, o, &record)?;
+    let (data, group) = technology(conn, &die, &wire)?;
+    let program = o.program.unwrap_or(machine.default_program);
+    let whole = whole_part(o, &machine)?;
+    let process = wire_process(o, wire_id, &wire, &data, program, whole);
+    let confidence = num(&data, "confidence");
+    Ok(WirePlan {
+        job_id: req.job_id.clone(),
+        request: req.clone(),
+        die,
+        machine,
+        process,
+        cases: vec![CaseRef {
+            id: text(&data, "id").to_string(),
+            similarity: if text(&data, "material_group") == group {
+                1.0
+            } else {
+                0.5
+            },
+            provenance: text(&data, "source").to_string(),
+        }],
+        confidence,
+    })
+}
+
+/// The job's machine (its profile and its record) and die, once the job
+/// is checked: its `[die]` section, its machine, and its program's name by
+/// the control's rule, before anything is planned. Every error found, in
+/// that order, or all three.
+fn machine_and_die(
+    conn: &Connection,
+    req: &JobRequest,
+    spec: &WireSpec,
+) -> Result<(WireMachine, Record, DieSpec), Failed> {
     let mut errors = Vec::new();
     if spec.die.is_none() {
         errors.push(Stage::Knowledge.error(
@@ -223,11 +262,20 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
     else {
         return Err(Failed::Job(errors));
     };
-    let o = &spec.wire;
+    Ok((machine, record, die))
+}
+
+/// The wire: the job's wire id, else the machine's (its `record`), with
+/// its library record; a wire the knowledge base does not have is refused.
+fn wire_of(
+    conn: &Connection,
+    o: &WireOverrides,
+    record: &Record,
+) -> Result<(String, Record), Failed> {
     let wire_id = o
         .wire
         .clone()
-        .unwrap_or_else(|| text(&record, "wire").to_string());
+        .unwrap_or_else(|| text(record, "wire").to_string());
     let Some(wire) = library::get(conn, &library::WIRES, &wire_id)? else {
         let wires = library::keys(conn, &library::WIRES)?;
         return Err(Failed::Job(vec![Stage::Knowledge.error(
@@ -238,11 +286,18 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
             "the wire is not in the knowledge base (gearcam kb list wires)",
         )]));
     };
+    Ok((wire_id, wire))
+}
+
+/// The technology to start from, and the plate's material group: the
+/// wire-data row of the wire's material for that group, else its row for
+/// any material; with neither, the job is refused.
+fn technology(conn: &Connection, die: &DieSpec, wire: &Record) -> Result<(Record, String), Failed> {
     let material = records::material(conn, &die.material)?;
     let group = material
         .as_ref()
         .map_or("unknown".to_string(), |m| m.material_group.clone());
-    let wire_material = text(&wire, "material");
+    let wire_material = text(wire, "material");
     let rows = library::list(conn, &library::WIRE_DATA)?;
     let data = rows
         .iter()
@@ -261,16 +316,14 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
             "the knowledge base has no technology to propose for this wire and material",
         )]));
     };
-    let sourced = |value: f64, source: Source| Sourced { value, source };
-    let given = |job: Option<f64>, library: f64| match job {
-        Some(v) => sourced(v, Source::Job),
-        None => sourced(library, Source::Library),
-    };
-    let from_data = |field: &str| sourced(num(data, field), Source::Case);
-    let program = o.program.unwrap_or(machine.default_program);
-    // A control that cannot turn a section runs every block once: it is
-    // given the whole part unless the job asks otherwise, and a job that
-    // asks for a turned program there is refused rather than sent.
+    Ok((data.clone(), group))
+}
+
+/// Whether the program cuts the whole part. A control that cannot turn a
+/// section runs every block once: it is given the whole part unless the
+/// job asks otherwise, and a job that asks for a turned program there is
+/// refused rather than sent.
+fn whole_part(o: &WireOverrides, machine: &WireMachine) -> Result<bool, Failed> {
     if o.whole == Some(false) && !machine.rotates {
         return Err(Failed::Job(vec![Stage::Knowledge.error(
             Code::PROGRAM_FORM,
@@ -283,40 +336,40 @@ fn plan_inner(conn: &Connection, req: &JobRequest) -> Result<WirePlan, Failed> {
             "a quarter or half program needs the control's rotation",
         )]));
     }
-    let whole = o.whole.unwrap_or(!machine.rotates);
-    let process = WireProcess {
+    Ok(o.whole.unwrap_or(!machine.rotates))
+}
+
+/// The process: the wire's diameter and spark gap (the job's, else the
+/// wire library's) and the technology row's values, each with its source.
+fn wire_process(
+    o: &WireOverrides,
+    wire_id: String,
+    wire: &Record,
+    data: &Record,
+    program: WireProgram,
+    whole: bool,
+) -> WireProcess {
+    let sourced = |value: f64, source: Source| Sourced { value, source };
+    let given = |job: Option<f64>, library: f64| match job {
+        Some(v) => sourced(v, Source::Job),
+        None => sourced(library, Source::Library),
+    };
+    let from_data = |field: &str| sourced(num(data, field), Source::Case);
+    WireProcess {
         wire: if o.wire_diameter_mm.is_some() {
             "job".into()
         } else {
-            wire_id.clone()
+            wire_id
         },
-        wire_diameter_mm: given(o.wire_diameter_mm, num(&wire, "diameter_mm")),
-        spark_gap_mm: given(o.spark_gap_mm, num(&wire, "spark_gap_mm")),
+        wire_diameter_mm: given(o.wire_diameter_mm, num(wire, "diameter_mm")),
+        spark_gap_mm: given(o.spark_gap_mm, num(wire, "spark_gap_mm")),
         pulse_on_us: from_data("pulse_on_us"),
         pulse_off_us: from_data("pulse_off_us"),
         current_a: from_data("current_a"),
         cutting_rate_mm2_min: from_data("cutting_rate_mm2_min"),
         program,
         whole,
-    };
-    let confidence = num(data, "confidence");
-    Ok(WirePlan {
-        job_id: req.job_id.clone(),
-        request: req.clone(),
-        die,
-        machine,
-        process,
-        cases: vec![CaseRef {
-            id: text(data, "id").to_string(),
-            similarity: if text(data, "material_group") == group {
-                1.0
-            } else {
-                0.5
-            },
-            provenance: text(data, "source").to_string(),
-        }],
-        confidence,
-    })
+    }
 }
 
 /// Records a planned wire job in the jobs library (state `planned`; its
