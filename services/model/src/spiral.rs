@@ -155,9 +155,59 @@ fn pitch_error(points: &[(f64, f64)], pitch_mm: f64) -> f64 {
 
 /// Validates a spiral plan and computes its model.
 pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
+    let checked = validate(plan)?;
+    model_of(plan, checked)
+}
+
+/// A plan whose inputs passed every check: its spiral (sense set), a
+/// groove's figures, and the spindle speed and feed the machine can run.
+struct Checked {
+    /// The tool-centre spiral, its sense set.
+    spiral: Spiral,
+    /// A groove's figures; `None` for a face.
+    groove: Option<GrooveFigures>,
+    /// Spindle speed, rpm.
+    rpm: f64,
+    /// Feed along the spiral, mm/min.
+    feed: f64,
+}
+
+/// The validation: every typed input problem (field, expected, got), in
+/// two rounds. First the plan's own values and its spiral; then, on a
+/// spiral that exists, the overlap of its turns and the machine's limits.
+fn validate(plan: &SpiralPlan) -> Result<Checked, Vec<JobError>> {
+    let mut errors = input_errors(plan);
+    let (spiral, groove) = match spiral_of(plan) {
+        Ok(s) => s,
+        Err(mut e) => {
+            errors.append(&mut e);
+            return Err(errors);
+        }
+    };
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    if groove.is_none() {
+        errors.extend(ring_error(plan, &spiral));
+    }
+    let (rpm, feed) = spindle_and_feed(plan);
+    errors.extend(machine_errors(plan, &spiral, rpm, feed));
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    Ok(Checked {
+        spiral,
+        groove,
+        rpm,
+        feed,
+    })
+}
+
+/// The plan's own values checked: a program form the machine runs, one
+/// depth pass or more, a depth above zero, a tolerance in (0, 0.1] mm.
+fn input_errors(plan: &SpiralPlan) -> Vec<JobError> {
     let p = &plan.process;
     let m = &plan.machine;
-    let rt = plan.tool.radius_mm;
     let mut errors = Vec::new();
     if !m.programs.contains(&p.program) {
         let forms: Vec<&str> = m.programs.iter().map(|f| f.as_str()).collect();
@@ -198,21 +248,18 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
             "the chords and arcs stay this close to the spiral",
         ));
     }
-    let (spiral, groove) = match spiral_of(plan) {
-        Ok(s) => s,
-        Err(mut e) => {
-            errors.append(&mut e);
-            return Err(errors);
-        }
-    };
-    if !errors.is_empty() {
-        return Err(errors);
-    }
-    // Neighbouring turns must overlap by more than the path strays from the
-    // spiral (chords and arcs up to the tolerance, on either side for arcs):
-    // the analytic condition the coverage check then confirms by sampling.
-    if groove.is_none() && spiral.step_over_mm() > 2.0 * rt - 2.0 * tol {
-        errors.push(Stage::Model.error(
+    errors
+}
+
+/// A face's neighbouring turns must overlap by more than the path strays
+/// from the spiral (chords and arcs up to the tolerance, on either side
+/// for arcs): the analytic condition the coverage check then confirms by
+/// sampling.
+fn ring_error(plan: &SpiralPlan, spiral: &Spiral) -> Option<JobError> {
+    let rt = plan.tool.radius_mm;
+    let tol = plan.process.tolerance_mm.value;
+    (spiral.step_over_mm() > 2.0 * rt - 2.0 * tol).then(|| {
+        Stage::Model.error(
             Code::SPIRAL_RANGE,
             "milling.step_over_mm",
             format!(
@@ -221,8 +268,27 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
             ),
             format!("{:.4}", spiral.step_over_mm()),
             "the path strays up to the tolerance from the spiral, so turns a tool's diameter apart would leave a ring",
-        ));
-    }
+        )
+    })
+}
+
+/// The spindle speed, rpm, of the plan's cutting speed with its tool, and
+/// the feed along the spiral, mm/min, of its feed per tooth at that speed.
+fn spindle_and_feed(plan: &SpiralPlan) -> (f64, f64) {
+    let p = &plan.process;
+    let rt = plan.tool.radius_mm;
+    let rpm = 1000.0 * p.cutting_speed_m_min.value / (std::f64::consts::PI * 2.0 * rt);
+    let feed = p.feed_per_tooth_mm.value * f64::from(plan.tool.flutes) * rpm;
+    (rpm, feed)
+}
+
+/// The machine's limits checked: the spiral's largest tool-centre radius
+/// within its reach, the spindle speed and the feed within its own.
+fn machine_errors(plan: &SpiralPlan, spiral: &Spiral, rpm: f64, feed: f64) -> Vec<JobError> {
+    let p = &plan.process;
+    let m = &plan.machine;
+    let rt = plan.tool.radius_mm;
+    let mut errors = Vec::new();
     let reach = spiral.start_radius_mm.max(spiral.end_radius_mm);
     if reach > m.max_radius_mm {
         errors.push(machine_error(
@@ -238,7 +304,6 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
             ),
         ));
     }
-    let rpm = 1000.0 * p.cutting_speed_m_min.value / (std::f64::consts::PI * 2.0 * rt);
     if rpm > m.max_rpm {
         errors.push(machine_error(
             "milling.cutting_speed_m_min",
@@ -253,7 +318,6 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
             "the spindle speed would exceed the machine's".into(),
         ));
     }
-    let feed = p.feed_per_tooth_mm.value * f64::from(plan.tool.flutes) * rpm;
     if feed > m.max_feed_mm_min {
         errors.push(machine_error(
             "milling.feed_per_tooth_mm",
@@ -267,10 +331,25 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
             "the feed would exceed the machine's".into(),
         ));
     }
-    if !errors.is_empty() {
-        return Err(errors);
-    }
+    errors
+}
 
+/// The computation on a checked plan: the chords and arcs within the
+/// tolerance and their deviation measured independently, the coverage (or
+/// pitch) check of the path the program cuts, the warnings, the cut and the
+/// part's time.
+fn model_of(plan: &SpiralPlan, checked: Checked) -> Result<SpiralModel, Vec<JobError>> {
+    let Checked {
+        spiral,
+        groove,
+        rpm,
+        feed,
+    } = checked;
+    let p = &plan.process;
+    let m = &plan.machine;
+    let rt = plan.tool.radius_mm;
+    let tol = p.tolerance_mm.value;
+    let depth = plan.part.depth_mm();
     let (angle_step_deg, points) = spiral.chords(tol);
     let fitted = arcs::fit(&spiral, tol);
     let chord_dev = gearcam_spiral::chord_deviation(&spiral, &points);
@@ -279,74 +358,13 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
         SpiralProgram::FanucArcs => (fitted.len(), arc_dev),
         _ => (points.len() - 1, chord_dev),
     };
-    let mut warnings = Vec::new();
-    let coverage = match (&plan.part, &groove) {
-        (SpiralPart::Face(f), _) => {
-            // The path the program cuts: its chords, or its arcs as a
-            // polyline within SAG_MM (the disc is shrunk by that much).
-            let (path, shrink) = match p.program {
-                SpiralProgram::FanucArcs => (arc_polyline(&fitted), SAG_MM),
-                _ => (points.clone(), 0.0),
-            };
-            let c = gearcam_spiral::coverage(
-                &Region {
-                    outer_radius_mm: f.outer_radius_mm,
-                    inner_radius_mm: f.inner_radius_mm,
-                },
-                rt - shrink,
-                &path,
-                (rt / 4.0).min(0.5),
-            );
-            CoverageCheck {
-                ok: c.ok,
-                max_gap_mm: c.max_gap_mm,
-                worst_point_mm: c.worst_point,
-                max_deviation_mm,
-                samples: c.samples as u64,
-            }
-        }
-        (SpiralPart::Groove(g), Some(fig)) => {
-            let err = pitch_error(&points, g.pitch_mm);
-            let ok = err <= 2.0 * tol + 1e-9 && fig.land_mm > 0.0;
-            CoverageCheck {
-                ok,
-                max_gap_mm: err,
-                worst_point_mm: (0.0, 0.0),
-                max_deviation_mm,
-                samples: 72,
-            }
-        }
-        (SpiralPart::Groove(_), None) => unreachable!("a groove plans its figures"),
-    };
+    let coverage = coverage_of(plan, groove.as_ref(), &points, &fitted, max_deviation_mm);
     if !coverage.ok {
-        let (x, y) = coverage.worst_point_mm;
-        return Err(vec![Stage::Model.error(
-            Code::COVERAGE_FAILED,
-            "milling.step_over_mm",
-            match plan.part {
-                SpiralPart::Face(_) => "a path whose tool disc covers every point of the face".to_string(),
-                SpiralPart::Groove(_) => format!("turns {} mm apart within {} mm", spiral.step_over_mm(), 2.0 * tol),
-            },
-            match plan.part {
-                SpiralPart::Face(_) => format!("a point {:.4} mm outside the tool at X{x:.3} Y{y:.3}", coverage.max_gap_mm),
-                SpiralPart::Groove(_) => format!("a pitch error of {:.4} mm", coverage.max_gap_mm),
-            },
-            "the coverage check found material the path leaves uncut; lower the step-over or the inner overtravel",
-        )]);
+        return Err(vec![coverage_error(plan, &spiral, &coverage)]);
     }
-    // Coverage holds; but with turns nearly a tool's diameter apart a tool
-    // a little smaller than its nominal size leaves a ring.
-    if groove.is_none() && spiral.step_over_mm() > 0.9 * 2.0 * rt {
-        warnings.push(Warning {
-            code: Code::STEP_OVER_LARGE,
-            field: "milling.step_over_mm".into(),
-            message: format!(
-                "the step-over {:.3} mm is over 90 % of the tool's diameter {} mm: neighbouring turns overlap by {:.3} mm only",
-                spiral.step_over_mm(),
-                2.0 * rt,
-                2.0 * rt - spiral.step_over_mm()
-            ),
-        });
+    let mut warnings = Vec::new();
+    if groove.is_none() {
+        warnings.extend(step_over_warning(rt, &spiral));
     }
     let passes = p.passes;
     let plunge = PLUNGE_SHARE * feed;
@@ -355,13 +373,7 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
     let part_time_min =
         f64::from(passes) * (length / feed) + (depth + f64::from(passes) * m.safe_z_mm) / plunge;
     let step_over = spiral.step_over_mm();
-    let (ro, ri) = match &plan.part {
-        SpiralPart::Face(f) => (f.outer_radius_mm, f.inner_radius_mm),
-        SpiralPart::Groove(g) => (
-            g.outer_radius_mm + rt,
-            (g.outer_radius_mm - g.pitch_mm * f64::from(g.turns) - rt).max(0.0),
-        ),
-    };
+    let (ro, ri) = part_radii(plan);
     Ok(SpiralModel {
         job_id: plan.job_id.clone(),
         plan: plan.clone(),
@@ -396,6 +408,109 @@ pub fn compute_spiral(plan: &SpiralPlan) -> Result<SpiralModel, Vec<JobError>> {
         warnings,
         model_version: MODEL_VERSION.to_string(),
     })
+}
+
+/// The coverage check of the path the program cuts (its chords, or its
+/// arcs as a polyline within [`SAG_MM`], the tool's disc shrunk by that
+/// much) over a face; over a groove, the pitch measured on the chords
+/// within twice the tolerance, with a land left between the turns.
+fn coverage_of(
+    plan: &SpiralPlan,
+    groove: Option<&GrooveFigures>,
+    points: &[(f64, f64)],
+    fitted: &[arcs::Arc],
+    max_deviation_mm: f64,
+) -> CoverageCheck {
+    let p = &plan.process;
+    let rt = plan.tool.radius_mm;
+    let tol = p.tolerance_mm.value;
+    match (&plan.part, groove) {
+        (SpiralPart::Face(f), _) => {
+            // The path the program cuts: its chords, or its arcs as a
+            // polyline within SAG_MM (the disc is shrunk by that much).
+            let (path, shrink) = match p.program {
+                SpiralProgram::FanucArcs => (arc_polyline(fitted), SAG_MM),
+                _ => (points.to_vec(), 0.0),
+            };
+            let c = gearcam_spiral::coverage(
+                &Region {
+                    outer_radius_mm: f.outer_radius_mm,
+                    inner_radius_mm: f.inner_radius_mm,
+                },
+                rt - shrink,
+                &path,
+                (rt / 4.0).min(0.5),
+            );
+            CoverageCheck {
+                ok: c.ok,
+                max_gap_mm: c.max_gap_mm,
+                worst_point_mm: c.worst_point,
+                max_deviation_mm,
+                samples: c.samples as u64,
+            }
+        }
+        (SpiralPart::Groove(g), Some(fig)) => {
+            let err = pitch_error(points, g.pitch_mm);
+            let ok = err <= 2.0 * tol + 1e-9 && fig.land_mm > 0.0;
+            CoverageCheck {
+                ok,
+                max_gap_mm: err,
+                worst_point_mm: (0.0, 0.0),
+                max_deviation_mm,
+                samples: 72,
+            }
+        }
+        (SpiralPart::Groove(_), None) => unreachable!("a groove plans its figures"),
+    }
+}
+
+/// The refusal of a path whose coverage check failed: where a face is left
+/// uncut, or how far a groove's pitch is off.
+fn coverage_error(plan: &SpiralPlan, spiral: &Spiral, coverage: &CoverageCheck) -> JobError {
+    let tol = plan.process.tolerance_mm.value;
+    let (x, y) = coverage.worst_point_mm;
+    Stage::Model.error(
+        Code::COVERAGE_FAILED,
+        "milling.step_over_mm",
+        match plan.part {
+            SpiralPart::Face(_) => "a path whose tool disc covers every point of the face".to_string(),
+            SpiralPart::Groove(_) => format!("turns {} mm apart within {} mm", spiral.step_over_mm(), 2.0 * tol),
+        },
+        match plan.part {
+            SpiralPart::Face(_) => format!("a point {:.4} mm outside the tool at X{x:.3} Y{y:.3}", coverage.max_gap_mm),
+            SpiralPart::Groove(_) => format!("a pitch error of {:.4} mm", coverage.max_gap_mm),
+        },
+        "the coverage check found material the path leaves uncut; lower the step-over or the inner overtravel",
+    )
+}
+
+/// Coverage holds; but with a face's turns nearly a tool's diameter apart
+/// (over 90 %) a tool a little smaller than its nominal size leaves a ring.
+fn step_over_warning(rt: f64, spiral: &Spiral) -> Option<Warning> {
+    (spiral.step_over_mm() > 0.9 * 2.0 * rt).then(|| Warning {
+        code: Code::STEP_OVER_LARGE,
+        field: "milling.step_over_mm".into(),
+        message: format!(
+            "the step-over {:.3} mm is over 90 % of the tool's diameter {} mm: neighbouring turns overlap by {:.3} mm only",
+            spiral.step_over_mm(),
+            2.0 * rt,
+            2.0 * rt - spiral.step_over_mm()
+        ),
+    })
+}
+
+/// The radii of the part the model reports: a face's own; for a groove,
+/// the band the tool sweeps, from its outer edge to the last turn's inner
+/// edge (not below the centre).
+fn part_radii(plan: &SpiralPlan) -> (f64, f64) {
+    let rt = plan.tool.radius_mm;
+    match &plan.part {
+        SpiralPart::Face(f) => (f.outer_radius_mm, f.inner_radius_mm),
+        SpiralPart::Groove(g) => (
+            g.outer_radius_mm + rt,
+            (g.outer_radius_mm - g.pitch_mm * f64::from(g.turns) - rt).max(0.0),
+        ),
+    }
 }
 
 #[cfg(test)]
