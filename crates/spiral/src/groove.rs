@@ -3,7 +3,7 @@
 //! of the tool's width runs with an exact pitch, lands between its turns.
 
 use gearcam_proto::Code;
-use gearcam_proto::{JobError, Stage};
+use gearcam_proto::Problem;
 use serde::{Deserialize, Serialize};
 
 use crate::Spiral;
@@ -37,10 +37,10 @@ pub struct Groove {
 }
 
 /// The groove's spiral, or its input errors (typed, on their fields).
-pub fn plan_groove(g: &GrooveSpec) -> Result<Groove, Vec<JobError>> {
+pub fn plan_groove(g: &GrooveSpec) -> Result<Groove, Vec<Problem>> {
     let mut errors = Vec::new();
     let bad = |field: &str, expected: String, got: f64, message: &str| {
-        Stage::Model.error(
+        Problem::new(
             Code::GROOVE_RANGE,
             field,
             expected,

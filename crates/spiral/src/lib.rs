@@ -29,7 +29,7 @@ pub mod picture;
 pub mod verify;
 
 use gearcam_proto::Code;
-use gearcam_proto::{JobError, Stage};
+use gearcam_proto::Problem;
 use serde::{Deserialize, Serialize};
 
 /// The face to mill: a circle (`inner_radius_mm` = 0) or an annulus.
@@ -103,7 +103,7 @@ pub struct Spiral {
 /// in the hole, R1 = Ri − rt − inner overtravel (the tool plunges clear of
 /// the material; a hole too small for that is refused), and ends at
 /// Ro + rt + outer overtravel. n = ⌈|R1 − R2| / L⌉.
-pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<JobError>> {
+pub fn plan(spec: &SpiralSpec) -> Result<Spiral, Vec<Problem>> {
     let mut errors = face_and_tool_errors(spec);
     errors.extend(milling_errors(spec));
     if !errors.is_empty() {
@@ -129,7 +129,7 @@ fn positive(v: f64) -> bool {
 /// The face and the tool checked: a positive outer radius, an inner radius
 /// of 0 (a full circle) or below the outer, a positive tool radius no
 /// larger than the face.
-fn face_and_tool_errors(spec: &SpiralSpec) -> Vec<JobError> {
+fn face_and_tool_errors(spec: &SpiralSpec) -> Vec<Problem> {
     let mut errors = Vec::new();
     let Region {
         outer_radius_mm: ro,
@@ -137,7 +137,7 @@ fn face_and_tool_errors(spec: &SpiralSpec) -> Vec<JobError> {
     } = spec.region;
     let rt = spec.tool_radius_mm;
     if !positive(ro) {
-        errors.push(Stage::Model.error(
+        errors.push(Problem::new(
             Code::SPIRAL_RANGE,
             "face.outer_radius_mm",
             "a radius > 0 mm",
@@ -146,7 +146,7 @@ fn face_and_tool_errors(spec: &SpiralSpec) -> Vec<JobError> {
         ));
     }
     if !(ri.is_finite() && ri >= 0.0) {
-        errors.push(Stage::Model.error(
+        errors.push(Problem::new(
             Code::SPIRAL_RANGE,
             "face.inner_radius_mm",
             "0 (a full circle) or a radius > 0 mm",
@@ -154,7 +154,7 @@ fn face_and_tool_errors(spec: &SpiralSpec) -> Vec<JobError> {
             "the inner radius is 0 for a full circle",
         ));
     } else if positive(ro) && ri >= ro {
-        errors.push(Stage::Model.error(
+        errors.push(Problem::new(
             Code::SPIRAL_RANGE,
             "face.inner_radius_mm",
             format!("less than the outer radius {ro} mm"),
@@ -163,7 +163,7 @@ fn face_and_tool_errors(spec: &SpiralSpec) -> Vec<JobError> {
         ));
     }
     if !positive(rt) {
-        errors.push(Stage::Model.error(
+        errors.push(Problem::new(
             Code::SPIRAL_RANGE,
             "mill.radius_mm",
             "a radius > 0 mm",
@@ -171,7 +171,7 @@ fn face_and_tool_errors(spec: &SpiralSpec) -> Vec<JobError> {
             "the tool's radius must be positive",
         ));
     } else if positive(ro) && rt > ro {
-        errors.push(Stage::Model.error(
+        errors.push(Problem::new(
             Code::SPIRAL_RANGE,
             "mill.radius_mm",
             format!("at most the face's outer radius {ro} mm"),
@@ -184,12 +184,12 @@ fn face_and_tool_errors(spec: &SpiralSpec) -> Vec<JobError> {
 
 /// The milling data checked: a positive step-over below the tool's
 /// diameter, overtravels of 0 mm or more, a finite start angle.
-fn milling_errors(spec: &SpiralSpec) -> Vec<JobError> {
+fn milling_errors(spec: &SpiralSpec) -> Vec<Problem> {
     let mut errors = Vec::new();
     let rt = spec.tool_radius_mm;
     let l = spec.step_over_mm;
     if !positive(l) {
-        errors.push(Stage::Model.error(
+        errors.push(Problem::new(
             Code::SPIRAL_RANGE,
             "milling.step_over_mm",
             "a step-over > 0 mm",
@@ -197,7 +197,7 @@ fn milling_errors(spec: &SpiralSpec) -> Vec<JobError> {
             "the step-over sets the number of turns; it must be positive",
         ));
     } else if positive(rt) && l >= 2.0 * rt {
-        errors.push(Stage::Model.error(
+        errors.push(Problem::new(
             Code::SPIRAL_RANGE,
             "milling.step_over_mm",
             format!("less than the tool's diameter {} mm", 2.0 * rt),
@@ -210,7 +210,7 @@ fn milling_errors(spec: &SpiralSpec) -> Vec<JobError> {
         (spec.inner_overtravel_mm, "milling.inner_overtravel_mm"),
     ] {
         if !(v.is_finite() && v >= 0.0) {
-            errors.push(Stage::Model.error(
+            errors.push(Problem::new(
                 Code::SPIRAL_RANGE,
                 field,
                 "0 mm or more",
@@ -220,7 +220,7 @@ fn milling_errors(spec: &SpiralSpec) -> Vec<JobError> {
         }
     }
     if !spec.start_angle_deg.is_finite() {
-        errors.push(Stage::Model.error(
+        errors.push(Problem::new(
             Code::SPIRAL_RANGE,
             "milling.start_angle_deg",
             "an angle in degrees",
@@ -235,7 +235,7 @@ fn milling_errors(spec: &SpiralSpec) -> Vec<JobError> {
 /// clear of the face and the largest inner radius that leaves no ring; a
 /// spiral without length, or an inside-out spiral whose hole has no room
 /// to plunge, is refused.
-fn centre_radii(spec: &SpiralSpec) -> Result<(f64, f64), Vec<JobError>> {
+fn centre_radii(spec: &SpiralSpec) -> Result<(f64, f64), Vec<Problem>> {
     let Region {
         outer_radius_mm: ro,
         inner_radius_mm: ri,
@@ -250,7 +250,7 @@ fn centre_radii(spec: &SpiralSpec) -> Result<(f64, f64), Vec<JobError>> {
     // rule keeps the last turn within rt of the centre.
     let inner = (ri + rt - l - spec.inner_overtravel_mm).max(0.0);
     if outer - inner <= 0.0 {
-        return Err(vec![Stage::Model.error(
+        return Err(vec![Problem::new(
             Code::SPIRAL_RANGE,
             "mill.radius_mm",
             "a tool that leaves room for a spiral",
@@ -267,7 +267,7 @@ fn centre_radii(spec: &SpiralSpec) -> Result<(f64, f64), Vec<JobError>> {
             // smaller than that leaves no place to plunge.
             let start = ri - rt - spec.inner_overtravel_mm;
             if start < 0.0 {
-                return Err(vec![Stage::Model.error(
+                return Err(vec![Problem::new(
                     Code::SPIRAL_RANGE,
                     "milling.direction",
                     format!(

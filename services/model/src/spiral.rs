@@ -6,7 +6,7 @@
 //! independently, and the coverage check of a face or the pitch check of a
 //! groove. Every failure is a typed error on the job file's field.
 
-use gearcam_proto::Code;
+use gearcam_proto::{Code, Problem};
 use gearcam_proto::{
     CoverageCheck, CutMode, GrooveFigures, JobError, SpiralCut, SpiralDirection, SpiralFigures,
     SpiralModel, SpiralPart, SpiralPlan, SpiralProgram, Stage, Warning,
@@ -14,6 +14,14 @@ use gearcam_proto::{
 use gearcam_spiral::{arcs, Direction, Region, Spiral, SpiralSpec};
 
 use crate::MODEL_VERSION;
+
+/// The spiral crate's problems as the model stage's errors.
+fn model_errors(problems: Vec<Problem>) -> Vec<JobError> {
+    problems
+        .into_iter()
+        .map(|p| p.raise(Stage::Model))
+        .collect()
+}
 
 /// The plunge feed as a share of the feed along the spiral (a documented
 /// default: the tool enters the cut axially, with the centre cutting).
@@ -65,7 +73,7 @@ fn spiral_of(plan: &SpiralPlan) -> Result<(Spiral, Option<GrooveFigures>), Vec<J
                     SpiralDirection::InsideOut => Direction::InsideOut,
                 },
             };
-            (gearcam_spiral::plan(&spec)?, None)
+            (gearcam_spiral::plan(&spec).map_err(model_errors)?, None)
         }
         SpiralPart::Groove(g) => {
             if (g.width_mm - 2.0 * rt).abs() > 1e-3 {
@@ -84,7 +92,8 @@ fn spiral_of(plan: &SpiralPlan) -> Result<(Spiral, Option<GrooveFigures>), Vec<J
                     turns: g.turns,
                     tool_radius_mm: rt,
                     start_angle_deg: p.start_angle_deg.value,
-                })?;
+                })
+                .map_err(model_errors)?;
             let mut s = planned.spiral;
             if p.direction == SpiralDirection::InsideOut {
                 std::mem::swap(&mut s.start_radius_mm, &mut s.end_radius_mm);
