@@ -55,8 +55,21 @@ pub(crate) fn insert(
     }
 }
 
-/// Seeds the tables of migration 2.
+/// Seeds the tables of migration 2, one library at a time.
 pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
+    seed_classes(tx)?;
+    seed_hob_life(tx)?;
+    seed_hardness(tx)?;
+    seed_weights(tx)?;
+    seed_starting_cases(tx)?;
+    seed_seed000_cases(tx)?;
+    seed_example_workpieces(tx)
+}
+
+/// The group-technology class tree: the root `gear` and its classes, with
+/// the tooth trace, deformation and hobbing method of each; only
+/// `cylindrical` is programmed.
+fn seed_classes(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     const GT: &str = "gearcam docs/knowledge.md#group-technology-classes / seed 000 §2.1 (group-technology classification tree)";
     for (id, parent, name, trace, deformation, method, programmable) in [
         ("gear", None, "hobbed gears", "-", "-", "hobbing", false),
@@ -123,9 +136,12 @@ pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
                    "programmable": programmable, "source": GT}),
         )?;
     }
+    Ok(())
+}
 
-    // The seed hobs of migration 1 gain their accuracy class, shift plan and
-    // life (in a database of an older gearcam too).
+/// The seed hobs of migration 1 gain their accuracy class, shift plan and
+/// life (in a database of an older gearcam too).
+fn seed_hob_life(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     for h in seed_hobs() {
         tx.execute(
             "UPDATE hobs SET accuracy_class = ?2, shift_position_mm = ?3, shift_step_mm = ?4,
@@ -142,10 +158,13 @@ pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
             ],
         )?;
     }
+    Ok(())
+}
 
-    // Typical hardness when hobbed (soft / normalised or quenched and
-    // tempered as usually supplied): engineering estimates from common
-    // material data, to be replaced by the shop's incoming-inspection values.
+/// Typical hardness when hobbed (soft / normalised or quenched and
+/// tempered as usually supplied): engineering estimates from common
+/// material data, to be replaced by the shop's incoming-inspection values.
+fn seed_hardness(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     const HB: &str = "gearcam seed: typical hardness as hobbed, engineering estimate";
     for (name, hb) in [
         ("20CrMnTi", 180.0),
@@ -170,7 +189,11 @@ pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
             params![name, hb, HB],
         )?;
     }
+    Ok(())
+}
 
+/// The retrieval weights of the similarity features, gearcam's defaults.
+fn seed_weights(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     for (feature, weight) in crate::cbr::DEFAULT_WEIGHTS {
         insert(
             tx,
@@ -179,9 +202,12 @@ pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
                    "source": "gearcam default: engineering estimate (module, hob material, starts and rough/finish matter most)"}),
         )?;
     }
+    Ok(())
+}
 
-    // Starting cases: per material group at modules 2, 3, 4 (finish hobbing,
-    // spur, 30 teeth, 30 mm face, grade 8, TiN-coated HSS, one start).
+/// Starting cases: per material group at modules 2, 3, 4 (finish hobbing,
+/// spur, 30 teeth, 30 mm face, grade 8, TiN-coated HSS, one start).
+fn seed_starting_cases(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     for (group, material, hb, vc, fa3, conf) in [
         ("case_hardening_steel", "20CrMnTi", 180.0, 90.0, 2.0, 0.5),
         ("quenched_tempered_steel", "42CrMo4", 280.0, 80.0, 1.8, 0.5),
@@ -204,8 +230,11 @@ pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
             )?;
         }
     }
+    Ok(())
+}
 
-    // Seed 000 §4.2: the paper's system proposal and the hand-programmed values.
+/// Seed 000 §4.2: the paper's system proposal and the hand-programmed values.
+fn seed_seed000_cases(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     for (id, rpm, vf, vr, conf, what) in [
         (
             "SEED000-BEVEL-CBR",
@@ -241,8 +270,11 @@ pub fn seed_v2(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
                    "confidence": conf, "provenance": SEED000}),
         )?;
     }
+    Ok(())
+}
 
-    // Example workpieces: the parts of the bundled example jobs.
+/// Example workpieces: the parts of the bundled example jobs.
+fn seed_example_workpieces(tx: &Transaction<'_>) -> Result<(), KnowledgeError> {
     const EX: &str = EXAMPLES;
     for w in [
         json!({"part_number": "SP-1001", "description": "spur gear of the patent embodiment",
