@@ -389,6 +389,29 @@ impl CaseBase {
         let Some(b) = self.blocks.get(&(class, group)) else {
             return Vec::new();
         };
+        let job = self.encode(q, limits, weights);
+        // The same summation order as in the loop, so an exact copy scores 1.
+        let mut wsum = 0.0f32;
+        for x in job.w {
+            wsum += x;
+        }
+        let n = b.index.len();
+        let mut top = TopK::new(k);
+        let mut scores = [0f32; CHUNK];
+        let mut start = 0;
+        while start < n {
+            let end = (start + CHUNK).min(n);
+            let out = &mut scores[..end - start];
+            score_chunk(&job, b, start, end, out);
+            top.offer(out, &b.index[start..end]);
+            start = end;
+        }
+        top.hits(wsum)
+    }
+
+    /// The job encoded as a row of a block (logarithms, codes, `f32`), with
+    /// the weights of the features it knows and its speed limit.
+    fn encode(&self, q: &Problem, limits: &Limits, weights: &Weights) -> Encoded {
         // Features the job does not know weigh nothing.
         let mut w = weights.0.map(|x| x as f32);
         if q.face_width_mm.is_none() {
@@ -406,131 +429,194 @@ impl CaseBase {
         if q.machine.is_none() {
             w[11] = 0.0;
         }
-        // The same summation order as in the loop, so an exact copy scores 1.
-        let mut wsum = 0.0f32;
-        for x in w {
-            wsum += x;
+        Encoded {
+            w,
+            qm: ln32(q.module_mm),
+            qz: ln32(f64::from(q.teeth.max(1))),
+            qh: q.helix_angle_deg as f32,
+            qb: q.face_width_mm.map(ln32).unwrap_or(0.0),
+            qmat: self.query_code(Some(&q.material)),
+            qhb: q.hardness_hb.unwrap_or(0.0) as f32,
+            qg: f32::from(q.quality_grade),
+            qhm: self.query_code(q.hob_material.as_deref()),
+            qc: self.query_code(q.hob_coating.as_deref()),
+            qs: q.hob_starts as f32,
+            qop: match q.operation {
+                Operation::Rough => 0,
+                Operation::Finish => 1,
+            },
+            qmc: self.query_code(q.machine.as_deref()),
+            vmax: if limits.max_cutting_speed_m_min.is_finite() {
+                limits.max_cutting_speed_m_min as f32
+            } else {
+                f32::INFINITY
+            },
         }
-        let qm = ln32(q.module_mm);
-        let qz = ln32(f64::from(q.teeth.max(1)));
-        let qh = q.helix_angle_deg as f32;
-        let qb = q.face_width_mm.map(ln32).unwrap_or(0.0);
-        let qmat = self.query_code(Some(&q.material));
-        let qhb = q.hardness_hb.unwrap_or(0.0) as f32;
-        let qg = f32::from(q.quality_grade);
-        let qhm = self.query_code(q.hob_material.as_deref());
-        let qc = self.query_code(q.hob_coating.as_deref());
-        let qs = q.hob_starts as f32;
-        let qop = match q.operation {
-            Operation::Rough => 0,
-            Operation::Finish => 1,
-        };
-        let qmc = self.query_code(q.machine.as_deref());
-        let vmax = if limits.max_cutting_speed_m_min.is_finite() {
-            limits.max_cutting_speed_m_min as f32
-        } else {
-            f32::INFINITY
-        };
-        let inv_ln2 = 1.0 / std::f32::consts::LN_2;
-        let inv_ln3 = 1.0 / 3f32.ln();
+    }
+}
 
-        let n = b.index.len();
-        let mut heap: BinaryHeap<Reverse<Ranked>> = BinaryHeap::with_capacity(k + 1);
-        let mut scores = [0f32; CHUNK];
-        let mut threshold = -1.0f32;
-        let mut start = 0;
-        while start < n {
-            let end = (start + CHUNK).min(n);
-            let len = end - start;
-            let lm = &b.ln_module[start..end];
-            let lz = &b.ln_teeth[start..end];
-            let hx = &b.helix[start..end];
-            let lf = &b.ln_face[start..end];
-            let fk = &b.face_known[start..end];
-            let mt = &b.material[start..end];
-            let hb = &b.hardness[start..end];
-            let hk = &b.hardness_known[start..end];
-            let gr = &b.grade[start..end];
-            let hm = &b.hob_material[start..end];
-            let co = &b.coating[start..end];
-            let st = &b.starts[start..end];
-            let op = &b.operation[start..end];
-            let mc = &b.machine[start..end];
-            let vc = &b.vc[start..end];
-            let out = &mut scores[..len];
-            let (lm, lz, hx, lf, fk, mt, hb, hk) = (
-                &lm[..len],
-                &lz[..len],
-                &hx[..len],
-                &lf[..len],
-                &fk[..len],
-                &mt[..len],
-                &hb[..len],
-                &hk[..len],
-            );
-            let (gr, hm, co, st, op, mc, vc) = (
-                &gr[..len],
-                &hm[..len],
-                &co[..len],
-                &st[..len],
-                &op[..len],
-                &mc[..len],
-                &vc[..len],
-            );
-            for i in 0..len {
-                let s0 = (1.0 - (qm - lm[i]).abs() * inv_ln2).max(0.0);
-                let s1 = (1.0 - (qz - lz[i]).abs() * inv_ln3).max(0.0);
-                let s2 = (1.0 - (qh - hx[i]).abs() * (1.0 / 20.0)).max(0.0);
-                let s3r = (1.0 - (qb - lf[i]).abs() * inv_ln3).max(0.0);
-                let s3 = fk[i] * s3r + (1.0 - fk[i]) * 0.5;
-                let s4 = if qmat == mt[i] { 1.0 } else { 0.7 };
-                let s5r = (1.0 - (qhb - hb[i]).abs() * (1.0 / 100.0)).max(0.0);
-                let s5 = hk[i] * s5r + (1.0 - hk[i]) * 0.5;
-                let s6 = (1.0 - (qg - gr[i]).abs() * (1.0 / 3.0)).max(0.0);
-                let s7 = if qhm == hm[i] { 1.0 } else { 0.0 };
-                let s8 = if qc == co[i] { 1.0 } else { 0.5 };
-                let s9 = (1.0 - (qs - st[i]).abs() * 0.5).max(0.0);
-                let s10 = if qop == op[i] { 1.0 } else { 0.0 };
-                let s11 = if qmc == mc[i] { 1.0 } else { 0.6 };
-                let mut num = 0.0f32;
-                num += w[0] * s0;
-                num += w[1] * s1;
-                num += w[2] * s2;
-                num += w[3] * s3;
-                num += w[4] * s4;
-                num += w[5] * s5;
-                num += w[6] * s6;
-                num += w[7] * s7;
-                num += w[8] * s8;
-                num += w[9] * s9;
-                num += w[10] * s10;
-                num += w[11] * s11;
-                out[i] = if vc[i] <= vmax { num } else { -1.0 };
-            }
-            // Within a block indices grow with the scan, so a later case that
-            // only ties the current k-th best never displaces it: comparing
-            // with the k-th best score is exact.
-            for (i, &num) in out.iter().enumerate() {
-                if num < 0.0 || num <= threshold {
-                    continue;
-                }
-                let r = Ranked {
-                    score: num,
-                    index: b.index[start + i],
-                };
-                if heap.len() < k {
-                    heap.push(Reverse(r));
-                } else {
-                    heap.pop();
-                    heap.push(Reverse(r));
-                }
-                if heap.len() == k {
-                    threshold = heap.peek().map(|Reverse(w)| w.score).unwrap_or(-1.0);
-                }
-            }
-            start = end;
+/// The job as retrieval compares it with a block's columns: the weights
+/// (zero for a feature the job does not know), then per feature the job's
+/// value in the column's form (`q` + the column), and the largest cutting
+/// speed the machine can run with the job's hob.
+#[derive(Debug, Clone, Copy)]
+struct Encoded {
+    w: [f32; NF],
+    qm: f32,
+    qz: f32,
+    qh: f32,
+    qb: f32,
+    qmat: u32,
+    qhb: f32,
+    qg: f32,
+    qhm: u32,
+    qc: u32,
+    qs: f32,
+    qop: u32,
+    qmc: u32,
+    vmax: f32,
+}
+
+/// Scores the cases `start..end` of block `b` against the job into `out`:
+/// the weighted sum of the local similarities (module docs), or −1 for a
+/// case whose cutting speed the machine cannot run. A straight pass over
+/// equal-length slices, so the compiler vectorises it.
+fn score_chunk(job: &Encoded, b: &Block, start: usize, end: usize, out: &mut [f32]) {
+    let Encoded {
+        w,
+        qm,
+        qz,
+        qh,
+        qb,
+        qmat,
+        qhb,
+        qg,
+        qhm,
+        qc,
+        qs,
+        qop,
+        qmc,
+        vmax,
+    } = *job;
+    let inv_ln2 = 1.0 / std::f32::consts::LN_2;
+    let inv_ln3 = 1.0 / 3f32.ln();
+    let len = end - start;
+    let lm = &b.ln_module[start..end];
+    let lz = &b.ln_teeth[start..end];
+    let hx = &b.helix[start..end];
+    let lf = &b.ln_face[start..end];
+    let fk = &b.face_known[start..end];
+    let mt = &b.material[start..end];
+    let hb = &b.hardness[start..end];
+    let hk = &b.hardness_known[start..end];
+    let gr = &b.grade[start..end];
+    let hm = &b.hob_material[start..end];
+    let co = &b.coating[start..end];
+    let st = &b.starts[start..end];
+    let op = &b.operation[start..end];
+    let mc = &b.machine[start..end];
+    let vc = &b.vc[start..end];
+    let out = &mut out[..len];
+    let (lm, lz, hx, lf, fk, mt, hb, hk) = (
+        &lm[..len],
+        &lz[..len],
+        &hx[..len],
+        &lf[..len],
+        &fk[..len],
+        &mt[..len],
+        &hb[..len],
+        &hk[..len],
+    );
+    let (gr, hm, co, st, op, mc, vc) = (
+        &gr[..len],
+        &hm[..len],
+        &co[..len],
+        &st[..len],
+        &op[..len],
+        &mc[..len],
+        &vc[..len],
+    );
+    for i in 0..len {
+        let s0 = (1.0 - (qm - lm[i]).abs() * inv_ln2).max(0.0);
+        let s1 = (1.0 - (qz - lz[i]).abs() * inv_ln3).max(0.0);
+        let s2 = (1.0 - (qh - hx[i]).abs() * (1.0 / 20.0)).max(0.0);
+        let s3r = (1.0 - (qb - lf[i]).abs() * inv_ln3).max(0.0);
+        let s3 = fk[i] * s3r + (1.0 - fk[i]) * 0.5;
+        let s4 = if qmat == mt[i] { 1.0 } else { 0.7 };
+        let s5r = (1.0 - (qhb - hb[i]).abs() * (1.0 / 100.0)).max(0.0);
+        let s5 = hk[i] * s5r + (1.0 - hk[i]) * 0.5;
+        let s6 = (1.0 - (qg - gr[i]).abs() * (1.0 / 3.0)).max(0.0);
+        let s7 = if qhm == hm[i] { 1.0 } else { 0.0 };
+        let s8 = if qc == co[i] { 1.0 } else { 0.5 };
+        let s9 = (1.0 - (qs - st[i]).abs() * 0.5).max(0.0);
+        let s10 = if qop == op[i] { 1.0 } else { 0.0 };
+        let s11 = if qmc == mc[i] { 1.0 } else { 0.6 };
+        let mut num = 0.0f32;
+        num += w[0] * s0;
+        num += w[1] * s1;
+        num += w[2] * s2;
+        num += w[3] * s3;
+        num += w[4] * s4;
+        num += w[5] * s5;
+        num += w[6] * s6;
+        num += w[7] * s7;
+        num += w[8] * s8;
+        num += w[9] * s9;
+        num += w[10] * s10;
+        num += w[11] * s11;
+        out[i] = if vc[i] <= vmax { num } else { -1.0 };
+    }
+}
+
+/// The `k` best candidates so far, in a k-sized heap, and the score a new
+/// one must beat once the heap is full.
+struct TopK {
+    k: usize,
+    heap: BinaryHeap<Reverse<Ranked>>,
+    threshold: f32,
+}
+
+impl TopK {
+    fn new(k: usize) -> TopK {
+        TopK {
+            k,
+            heap: BinaryHeap::with_capacity(k + 1),
+            threshold: -1.0,
         }
-        let mut hits: Vec<Ranked> = heap.into_iter().map(|Reverse(r)| r).collect();
+    }
+
+    /// Offers the scores of one chunk, `index` holding their cases' indices.
+    /// Within a block indices grow with the scan, so a later case that only
+    /// ties the current k-th best never displaces it: comparing with the
+    /// k-th best score is exact.
+    fn offer(&mut self, scores: &[f32], index: &[u32]) {
+        let (k, heap) = (self.k, &mut self.heap);
+        let mut threshold = self.threshold;
+        for (i, &num) in scores.iter().enumerate() {
+            if num < 0.0 || num <= threshold {
+                continue;
+            }
+            let r = Ranked {
+                score: num,
+                index: index[i],
+            };
+            if heap.len() < k {
+                heap.push(Reverse(r));
+            } else {
+                heap.pop();
+                heap.push(Reverse(r));
+            }
+            if heap.len() == k {
+                threshold = heap.peek().map(|Reverse(w)| w.score).unwrap_or(-1.0);
+            }
+        }
+        self.threshold = threshold;
+    }
+
+    /// The candidates best first, their similarity the score over the sum
+    /// of the weights `wsum` (at most 1).
+    fn hits(self, wsum: f32) -> Vec<Hit> {
+        let mut hits: Vec<Ranked> = self.heap.into_iter().map(|Reverse(r)| r).collect();
         hits.sort_by(|a, b| b.cmp(a));
         hits.into_iter()
             .map(|r| Hit {
