@@ -2,13 +2,35 @@
 //! the hob shift and the units of a multi-gear part.
 
 use super::*;
-use gearcam_proto::Code;
+use gearcam_proto::{Code, ConeSpec, CrowningSpec, ProcessOverrides, WormWheelSpec};
 
 /// Class markers, class-specific data, process options of the class, shift,
 /// measurement data, mate and the units of a multi-gear part.
 pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
     let g = &plan.gear;
     let o = &plan.sections().process;
+    check_markers(r, g, o);
+    if let Some(cone) = &g.cone {
+        check_cone(r, g, cone);
+    }
+    if let Some(cr) = &g.crowning {
+        check_crowning(r, g, cr, cfg);
+    }
+    if let Some(w) = &g.worm_wheel {
+        check_worm_wheel(r, w, o);
+    }
+    check_process_options(r, g, o);
+    check_measurement(r, g);
+    check_shift(r, plan, cfg);
+    if plan.class == GearClass::MultiGear {
+        check_units(r, plan, cfg);
+    }
+}
+
+/// The class the gear's tables mark: at most one marker, not the curved
+/// tooth (classified, not programmable), and radial-axial infeed only for
+/// a cylindrical gear.
+fn check_markers(r: &mut Report, g: &GearSpec, o: &ProcessOverrides) {
     let markers = unit_markers(g);
     if markers.len() > 1 {
         let names: Vec<&str> = markers.iter().map(|c| c.as_str()).collect();
@@ -20,7 +42,6 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
             "A gear belongs to exactly one class; keep the one table of [gear.cone], [gear.crowning], [gear.worm_wheel] or [gear.curved_tooth] that describes it.",
         );
     }
-    let class = plan.class;
     if markers.contains(&GearClass::CurvedTooth) {
         r.error(
             Code::CLASS_NOT_PROGRAMMABLE,
@@ -40,126 +61,127 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
             format!("Radial-axial infeed is programmed for cylindrical gears only; this gear is {unit}. Leave process.infeed out."),
         );
     }
-    if let Some(cone) = &g.cone {
-        if !open(cone.angle_deg, 0.0, 45.0) {
+}
+
+/// A conical gear: a cone angle in (0°, 45°) whose root cone stays a cone
+/// over the face width.
+fn check_cone(r: &mut Report, g: &GearSpec, cone: &ConeSpec) {
+    if !open(cone.angle_deg, 0.0, 45.0) {
+        r.error(
+            Code::CONE_ANGLE_RANGE,
+            "gear.cone.angle_deg",
+            "(0°, 45°)",
+            format!("{}°", num(cone.angle_deg)),
+            "The cone angle of a conical gear lies between 0° and 45° (seed 000's example: 6.5°); correct gear.cone.angle_deg.",
+        );
+    } else {
+        // The root cone must stay a cone over the face width: its
+        // diameter at the small end, df − 2·b·tan δ, above zero.
+        let df = crate::geometry::geometry(g).df_mm;
+        let taper = 2.0 * g.face_width_mm * cone.angle_deg.to_radians().tan();
+        if !(df - taper > 0.0) {
             r.error(
                 Code::CONE_ANGLE_RANGE,
                 "gear.cone.angle_deg",
-                "(0°, 45°)",
+                format!(
+                    "< {}° (the root cone reaches the axis within the face width)",
+                    num((df / (2.0 * g.face_width_mm)).atan().to_degrees())
+                ),
                 format!("{}°", num(cone.angle_deg)),
-                "The cone angle of a conical gear lies between 0° and 45° (seed 000's example: 6.5°); correct gear.cone.angle_deg.",
+                format!(
+                    "Over the face width of {} mm the cone narrows the root diameter {} mm by {} mm, to nothing at the small end; correct gear.cone.angle_deg or gear.face_width_mm.",
+                    num(g.face_width_mm),
+                    num(df),
+                    num(taper)
+                ),
             );
-        } else {
-            // The root cone must stay a cone over the face width: its
-            // diameter at the small end, df − 2·b·tan δ, above zero.
-            let df = crate::geometry::geometry(g).df_mm;
-            let taper = 2.0 * g.face_width_mm * cone.angle_deg.to_radians().tan();
-            if !(df - taper > 0.0) {
-                r.error(
-                    Code::CONE_ANGLE_RANGE,
-                    "gear.cone.angle_deg",
-                    format!(
-                        "< {}° (the root cone reaches the axis within the face width)",
-                        num((df / (2.0 * g.face_width_mm)).atan().to_degrees())
-                    ),
-                    format!("{}°", num(cone.angle_deg)),
-                    format!(
-                        "Over the face width of {} mm the cone narrows the root diameter {} mm by {} mm, to nothing at the small end; correct gear.cone.angle_deg or gear.face_width_mm.",
-                        num(g.face_width_mm),
-                        num(df),
-                        num(taper)
-                    ),
-                );
-            }
         }
     }
-    if let Some(cr) = &g.crowning {
-        let half = g.face_width_mm / 2.0;
-        if !(cr.amount_mm > 0.0 && cr.amount_mm < half) {
-            r.error(
-                Code::CROWNING_RANGE,
-                "gear.crowning.amount_mm",
-                format!("> 0 and < {} mm (half the face width)", num(half)),
-                format!("{} mm", num(cr.amount_mm)),
-                "The crowning amount is the small extra radial depth at each face against the middle (typically 0.01–0.05 mm); correct gear.crowning.amount_mm.",
-            );
-        } else if cr.shape == CrowningShape::Parabolic {
-            let tol = cr
-                .chord_tolerance_mm
-                .unwrap_or(crate::path::DEFAULT_CHORD_TOLERANCE_MM);
-            let chords = crate::path::parabolic_chords(cr.amount_mm, tol);
-            if !(tol > 0.0) || chords > cfg.max_chords {
-                r.error(
-                    Code::CHORD_TOLERANCE_RANGE,
-                    "gear.crowning.chord_tolerance_mm",
-                    format!(
-                        "> 0 mm and at least {} mm (at most {} chords)",
-                        num(cr.amount_mm / f64::from(cfg.max_chords).powi(2)),
-                        cfg.max_chords
-                    ),
-                    format!("{} mm", num(tol)),
-                    "The chord tolerance of a parabolic crowning must be positive and not so fine that the program needs thousands of chords; correct gear.crowning.chord_tolerance_mm.",
-                );
-            }
-        }
-    }
-    let positive = |r: &mut Report, field: &str, v: Option<f64>, unit: &str, what: &str| {
-        if let Some(v) = v {
-            if !(v > 0.0 && v.is_finite()) {
-                r.error(
-                    Code::FEED_RATE_RANGE,
-                    field,
-                    format!("> 0 {unit}"),
-                    format!("{} {unit}", num(v)),
-                    format!("The {what} must be positive; correct {field}."),
-                );
-            }
-        }
-    };
-    if let Some(w) = &g.worm_wheel {
-        positive(
-            r,
-            "gear.worm_wheel.radial_feed_mm_per_rev",
-            w.radial_feed_mm_per_rev,
-            "mm/rev",
-            "radial feed",
+}
+
+/// A crowned gear: an amount between 0 and half the face width, and for a
+/// parabolic crowning a chord tolerance that keeps the chords countable.
+fn check_crowning(r: &mut Report, g: &GearSpec, cr: &CrowningSpec, cfg: &Config) {
+    let half = g.face_width_mm / 2.0;
+    if !(cr.amount_mm > 0.0 && cr.amount_mm < half) {
+        r.error(
+            Code::CROWNING_RANGE,
+            "gear.crowning.amount_mm",
+            format!("> 0 and < {} mm (half the face width)", num(half)),
+            format!("{} mm", num(cr.amount_mm)),
+            "The crowning amount is the small extra radial depth at each face against the middle (typically 0.01–0.05 mm); correct gear.crowning.amount_mm.",
         );
-        positive(
-            r,
-            "gear.worm_wheel.tangential_feed_mm_per_rev",
-            w.tangential_feed_mm_per_rev,
-            "mm/rev",
-            "tangential feed",
-        );
-        if let Some(d) = w.dwell_rev {
-            if !(d >= 0.0 && d.is_finite()) {
-                r.error(
-                    Code::DWELL_RANGE,
-                    "gear.worm_wheel.dwell_rev",
-                    "≥ 0 revolutions",
-                    num(d),
-                    "The dwell at the final centre distance is a number of wheel revolutions, 0 or more; correct gear.worm_wheel.dwell_rev.",
-                );
-            }
-        }
-        if w.infeed == WormInfeed::Tangential && o.shift.is_some() {
+    } else if cr.shape == CrowningShape::Parabolic {
+        let tol = cr
+            .chord_tolerance_mm
+            .unwrap_or(crate::path::DEFAULT_CHORD_TOLERANCE_MM);
+        let chords = crate::path::parabolic_chords(cr.amount_mm, tol);
+        if !(tol > 0.0) || chords > cfg.max_chords {
             r.error(
-                Code::CLASS_OPTION_UNSUPPORTED,
-                "process.shift",
-                "no hob shifting with tangential infeed",
-                "shift",
-                "Tangential infeed already moves the hob along its axis; leave [process.shift] out.",
+                Code::CHORD_TOLERANCE_RANGE,
+                "gear.crowning.chord_tolerance_mm",
+                format!(
+                    "> 0 mm and at least {} mm (at most {} chords)",
+                    num(cr.amount_mm / f64::from(cfg.max_chords).powi(2)),
+                    cfg.max_chords
+                ),
+                format!("{} mm", num(tol)),
+                "The chord tolerance of a parabolic crowning must be positive and not so fine that the program needs thousands of chords; correct gear.crowning.chord_tolerance_mm.",
             );
         }
     }
-    positive(
+}
+
+/// A worm wheel: positive radial and tangential feeds, a dwell of 0 or more
+/// revolutions, and no hob shifting with tangential infeed.
+fn check_worm_wheel(r: &mut Report, w: &WormWheelSpec, o: &ProcessOverrides) {
+    check_positive(
+        r,
+        "gear.worm_wheel.radial_feed_mm_per_rev",
+        w.radial_feed_mm_per_rev,
+        "mm/rev",
+        "radial feed",
+    );
+    check_positive(
+        r,
+        "gear.worm_wheel.tangential_feed_mm_per_rev",
+        w.tangential_feed_mm_per_rev,
+        "mm/rev",
+        "tangential feed",
+    );
+    if let Some(d) = w.dwell_rev {
+        if !(d >= 0.0 && d.is_finite()) {
+            r.error(
+                Code::DWELL_RANGE,
+                "gear.worm_wheel.dwell_rev",
+                "≥ 0 revolutions",
+                num(d),
+                "The dwell at the final centre distance is a number of wheel revolutions, 0 or more; correct gear.worm_wheel.dwell_rev.",
+            );
+        }
+    }
+    if w.infeed == WormInfeed::Tangential && o.shift.is_some() {
+        r.error(
+            Code::CLASS_OPTION_UNSUPPORTED,
+            "process.shift",
+            "no hob shifting with tangential infeed",
+            "shift",
+            "Tangential infeed already moves the hob along its axis; leave [process.shift] out.",
+        );
+    }
+}
+
+/// The process options of the class: positive finishing and radial feeds,
+/// and a finish allowance within the whole depth.
+fn check_process_options(r: &mut Report, g: &GearSpec, o: &ProcessOverrides) {
+    check_positive(
         r,
         "process.finish_feed_mm_per_rev",
         o.finish_feed_mm_per_rev,
         "mm/rev",
         "finishing feed",
     );
-    positive(
+    check_positive(
         r,
         "process.radial_feed_mm_per_rev",
         o.radial_feed_mm_per_rev,
@@ -178,6 +200,11 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
             );
         }
     }
+}
+
+/// The measurement data: a positive ball diameter, and a mating gear with
+/// teeth, a finite profile shift and a positive centre distance.
+fn check_measurement(r: &mut Report, g: &GearSpec) {
     if let Some(dm) = g.ball_diameter_mm {
         if !(dm > 0.0 && dm.is_finite()) {
             r.error(
@@ -210,9 +237,21 @@ pub(super) fn check_class(r: &mut Report, plan: &ProcessPlan, cfg: &Config) {
             );
         }
     }
-    check_shift(r, plan, cfg);
-    if class == GearClass::MultiGear {
-        check_units(r, plan, cfg);
+}
+
+/// A feed given must be positive and finite (`FEED_RATE_RANGE`); `what`
+/// names it in the message.
+fn check_positive(r: &mut Report, field: &str, v: Option<f64>, unit: &str, what: &str) {
+    if let Some(v) = v {
+        if !(v > 0.0 && v.is_finite()) {
+            r.error(
+                Code::FEED_RATE_RANGE,
+                field,
+                format!("> 0 {unit}"),
+                format!("{} {unit}", num(v)),
+                format!("The {what} must be positive; correct {field}."),
+            );
+        }
     }
 }
 

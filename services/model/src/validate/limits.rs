@@ -3,7 +3,7 @@
 //! speed limits.
 
 use super::*;
-use gearcam_proto::Code;
+use gearcam_proto::{Code, MachineId, MachineLimits};
 
 /// The hob's run-out below the gear must stay clear of the table and the
 /// fixture: at the lowest hob centre Zl of the stroke, the tilted tip
@@ -178,6 +178,9 @@ pub(super) fn check_unit_collisions(errors: &mut Vec<JobError>, k: &Kinematics, 
     }
 }
 
+/// Every limit of the machine for one unit of the plan (`prefix` names the
+/// unit in the errors' fields): spindle speeds and feeds, the travel of
+/// every position and move, then the run-out below the gear.
 pub(super) fn unit_limits(
     errors: &mut Vec<JobError>,
     plan: &ProcessPlan,
@@ -185,11 +188,33 @@ pub(super) fn unit_limits(
     cfg: &Config,
     prefix: &str,
 ) {
-    let lim = &plan.machine.limits;
-    let id = &plan.machine.id;
-    let mut over = |code: Code, field: &str, v: f64, max: f64, unit: &str, todo: &str| {
-        if !(v.abs() <= max + cfg.length_tolerance_mm) {
-            errors.push(Stage::Model.error(
+    let mut check = LimitCheck {
+        errors: &mut *errors,
+        id: &plan.machine.id,
+        prefix,
+        tolerance_mm: cfg.length_tolerance_mm,
+    };
+    speed_limits(&mut check, &plan.machine.limits, k);
+    travel_limits(errors, plan, k, cfg, prefix);
+    run_out(errors, plan, k, cfg, prefix);
+}
+
+/// Reports values over the machine's limits for one unit (`prefix` names
+/// it in the error's field).
+struct LimitCheck<'a> {
+    errors: &'a mut Vec<JobError>,
+    id: &'a MachineId,
+    prefix: &'a str,
+    tolerance_mm: f64,
+}
+
+impl LimitCheck<'_> {
+    /// Reports `v` (in `unit`) at `field` when its magnitude is over `max`
+    /// (or not a number), saying what to do about it.
+    fn over(&mut self, code: Code, field: &str, v: f64, max: f64, unit: &str, todo: &str) {
+        let (prefix, id) = (self.prefix, self.id);
+        if !(v.abs() <= max + self.tolerance_mm) {
+            self.errors.push(Stage::Model.error(
                 code,
                 &format!("{prefix}{field}"),
                 format!("≤ {} {unit}", num(max)),
@@ -200,8 +225,14 @@ pub(super) fn unit_limits(
                 ),
             ));
         }
-    };
-    over(
+    }
+}
+
+/// The hob and table spindle speeds, the axial feed and the swivel of the
+/// unit; the table speed and axial feed of each rough cut; and the feed
+/// rate of each radial (X only) feed move.
+fn speed_limits(check: &mut LimitCheck<'_>, lim: &MachineLimits, k: &Kinematics) {
+    check.over(
         Code::HOB_RPM_LIMIT,
         "model.hob_rpm",
         k.hob_rpm,
@@ -209,7 +240,7 @@ pub(super) fn unit_limits(
         "rpm",
         "lower process.cutting_speed_m_min or use a hob of larger diameter",
     );
-    over(
+    check.over(
         Code::TABLE_RPM_LIMIT,
         "model.table_rpm",
         k.table_rpm,
@@ -217,7 +248,7 @@ pub(super) fn unit_limits(
         "rpm",
         "lower process.cutting_speed_m_min or use a hob with fewer starts",
     );
-    over(
+    check.over(
         Code::AXIAL_FEED_LIMIT,
         "model.axial_feed_mm_min",
         k.axial_feed_mm_min,
@@ -225,7 +256,7 @@ pub(super) fn unit_limits(
         "mm/min",
         "lower process.feed_mm_per_rev or the cutting speed",
     );
-    over(
+    check.over(
         Code::SWIVEL_LIMIT,
         "model.swivel_deg",
         k.swivel_deg,
@@ -234,7 +265,7 @@ pub(super) fn unit_limits(
         "use a hob of the same hand as the gear helix or another machine",
     );
     for (i, c) in k.cuts.iter().enumerate().filter(|(_, c)| !c.finish) {
-        over(
+        check.over(
             Code::TABLE_RPM_LIMIT,
             &format!("model.cuts[{i}].table_rpm"),
             c.table_rpm,
@@ -242,7 +273,7 @@ pub(super) fn unit_limits(
             "rpm",
             "lower process.cutting_speed_m_min or use a hob with fewer starts",
         );
-        over(
+        check.over(
             Code::AXIAL_FEED_LIMIT,
             &format!("model.cuts[{i}].axial_feed_mm_min"),
             c.axial_feed_mm_min,
@@ -262,7 +293,7 @@ pub(super) fn unit_limits(
                 continue;
             }
             let rate = m.feed_mm_min;
-            over(
+            check.over(
                 Code::FEED_RATE_LIMIT,
                 &format!("model.cuts[{i}].moves[{j}].feed_mm_min"),
                 rate,
@@ -272,6 +303,17 @@ pub(super) fn unit_limits(
             );
         }
     }
+}
+
+/// The travel of the unit's positions, of each cut's positions and of the
+/// end of each move.
+fn travel_limits(
+    errors: &mut Vec<JobError>,
+    plan: &ProcessPlan,
+    k: &Kinematics,
+    cfg: &Config,
+    prefix: &str,
+) {
     let p = &k.positions;
     for (name, pos) in [("A", p.A), ("B", p.B), ("C", p.C), ("D", p.D), ("E", p.E)] {
         check_travel(
@@ -308,7 +350,6 @@ pub(super) fn unit_limits(
             );
         }
     }
-    run_out(errors, plan, k, cfg, prefix);
 }
 
 pub(super) fn move_end(from: Position, m: &Move) -> Position {
