@@ -400,241 +400,304 @@ fn print_record(r: &Record, json: bool) {
 /// Runs `gearcam kb ...`.
 pub fn run(args: KbArgs) -> ExitCode {
     if let KbCommand::Libraries = args.command {
-        if args.json {
-            let libs: Vec<serde_json::Value> = library::LIBRARIES
-                .iter()
-                .map(|lib| {
-                    let fields: Vec<serde_json::Value> = lib
-                        .fields
-                        .iter()
-                        .map(|f| {
-                            serde_json::json!({
-                                "name": f.name,
-                                "type": f.kind.to_string(),
-                                "need": f.need.to_string(),
-                                "meaning": f.doc,
-                            })
-                        })
-                        .collect();
-                    serde_json::json!({
-                        "name": lib.name,
-                        "key": lib.key,
-                        "csv": lib.csv,
-                        "meaning": lib.doc,
-                        "fields": fields,
-                    })
-                })
-                .collect();
-            crate::outln!(
-                "{}",
-                serde_json::to_string_pretty(&libs).unwrap_or_default()
-            );
-            return ExitCode::SUCCESS;
-        }
-        for lib in library::LIBRARIES {
-            crate::outln!(
-                "{} (key {}{}): {}",
-                lib.name,
-                lib.key,
-                if lib.csv { ", CSV" } else { "" },
-                lib.doc
-            );
-            for f in lib.fields {
-                let (kind, need) = (f.kind.to_string(), f.need.to_string());
-                crate::outln!("    {:<22} {:<10} {:<18} {}", f.name, kind, need, f.doc);
-            }
-        }
+        print_libraries(args.json);
         return ExitCode::SUCCESS;
     }
     let conn = match open(&args.data) {
         Ok(c) => c,
         Err(code) => return code,
     };
-    let lib_of = |name: &str| library::library(name).map_err(|e| refused(&[e]));
-    let result: Result<(), ExitCode> = (|| {
-        match &args.command {
-            KbCommand::Libraries => {}
-            KbCommand::Changes { limit } => {
-                let changes = gearcam_knowledge::audit::changes(&conn, *limit).map_err(|e| {
-                    crate::output::fail(crate::exit::UNREACHABLE, &[], &format!("gearcam: {e}"))
-                })?;
-                if args.json {
-                    crate::outln!(
-                        "{}",
-                        serde_json::to_string_pretty(&changes).unwrap_or_default()
-                    );
-                } else {
-                    crate::outln!(
-                        "{:>6}  {:<23}  {:<24} {:<7} {:<12} RECORD",
-                        "SEQ",
-                        "WHEN",
-                        "BY",
-                        "OP",
-                        "LIBRARY"
-                    );
-                    for c in &changes {
-                        crate::outln!(
-                            "{:>6}  {:<23}  {:<24} {:<7} {:<12} {}",
-                            c.seq,
-                            crate::output::utc(c.at_ms.max(0) as u64),
-                            c.by,
-                            c.op,
-                            c.library,
-                            c.record_id
-                        );
-                    }
-                }
-            }
-            KbCommand::List { library: l } => {
-                let lib = lib_of(l)?;
-                let records = library::list(&conn, &lib).map_err(|e| refused(&Vec::from(e)))?;
-                if args.json {
-                    crate::outln!(
-                        "{}",
-                        serde_json::to_string_pretty(&records).unwrap_or_default()
-                    );
-                } else {
-                    crate::out!("{}", table(&lib, &records));
-                }
-            }
-            KbCommand::Show { library: l, id } => {
-                let lib = lib_of(l)?;
-                match library::get(&conn, &lib, id).map_err(|e| refused(&Vec::from(e)))? {
-                    Some(r) => print_record(&r, args.json),
-                    None => {
-                        return Err(refused(&[Stage::Knowledge.error(
-                            Code::NOT_FOUND,
-                            lib.key,
-                            format!("an existing {} id (gearcam kb list {})", lib.name, lib.name),
-                            id.as_str(),
-                            format!("there is no record {id:?} in {}", lib.name),
-                        )]))
-                    }
-                }
-            }
-            KbCommand::Add {
-                library: l,
-                set,
-                from_json,
-            } => {
-                let lib = lib_of(l)?;
-                let mut rec = match from_json {
-                    Some(path) => {
-                        let text = std::fs::read_to_string(path).map_err(|e| {
-                            crate::output::fail(
-                                crate::exit::UNREACHABLE,
-                                &[],
-                                &format!("gearcam: cannot read {}: {e}", path.display()),
-                            )
-                        })?;
-                        match serde_json::from_str::<Record>(&text) {
-                            Ok(r) => r,
-                            Err(e) => {
-                                return Err(refused(&[Stage::Knowledge.error(
-                                    Code::BAD_JSON,
-                                    &path.display().to_string(),
-                                    "a JSON object of the record's fields",
-                                    e.to_string(),
-                                    "the file is not a JSON object",
-                                )]))
-                            }
-                        }
-                    }
-                    None => Record::new(),
-                };
-                rec.extend(parse_sets(&lib, set).map_err(|e| refused(&e))?);
-                let r = library::add(&conn, &lib, &rec).map_err(|e| refused(&e))?;
-                crate::outln!(
-                    "added {} {}",
-                    lib.name,
-                    library::cell(r.get(lib.key).unwrap_or(&Value::Null))
-                );
-                print_record(&r, args.json);
-            }
-            KbCommand::Edit {
-                library: l,
-                id,
-                set,
-            } => {
-                let lib = lib_of(l)?;
-                let set = parse_sets(&lib, set).map_err(|e| refused(&e))?;
-                let r = library::edit(&conn, &lib, id, &set).map_err(|e| refused(&e))?;
-                crate::outln!("changed {} {id}", lib.name);
-                print_record(&r, args.json);
-            }
-            KbCommand::Remove { library: l, id } => {
-                let lib = lib_of(l)?;
-                library::remove(&conn, &lib, id).map_err(|e| refused(&e))?;
-                if args.json {
-                    crate::outln!(
-                        "{}",
-                        serde_json::json!({"removed": {"library": lib.name, "id": id}})
-                    );
-                } else {
-                    crate::outln!("removed {} {id}", lib.name);
-                }
-            }
-            KbCommand::Import { library: l, file } => {
-                let lib = lib_of(l)?;
-                let f = std::fs::File::open(file).map_err(|e| {
-                    crate::output::fail(
-                        crate::exit::UNREACHABLE,
-                        &[],
-                        &format!("gearcam: cannot open {}: {e}", file.display()),
-                    )
-                })?;
-                let r = csvio::import(&conn, &lib, f).map_err(|e| refused(&e))?;
-                if args.json {
-                    crate::outln!(
-                        "{}",
-                        serde_json::json!({"imported": {"file": file.display().to_string(), "library": lib.name, "added": r.added, "replaced": r.replaced}})
-                    );
-                } else {
-                    crate::outln!(
-                        "imported {} into {}: {} added, {} replaced",
-                        file.display(),
-                        lib.name,
-                        r.added,
-                        r.replaced
-                    );
-                }
-            }
-            KbCommand::Export { library: l, file } => {
-                let lib = lib_of(l)?;
-                match file {
-                    Some(path) => {
-                        let f = std::fs::File::create(path).map_err(|e| {
-                            crate::output::fail(
-                                crate::exit::UNREACHABLE,
-                                &[],
-                                &format!("gearcam: cannot create {}: {e}", path.display()),
-                            )
-                        })?;
-                        let n = csvio::export(&conn, &lib, f).map_err(|e| refused(&e))?;
-                        crate::outln!("exported {n} {} to {}", lib.name, path.display());
-                    }
-                    None if args.json => {
-                        // `--json`: the records as JSON, as `kb list --json`.
-                        let records =
-                            library::list(&conn, &lib).map_err(|e| refused(&Vec::from(e)))?;
-                        crate::outln!(
-                            "{}",
-                            serde_json::to_string_pretty(&records).unwrap_or_default()
-                        );
-                    }
-                    None => {
-                        csvio::export(&conn, &lib, std::io::stdout().lock())
-                            .map_err(|e| refused(&e))?;
-                    }
-                }
-            }
-        }
-        Ok(())
-    })();
+    let json = args.json;
+    let result: Result<(), ExitCode> = match &args.command {
+        KbCommand::Libraries => Ok(()),
+        KbCommand::Changes { limit } => changes(&conn, *limit, json),
+        KbCommand::List { library: l } => list(&conn, l, json),
+        KbCommand::Show { library: l, id } => show(&conn, l, id, json),
+        KbCommand::Add {
+            library: l,
+            set,
+            from_json,
+        } => add(&conn, l, set, from_json.as_deref(), json),
+        KbCommand::Edit {
+            library: l,
+            id,
+            set,
+        } => edit(&conn, l, id, set, json),
+        KbCommand::Remove { library: l, id } => remove(&conn, l, id, json),
+        KbCommand::Import { library: l, file } => import(&conn, l, file, json),
+        KbCommand::Export { library: l, file } => export(&conn, l, file.as_deref(), json),
+    };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(code) => code,
     }
+}
+
+/// `gearcam kb libraries`: every library with its key and fields, needing no
+/// database (as JSON with `--json`).
+fn print_libraries(json: bool) {
+    if json {
+        let libs: Vec<serde_json::Value> = library::LIBRARIES
+            .iter()
+            .map(|lib| {
+                let fields: Vec<serde_json::Value> = lib
+                    .fields
+                    .iter()
+                    .map(|f| {
+                        serde_json::json!({
+                            "name": f.name,
+                            "type": f.kind.to_string(),
+                            "need": f.need.to_string(),
+                            "meaning": f.doc,
+                        })
+                    })
+                    .collect();
+                serde_json::json!({
+                    "name": lib.name,
+                    "key": lib.key,
+                    "csv": lib.csv,
+                    "meaning": lib.doc,
+                    "fields": fields,
+                })
+            })
+            .collect();
+        crate::outln!(
+            "{}",
+            serde_json::to_string_pretty(&libs).unwrap_or_default()
+        );
+        return;
+    }
+    for lib in library::LIBRARIES {
+        crate::outln!(
+            "{} (key {}{}): {}",
+            lib.name,
+            lib.key,
+            if lib.csv { ", CSV" } else { "" },
+            lib.doc
+        );
+        for f in lib.fields {
+            let (kind, need) = (f.kind.to_string(), f.need.to_string());
+            crate::outln!("    {:<22} {:<10} {:<18} {}", f.name, kind, need, f.doc);
+        }
+    }
+}
+
+/// The library named `name`, or the refusal printed (an unknown library).
+fn lib_of(name: &str) -> Result<Library, ExitCode> {
+    library::library(name).map_err(|e| refused(&[e]))
+}
+
+/// `gearcam kb changes`: the newest `limit` changes to the libraries, a
+/// table or JSON.
+fn changes(conn: &rusqlite::Connection, limit: usize, json: bool) -> Result<(), ExitCode> {
+    let changes = gearcam_knowledge::audit::changes(conn, limit).map_err(|e| {
+        crate::output::fail(crate::exit::UNREACHABLE, &[], &format!("gearcam: {e}"))
+    })?;
+    if json {
+        crate::outln!(
+            "{}",
+            serde_json::to_string_pretty(&changes).unwrap_or_default()
+        );
+    } else {
+        crate::outln!(
+            "{:>6}  {:<23}  {:<24} {:<7} {:<12} RECORD",
+            "SEQ",
+            "WHEN",
+            "BY",
+            "OP",
+            "LIBRARY"
+        );
+        for c in &changes {
+            crate::outln!(
+                "{:>6}  {:<23}  {:<24} {:<7} {:<12} {}",
+                c.seq,
+                crate::output::utc(c.at_ms.max(0) as u64),
+                c.by,
+                c.op,
+                c.library,
+                c.record_id
+            );
+        }
+    }
+    Ok(())
+}
+
+/// `gearcam kb list LIBRARY`: every record, as a table of the library's
+/// main columns or as JSON.
+fn list(conn: &rusqlite::Connection, l: &str, json: bool) -> Result<(), ExitCode> {
+    let lib = lib_of(l)?;
+    let records = library::list(conn, &lib).map_err(|e| refused(&Vec::from(e)))?;
+    if json {
+        crate::outln!(
+            "{}",
+            serde_json::to_string_pretty(&records).unwrap_or_default()
+        );
+    } else {
+        crate::out!("{}", table(&lib, &records));
+    }
+    Ok(())
+}
+
+/// `gearcam kb show LIBRARY ID`: one record, every field; `NOT_FOUND` when
+/// the library has no such record.
+fn show(conn: &rusqlite::Connection, l: &str, id: &str, json: bool) -> Result<(), ExitCode> {
+    let lib = lib_of(l)?;
+    match library::get(conn, &lib, id).map_err(|e| refused(&Vec::from(e)))? {
+        Some(r) => print_record(&r, json),
+        None => {
+            return Err(refused(&[Stage::Knowledge.error(
+                Code::NOT_FOUND,
+                lib.key,
+                format!("an existing {} id (gearcam kb list {})", lib.name, lib.name),
+                id,
+                format!("there is no record {id:?} in {}", lib.name),
+            )]))
+        }
+    }
+    Ok(())
+}
+
+/// `gearcam kb add LIBRARY`: a record from `--from-json` (if given) with the
+/// `--set` values over it, added and printed.
+fn add(
+    conn: &rusqlite::Connection,
+    l: &str,
+    set: &[String],
+    from_json: Option<&Path>,
+    json: bool,
+) -> Result<(), ExitCode> {
+    let lib = lib_of(l)?;
+    let mut rec = match from_json {
+        Some(path) => record_file(path)?,
+        None => Record::new(),
+    };
+    rec.extend(parse_sets(&lib, set).map_err(|e| refused(&e))?);
+    let r = library::add(conn, &lib, &rec).map_err(|e| refused(&e))?;
+    crate::outln!(
+        "added {} {}",
+        lib.name,
+        library::cell(r.get(lib.key).unwrap_or(&Value::Null))
+    );
+    print_record(&r, json);
+    Ok(())
+}
+
+/// The record in the JSON file at `path` (`gearcam kb add --from-json`):
+/// exit 2 when it cannot be read, `BAD_JSON` when it is not a JSON object.
+fn record_file(path: &Path) -> Result<Record, ExitCode> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        crate::output::fail(
+            crate::exit::UNREACHABLE,
+            &[],
+            &format!("gearcam: cannot read {}: {e}", path.display()),
+        )
+    })?;
+    serde_json::from_str::<Record>(&text).map_err(|e| {
+        refused(&[Stage::Knowledge.error(
+            Code::BAD_JSON,
+            &path.display().to_string(),
+            "a JSON object of the record's fields",
+            e.to_string(),
+            "the file is not a JSON object",
+        )])
+    })
+}
+
+/// `gearcam kb edit LIBRARY ID --set ...`: the changed fields, then the
+/// record as it is now.
+fn edit(
+    conn: &rusqlite::Connection,
+    l: &str,
+    id: &str,
+    set: &[String],
+    json: bool,
+) -> Result<(), ExitCode> {
+    let lib = lib_of(l)?;
+    let set = parse_sets(&lib, set).map_err(|e| refused(&e))?;
+    let r = library::edit(conn, &lib, id, &set).map_err(|e| refused(&e))?;
+    crate::outln!("changed {} {id}", lib.name);
+    print_record(&r, json);
+    Ok(())
+}
+
+/// `gearcam kb remove LIBRARY ID`.
+fn remove(conn: &rusqlite::Connection, l: &str, id: &str, json: bool) -> Result<(), ExitCode> {
+    let lib = lib_of(l)?;
+    library::remove(conn, &lib, id).map_err(|e| refused(&e))?;
+    if json {
+        crate::outln!(
+            "{}",
+            serde_json::json!({"removed": {"library": lib.name, "id": id}})
+        );
+    } else {
+        crate::outln!("removed {} {id}", lib.name);
+    }
+    Ok(())
+}
+
+/// `gearcam kb import LIBRARY FILE`: a CSV file, all rows or none; says how
+/// many were added and replaced.
+fn import(conn: &rusqlite::Connection, l: &str, file: &Path, json: bool) -> Result<(), ExitCode> {
+    let lib = lib_of(l)?;
+    let f = std::fs::File::open(file).map_err(|e| {
+        crate::output::fail(
+            crate::exit::UNREACHABLE,
+            &[],
+            &format!("gearcam: cannot open {}: {e}", file.display()),
+        )
+    })?;
+    let r = csvio::import(conn, &lib, f).map_err(|e| refused(&e))?;
+    if json {
+        crate::outln!(
+            "{}",
+            serde_json::json!({"imported": {"file": file.display().to_string(), "library": lib.name, "added": r.added, "replaced": r.replaced}})
+        );
+    } else {
+        crate::outln!(
+            "imported {} into {}: {} added, {} replaced",
+            file.display(),
+            lib.name,
+            r.added,
+            r.replaced
+        );
+    }
+    Ok(())
+}
+
+/// `gearcam kb export LIBRARY [FILE]`: CSV to the file or to stdout; with
+/// `--json` and no file, the records as JSON (as `kb list --json`).
+fn export(
+    conn: &rusqlite::Connection,
+    l: &str,
+    file: Option<&Path>,
+    json: bool,
+) -> Result<(), ExitCode> {
+    let lib = lib_of(l)?;
+    match file {
+        Some(path) => {
+            let f = std::fs::File::create(path).map_err(|e| {
+                crate::output::fail(
+                    crate::exit::UNREACHABLE,
+                    &[],
+                    &format!("gearcam: cannot create {}: {e}", path.display()),
+                )
+            })?;
+            let n = csvio::export(conn, &lib, f).map_err(|e| refused(&e))?;
+            crate::outln!("exported {n} {} to {}", lib.name, path.display());
+        }
+        None if json => {
+            // `--json`: the records as JSON, as `kb list --json`.
+            let records = library::list(conn, &lib).map_err(|e| refused(&Vec::from(e)))?;
+            crate::outln!(
+                "{}",
+                serde_json::to_string_pretty(&records).unwrap_or_default()
+            );
+        }
+        None => {
+            csvio::export(conn, &lib, std::io::stdout().lock()).map_err(|e| refused(&e))?;
+        }
+    }
+    Ok(())
 }
 
 /// Runs `gearcam confirm JOB ...`.

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 use crate::bus_config::ClientArgs;
 use anyhow::Context;
 use clap::Subcommand;
-use gearcam_proto::{JobId, MachineId, StoreRequest};
+use gearcam_proto::{DeliveryReceipt, JobId, MachineId, StoreRequest};
 
 use crate::cmd::{join_bus, refused};
 use crate::store;
@@ -111,6 +111,8 @@ impl ProgramAction {
     }
 }
 
+/// Runs `gearcam program …`: each action asks the machine's agent over the
+/// bus and prints its answer, or its refusal.
 pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
     match action {
         ProgramAction::History {
@@ -118,39 +120,14 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             name,
             bus,
             json,
-        } => {
-            let bus = join_bus(&bus.bus_args()).await?;
-            let h = store::history(&bus, &machine, name.as_deref()).await;
-            bus.close().await;
-            let h = match h.context(format!("asking the agent of {machine}"))? {
-                Ok(h) => h,
-                Err(error) => return Ok(refused(&[error])),
-            };
-            if json {
-                return print_json(&h);
-            }
-            crate::out!("{}", history_table(&h));
-            Ok(ExitCode::SUCCESS)
-        }
+        } => history(&machine, name.as_deref(), &bus, json).await,
         ProgramAction::Show {
             machine,
             name,
             seq,
             bus,
             json,
-        } => {
-            let bus = join_bus(&bus.bus_args()).await?;
-            let t = store::version(&bus, &machine, &name, seq).await;
-            bus.close().await;
-            match t.context(format!("asking the agent of {machine}"))? {
-                Ok(t) if json => print_json(&t),
-                Ok(t) => {
-                    crate::out!("{}", t.text);
-                    Ok(ExitCode::SUCCESS)
-                }
-                Err(error) => Ok(refused(&[error])),
-            }
-        }
+        } => show(&machine, &name, seq, &bus, json).await,
         ProgramAction::Rollback {
             machine,
             name,
@@ -158,28 +135,7 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             by,
             bus,
             json,
-        } => {
-            let by = match crate::jobfile::who(&bus.bus_args(), by) {
-                Ok(by) => by,
-                Err(code) => return Ok(code),
-            };
-            let bus = join_bus(&bus.bus_args()).await?;
-            let r = store::change(&bus, &machine, &name, &StoreRequest::Rollback { seq, by }).await;
-            bus.close().await;
-            match r.context(format!("asking the agent of {machine}"))? {
-                Ok((receipt, _)) if json => print_json(&receipt),
-                Ok((receipt, _)) => {
-                    crate::outln!(
-                        "{} is version {seq} again: {} (sha256 {})",
-                        name,
-                        receipt.path,
-                        receipt.sha256
-                    );
-                    Ok(ExitCode::SUCCESS)
-                }
-                Err(error) => Ok(refused(&[error])),
-            }
-        }
+        } => rollback(&machine, &name, seq, by, &bus, json).await,
         ProgramAction::Resolve {
             machine,
             name,
@@ -188,53 +144,156 @@ pub async fn program(action: ProgramAction) -> anyhow::Result<ExitCode> {
             by,
             bus,
             json,
-        } => {
-            let by = match crate::jobfile::who(&bus.bus_args(), by) {
-                Ok(by) => by,
-                Err(code) => return Ok(code),
-            };
-            let request = if adopt {
-                StoreRequest::Adopt { by }
-            } else {
-                StoreRequest::Replace { by }
-            };
-            let bus = join_bus(&bus.bus_args()).await?;
-            let r = store::change(&bus, &machine, &name, &request).await;
-            bus.close().await;
-            match r.context(format!("asking the agent of {machine}"))? {
-                Ok((receipt, superseded)) if json => {
-                    let mut v = serde_json::to_value(&receipt)?;
-                    v["superseded"] = serde_json::to_value(&superseded)?;
-                    print_json(&v)
-                }
-                Ok((receipt, superseded)) => {
-                    let what = if adopt {
-                        "the edit at the machine is now the current version"
-                    } else {
-                        "gearcam's version is back at the machine; the edit is kept in the history"
-                    };
-                    crate::outln!(
-                        "{name} at {machine}: {what}: {} (sha256 {})",
-                        receipt.path,
-                        receipt.sha256
-                    );
-                    if !adopt {
-                        crate::outln!("jobs waiting on this program are delivered at their next re-drive (gearcam jobs)");
-                    } else if superseded.is_empty() {
-                        crate::outln!("no job was waiting to replace it");
-                    } else {
-                        let jobs: Vec<&str> = superseded.iter().map(JobId::as_str).collect();
-                        crate::outln!(
-                            "{} job(s) that waited to replace it end superseded and are never delivered over it: {}; submit again for gearcam's program",
-                            jobs.len(),
-                            jobs.join(", ")
-                        );
-                    }
-                    Ok(ExitCode::SUCCESS)
-                }
-                Err(error) => Ok(refused(&[error])),
-            }
+        } => resolve(&machine, &name, adopt, by, &bus, json).await,
+    }
+}
+
+/// `gearcam program history`: every stored version (of one program, if
+/// named), newest first, as a table or JSON.
+async fn history(
+    machine: &MachineId,
+    name: Option<&str>,
+    bus: &ClientArgs,
+    json: bool,
+) -> anyhow::Result<ExitCode> {
+    let bus = join_bus(&bus.bus_args()).await?;
+    let h = store::history(&bus, machine, name).await;
+    bus.close().await;
+    let h = match h.context(format!("asking the agent of {machine}"))? {
+        Ok(h) => h,
+        Err(error) => return Ok(refused(&[error])),
+    };
+    if json {
+        return print_json(&h);
+    }
+    crate::out!("{}", history_table(&h));
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `gearcam program show`: one stored version's text (with the version, as
+/// JSON).
+async fn show(
+    machine: &MachineId,
+    name: &str,
+    seq: u64,
+    bus: &ClientArgs,
+    json: bool,
+) -> anyhow::Result<ExitCode> {
+    let bus = join_bus(&bus.bus_args()).await?;
+    let t = store::version(&bus, machine, name, seq).await;
+    bus.close().await;
+    match t.context(format!("asking the agent of {machine}"))? {
+        Ok(t) if json => print_json(&t),
+        Ok(t) => {
+            crate::out!("{}", t.text);
+            Ok(ExitCode::SUCCESS)
         }
+        Err(error) => Ok(refused(&[error])),
+    }
+}
+
+/// `gearcam program rollback`: makes version `seq` current again, by the
+/// login (`--by` may only repeat it); prints the new receipt.
+async fn rollback(
+    machine: &MachineId,
+    name: &str,
+    seq: u64,
+    by: Option<String>,
+    bus: &ClientArgs,
+    json: bool,
+) -> anyhow::Result<ExitCode> {
+    let by = match crate::jobfile::who(&bus.bus_args(), by) {
+        Ok(by) => by,
+        Err(code) => return Ok(code),
+    };
+    let bus = join_bus(&bus.bus_args()).await?;
+    let r = store::change(&bus, machine, name, &StoreRequest::Rollback { seq, by }).await;
+    bus.close().await;
+    match r.context(format!("asking the agent of {machine}"))? {
+        Ok((receipt, _)) if json => print_json(&receipt),
+        Ok((receipt, _)) => {
+            crate::outln!(
+                "{} is version {seq} again: {} (sha256 {})",
+                name,
+                receipt.path,
+                receipt.sha256
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+        Err(error) => Ok(refused(&[error])),
+    }
+}
+
+/// `gearcam program resolve`: adopts the edit at the machine (`adopt`) or
+/// writes gearcam's version back, by the login; prints the version now
+/// current and what becomes of the jobs that waited.
+async fn resolve(
+    machine: &MachineId,
+    name: &str,
+    adopt: bool,
+    by: Option<String>,
+    bus: &ClientArgs,
+    json: bool,
+) -> anyhow::Result<ExitCode> {
+    let by = match crate::jobfile::who(&bus.bus_args(), by) {
+        Ok(by) => by,
+        Err(code) => return Ok(code),
+    };
+    let request = if adopt {
+        StoreRequest::Adopt { by }
+    } else {
+        StoreRequest::Replace { by }
+    };
+    let bus = join_bus(&bus.bus_args()).await?;
+    let r = store::change(&bus, machine, name, &request).await;
+    bus.close().await;
+    match r.context(format!("asking the agent of {machine}"))? {
+        Ok((receipt, superseded)) if json => {
+            let mut v = serde_json::to_value(&receipt)?;
+            v["superseded"] = serde_json::to_value(&superseded)?;
+            print_json(&v)
+        }
+        Ok((receipt, superseded)) => {
+            print_resolved(machine, name, adopt, &receipt, &superseded);
+            Ok(ExitCode::SUCCESS)
+        }
+        Err(error) => Ok(refused(&[error])),
+    }
+}
+
+/// A resolution for a person: which version is now current, and whether
+/// the jobs that waited are delivered (a replacement) or ended superseded
+/// (an adoption).
+fn print_resolved(
+    machine: &MachineId,
+    name: &str,
+    adopt: bool,
+    receipt: &DeliveryReceipt,
+    superseded: &[JobId],
+) {
+    let what = if adopt {
+        "the edit at the machine is now the current version"
+    } else {
+        "gearcam's version is back at the machine; the edit is kept in the history"
+    };
+    crate::outln!(
+        "{name} at {machine}: {what}: {} (sha256 {})",
+        receipt.path,
+        receipt.sha256
+    );
+    if !adopt {
+        crate::outln!(
+            "jobs waiting on this program are delivered at their next re-drive (gearcam jobs)"
+        );
+    } else if superseded.is_empty() {
+        crate::outln!("no job was waiting to replace it");
+    } else {
+        let jobs: Vec<&str> = superseded.iter().map(JobId::as_str).collect();
+        crate::outln!(
+            "{} job(s) that waited to replace it end superseded and are never delivered over it: {}; submit again for gearcam's program",
+            jobs.len(),
+            jobs.join(", ")
+        );
     }
 }
 
