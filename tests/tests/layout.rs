@@ -679,3 +679,198 @@ fn the_shared_libraries_depend_on_nothing_above_them() {
         "shared libraries depending on what is above them: {upward:?}"
     );
 }
+
+/// The longest function allowed outside tests, in lines from its `fn` to
+/// its closing brace.
+const MAX_FUNCTION_LINES: usize = 120;
+
+/// `line` declares a function (any visibility, `const`/`async`/`unsafe`):
+/// its name.
+fn declared_fn(line: &str) -> Option<&str> {
+    let mut rest = line.trim_start();
+    for prefix in [
+        "pub(crate) ",
+        "pub(super) ",
+        "pub ",
+        "const ",
+        "async ",
+        "unsafe ",
+    ] {
+        rest = rest.strip_prefix(prefix).unwrap_or(rest);
+    }
+    let rest = rest.strip_prefix("fn ")?;
+    let name: &str = rest
+        .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+        .next()
+        .unwrap_or_default();
+    (!name.is_empty()).then_some(name)
+}
+
+/// The braces of `line` that count (outside strings, characters and a
+/// trailing comment): +1 for `{`, −1 for `}`. `in_string` carries an open
+/// string literal across lines.
+fn brace_balance(line: &str, in_string: &mut bool) -> i64 {
+    let chars: Vec<char> = line.chars().collect();
+    let mut depth = 0;
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        if *in_string {
+            match c {
+                '\\' => i += 1,
+                '"' => *in_string = false,
+                _ => {}
+            }
+        } else {
+            match c {
+                '"' => *in_string = true,
+                '/' if chars.get(i + 1) == Some(&'/') => break,
+                // A character literal: 'x' or '\x' (a lifetime has no closing quote).
+                '\'' if chars.get(i + 2) == Some(&'\'') => i += 2,
+                '\'' if chars.get(i + 1) == Some(&'\\') => {
+                    while i + 1 < chars.len() && chars[i + 1] != '\'' {
+                        i += 1;
+                    }
+                    i += 1;
+                }
+                '{' => depth += 1,
+                '}' => depth -= 1,
+                _ => {}
+            }
+        }
+        i += 1;
+    }
+    depth
+}
+
+/// Every function of `lines` with a body: its name, first line (1-based)
+/// and length in lines, from its `fn` to its closing brace.
+fn functions(lines: &[String]) -> Vec<(String, usize, usize)> {
+    let mut out = Vec::new();
+    for (start, line) in lines.iter().enumerate() {
+        let Some(name) = declared_fn(line) else {
+            continue;
+        };
+        let (mut depth, mut opened, mut in_string) = (0i64, false, false);
+        for (k, l) in lines.iter().enumerate().skip(start) {
+            if !opened && depth == 0 && l.trim_end().ends_with(';') && !l.contains('{') {
+                break; // a declaration without a body
+            }
+            depth += brace_balance(l, &mut in_string);
+            opened |= depth > 0;
+            if opened && depth == 0 {
+                out.push((name.to_string(), start + 1, k - start + 1));
+                break;
+            }
+        }
+    }
+    out
+}
+
+/// The files that hold only tests: `tests.rs` and every module declared
+/// under `#[cfg(test)]` in its own file.
+fn test_only_files(files: &[PathBuf]) -> BTreeSet<PathBuf> {
+    let mut out = BTreeSet::new();
+    for f in files {
+        let text = std::fs::read_to_string(f).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        for w in lines.windows(2) {
+            let decl = w[1].trim();
+            if w[0].trim() != "#[cfg(test)]" || !decl.ends_with(';') {
+                continue;
+            }
+            let name = decl.trim_end_matches(';').rsplit(' ').next().unwrap();
+            let dir = f.parent().unwrap();
+            let stem = f.file_stem().unwrap().to_string_lossy();
+            let base = if ["lib", "main", "mod"].contains(&stem.as_ref()) {
+                dir.to_path_buf()
+            } else {
+                dir.join(stem.as_ref())
+            };
+            out.insert(base.join(format!("{name}.rs")));
+            out.insert(base.join(name).join("mod.rs"));
+        }
+    }
+    out
+}
+
+/// Every function outside tests in the crates' sources, longest first.
+fn all_functions() -> Vec<(usize, String)> {
+    let mut found = Vec::new();
+    for src in crate_sources() {
+        let files = rust_files(&src);
+        let tests = test_only_files(&files);
+        for f in files.iter().filter(|f| !tests.contains(*f)) {
+            let text = std::fs::read_to_string(f).unwrap();
+            let lines: Vec<String> = code_with_comments(&text);
+            for (name, at, len) in functions(&lines) {
+                found.push((len, format!("{}:{at} {name}", f.display())));
+            }
+        }
+    }
+    found.sort_by(|a, b| b.cmp(a));
+    found
+}
+
+/// The lines of a file before its `#[cfg(test)] mod tests`, comments kept
+/// (a function's length counts its comments).
+fn code_with_comments(text: &str) -> Vec<String> {
+    let lines: Vec<&str> = text.lines().collect();
+    let end = lines
+        .windows(2)
+        .position(|w| w[0].trim() == "#[cfg(test)]" && w[1].trim_start().starts_with("mod tests"))
+        .unwrap_or(lines.len());
+    lines[..end].iter().map(|l| l.to_string()).collect()
+}
+
+#[test]
+fn no_function_outside_tests_is_over_120_lines() {
+    let all = all_functions();
+    if std::env::var_os("GEARCAM_LONGEST").is_some() {
+        for (len, at) in all.iter().take(15) {
+            println!("{len:5} {at}");
+        }
+    }
+    let long: Vec<String> = all
+        .iter()
+        .filter(|(len, _)| *len > MAX_FUNCTION_LINES)
+        .map(|(len, at)| format!("{at}: {len} lines"))
+        .collect();
+    assert!(
+        long.is_empty(),
+        "functions over {MAX_FUNCTION_LINES} lines (split them by what they do):\n{}",
+        long.join("\n")
+    );
+}
+
+#[test]
+fn the_function_measure_finds_bodies_and_their_ends() {
+    let text = r#"
+pub(crate) fn short(a: u32) -> u32 {
+    let brace = '{';
+    let s = "}}} {";
+    a + 1 // }
+}
+
+fn long<'a>(
+    x: &'a str,
+) -> &'a str
+where
+    'a: 'a,
+{
+    if x.is_empty() {
+        x
+    } else {
+        x
+    }
+}
+trait T {
+    fn declared(&self);
+}
+"#;
+    let lines: Vec<String> = text.lines().map(str::to_string).collect();
+    assert_eq!(
+        functions(&lines),
+        [("short".to_string(), 2, 5), ("long".to_string(), 8, 12)]
+    );
+}
