@@ -7,7 +7,7 @@
 //! give `[mill]` and `[milling]`. Its plan and model travel on the same keys
 //! as hobbing's (`gearcam/v1/jobs/{job}/plan`, `…/model`) with their own
 //! envelope kinds (`spiral_plan`, `spiral_model`); every stage dispatches on
-//! the kind ([`AnyPlan`], [`AnyModel`]).
+//! the kind ([`crate::AnyPlan`], [`crate::AnyModel`]).
 
 use serde::{Deserialize, Serialize};
 
