@@ -101,6 +101,7 @@ pub async fn run(
     loop {
         let mut new_submits: Vec<Query> = Vec::new();
         let mut new_events: Vec<(String, JobEvent)> = Vec::new();
+        let mut new_views: Vec<Query> = Vec::new();
         let mut drive_now = false;
         tokio::select! {
             _ = shutdown.cancelled() => break,
@@ -108,14 +109,8 @@ pub async fn run(
             s = inputs.events.recv_async() => if let Ok(s) = s {
                 if let Some(ev) = reported(&s) { new_events.push(ev) }
             },
-            q = inputs.views.recv_async() => if let Ok(q) = q {
-                let reply = view_reply(&journal, q.key_expr().as_str());
-                reply_message(q, &reply).await
-            },
-            q = inputs.list_view.recv_async() => if let Ok(q) = q {
-                let reply = view_reply(&journal, q.key_expr().as_str());
-                reply_message(q, &reply).await
-            },
+            q = inputs.views.recv_async() => if let Ok(q) = q { new_views.push(q) },
+            q = inputs.list_view.recv_async() => if let Ok(q) = q { new_views.push(q) },
             q = inputs.cancels.recv_async() => if let Ok(q) = q {
                 let (reply, cancelled) = cancel_reply(&journal, &q);
                 reply_message(q, &reply).await;
@@ -147,6 +142,13 @@ pub async fn run(
             // The journal is committed: acknowledge, then drive the new jobs.
             acknowledge(&bus, replies, &to_send).await;
             drives.start(&bus, &alive, redrive_ms, to_send);
+        }
+        // A view is answered once the events that reached the station
+        // before it are journaled: a client that saw a job's event and then
+        // asks for its status reads a status that has it.
+        for q in new_views {
+            let reply = view_reply(&journal, q.key_expr().as_str());
+            reply_message(q, &reply).await;
         }
         if drive_now && drives.has_room() {
             let due = journal.due(now_ms(), 2048)?;
