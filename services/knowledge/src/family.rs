@@ -26,7 +26,6 @@ pub(crate) fn plan(
     cases: &CaseBase,
     req: &JobRequest,
 ) -> Result<Planned, Vec<JobError>> {
-    let now = gearcam_proto::now_ms();
     let recorded = |job: &gearcam_proto::JobId, r: Result<(), crate::KnowledgeError>| {
         if let Err(e) = r {
             tracing::warn!(%job, error = %e, "cannot record the planned job");
@@ -35,7 +34,10 @@ pub(crate) fn plan(
     Ok(match &req.spec.part {
         FamilySpec::Hobbing(_) => {
             let plan = crate::plan::plan_with(conn, cases, req)?;
-            recorded(&plan.job_id, crate::learn::record_planned(conn, &plan, now));
+            recorded(
+                &plan.job_id,
+                crate::learn::record_planned(conn, &plan, gearcam_proto::now_ms()),
+            );
             Planned {
                 tool: plan.hob.id.clone(),
                 confidence: plan.confidence,
@@ -46,7 +48,7 @@ pub(crate) fn plan(
             let plan = crate::spiral::plan_spiral(conn, req)?;
             recorded(
                 &plan.job_id,
-                crate::spiral::record_planned(conn, &plan, now),
+                crate::spiral::record_planned(conn, &plan, gearcam_proto::now_ms()),
             );
             Planned {
                 tool: plan.tool.id.clone(),
@@ -56,7 +58,10 @@ pub(crate) fn plan(
         }
         FamilySpec::WireEdm(_) => {
             let plan = crate::wire::plan_wire(conn, req)?;
-            recorded(&plan.job_id, crate::wire::record_planned(conn, &plan, now));
+            recorded(
+                &plan.job_id,
+                crate::wire::record_planned(conn, &plan, gearcam_proto::now_ms()),
+            );
             Planned {
                 tool: plan.process.wire.clone(),
                 confidence: plan.confidence,

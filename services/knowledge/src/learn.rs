@@ -505,7 +505,21 @@ fn stored_plan(json: &str) -> Result<ProcessPlan, KnowledgeError> {
             map.insert("gear".into(), gear);
         }
     }
-    Ok(serde_json::from_value(v)?)
+    let plan: ProcessPlan = serde_json::from_value(v)?;
+    // A row of the jobs library can be edited by hand: a hobbing plan that
+    // carries another family's job is a record that does not fit.
+    if plan.request.spec.hobbing().is_none() {
+        return Err(KnowledgeError::Record {
+            library: "jobs",
+            id: plan.job_id.to_string(),
+            field: "plan_json.request.spec.job.family".into(),
+            detail: format!(
+                "a hobbing plan carries a {} job",
+                plan.request.spec.family().as_str()
+            ),
+        });
+    }
+    Ok(plan)
 }
 
 #[cfg(test)]
@@ -604,6 +618,24 @@ mod tests {
         assert_eq!(read.class, now.class);
         // Without the compatibility step the old shape does not read.
         assert!(serde_json::from_value::<ProcessPlan>(old).is_err());
+    }
+
+    #[test]
+    fn a_stored_hobbing_plan_with_another_familys_job_is_a_record_error() {
+        let conn = db::open_in_memory().unwrap();
+        let req = plan::tests::request(json!({}), json!({}));
+        let mut edited = serde_json::to_value(plan::plan(&conn, &req).unwrap()).unwrap();
+        edited["request"]["spec"] = json!({
+            "job": {"family": "wire-edm", "machine": "W01", "part_number": "PD-1"},
+            "die": {"part": "die", "module_mm": 2.0, "teeth": 20, "thickness_mm": 20.0,
+                    "material": "Cr12MoV"},
+        });
+        let err = stored_plan(&edited.to_string()).unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("a hobbing plan carries a wire-edm job"),
+            "{err}"
+        );
     }
 
     /// A job whose delivery was not heard becomes a case only with the
