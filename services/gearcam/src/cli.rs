@@ -95,6 +95,15 @@ pub enum Command {
         #[command(flatten)]
         bus: BusArgs,
     },
+    /// Serve the planning office's page: the jobs of the station's journal,
+    /// each job's state, errors, warnings and program (a client of the bus).
+    Web {
+        /// Address to listen on (port 0: any free port; the address is printed).
+        #[arg(long, default_value = "127.0.0.1:8080")]
+        listen: std::net::SocketAddr,
+        #[command(flatten)]
+        bus: ClientArgs,
+    },
     /// List every job in the station's journal.
     Jobs {
         #[command(flatten)]
@@ -182,6 +191,7 @@ pub async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             redrive_ms,
             bus,
         } => cmd::station::station(journal, redrive_ms, &bus).await,
+        Command::Web { listen, bus } => cmd::web::web(listen, &bus.bus_args()).await,
         Command::Jobs { bus, json } => cmd::jobs::jobs(&bus.bus_args(), json).await,
         Command::Status { job, bus, json } => cmd::jobs::status(&job, &bus.bus_args(), json).await,
         Command::Cancel { job, by, bus, json } => {
@@ -211,6 +221,7 @@ impl Cli {
             Command::Up { .. }
             | Command::Demo { .. }
             | Command::Station { .. }
+            | Command::Web { .. }
             | Command::Router { .. } => false,
         }
     }
@@ -221,7 +232,10 @@ impl Cli {
     pub fn log_filter(&self) -> &'static str {
         let serving = matches!(
             self.command,
-            Command::Up { .. } | Command::Station { .. } | Command::Router { .. }
+            Command::Up { .. }
+                | Command::Station { .. }
+                | Command::Router { .. }
+                | Command::Web { .. }
         );
         match (self.verbose, serving) {
             (0, false) => "off",

@@ -12,6 +12,7 @@
 //! - [`check`]: the local pipeline (`gearcam check`) and its JSON contract.
 //! - [`station`]: the client side: submitting a job to the station and following it.
 //! - [`store`]: the client side of a machine's program store (history, versions, rollback).
+//! - [`web`]: the planning office's page (`gearcam web`), a client of the bus.
 //! - [`embedded`]: every service in one process on one session (`gearcam up`, `gearcam demo`).
 #![forbid(unsafe_code)]
 
@@ -28,6 +29,7 @@ pub mod jobfile;
 pub mod output;
 pub mod station;
 pub mod store;
+pub mod web;
 
 /// The endpoint `gearcam up` listens on and `gearcam submit` connects to by default.
 pub const DEFAULT_ENDPOINT: &str = "tcp/127.0.0.1:7447";

@@ -10,6 +10,7 @@ pub mod station;
 pub mod submit;
 pub mod templates;
 pub mod up;
+pub mod web;
 
 use std::process::ExitCode;
 use std::time::Duration;

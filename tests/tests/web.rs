@@ -1,0 +1,129 @@
+//! The planning office's page (`gearcam web`) against real service
+//! processes on loopback: the journal's jobs listed and filtered, one job's
+//! state, errors and program, every value shown as text (a part number
+//! with a script in it is escaped), an unknown job a 404.
+
+use std::io::{Read, Write};
+use std::net::TcpStream;
+use std::time::Duration;
+
+use gearcam_testkit::{examples, Cluster, Proc};
+
+/// `GET path` on `addr` over HTTP/1.1: the status code and the body.
+fn get(addr: &str, path: &str) -> (u16, String) {
+    let mut s = TcpStream::connect(addr).expect("the page's server accepts");
+    s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
+    write!(
+        s,
+        "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n"
+    )
+    .unwrap();
+    let mut raw = Vec::new();
+    s.read_to_end(&mut raw).unwrap();
+    let text = String::from_utf8_lossy(&raw).into_owned();
+    let (head, body) = text.split_once("\r\n\r\n").expect("an HTTP answer");
+    let code = head
+        .split_whitespace()
+        .nth(1)
+        .and_then(|c| c.parse().ok())
+        .expect("a status code");
+    (code, body.to_string())
+}
+
+/// The example `file` with its part number replaced by `part`.
+fn with_part(file: &str, part: &str) -> String {
+    examples::example(file)
+        .lines()
+        .map(|l| {
+            if l.trim_start().starts_with("part_number") {
+                format!("part_number = {part:?}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn the_page_lists_the_journal_and_shows_each_job_as_text() {
+    let cluster = Cluster::start();
+    let script = "<script>alert(1)</script>";
+    let good = cluster.job_file("xss.toml", &with_part("spur_840d.toml", script));
+    let (_, v) = cluster.submit_wait(&good);
+    assert_eq!(v["state"], "delivered", "{v}\n{}", cluster.logs());
+    let bad = cluster.job_file("bad.toml", &examples::example("invalid_base_pitch.toml"));
+    let (_, v) = cluster.submit_wait(&bad);
+    assert_eq!(v["state"], "failed", "{v}");
+    let jobs = cluster.jobs().expect("the station lists its jobs");
+    let id_of = |part: &str| {
+        jobs.iter()
+            .find(|j| j["part_number"] == part)
+            .and_then(|j| j["job"].as_str())
+            .unwrap_or_else(|| panic!("no job of part {part}: {jobs:?}"))
+            .to_string()
+    };
+    let (delivered, failed) = (id_of(script), id_of("BAD-0001"));
+
+    let web = Proc::start(
+        cluster.dir(),
+        "web",
+        "gearcam",
+        &[
+            "web",
+            "--listen",
+            "127.0.0.1:0",
+            "--connect",
+            &cluster.endpoint,
+        ]
+        .map(String::from),
+    );
+    let url = web.wait_for_line("gearcam web: http://", Duration::from_secs(30));
+    let addr = url.trim_end_matches('/');
+
+    // The list: both jobs, the part number escaped, never a live script.
+    let (code, list) = get(addr, "/");
+    assert_eq!(code, 200, "{list}");
+    assert!(
+        list.contains(&delivered) && list.contains(&failed),
+        "{list}"
+    );
+    assert!(
+        list.contains("&lt;script&gt;alert(1)&lt;/script&gt;"),
+        "{list}"
+    );
+    assert!(!list.contains(script), "a raw script in the page:\n{list}");
+    assert!(list.contains("2 of 2 job(s)"), "{list}");
+
+    // Filter by state and search by part number.
+    let (_, failed_only) = get(addr, "/?state=failed");
+    assert!(failed_only.contains(&failed) && !failed_only.contains(&delivered));
+    assert!(failed_only.contains("1 of 2 job(s)"), "{failed_only}");
+    let (_, searched) = get(addr, "/?q=bad-0001");
+    assert!(searched.contains(&failed) && !searched.contains(&delivered));
+
+    // One job: its state and program; a failed one's typed errors.
+    let (code, page) = get(addr, &format!("/jobs/{delivered}"));
+    assert_eq!(code, 200, "{page}");
+    assert!(
+        page.contains("delivered") && page.contains("SCRIPT_ALERT_1_SCRIPT"),
+        "{page}"
+    );
+    assert!(!page.contains(script), "{page}");
+    let (code, page) = get(addr, &format!("/jobs/{failed}"));
+    assert_eq!(code, 200, "{page}");
+    assert!(
+        page.contains("BASE_PITCH_MISMATCH") && page.contains("hob.module_mm"),
+        "{page}"
+    );
+
+    // An unknown job, and a path that is no job id.
+    let (code, _) = get(addr, "/jobs/NO-SUCH-JOB");
+    assert_eq!(code, 404);
+    let (code, page) = get(addr, "/jobs/%3Cb%3E");
+    assert_eq!(code, 404);
+    assert!(
+        page.contains("&lt;b&gt;") && !page.contains("<b>"),
+        "{page}"
+    );
+}
