@@ -51,21 +51,22 @@ impl JobState {
         }
     }
 
+    /// Every state, in the order a job moves through them.
+    pub const ALL: [JobState; 9] = [
+        JobState::Accepted,
+        JobState::Planned,
+        JobState::Modelled,
+        JobState::Programmed,
+        JobState::Waiting,
+        JobState::Delivered,
+        JobState::Failed,
+        JobState::Superseded,
+        JobState::Cancelled,
+    ];
+
     /// Parses a state name.
     pub fn parse(s: &str) -> Option<JobState> {
-        [
-            JobState::Accepted,
-            JobState::Planned,
-            JobState::Modelled,
-            JobState::Programmed,
-            JobState::Waiting,
-            JobState::Delivered,
-            JobState::Failed,
-            JobState::Superseded,
-            JobState::Cancelled,
-        ]
-        .into_iter()
-        .find(|st| st.as_str() == s)
+        JobState::ALL.into_iter().find(|st| st.as_str() == s)
     }
 
     /// True for delivered, failed, superseded and cancelled: nothing moves

@@ -202,14 +202,12 @@ async fn rollback(
     bus: &ClientArgs,
     json: bool,
 ) -> anyhow::Result<ExitCode> {
-    let by = match crate::jobfile::who(&bus.bus_args(), by) {
-        Ok(by) => by,
-        Err(code) => return Ok(code),
-    };
-    let bus = join_bus(&bus.bus_args()).await?;
-    let r = store::change(&bus, machine, name, &StoreRequest::Rollback { seq, by }).await;
-    bus.close().await;
-    match r.context(format!("asking the agent of {machine}"))? {
+    let changed = change_as(machine, name, by, bus, |by| StoreRequest::Rollback {
+        seq,
+        by,
+    })
+    .await?;
+    match changed {
         Ok((receipt, _)) if json => print_json(&receipt),
         Ok((receipt, _)) => {
             crate::outln!(
@@ -220,8 +218,29 @@ async fn rollback(
             );
             Ok(ExitCode::SUCCESS)
         }
-        Err(error) => Ok(refused(&[error])),
+        Err(code) => Ok(code),
     }
+}
+
+/// Sends the change `request` (made with the login) of program `name` to the
+/// store of `machine`: the receipt and the jobs superseded, or the exit code
+/// when the login cannot be had (`--by` other than it) or the agent refuses.
+async fn change_as(
+    machine: &MachineId,
+    name: &str,
+    by: Option<String>,
+    bus: &ClientArgs,
+    request: impl FnOnce(String) -> StoreRequest,
+) -> anyhow::Result<Result<(DeliveryReceipt, Vec<JobId>), ExitCode>> {
+    let by = match crate::jobfile::who(&bus.bus_args(), by) {
+        Ok(by) => by,
+        Err(code) => return Ok(Err(code)),
+    };
+    let bus = join_bus(&bus.bus_args()).await?;
+    let r = store::change(&bus, machine, name, &request(by)).await;
+    bus.close().await;
+    Ok(r.context(format!("asking the agent of {machine}"))?
+        .map_err(|error| refused(&[error])))
 }
 
 /// `gearcam program resolve`: adopts the edit at the machine (`adopt`) or
@@ -235,19 +254,15 @@ async fn resolve(
     bus: &ClientArgs,
     json: bool,
 ) -> anyhow::Result<ExitCode> {
-    let by = match crate::jobfile::who(&bus.bus_args(), by) {
-        Ok(by) => by,
-        Err(code) => return Ok(code),
-    };
-    let request = if adopt {
-        StoreRequest::Adopt { by }
-    } else {
-        StoreRequest::Replace { by }
-    };
-    let bus = join_bus(&bus.bus_args()).await?;
-    let r = store::change(&bus, machine, name, &request).await;
-    bus.close().await;
-    match r.context(format!("asking the agent of {machine}"))? {
+    let changed = change_as(machine, name, by, bus, |by| {
+        if adopt {
+            StoreRequest::Adopt { by }
+        } else {
+            StoreRequest::Replace { by }
+        }
+    })
+    .await?;
+    match changed {
         Ok((receipt, superseded)) if json => {
             let mut v = serde_json::to_value(&receipt)?;
             v["superseded"] = serde_json::to_value(&superseded)?;
@@ -257,7 +272,7 @@ async fn resolve(
             print_resolved(machine, name, adopt, &receipt, &superseded);
             Ok(ExitCode::SUCCESS)
         }
-        Err(error) => Ok(refused(&[error])),
+        Err(code) => Ok(code),
     }
 }
 

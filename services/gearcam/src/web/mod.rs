@@ -67,7 +67,7 @@ struct Filter {
 
 impl Filter {
     fn keeps(&self, s: &JobStatus) -> bool {
-        let state_ok = self.state.is_empty() || state_name(s.state) == self.state;
+        let state_ok = self.state.is_empty() || s.state.as_str() == self.state;
         let q = self.q.trim().to_lowercase();
         let text_ok = q.is_empty()
             || s.job.as_str().to_lowercase().contains(&q)
@@ -91,8 +91,8 @@ async fn jobs_page(State(web): State<Web>, Query(filter): Query<Filter>) -> Page
         form method="get" action="/" {
             label { "State " select name="state" {
                 option value="" selected[filter.state.is_empty()] { "any" }
-                @for s in STATES {
-                    option value=(s) selected[filter.state == *s] { (s) }
+                @for s in JobState::ALL.map(JobState::as_str) {
+                    option value=(s) selected[filter.state == s] { (s) }
                 }
             } }
             " "
@@ -104,11 +104,11 @@ async fn jobs_page(State(web): State<Web>, Query(filter): Query<Filter>) -> Page
             thead { tr { th { "job" } th { "part number" } th { "machine" } th { "state" } th { "updated" } } }
             tbody {
                 @for s in &shown {
-                    tr class=(state_name(s.state)) {
+                    tr class=(s.state.as_str()) {
                         td { a href=(format!("/jobs/{}", s.job)) { (s.job) } }
                         td { (s.part_number) }
                         td { (s.machine) }
-                        td { (state_name(s.state)) }
+                        td { (s.state.as_str()) }
                         td { (gearcam_proto::utc_text(s.updated_at_ms)) }
                     }
                 }
@@ -149,7 +149,7 @@ async fn job_page(State(web): State<Web>, Path(job): Path<String>) -> Page {
         dl {
             dt { "part number" } dd { (s.part_number) }
             dt { "machine" } dd { (s.machine) }
-            dt { "state" } dd.state { (state_name(s.state)) }
+            dt { "state" } dd.state { (s.state.as_str()) }
             @if let Some(w) = &s.waiting_for { dt { "waiting for" } dd { (w) } }
             dt { "accepted" } dd { (gearcam_proto::utc_text(s.accepted_at_ms)) }
             dt { "updated" } dd { (gearcam_proto::utc_text(s.updated_at_ms)) }
@@ -227,20 +227,3 @@ const STYLE: &str = "body{font-family:system-ui,sans-serif;margin:1.5rem;color:#
 table{border-collapse:collapse;margin-top:.5rem}th,td{border-bottom:1px solid #ddd;padding:.3rem .6rem;text-align:left}\
 tr.failed td{background:#fde8e8}tr.delivered td{background:#eaf7ea}tr.waiting td{background:#fff6dc}\
 dt{font-weight:600;float:left;clear:left;width:10rem}dd{margin-left:10.5rem}code{font-size:.95em}";
-
-/// The states as the station names them, for the filter.
-const STATES: &[&str] = &[
-    "accepted",
-    "planned",
-    "modelled",
-    "programmed",
-    "delivered",
-    "waiting",
-    "failed",
-    "superseded",
-    "cancelled",
-];
-
-fn state_name(s: JobState) -> &'static str {
-    s.as_str()
-}
