@@ -7,15 +7,17 @@ use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::time::Duration;
 
-use gearcam_testkit::{examples, Cluster, Proc};
+use gearcam_testkit::{examples, web_password, web_users, Cluster, Proc};
 
-/// `GET path` on `addr` over HTTP/1.1: the status code and the body.
-fn get(addr: &str, path: &str) -> (u16, String) {
+/// `method path` on `addr` over HTTP/1.1 with `headers` (each ending in
+/// CRLF) and `body`: the status code, the head and the body.
+fn http(addr: &str, method: &str, path: &str, headers: &str, body: &str) -> (u16, String, String) {
     let mut s = TcpStream::connect(addr).expect("the page's server accepts");
     s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
     write!(
         s,
-        "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n"
+        "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n{headers}Content-Length: {}\r\n\r\n{body}",
+        body.len()
     )
     .unwrap();
     let mut raw = Vec::new();
@@ -27,7 +29,28 @@ fn get(addr: &str, path: &str) -> (u16, String) {
         .nth(1)
         .and_then(|c| c.parse().ok())
         .expect("a status code");
-    (code, body.to_string())
+    (code, head.to_string(), body.to_string())
+}
+
+/// Signs in as `name`: the session cookie (`gearcam_session=…`).
+fn sign_in(addr: &str, name: &str) -> String {
+    let form = format!("name={name}&password={}", web_password(name));
+    let (code, head, body) = http(
+        addr,
+        "POST",
+        "/signin",
+        "Content-Type: application/x-www-form-urlencoded\r\n",
+        &form,
+    );
+    assert_eq!(code, 303, "{head}\n{body}");
+    let cookie = head
+        .lines()
+        .find_map(|l| l.strip_prefix("set-cookie: "))
+        .expect("a session cookie");
+    for flag in ["HttpOnly", "Secure", "SameSite=Strict"] {
+        assert!(cookie.contains(flag), "{cookie} without {flag}");
+    }
+    cookie.split(';').next().unwrap().to_string()
 }
 
 /// The example `file` with its part number replaced by `part`.
@@ -65,6 +88,7 @@ fn the_page_lists_the_journal_and_shows_each_job_as_text() {
     };
     let (delivered, failed) = (id_of(script), id_of("BAD-0001"));
 
+    let users = web_users(cluster.dir()).display().to_string();
     let web = Proc::start(
         cluster.dir(),
         "web",
@@ -73,6 +97,8 @@ fn the_page_lists_the_journal_and_shows_each_job_as_text() {
             "web",
             "--listen",
             "127.0.0.1:0",
+            "--users",
+            &users,
             "--connect",
             &cluster.endpoint,
         ]
@@ -80,9 +106,18 @@ fn the_page_lists_the_journal_and_shows_each_job_as_text() {
     );
     let url = web.wait_for_line("gearcam web: http://", Duration::from_secs(30));
     let addr = url.trim_end_matches('/');
+    // Without a session every page leads to the sign-in form.
+    let (code, head, _) = http(addr, "GET", "/", "", "");
+    assert_eq!(code, 303, "{head}");
+    assert!(head.contains("location: /signin?next=/"), "{head}");
+    let cookie = sign_in(addr, "planner");
+    let get = |path: &str| {
+        let (code, _, body) = http(addr, "GET", path, &format!("Cookie: {cookie}\r\n"), "");
+        (code, body)
+    };
 
     // The list: both jobs, the part number escaped, never a live script.
-    let (code, list) = get(addr, "/");
+    let (code, list) = get("/");
     assert_eq!(code, 200, "{list}");
     assert!(
         list.contains(&delivered) && list.contains(&failed),
@@ -96,21 +131,21 @@ fn the_page_lists_the_journal_and_shows_each_job_as_text() {
     assert!(list.contains("2 of 2 job(s)"), "{list}");
 
     // Filter by state and search by part number.
-    let (_, failed_only) = get(addr, "/?state=failed");
+    let (_, failed_only) = get("/?state=failed");
     assert!(failed_only.contains(&failed) && !failed_only.contains(&delivered));
     assert!(failed_only.contains("1 of 2 job(s)"), "{failed_only}");
-    let (_, searched) = get(addr, "/?q=bad-0001");
+    let (_, searched) = get("/?q=bad-0001");
     assert!(searched.contains(&failed) && !searched.contains(&delivered));
 
     // One job: its state and program; a failed one's typed errors.
-    let (code, page) = get(addr, &format!("/jobs/{delivered}"));
+    let (code, page) = get(&format!("/jobs/{delivered}"));
     assert_eq!(code, 200, "{page}");
     assert!(
         page.contains("delivered") && page.contains("SCRIPT_ALERT_1_SCRIPT"),
         "{page}"
     );
     assert!(!page.contains(script), "{page}");
-    let (code, page) = get(addr, &format!("/jobs/{failed}"));
+    let (code, page) = get(&format!("/jobs/{failed}"));
     assert_eq!(code, 200, "{page}");
     assert!(
         page.contains("BASE_PITCH_MISMATCH") && page.contains("hob.module_mm"),
@@ -118,12 +153,32 @@ fn the_page_lists_the_journal_and_shows_each_job_as_text() {
     );
 
     // An unknown job, and a path that is no job id.
-    let (code, _) = get(addr, "/jobs/NO-SUCH-JOB");
+    let (code, _) = get("/jobs/NO-SUCH-JOB");
     assert_eq!(code, 404);
-    let (code, page) = get(addr, "/jobs/%3Cb%3E");
+    let (code, page) = get("/jobs/%3Cb%3E");
     assert_eq!(code, 404);
     assert!(
         page.contains("&lt;b&gt;") && !page.contains("<b>"),
         "{page}"
     );
+
+    // A wrong password is refused; a change without the session's CSRF
+    // token, or from another site, is refused and changes nothing.
+    let (code, _, body) = http(
+        addr,
+        "POST",
+        "/signin",
+        "Content-Type: application/x-www-form-urlencoded\r\n",
+        "name=planner&password=guess",
+    );
+    assert_eq!(code, 401, "{body}");
+    let form = "Content-Type: application/x-www-form-urlencoded\r\n";
+    let with_cookie = format!("{form}Cookie: {cookie}\r\n");
+    let (code, _, body) = http(addr, "POST", "/signout", &with_cookie, "csrf=forged");
+    assert_eq!(code, 403, "{body}");
+    let foreign = format!("{with_cookie}Origin: http://evil.example\r\n");
+    let (code, _, _) = http(addr, "POST", "/signout", &foreign, "");
+    assert_eq!(code, 403);
+    let (code, _) = get("/");
+    assert_eq!(code, 200, "the session outlives the refused changes");
 }

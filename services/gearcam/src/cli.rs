@@ -101,8 +101,33 @@ pub enum Command {
         /// Address to listen on (port 0: any free port; the address is printed).
         #[arg(long, default_value = "127.0.0.1:8080")]
         listen: std::net::SocketAddr,
+        /// The users file (`gearcam web-user` writes it; passwords as Argon2 hashes).
+        #[arg(
+            long,
+            env = "GEARCAM_WEB_USERS",
+            default_value = "gearcam-data/web-users.toml"
+        )]
+        users: PathBuf,
         #[command(flatten)]
         bus: ClientArgs,
+    },
+    /// Add a user of the web page or set their password (read from standard input).
+    WebUser {
+        /// The sign-in name (also the author the bus records for their changes).
+        name: String,
+        /// planner, operator, admin or supervisor.
+        #[arg(long)]
+        role: String,
+        /// A machine an operator may change programs of (repeatable).
+        #[arg(long = "machine")]
+        machines: Vec<gearcam_proto::MachineId>,
+        /// The users file.
+        #[arg(
+            long,
+            env = "GEARCAM_WEB_USERS",
+            default_value = "gearcam-data/web-users.toml"
+        )]
+        users: PathBuf,
     },
     /// List every job in the station's journal.
     Jobs {
@@ -191,7 +216,13 @@ pub async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             redrive_ms,
             bus,
         } => cmd::station::station(journal, redrive_ms, &bus).await,
-        Command::Web { listen, bus } => cmd::web::web(listen, &bus.bus_args()).await,
+        Command::Web { listen, users, bus } => cmd::web::web(listen, &users, &bus.bus_args()).await,
+        Command::WebUser {
+            name,
+            role,
+            machines,
+            users,
+        } => Ok(cmd::web::web_user(&users, &name, &role, machines)),
         Command::Jobs { bus, json } => cmd::jobs::jobs(&bus.bus_args(), json).await,
         Command::Status { job, bus, json } => cmd::jobs::status(&job, &bus.bus_args(), json).await,
         Command::Cancel { job, by, bus, json } => {
@@ -222,6 +253,7 @@ impl Cli {
             | Command::Demo { .. }
             | Command::Station { .. }
             | Command::Web { .. }
+            | Command::WebUser { .. }
             | Command::Router { .. } => false,
         }
     }

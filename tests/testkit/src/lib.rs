@@ -21,4 +21,6 @@ pub mod pipeline;
 pub mod process;
 pub mod secure;
 
-pub use process::{bin, client_config, gearcam, wait_for_port, Cluster, Proc};
+pub use process::{
+    bin, client_config, gearcam, wait_for_port, web_password, web_users, Cluster, Proc,
+};

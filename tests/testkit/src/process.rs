@@ -74,6 +74,47 @@ pub fn gearcam(args: &[&str]) -> (Option<i32>, String, String) {
     )
 }
 
+/// Writes a users file of the web page in `dir` with `gearcam web-user`:
+/// `planner`, `operator` (of H01), `admin` and `supervisor`, each with the
+/// password [`web_password`] of their name. Returns the file's path.
+pub fn web_users(dir: &Path) -> PathBuf {
+    let path = dir.join("web-users.toml");
+    for (name, role, machine) in [
+        ("planner", "planner", None),
+        ("operator", "operator", Some("H01")),
+        ("admin", "admin", None),
+        ("supervisor", "supervisor", None),
+    ] {
+        let mut args = vec![
+            "web-user".to_string(),
+            name.to_string(),
+            "--role".into(),
+            role.into(),
+            "--users".into(),
+            path.display().to_string(),
+        ];
+        if let Some(m) = machine {
+            args.extend(["--machine".to_string(), m.to_string()]);
+        }
+        let mut child = Command::new(bin("gearcam"))
+            .args(&args)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::null())
+            .spawn()
+            .expect("gearcam web-user runs");
+        use std::io::Write;
+        writeln!(child.stdin.take().expect("stdin"), "{}", web_password(name)).unwrap();
+        let status = child.wait().expect("gearcam web-user ends");
+        assert!(status.success(), "gearcam web-user {name}: {status}");
+    }
+    path
+}
+
+/// The password [`web_users`] gives the user `name`.
+pub fn web_password(name: &str) -> String {
+    format!("{name}-secret-1")
+}
+
 /// A child process killed when dropped; its stderr goes to a log file.
 #[derive(Debug)]
 pub struct Proc {

@@ -1,174 +1,90 @@
 //! `gearcam web`: the planning office's page, served from the bus like the
-//! CLI (a Zenoh client of the station; no second path to the data).
+//! CLI (a Zenoh client of the station, the knowledge service and the
+//! machines' agents; no second path to the data).
 //!
 //! Pages are rendered on the server with `maud`, which escapes every value it
-//! prints: a part number or an error message is text, never HTML. They work
-//! without JavaScript.
+//! prints: a part number or an error message is text, never HTML. Every
+//! page that reads works without JavaScript; a little script of our own
+//! (`/static/gearcam.js`) adds live progress and inline checks where it helps.
 //!
-//! - `/`: the station's journal as a shared queue, newest first, with a
-//!   filter by state and a search over job ids and part numbers;
-//! - `/jobs/{job}`: one job: its state, what it waits for, its errors
-//!   (stage, code, field, expected, given, message), its warnings and the
-//!   program delivered.
+//! Every page needs a signed-in user ([`auth`]); each module adds its pages:
+//! [`jobs`] the shared queue and each job.
+
+pub mod auth;
+mod jobs;
 
 use std::net::SocketAddr;
 
-use axum::extract::{Path, Query, State};
-use axum::http::StatusCode;
-use axum::routing::get;
+use axum::extract::DefaultBodyLimit;
+use axum::http::{header, StatusCode};
+use axum::routing::{get, post};
 use axum::Router;
 use gearcam_bus::Bus;
-use gearcam_proto::{JobId, JobState, JobStatus};
 use maud::{html, Markup, DOCTYPE};
-use serde::Deserialize;
 
-use crate::station;
+use auth::{Auth, Session};
 
-/// What the page's handlers share: the bus session.
+/// What the page's handlers share: the bus session and the users.
 #[derive(Debug, Clone)]
-struct Web {
-    bus: Bus,
+pub struct Web {
+    /// The bus: the page's one path to the data.
+    pub bus: Bus,
+    /// Who may sign in, and the sessions of those who did.
+    pub auth: Auth,
 }
 
-/// The page's routes on `bus`.
-pub fn router(bus: Bus) -> Router {
+/// The largest request body accepted (a job file is about 1 KB).
+pub const MAX_BODY_BYTES: usize = 64 * 1024;
+
+/// The page's routes.
+pub fn router(web: Web) -> Router {
+    let signed_in = Router::new()
+        .merge(jobs::routes())
+        .route("/signout", post(auth::signout))
+        .route_layer(axum::middleware::from_fn_with_state(
+            web.clone(),
+            auth::require_session,
+        ));
     Router::new()
-        .route("/", get(jobs_page))
-        .route("/jobs/{job}", get(job_page))
-        .with_state(Web { bus })
+        .route("/signin", get(auth::signin_page).post(auth::signin))
+        .route("/static/gearcam.js", get(script))
+        .merge(signed_in)
+        .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
+        .with_state(web)
 }
 
 /// Serves the page on `listen` until `shutdown` is cancelled; prints the
 /// address it listens on (`gearcam web: http://…`) once it does.
 pub async fn serve(
-    bus: Bus,
+    web: Web,
     listen: SocketAddr,
     shutdown: tokio_util::sync::CancellationToken,
 ) -> anyhow::Result<()> {
     let listener = tokio::net::TcpListener::bind(listen).await?;
     let addr = listener.local_addr()?;
     crate::outln!("gearcam web: http://{addr}/");
-    axum::serve(listener, router(bus))
+    axum::serve(listener, router(web))
         .with_graceful_shutdown(async move { shutdown.cancelled().await })
         .await?;
     Ok(())
 }
 
-/// The job list's filter: a state and a search text.
-#[derive(Debug, Default, Deserialize)]
-struct Filter {
-    /// Only jobs in this state (`delivered`, `failed`, …); empty for all.
-    #[serde(default)]
-    state: String,
-    /// Only jobs whose id or part number contains this text.
-    #[serde(default)]
-    q: String,
+/// `GET /static/gearcam.js`: the page's own script.
+async fn script() -> impl axum::response::IntoResponse {
+    (
+        [(header::CONTENT_TYPE, "text/javascript; charset=utf-8")],
+        SCRIPT,
+    )
 }
 
-impl Filter {
-    fn keeps(&self, s: &JobStatus) -> bool {
-        let state_ok = self.state.is_empty() || s.state.as_str() == self.state;
-        let q = self.q.trim().to_lowercase();
-        let text_ok = q.is_empty()
-            || s.job.as_str().to_lowercase().contains(&q)
-            || s.part_number.to_lowercase().contains(&q);
-        state_ok && text_ok
-    }
-}
+/// The page's script: progressive additions only (every page works without).
+const SCRIPT: &str = include_str!("gearcam.js");
 
 /// A page answered with `status`.
-type Page = (StatusCode, Markup);
-
-async fn jobs_page(State(web): State<Web>, Query(filter): Query<Filter>) -> Page {
-    let jobs = match station::jobs(&web.bus).await {
-        Ok(Ok(jobs)) => jobs,
-        Ok(Err(errors)) => return trouble(StatusCode::BAD_GATEWAY, "the station refused", &errors),
-        Err(e) => return unreachable(&e.to_string()),
-    };
-    let shown: Vec<&JobStatus> = jobs.iter().rev().filter(|s| filter.keeps(s)).collect();
-    let body = html! {
-        h1 { "Jobs" }
-        form method="get" action="/" {
-            label { "State " select name="state" {
-                option value="" selected[filter.state.is_empty()] { "any" }
-                @for s in JobState::ALL.map(JobState::as_str) {
-                    option value=(s) selected[filter.state == s] { (s) }
-                }
-            } }
-            " "
-            label { "Search " input type="search" name="q" value=(filter.q) placeholder="job id or part number"; }
-            " " button type="submit" { "Filter" }
-        }
-        p.count { (shown.len()) " of " (jobs.len()) " job(s)" }
-        table {
-            thead { tr { th { "job" } th { "part number" } th { "machine" } th { "state" } th { "updated" } } }
-            tbody {
-                @for s in &shown {
-                    tr class=(s.state.as_str()) {
-                        td { a href=(format!("/jobs/{}", s.job)) { (s.job) } }
-                        td { (s.part_number) }
-                        td { (s.machine) }
-                        td { (s.state.as_str()) }
-                        td { (gearcam_proto::utc_text(s.updated_at_ms)) }
-                    }
-                }
-            }
-        }
-    };
-    (StatusCode::OK, page("Jobs", body))
-}
-
-async fn job_page(State(web): State<Web>, Path(job): Path<String>) -> Page {
-    let Ok(id) = JobId::new(job.clone()) else {
-        return (
-            StatusCode::NOT_FOUND,
-            page(
-                "No such job",
-                html! { h1 { "No such job" } p { "Not a job id: " code { (job) } } },
-            ),
-        );
-    };
-    let s = match station::status(&web.bus, &id).await {
-        Ok(Ok(s)) => s,
-        Ok(Err(errors)) => {
-            let status = if errors
-                .iter()
-                .all(|e| e.code == gearcam_proto::Code::UNKNOWN_JOB)
-            {
-                StatusCode::NOT_FOUND
-            } else {
-                StatusCode::BAD_GATEWAY
-            };
-            return trouble(status, &format!("job {id}"), &errors);
-        }
-        Err(e) => return unreachable(&e.to_string()),
-    };
-    let body = html! {
-        p { a href="/" { "← jobs" } }
-        h1 { "Job " (s.job) }
-        dl {
-            dt { "part number" } dd { (s.part_number) }
-            dt { "machine" } dd { (s.machine) }
-            dt { "state" } dd.state { (s.state.as_str()) }
-            @if let Some(w) = &s.waiting_for { dt { "waiting for" } dd { (w) } }
-            dt { "accepted" } dd { (gearcam_proto::utc_text(s.accepted_at_ms)) }
-            dt { "updated" } dd { (gearcam_proto::utc_text(s.updated_at_ms)) }
-            dt { "sent" } dd { (s.attempts) " time(s)" }
-            @if let Some(p) = &s.program {
-                dt { "program" } dd { code { (p.name) } " at " (s.machine) " (sha256 " code { (p.sha256) } ")" }
-            }
-        }
-        @if !s.errors.is_empty() { h2 { "Errors" } (errors_table(&s.errors)) }
-        @if !s.warnings.is_empty() {
-            h2 { "Warnings" }
-            ul { @for w in &s.warnings { li { code { (w.code) } " " (w.field) ": " (w.message) } } }
-        }
-    };
-    (StatusCode::OK, page(&format!("Job {}", s.job), body))
-}
+pub type Page = (StatusCode, Markup);
 
 /// Typed errors as a table: stage, code, field, expected, given, message.
-fn errors_table(errors: &[gearcam_proto::JobError]) -> Markup {
+pub fn errors_table(errors: &[gearcam_proto::JobError]) -> Markup {
     html! {
         table.errors {
             thead { tr { th { "stage" } th { "code" } th { "field" } th { "expected" } th { "given" } th { "message" } } }
@@ -185,19 +101,20 @@ fn errors_table(errors: &[gearcam_proto::JobError]) -> Markup {
 }
 
 /// A page for a refusal: what was asked and the typed errors.
-fn trouble(status: StatusCode, what: &str, errors: &[gearcam_proto::JobError]) -> Page {
+pub fn trouble(status: StatusCode, what: &str, errors: &[gearcam_proto::JobError]) -> Page {
     (
         status,
-        page(what, html! { h1 { (what) } (errors_table(errors)) }),
+        page(what, None, html! { h1 { (what) } (errors_table(errors)) }),
     )
 }
 
 /// A page for a station that does not answer.
-fn unreachable(detail: &str) -> Page {
+pub fn unreachable(detail: &str) -> Page {
     (
         StatusCode::SERVICE_UNAVAILABLE,
         page(
             "Station unreachable",
+            None,
             html! {
                 h1 { "The planning station does not answer" }
                 p { "Is " code { "gearcam up" } " (or the station) running? " (detail) }
@@ -206,8 +123,9 @@ fn unreachable(detail: &str) -> Page {
     )
 }
 
-/// Every page's frame.
-fn page(title: &str, body: Markup) -> Markup {
+/// Every page's frame: the navigation and who is signed in (with a
+/// session), the body.
+pub fn page(title: &str, session: Option<&Session>, body: Markup) -> Markup {
     html! {
         (DOCTYPE)
         html lang="en" {
@@ -216,8 +134,21 @@ fn page(title: &str, body: Markup) -> Markup {
                 meta name="viewport" content="width=device-width, initial-scale=1";
                 title { (title) " · gearcam" }
                 style { (maud::PreEscaped(STYLE)) }
+                script src="/static/gearcam.js" defer {}
             }
-            body { main { (body) } }
+            body {
+                @if let Some(s) = session {
+                    nav {
+                        a href="/" { "Jobs" } " "
+                        span.who { (s.user.name) " (" (s.user.role.as_str()) ") " }
+                        form.inline method="post" action="/signout" {
+                            (auth::csrf_input(s))
+                            button type="submit" id="signout" { "Sign out" }
+                        }
+                    }
+                }
+                main { (body) }
+            }
         }
     }
 }
@@ -226,4 +157,7 @@ fn page(title: &str, body: Markup) -> Markup {
 const STYLE: &str = "body{font-family:system-ui,sans-serif;margin:1.5rem;color:#222}\
 table{border-collapse:collapse;margin-top:.5rem}th,td{border-bottom:1px solid #ddd;padding:.3rem .6rem;text-align:left}\
 tr.failed td{background:#fde8e8}tr.delivered td{background:#eaf7ea}tr.waiting td{background:#fff6dc}\
-dt{font-weight:600;float:left;clear:left;width:10rem}dd{margin-left:10.5rem}code{font-size:.95em}";
+dt{font-weight:600;float:left;clear:left;width:10rem}dd{margin-left:10.5rem}code{font-size:.95em}\
+nav{display:flex;gap:1rem;align-items:center;border-bottom:1px solid #ccc;padding-bottom:.5rem;margin-bottom:1rem}\
+nav .who{margin-left:auto;color:#555}form.inline{display:inline}.refused{color:#a00;font-weight:600}\
+.field-error{color:#a00;font-size:.9em}.proposal{color:#555;font-size:.9em}pre.program{background:#f6f6f6;padding:.6rem;overflow:auto}";

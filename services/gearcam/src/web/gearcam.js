@@ -1,0 +1,2 @@
+// gearcam's page script: additions to pages that work without it.
+"use strict";

@@ -1,0 +1,31 @@
+//! The planning office's page in a real browser: headless Chromium over
+//! WebDriver against every service as its own process. Screenshots of the
+//! main pages are saved in the target directory's `tmp/screenshots/`.
+
+#[path = "browser/harness.rs"]
+mod harness;
+
+use fantoccini::Locator;
+use harness::{Browser, Shop};
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_user_signs_in_and_sees_the_queue() {
+    let shop = Shop::start(&["H01"]);
+    let b = Browser::start().await;
+    // Not signed in: every page leads to the sign-in form.
+    b.client.goto(&shop.url("/")).await.unwrap();
+    b.wait_for_text("h1", "Sign in").await;
+    b.screenshot("signin").await;
+    b.sign_in(&shop, "planner").await;
+    b.wait_for_text("h1", "Jobs").await;
+    b.screenshot("jobs").await;
+    b.client
+        .find(Locator::Id("signout"))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .unwrap();
+    b.wait_for_text("h1", "Sign in").await;
+    b.stop().await;
+}
