@@ -10,6 +10,7 @@ use harness::{Browser, Shop};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_user_signs_in_and_sees_the_queue() {
+    let _one = harness::one_at_a_time().await;
     let shop = Shop::start(&["H01"]);
     let b = Browser::start().await;
     // Not signed in: every page leads to the sign-in form.

@@ -12,6 +12,15 @@ use tokio::time::Instant;
 use fantoccini::{Client, ClientBuilder, Locator};
 use gearcam_testkit::{web_password, web_users, Cluster, Proc};
 
+/// One browser test at a time: each starts its own services and browser,
+/// and two at once on a small machine would only slow both.
+static ONE_AT_A_TIME: tokio::sync::Mutex<()> = tokio::sync::Mutex::const_new(());
+
+/// Waits for the other browser tests to end; hold the guard for the test.
+pub(crate) async fn one_at_a_time() -> tokio::sync::MutexGuard<'static, ()> {
+    ONE_AT_A_TIME.lock().await
+}
+
 /// The services, the page and its address.
 pub(crate) struct Shop {
     /// The services (they stop when the shop is dropped).
