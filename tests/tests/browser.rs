@@ -4,6 +4,8 @@
 
 #[path = "browser/harness.rs"]
 mod harness;
+#[path = "browser/jobs.rs"]
+mod jobs;
 
 use fantoccini::Locator;
 use harness::{Browser, Shop};

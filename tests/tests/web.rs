@@ -99,6 +99,8 @@ fn the_page_lists_the_journal_and_shows_each_job_as_text() {
             "127.0.0.1:0",
             "--users",
             &users,
+            "--data",
+            &cluster.dir().display().to_string(),
             "--connect",
             &cluster.endpoint,
         ]

@@ -101,13 +101,14 @@ pub enum Command {
         /// Address to listen on (port 0: any free port; the address is printed).
         #[arg(long, default_value = "127.0.0.1:8080")]
         listen: std::net::SocketAddr,
-        /// The users file (`gearcam web-user` writes it; passwords as Argon2 hashes).
-        #[arg(
-            long,
-            env = "GEARCAM_WEB_USERS",
-            default_value = "gearcam-data/web-users.toml"
-        )]
-        users: PathBuf,
+        /// The users file (`gearcam web-user` writes it; passwords as
+        /// Argon2 hashes; default DATA/web-users.toml).
+        #[arg(long, env = "GEARCAM_WEB_USERS")]
+        users: Option<PathBuf>,
+        /// Data directory whose knowledge base and templates check a job
+        /// while it is typed (as `gearcam check`; the job is submitted over the bus).
+        #[arg(long, env = "GEARCAM_DATA", default_value = "gearcam-data")]
+        data: PathBuf,
         #[command(flatten)]
         bus: ClientArgs,
     },
@@ -121,13 +122,12 @@ pub enum Command {
         /// A machine an operator may change programs of (repeatable).
         #[arg(long = "machine")]
         machines: Vec<gearcam_proto::MachineId>,
-        /// The users file.
-        #[arg(
-            long,
-            env = "GEARCAM_WEB_USERS",
-            default_value = "gearcam-data/web-users.toml"
-        )]
-        users: PathBuf,
+        /// The users file (default DATA/web-users.toml).
+        #[arg(long, env = "GEARCAM_WEB_USERS")]
+        users: Option<PathBuf>,
+        /// Data directory.
+        #[arg(long, env = "GEARCAM_DATA", default_value = "gearcam-data")]
+        data: PathBuf,
     },
     /// List every job in the station's journal.
     Jobs {
@@ -216,13 +216,25 @@ pub async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             redrive_ms,
             bus,
         } => cmd::station::station(journal, redrive_ms, &bus).await,
-        Command::Web { listen, users, bus } => cmd::web::web(listen, &users, &bus.bus_args()).await,
+        Command::Web {
+            listen,
+            users,
+            data,
+            bus,
+        } => {
+            let users = users.unwrap_or_else(|| data.join(cmd::web::USERS_FILE));
+            cmd::web::web(listen, &users, &data, &bus.bus_args()).await
+        }
         Command::WebUser {
             name,
             role,
             machines,
             users,
-        } => Ok(cmd::web::web_user(&users, &name, &role, machines)),
+            data,
+        } => {
+            let users = users.unwrap_or_else(|| data.join(cmd::web::USERS_FILE));
+            Ok(cmd::web::web_user(&users, &name, &role, machines))
+        }
         Command::Jobs { bus, json } => cmd::jobs::jobs(&bus.bus_args(), json).await,
         Command::Status { job, bus, json } => cmd::jobs::status(&job, &bus.bus_args(), json).await,
         Command::Cancel { job, by, bus, json } => {

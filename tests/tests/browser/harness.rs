@@ -51,6 +51,8 @@ impl Shop {
                 "127.0.0.1:0",
                 "--users",
                 &users.display().to_string(),
+                "--data",
+                &cluster.dir().display().to_string(),
                 "--connect",
                 &cluster.endpoint,
             ]

@@ -11,8 +11,17 @@ use gearcam_proto::MachineId;
 
 use crate::cmd::join_bus;
 use crate::web::auth::{self, Auth, Role, User, Users};
+use crate::web::new::LocalCheck;
 
-pub async fn web(listen: SocketAddr, users: &Path, bus_args: &BusArgs) -> anyhow::Result<ExitCode> {
+/// The users file's name in the data directory.
+pub const USERS_FILE: &str = "web-users.toml";
+
+pub async fn web(
+    listen: SocketAddr,
+    users: &Path,
+    data: &Path,
+    bus_args: &BusArgs,
+) -> anyhow::Result<ExitCode> {
     let auth = match Auth::load(users) {
         Ok(auth) => auth,
         Err(e) => {
@@ -23,8 +32,13 @@ pub async fn web(listen: SocketAddr, users: &Path, bus_args: &BusArgs) -> anyhow
             ))
         }
     };
+    let data = &match crate::data_dir::open(data) {
+        Ok(data) => data,
+        Err(code) => return Ok(code),
+    };
+    let local = Some(std::sync::Arc::new(LocalCheck::open(data)?));
     let bus = join_bus(bus_args).await?;
-    let served = serve(bus.clone(), auth, listen, cancel_on_signal()).await;
+    let served = serve(bus.clone(), auth, local, listen, cancel_on_signal()).await;
     bus.close().await;
     served?;
     Ok(ExitCode::SUCCESS)
@@ -34,10 +48,11 @@ pub async fn web(listen: SocketAddr, users: &Path, bus_args: &BusArgs) -> anyhow
 pub async fn serve(
     bus: Bus,
     auth: Auth,
+    local: crate::web::new::Local,
     listen: SocketAddr,
     stop: tokio_util::sync::CancellationToken,
 ) -> anyhow::Result<()> {
-    crate::web::serve(crate::web::Web { bus, auth }, listen, stop).await
+    crate::web::serve(crate::web::Web { bus, auth, local }, listen, stop).await
 }
 
 /// `gearcam web-user NAME --role ROLE [--machine M]…`: the password is read

@@ -71,13 +71,13 @@ async fn jobs_page(
         p.count { (shown.len()) " of " (jobs.len()) " job(s)" }
         table {
             thead { tr { th { "job" } th { "part number" } th { "machine" } th { "state" } th { "updated" } } }
-            tbody {
+            tbody #jobs data-events="/events" {
                 @for s in &shown {
-                    tr class=(s.state.as_str()) {
+                    tr class=(s.state.as_str()) data-job=(s.job) {
                         td { a href=(format!("/jobs/{}", s.job)) { (s.job) } }
                         td { (s.part_number) }
                         td { (s.machine) }
-                        td { (s.state.as_str()) }
+                        td.state { (s.state.as_str()) }
                         td { (gearcam_proto::utc_text(s.updated_at_ms)) }
                     }
                 }
@@ -120,10 +120,10 @@ async fn job_page(
     let body = html! {
         p { a href="/" { "← jobs" } }
         h1 { "Job " (s.job) }
-        dl {
+        dl #status data-job=(s.job) data-events=(format!("/jobs/{}/events", s.job)) data-final=[s.state.is_final().then_some("1")] {
             dt { "part number" } dd { (s.part_number) }
             dt { "machine" } dd { (s.machine) }
-            dt { "state" } dd.state { (s.state.as_str()) }
+            dt { "state" } dd #state .state { (s.state.as_str()) }
             @if let Some(w) = &s.waiting_for { dt { "waiting for" } dd { (w) } }
             dt { "accepted" } dd { (gearcam_proto::utc_text(s.accepted_at_ms)) }
             dt { "updated" } dd { (gearcam_proto::utc_text(s.updated_at_ms)) }
@@ -132,6 +132,8 @@ async fn job_page(
                 dt { "program" } dd { code { (p.name) } " at " (s.machine) " (sha256 " code { (p.sha256) } ")" }
             }
         }
+        h2 { "Progress" }
+        ol #progress { li { (gearcam_proto::utc_text(s.updated_at_ms)) " " (s.state.as_str()) } }
         @if !s.errors.is_empty() { h2 { "Errors" } (errors_table(&s.errors)) }
         @if !s.warnings.is_empty() {
             h2 { "Warnings" }

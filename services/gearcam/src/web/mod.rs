@@ -8,10 +8,15 @@
 //! (`/static/gearcam.js`) adds live progress and inline checks where it helps.
 //!
 //! Every page needs a signed-in user ([`auth`]); each module adds its pages:
-//! [`jobs`] the shared queue and each job.
+//! [`jobs`] the shared queue and each job, [`new`] a job's form per family
+//! (checked while typed, imported and exported as TOML, submitted), [`live`]
+//! the jobs' events as they happen.
 
 pub mod auth;
+mod form;
 mod jobs;
+mod live;
+pub mod new;
 
 use std::net::SocketAddr;
 
@@ -31,6 +36,9 @@ pub struct Web {
     pub bus: Bus,
     /// Who may sign in, and the sessions of those who did.
     pub auth: Auth,
+    /// The check of a job while it is typed (`gearcam check` on the data
+    /// directory), when the page has one.
+    pub local: new::Local,
 }
 
 /// The largest request body accepted (a job file is about 1 KB).
@@ -40,6 +48,8 @@ pub const MAX_BODY_BYTES: usize = 64 * 1024;
 pub fn router(web: Web) -> Router {
     let signed_in = Router::new()
         .merge(jobs::routes())
+        .merge(new::routes())
+        .merge(live::routes())
         .route("/signout", post(auth::signout))
         .route_layer(axum::middleware::from_fn_with_state(
             web.clone(),
@@ -140,6 +150,7 @@ pub fn page(title: &str, session: Option<&Session>, body: Markup) -> Markup {
                 @if let Some(s) = session {
                     nav {
                         a href="/" { "Jobs" } " "
+                        a href="/new" { "New job" } " "
                         span.who { (s.user.name) " (" (s.user.role.as_str()) ") " }
                         form.inline method="post" action="/signout" {
                             (auth::csrf_input(s))
