@@ -184,3 +184,69 @@ fn the_page_lists_the_journal_and_shows_each_job_as_text() {
     let (code, _) = get("/");
     assert_eq!(code, 200, "the session outlives the refused changes");
 }
+
+#[test]
+fn the_demo_prints_the_pages_address_and_the_page_shows_its_jobs_of_every_family() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let demo = Proc::start(
+        dir.path(),
+        "demo",
+        "gearcam",
+        &[
+            "demo",
+            "--serve",
+            "--web",
+            "127.0.0.1:0",
+            "--data",
+            &data.display().to_string(),
+        ]
+        .map(String::from),
+    );
+    let url = demo.wait_for_line("gearcam web: http://", Duration::from_secs(60));
+    let addr = url.trim_end_matches('/');
+    demo.wait_for_line(
+        "gearcam demo: the services and the web page keep running",
+        Duration::from_secs(300),
+    );
+    // The first users' passwords, written once beside the users file.
+    let passwords = std::fs::read_to_string(data.join("web-passwords.txt")).unwrap();
+    let password = passwords
+        .lines()
+        .find_map(|l| l.strip_prefix("planner "))
+        .expect("the planner's first password");
+    let users = std::fs::read_to_string(data.join("web-users.toml")).unwrap();
+    assert!(
+        !users.contains(password) && users.contains("$argon2id$"),
+        "only the hash in the users file"
+    );
+    let (code, head, _) = http(
+        addr,
+        "POST",
+        "/signin",
+        "Content-Type: application/x-www-form-urlencoded\r\n",
+        &format!("name=planner&password={password}"),
+    );
+    assert_eq!(code, 303, "{head}");
+    let cookie = head
+        .lines()
+        .find_map(|l| l.strip_prefix("set-cookie: "))
+        .and_then(|c| c.split(';').next())
+        .unwrap()
+        .to_string();
+    let (code, _, list) = http(
+        addr,
+        "GET",
+        "/?state=delivered",
+        &format!("Cookie: {cookie}\r\n"),
+        "",
+    );
+    assert_eq!(code, 200, "{list}");
+    // Hobbing on H01 and H02, spiral face milling on M01 and M02, wire EDM on W01 and W02.
+    for machine in ["H01", "H02", "M01", "M02", "W01", "W02"] {
+        assert!(
+            list.contains(&format!("<td>{machine}</td>")),
+            "no delivered job on {machine}:\n{list}"
+        );
+    }
+}

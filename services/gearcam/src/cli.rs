@@ -33,6 +33,9 @@ pub enum Command {
         /// Data directory (knowledge base, machines' program stores).
         #[arg(long, env = "GEARCAM_DATA", default_value = "gearcam-data")]
         data: PathBuf,
+        /// Where the web page listens (any free port when this one is taken; the address is printed).
+        #[arg(long, default_value = "127.0.0.1:8080")]
+        web: std::net::SocketAddr,
         #[command(flatten)]
         bus: BusArgs,
     },
@@ -41,6 +44,12 @@ pub enum Command {
         /// Data directory (knowledge base, machines' program stores).
         #[arg(long, env = "GEARCAM_DATA", default_value = "gearcam-data")]
         data: PathBuf,
+        /// Where the web page listens during the demo (any free port when this one is taken).
+        #[arg(long, default_value = "127.0.0.1:8080")]
+        web: std::net::SocketAddr,
+        /// After the examples, keep the services and the web page running until Ctrl-C.
+        #[arg(long)]
+        serve: bool,
     },
     /// Submit a job file over the bus.
     Submit {
@@ -184,8 +193,8 @@ pub enum Command {
 /// Runs a parsed command; the exit code of its outcome.
 pub async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
-        Command::Up { data, bus } => cmd::up::up(&data, &bus).await,
-        Command::Demo { data } => cmd::demo::demo(&data).await,
+        Command::Up { data, web, bus } => cmd::up::up(&data, web, &bus).await,
+        Command::Demo { data, web, serve } => cmd::demo::demo(&data, web, serve).await,
         Command::Submit {
             job,
             bus,

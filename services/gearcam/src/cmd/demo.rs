@@ -18,7 +18,7 @@ use crate::examples::{expected_code, INVALID, VALID};
 use crate::jobfile;
 use crate::station::{self, Outcome, SubmitOptions};
 
-pub async fn demo(data: &Path) -> anyhow::Result<ExitCode> {
+pub async fn demo(data: &Path, web: std::net::SocketAddr, serve: bool) -> anyhow::Result<ExitCode> {
     let data = &match crate::data_dir::open(data) {
         Ok(data) => data,
         Err(code) => return Ok(code),
@@ -26,9 +26,26 @@ pub async fn demo(data: &Path) -> anyhow::Result<ExitCode> {
     let config = bus_config::embedded(&BusArgs::default(), "tcp/127.0.0.1:0");
     let services = Embedded::start(&config, data, template_library(data)?).await?;
     crate::outln!(
-        "gearcam demo: services up on a loopback session; data in {}\n",
+        "gearcam demo: services up on a loopback session; data in {}",
         data.display()
     );
+    let stop = tokio_util::sync::CancellationToken::new();
+    let page = crate::cmd::web::beside(
+        services.bus.clone(),
+        data,
+        &services
+            .machines
+            .iter()
+            .map(|m| m.id.clone())
+            .collect::<Vec<_>>(),
+        web,
+        true,
+        stop.clone(),
+    )
+    .await?;
+    // The page's address line comes from its task: let it print first.
+    tokio::time::sleep(Duration::from_millis(50)).await;
+    crate::outln!();
     let opts = SubmitOptions {
         wait: true,
         alive_timeout: Duration::from_secs(10),
@@ -93,6 +110,14 @@ pub async fn demo(data: &Path) -> anyhow::Result<ExitCode> {
                 crate::outln!("   expected a refusal, got {other:?}");
             }
         }
+    }
+    if serve {
+        crate::outln!("\ngearcam demo: the services and the web page keep running (Ctrl-C stops)");
+        gearcam_bus::cancel_on_signal().cancelled().await;
+    }
+    stop.cancel();
+    if let Ok(Err(e)) = page.await {
+        crate::outln!("gearcam demo: the web page stopped: {e:#}");
     }
     services.stop().await;
     crate::outln!(

@@ -11,7 +11,7 @@ use crate::cmd::check::template_library;
 use crate::embedded::Embedded;
 use crate::DEFAULT_ENDPOINT;
 
-pub async fn up(data: &Path, bus: &BusArgs) -> anyhow::Result<ExitCode> {
+pub async fn up(data: &Path, web: std::net::SocketAddr, bus: &BusArgs) -> anyhow::Result<ExitCode> {
     let data = &match crate::data_dir::open(data) {
         Ok(data) => data,
         Err(code) => return Ok(code),
@@ -34,9 +34,25 @@ pub async fn up(data: &Path, bus: &BusArgs) -> anyhow::Result<ExitCode> {
             m.dir.display()
         );
     }
-    crate::outln!("submit with: gearcam submit examples/spur_840d.toml --wait   (Ctrl-C stops)");
     let stop = cancel_on_signal();
+    let page = crate::cmd::web::beside(
+        services.bus.clone(),
+        data,
+        &services
+            .machines
+            .iter()
+            .map(|m| m.id.clone())
+            .collect::<Vec<_>>(),
+        web,
+        true,
+        stop.clone(),
+    )
+    .await?;
+    crate::outln!("submit with: gearcam submit examples/spur_840d.toml --wait   (Ctrl-C stops)");
     let result = services.serve_until(stop).await;
+    if let Ok(Err(e)) = page.await {
+        tracing::warn!("the web page stopped: {e:#}");
+    }
     services.stop().await;
     result.map(|()| ExitCode::SUCCESS)
 }

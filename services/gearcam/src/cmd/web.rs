@@ -55,6 +55,49 @@ pub async fn serve(
     crate::web::serve(crate::web::Web { bus, auth, local }, listen, stop).await
 }
 
+/// The page beside the services of `up` and `demo`, on their bus: the
+/// data directory's users (on the first start, one per role with a random
+/// password, written once to `DATA/web-passwords.txt`; the operator of
+/// every machine served), listening on
+/// `listen`, or on any free port of its host when that one is taken and
+/// `any_port_if_taken`. Prints the address and where the users are.
+pub async fn beside(
+    bus: Bus,
+    data: &Path,
+    machines: &[MachineId],
+    listen: SocketAddr,
+    any_port_if_taken: bool,
+    stop: tokio_util::sync::CancellationToken,
+) -> anyhow::Result<tokio::task::JoinHandle<anyhow::Result<()>>> {
+    let users = data.join(USERS_FILE);
+    let passwords = data.join(PASSWORDS_FILE);
+    let made = auth::first_users(&users, &passwords, machines)?;
+    let auth = Auth::load(&users)?;
+    let local = Some(std::sync::Arc::new(LocalCheck::open(data)?));
+    let listener = match tokio::net::TcpListener::bind(listen).await {
+        Ok(l) => l,
+        Err(_) if any_port_if_taken => {
+            tokio::net::TcpListener::bind(SocketAddr::new(listen.ip(), 0)).await?
+        }
+        Err(e) => anyhow::bail!(
+            "the web page cannot listen on {listen}: {e} (give --web another address)"
+        ),
+    };
+    if made {
+        crate::outln!(
+            "  web page users: planner, operator, admin, supervisor; first passwords in {} (change them with gearcam web-user)",
+            passwords.display()
+        );
+    } else {
+        crate::outln!("  web page users: {}", users.display());
+    }
+    let web = crate::web::Web { bus, auth, local };
+    Ok(tokio::spawn(crate::web::serve_on(listener, web, stop)))
+}
+
+/// The file of the first users' passwords in the data directory.
+pub const PASSWORDS_FILE: &str = "web-passwords.txt";
+
 /// `gearcam web-user NAME --role ROLE [--machine M]…`: the password is read
 /// from the first line of standard input and kept only as its Argon2 hash.
 pub fn web_user(users_path: &Path, name: &str, role: &str, machines: Vec<MachineId>) -> ExitCode {

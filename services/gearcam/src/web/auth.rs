@@ -525,7 +525,8 @@ pub fn csrf_input(session: &Session) -> maud::Markup {
 /// Creates the users file at `path` with one user per role and a random
 /// password each, when it does not exist: the passwords are written once
 /// to `passwords` (readable by its owner only), never to the users file.
-pub fn first_users(path: &Path, passwords: &Path) -> anyhow::Result<bool> {
+/// The operator is given `machines`.
+pub fn first_users(path: &Path, passwords: &Path, machines: &[MachineId]) -> anyhow::Result<bool> {
     if path.exists() {
         return Ok(false);
     }
@@ -539,7 +540,11 @@ pub fn first_users(path: &Path, passwords: &Path) -> anyhow::Result<bool> {
         users.set(User {
             name: role.as_str().to_string(),
             role,
-            machines: Vec::new(),
+            machines: if role == Role::Operator {
+                machines.to_vec()
+            } else {
+                Vec::new()
+            },
             password: hash_password(&password),
         });
     }

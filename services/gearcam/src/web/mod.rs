@@ -71,6 +71,16 @@ pub async fn serve(
     shutdown: tokio_util::sync::CancellationToken,
 ) -> anyhow::Result<()> {
     let listener = tokio::net::TcpListener::bind(listen).await?;
+    serve_on(listener, web, shutdown).await
+}
+
+/// Serves the page on `listener` until `shutdown` is cancelled; prints the
+/// address first (`gearcam web: http://…`).
+pub async fn serve_on(
+    listener: tokio::net::TcpListener,
+    web: Web,
+    shutdown: tokio_util::sync::CancellationToken,
+) -> anyhow::Result<()> {
     let addr = listener.local_addr()?;
     crate::outln!("gearcam web: http://{addr}/");
     axum::serve(listener, router(web))
