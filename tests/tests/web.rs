@@ -250,3 +250,96 @@ fn the_demo_prints_the_pages_address_and_the_page_shows_its_jobs_of_every_family
         );
     }
 }
+
+/// The CSRF token in a page's forms.
+fn csrf_of(page: &str) -> String {
+    let at = page
+        .find("name=\"csrf\" value=\"")
+        .expect("a form with a CSRF token");
+    let rest = &page[at + "name=\"csrf\" value=\"".len()..];
+    rest[..rest.find('"').unwrap()].to_string()
+}
+
+/// A `multipart/form-data` body with the CSRF token and one file.
+fn multipart(csrf: &str, file: &str) -> (String, String) {
+    let b = "gearcamboundary7MA4YWxk";
+    let body = format!(
+        "--{b}\r\nContent-Disposition: form-data; name=\"csrf\"\r\n\r\n{csrf}\r\n--{b}\r\nContent-Disposition: form-data; name=\"file\"; filename=\"job.toml\"\r\nContent-Type: application/toml\r\n\r\n{file}\r\n--{b}--\r\n"
+    );
+    (
+        format!("Content-Type: multipart/form-data; boundary={b}\r\n"),
+        body,
+    )
+}
+
+#[test]
+fn a_job_file_goes_out_of_the_form_and_back_in_and_bad_files_are_refused_as_text() {
+    let cluster = Cluster::start_without_agent();
+    let users = web_users(cluster.dir()).display().to_string();
+    let web = Proc::start(
+        cluster.dir(),
+        "web",
+        "gearcam",
+        &[
+            "web",
+            "--listen",
+            "127.0.0.1:0",
+            "--users",
+            &users,
+            "--data",
+            &cluster.dir().display().to_string(),
+            "--connect",
+            &cluster.endpoint,
+        ]
+        .map(String::from),
+    );
+    let url = web.wait_for_line("gearcam web: http://", Duration::from_secs(30));
+    let addr = url.trim_end_matches('/');
+    let cookie = sign_in(addr, "planner");
+    let with_cookie = format!("Cookie: {cookie}\r\n");
+    let (code, _, form) = http(addr, "GET", "/new/hobbing", &with_cookie, "");
+    assert_eq!(code, 200, "{form}");
+    let csrf = csrf_of(&form);
+
+    // Export: the form's job as a TOML file the CLI reads.
+    let fields = format!(
+        "csrf={csrf}&action=export&job.machine=H01&job.part_number=EX-7&gear.module_mm=2.5&gear.teeth=31&gear.face_width_mm=20&gear.material=C45&gear.fixture_height_mm=100&hob.id=HOB-M3-80"
+    );
+    let urlencoded = format!("{with_cookie}Content-Type: application/x-www-form-urlencoded\r\n");
+    let (code, head, file) = http(addr, "POST", "/new/hobbing", &urlencoded, &fields);
+    assert_eq!(code, 200, "{head}\n{file}");
+    assert!(head.contains("filename=\"EX-7.toml\""), "{head}");
+    let table: toml::Table = file.parse().expect("the export is TOML");
+    assert_eq!(table["gear"]["teeth"].as_integer(), Some(31));
+    assert_eq!(table["gear"]["module_mm"].as_float(), Some(2.5));
+
+    // Import it again: the form holds its values, and the check says the
+    // hob does not fit (module 2.5 with a module-3 hob).
+    let (headers, body) = multipart(&csrf, &file);
+    let (code, _, page) = http(addr, "POST", "/new/import", &format!("{with_cookie}{headers}"), &body);
+    assert_eq!(code, 200, "{page}");
+    assert!(page.contains("name=\"gear.teeth\" value=\"31\""), "{page}");
+    assert!(page.contains("BASE_PITCH_MISMATCH"), "{page}");
+
+    // Malformed TOML with a script in it: refused, and shown as text.
+    let (headers, body) = multipart(&csrf, "[job\npart_number = \"<script>alert(1)</script>\"");
+    let (code, _, page) = http(addr, "POST", "/new/import", &format!("{with_cookie}{headers}"), &body);
+    assert_eq!(code, 422, "{page}");
+    assert!(page.contains("does not parse"), "{page}");
+    assert!(!page.contains("<script>alert"), "{page}");
+    // A file the form cannot hold whole is refused, naming what would be lost.
+    let multi = examples::example("multi_gear_840d.toml");
+    let (headers, body) = multipart(&csrf, &multi);
+    let (code, _, page) = http(addr, "POST", "/new/import", &format!("{with_cookie}{headers}"), &body);
+    assert_eq!(code, 422, "{page}");
+    assert!(page.contains("units"), "{page}");
+    // An oversized upload is refused before it is read.
+    let big = format!("# {}\n", "x".repeat(70 * 1024));
+    let (headers, body) = multipart(&csrf, &big);
+    let (code, _, _) = http(addr, "POST", "/new/import", &format!("{with_cookie}{headers}"), &body);
+    assert_eq!(code, 413);
+    // Without the session's token, nothing is imported.
+    let (headers, body) = multipart("forged", &file);
+    let (code, _, _) = http(addr, "POST", "/new/import", &format!("{with_cookie}{headers}"), &body);
+    assert_eq!(code, 403);
+}
