@@ -3,6 +3,7 @@
 //! with the users of [`gearcam_testkit::web_users`], and a headless Chromium
 //! driven over WebDriver (`chromedriver`, Debian's `chromium-driver`).
 
+use std::os::unix::process::CommandExt;
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
@@ -91,7 +92,10 @@ impl Browser {
             .and_then(|l| l.local_addr())
             .expect("a free port")
             .port();
+        // Its own process group, so that the browser it starts ends with it
+        // even when a failing test never closes the session.
         let driver = Command::new(chromedriver())
+            .process_group(0)
             .arg(format!("--port={port}"))
             .stdout(Stdio::null())
             .stderr(Stdio::null())
@@ -180,16 +184,20 @@ impl Browser {
     }
 
     /// Ends the browser session and the driver.
-    pub(crate) async fn stop(mut self) {
+    pub(crate) async fn stop(self) {
         let _ = self.client.clone().close().await;
-        let _ = self.driver.kill();
-        let _ = self.driver.wait();
+        // Dropping it ends the driver and the browser.
     }
 }
 
 impl Drop for Browser {
     fn drop(&mut self) {
+        // The driver's process group: the driver and the browser it started.
+        let _ = Command::new("kill")
+            .args(["-KILL", &format!("-{}", self.driver.id())])
+            .status();
         let _ = self.driver.kill();
+        let _ = self.driver.wait();
     }
 }
 

@@ -102,7 +102,6 @@ async fn a_planner_types_checks_submits_and_follows_jobs_of_every_family() {
         b.client.get_alert_text().await.is_err(),
         "a script of a part number ran"
     );
-    b.screenshot("jobs").await;
 
     // Spiral face milling and a wire die from their forms.
     for form in ["spiral-face", "wire-edm"] {
@@ -114,5 +113,8 @@ async fn a_planner_types_checks_submits_and_follows_jobs_of_every_family() {
         let other = submit_and_follow(&b).await;
         assert_ne!(other, url);
     }
+    b.client.goto(&shop.url("/")).await.unwrap();
+    b.wait_for_text("#jobs", "W02").await;
+    b.screenshot("jobs").await;
     b.stop().await;
 }
