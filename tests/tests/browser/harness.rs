@@ -194,7 +194,7 @@ impl Drop for Browser {
     fn drop(&mut self) {
         // The driver's process group: the driver and the browser it started.
         let _ = Command::new("kill")
-            .args(["-KILL", &format!("-{}", self.driver.id())])
+            .args(["-s", "KILL", "--", &format!("-{}", self.driver.id())])
             .status();
         let _ = self.driver.kill();
         let _ = self.driver.wait();
