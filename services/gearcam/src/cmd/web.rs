@@ -36,7 +36,10 @@ pub async fn web(
         Ok(data) => data,
         Err(code) => return Ok(code),
     };
-    let local = Some(std::sync::Arc::new(LocalCheck::open(data)?));
+    let local = Some(std::sync::Arc::new(LocalCheck::new(
+        data,
+        crate::cmd::check::template_library(data)?,
+    )));
     let bus = join_bus(bus_args).await?;
     let served = serve(bus.clone(), auth, local, listen, cancel_on_signal()).await;
     bus.close().await;
@@ -73,7 +76,10 @@ pub async fn beside(
     let passwords = data.join(PASSWORDS_FILE);
     let made = auth::first_users(&users, &passwords, machines)?;
     let auth = Auth::load(&users)?;
-    let local = Some(std::sync::Arc::new(LocalCheck::open(data)?));
+    let local = Some(std::sync::Arc::new(LocalCheck::new(
+        data,
+        crate::cmd::check::template_library(data)?,
+    )));
     let listener = match tokio::net::TcpListener::bind(listen).await {
         Ok(l) => l,
         Err(_) if any_port_if_taken => {

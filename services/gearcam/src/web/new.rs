@@ -39,12 +39,13 @@ pub struct LocalCheck {
 }
 
 impl LocalCheck {
-    /// The local check on the data directory `data`.
-    pub fn open(data: &std::path::Path) -> anyhow::Result<LocalCheck> {
-        Ok(LocalCheck {
+    /// The local check on the data directory `data` with its template
+    /// library `templates`.
+    pub fn new(data: &std::path::Path, templates: Templates) -> LocalCheck {
+        LocalCheck {
             data: data.to_path_buf(),
-            templates: crate::cmd::check::template_library(data)?,
-        })
+            templates,
+        }
     }
 
     /// `gearcam check` of `req`.
