@@ -7,7 +7,7 @@ use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::time::Duration;
 
-use gearcam_testkit::{examples, web_password, web_users, Cluster, Proc};
+use gearcam_testkit::{examples, start_web, web_password, Cluster, Proc};
 
 /// `method path` on `addr` over HTTP/1.1 with `headers` (each ending in
 /// CRLF) and `body`: the status code, the head and the body.
@@ -88,26 +88,8 @@ fn the_page_lists_the_journal_and_shows_each_job_as_text() {
     };
     let (delivered, failed) = (id_of(script), id_of("BAD-0001"));
 
-    let users = web_users(cluster.dir()).display().to_string();
-    let web = Proc::start(
-        cluster.dir(),
-        "web",
-        "gearcam",
-        &[
-            "web",
-            "--listen",
-            "127.0.0.1:0",
-            "--users",
-            &users,
-            "--data",
-            &cluster.dir().display().to_string(),
-            "--connect",
-            &cluster.endpoint,
-        ]
-        .map(String::from),
-    );
-    let url = web.wait_for_line("gearcam web: http://", Duration::from_secs(30));
-    let addr = url.trim_end_matches('/');
+    let (_web, addr) = start_web(&cluster);
+    let addr = addr.as_str();
     // Without a session every page leads to the sign-in form.
     let (code, head, _) = http(addr, "GET", "/", "", "");
     assert_eq!(code, 303, "{head}");
@@ -275,26 +257,8 @@ fn multipart(csrf: &str, file: &str) -> (String, String) {
 #[test]
 fn a_job_file_goes_out_of_the_form_and_back_in_and_bad_files_are_refused_as_text() {
     let cluster = Cluster::start_without_agent();
-    let users = web_users(cluster.dir()).display().to_string();
-    let web = Proc::start(
-        cluster.dir(),
-        "web",
-        "gearcam",
-        &[
-            "web",
-            "--listen",
-            "127.0.0.1:0",
-            "--users",
-            &users,
-            "--data",
-            &cluster.dir().display().to_string(),
-            "--connect",
-            &cluster.endpoint,
-        ]
-        .map(String::from),
-    );
-    let url = web.wait_for_line("gearcam web: http://", Duration::from_secs(30));
-    let addr = url.trim_end_matches('/');
+    let (_web, addr) = start_web(&cluster);
+    let addr = addr.as_str();
     let cookie = sign_in(addr, "planner");
     let with_cookie = format!("Cookie: {cookie}\r\n");
     let (code, _, form) = http(addr, "GET", "/new/hobbing", &with_cookie, "");
@@ -316,30 +280,60 @@ fn a_job_file_goes_out_of_the_form_and_back_in_and_bad_files_are_refused_as_text
     // Import it again: the form holds its values, and the check says the
     // hob does not fit (module 2.5 with a module-3 hob).
     let (headers, body) = multipart(&csrf, &file);
-    let (code, _, page) = http(addr, "POST", "/new/import", &format!("{with_cookie}{headers}"), &body);
+    let (code, _, page) = http(
+        addr,
+        "POST",
+        "/new/import",
+        &format!("{with_cookie}{headers}"),
+        &body,
+    );
     assert_eq!(code, 200, "{page}");
     assert!(page.contains("name=\"gear.teeth\" value=\"31\""), "{page}");
     assert!(page.contains("BASE_PITCH_MISMATCH"), "{page}");
 
     // Malformed TOML with a script in it: refused, and shown as text.
     let (headers, body) = multipart(&csrf, "[job\npart_number = \"<script>alert(1)</script>\"");
-    let (code, _, page) = http(addr, "POST", "/new/import", &format!("{with_cookie}{headers}"), &body);
+    let (code, _, page) = http(
+        addr,
+        "POST",
+        "/new/import",
+        &format!("{with_cookie}{headers}"),
+        &body,
+    );
     assert_eq!(code, 422, "{page}");
     assert!(page.contains("does not parse"), "{page}");
     assert!(!page.contains("<script>alert"), "{page}");
     // A file the form cannot hold whole is refused, naming what would be lost.
     let multi = examples::example("multi_gear_840d.toml");
     let (headers, body) = multipart(&csrf, &multi);
-    let (code, _, page) = http(addr, "POST", "/new/import", &format!("{with_cookie}{headers}"), &body);
+    let (code, _, page) = http(
+        addr,
+        "POST",
+        "/new/import",
+        &format!("{with_cookie}{headers}"),
+        &body,
+    );
     assert_eq!(code, 422, "{page}");
     assert!(page.contains("units"), "{page}");
     // An oversized upload is refused before it is read.
     let big = format!("# {}\n", "x".repeat(70 * 1024));
     let (headers, body) = multipart(&csrf, &big);
-    let (code, _, _) = http(addr, "POST", "/new/import", &format!("{with_cookie}{headers}"), &body);
+    let (code, _, _) = http(
+        addr,
+        "POST",
+        "/new/import",
+        &format!("{with_cookie}{headers}"),
+        &body,
+    );
     assert_eq!(code, 413);
     // Without the session's token, nothing is imported.
     let (headers, body) = multipart("forged", &file);
-    let (code, _, _) = http(addr, "POST", "/new/import", &format!("{with_cookie}{headers}"), &body);
+    let (code, _, _) = http(
+        addr,
+        "POST",
+        "/new/import",
+        &format!("{with_cookie}{headers}"),
+        &body,
+    );
     assert_eq!(code, 403);
 }

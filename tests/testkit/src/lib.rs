@@ -22,5 +22,5 @@ pub mod process;
 pub mod secure;
 
 pub use process::{
-    bin, client_config, gearcam, wait_for_port, web_password, web_users, Cluster, Proc,
+    bin, client_config, gearcam, start_web, wait_for_port, web_password, web_users, Cluster, Proc,
 };

@@ -110,6 +110,35 @@ pub fn web_users(dir: &Path) -> PathBuf {
     path
 }
 
+/// Starts `gearcam web` for `cluster` on a free loopback port, with the
+/// users of [`web_users`] and the cluster's directory as its data
+/// directory (the knowledge base its form checks against); the process and
+/// its address (`127.0.0.1:PORT`).
+pub fn start_web(cluster: &Cluster) -> (Proc, String) {
+    let users = web_users(cluster.dir());
+    let web = Proc::start(
+        cluster.dir(),
+        "web",
+        "gearcam",
+        &[
+            "web",
+            "--listen",
+            "127.0.0.1:0",
+            "--users",
+            &users.display().to_string(),
+            "--data",
+            &cluster.dir().display().to_string(),
+            "--connect",
+            &cluster.endpoint,
+        ]
+        .map(String::from),
+    );
+    // The line's text after the prefix: `127.0.0.1:PORT/`.
+    let line = web.wait_for_line("gearcam web: http://", Duration::from_secs(30));
+    let addr = line.trim_end_matches('/').to_string();
+    (web, addr)
+}
+
 /// The password [`web_users`] gives the user `name`.
 pub fn web_password(name: &str) -> String {
     format!("{name}-secret-1")

@@ -11,7 +11,7 @@ use std::time::Duration;
 use tokio::time::Instant;
 
 use fantoccini::{Client, ClientBuilder, Locator};
-use gearcam_testkit::{web_password, web_users, Cluster, Proc};
+use gearcam_testkit::{start_web, web_password, Cluster, Proc};
 
 /// One browser test at a time: each starts its own services and browser,
 /// and two at once on a small machine would only slow both.
@@ -41,27 +41,8 @@ impl Shop {
         for m in machines {
             cluster.start_agent_for(m);
         }
-        let users = web_users(cluster.dir());
-        let web = Proc::start(
-            cluster.dir(),
-            "web",
-            "gearcam",
-            &[
-                "web",
-                "--listen",
-                "127.0.0.1:0",
-                "--users",
-                &users.display().to_string(),
-                "--data",
-                &cluster.dir().display().to_string(),
-                "--connect",
-                &cluster.endpoint,
-            ]
-            .map(String::from),
-        );
-        let url = web.wait_for_line("gearcam web: http://", Duration::from_secs(30));
-        // The line's text after the prefix: `127.0.0.1:PORT/`.
-        let base = format!("http://{}", url.trim_end_matches('/'));
+        let (web, addr) = start_web(&cluster);
+        let base = format!("http://{addr}");
         Shop { cluster, web, base }
     }
 

@@ -30,19 +30,7 @@ pub async fn demo(data: &Path, web: std::net::SocketAddr, serve: bool) -> anyhow
         data.display()
     );
     let stop = tokio_util::sync::CancellationToken::new();
-    let page = crate::cmd::web::beside(
-        services.bus.clone(),
-        data,
-        &services
-            .machines
-            .iter()
-            .map(|m| m.id.clone())
-            .collect::<Vec<_>>(),
-        web,
-        true,
-        stop.clone(),
-    )
-    .await?;
+    let page = crate::cmd::web::beside(&services, data, web, stop.clone()).await?;
     // The page's address line comes from its task: let it print first.
     tokio::time::sleep(Duration::from_millis(50)).await;
     crate::outln!();

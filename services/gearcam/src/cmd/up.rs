@@ -35,19 +35,7 @@ pub async fn up(data: &Path, web: std::net::SocketAddr, bus: &BusArgs) -> anyhow
         );
     }
     let stop = cancel_on_signal();
-    let page = crate::cmd::web::beside(
-        services.bus.clone(),
-        data,
-        &services
-            .machines
-            .iter()
-            .map(|m| m.id.clone())
-            .collect::<Vec<_>>(),
-        web,
-        true,
-        stop.clone(),
-    )
-    .await?;
+    let page = crate::cmd::web::beside(&services, data, web, stop.clone()).await?;
     crate::outln!("submit with: gearcam submit examples/spur_840d.toml --wait   (Ctrl-C stops)");
     let result = services.serve_until(stop).await;
     if let Ok(Err(e)) = page.await {

@@ -61,20 +61,18 @@ pub async fn serve(
 /// The page beside the services of `up` and `demo`, on their bus: the
 /// data directory's users (on the first start, one per role with a random
 /// password, written once to `DATA/web-passwords.txt`; the operator of
-/// every machine served), listening on
-/// `listen`, or on any free port of its host when that one is taken and
-/// `any_port_if_taken`. Prints the address and where the users are.
+/// every machine served), listening on `listen`, or on any free port of its
+/// host when that one is taken. Prints the address and where the users are.
 pub async fn beside(
-    bus: Bus,
+    services: &crate::embedded::Embedded,
     data: &Path,
-    machines: &[MachineId],
     listen: SocketAddr,
-    any_port_if_taken: bool,
     stop: tokio_util::sync::CancellationToken,
 ) -> anyhow::Result<tokio::task::JoinHandle<anyhow::Result<()>>> {
+    let machines: Vec<MachineId> = services.machines.iter().map(|m| m.id.clone()).collect();
     let users = data.join(USERS_FILE);
     let passwords = data.join(PASSWORDS_FILE);
-    let made = auth::first_users(&users, &passwords, machines)?;
+    let made = auth::first_users(&users, &passwords, &machines)?;
     let auth = Auth::load(&users)?;
     let local = Some(std::sync::Arc::new(LocalCheck::new(
         data,
@@ -82,12 +80,7 @@ pub async fn beside(
     )));
     let listener = match tokio::net::TcpListener::bind(listen).await {
         Ok(l) => l,
-        Err(_) if any_port_if_taken => {
-            tokio::net::TcpListener::bind(SocketAddr::new(listen.ip(), 0)).await?
-        }
-        Err(e) => anyhow::bail!(
-            "the web page cannot listen on {listen}: {e} (give --web another address)"
-        ),
+        Err(_) => tokio::net::TcpListener::bind(SocketAddr::new(listen.ip(), 0)).await?,
     };
     if made {
         crate::outln!(
@@ -97,7 +90,11 @@ pub async fn beside(
     } else {
         crate::outln!("  web page users: {}", users.display());
     }
-    let web = crate::web::Web { bus, auth, local };
+    let web = crate::web::Web {
+        bus: services.bus.clone(),
+        auth,
+        local,
+    };
     Ok(tokio::spawn(crate::web::serve_on(listener, web, stop)))
 }
 
