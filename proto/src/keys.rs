@@ -214,6 +214,64 @@ pub fn kb_of(key: &str) -> Option<(String, Option<String>)> {
     }
 }
 
+/// `gearcam/v1/kb-log[/{library}[/{id}]]`: the knowledge service's
+/// queryable for the change log (a [`crate::plan::KbLogRequest`], or no
+/// payload for the newest [`crate::plan::KbLogRequest::DEFAULT_LIMIT`]) of
+/// every library, of one, or of one record. A read key of its own, beside
+/// the libraries' (`kb/…`), so that no library name is taken from them;
+/// an access control grants it to everyone who reads.
+pub fn kb_log(library: Option<&str>, id: Option<&str>) -> String {
+    match (library, id) {
+        (Some(library), Some(id)) => format!("{PREFIX}/kb-log/{library}/{id}"),
+        (Some(library), None) => format!("{PREFIX}/kb-log/{library}"),
+        (None, _) => format!("{PREFIX}/kb-log"),
+    }
+}
+
+/// Pattern of the change log's queryable (`**` matches the key without a
+/// library too).
+pub const KB_LOG_ALL: &str = "gearcam/v1/kb-log/**";
+
+/// The change log's key form, for messages that name it.
+pub const KB_LOG_FORM: &str = "gearcam/v1/kb-log[/{library}[/{id}]]";
+
+/// The library and the record a change-log key names (both `None` for
+/// every library), if the key is well formed.
+pub fn kb_log_of(key: &str) -> Option<(Option<String>, Option<String>)> {
+    let rest = key.strip_prefix(PREFIX)?.strip_prefix("/kb-log")?;
+    if rest.is_empty() {
+        return Some((None, None));
+    }
+    let (library, id) = kb_of(&format!("{PREFIX}/kb{rest}"))?;
+    Some((Some(library), id))
+}
+
+/// `gearcam/v1/kb-confirm/{user}/{job}`: the knowledge service's queryable
+/// that confirms a delivered job asked by `user` (a
+/// [`crate::plan::ConfirmRequest`]; the reply a [`crate::plan::ConfirmReply`]):
+/// the job becomes a case, recorded as `user`'s. A key of its own, with the
+/// user, so that an access control grants it to planners, each under their
+/// own name, without granting them changes of the libraries.
+pub fn kb_confirm(user: &str, job: &JobId) -> String {
+    format!("{PREFIX}/kb-confirm/{}/{job}", user_chunk(user))
+}
+
+/// Pattern of the confirmations' queryable (`**`: a key without a user or
+/// job still reaches the service and is refused by name).
+pub const KB_CONFIRM_ALL: &str = "gearcam/v1/kb-confirm/**";
+
+/// The confirmation key's form, for messages that name it.
+pub const KB_CONFIRM_FORM: &str = "gearcam/v1/kb-confirm/{user}/{job}";
+
+/// The user and the raw job id of a confirmation key
+/// (`gearcam/v1/kb-confirm/{user}/{job}`), if the key is well formed.
+pub fn kb_confirm_of(key: &str) -> Option<(&str, &str)> {
+    key.strip_prefix(PREFIX)?
+        .strip_prefix("/kb-confirm/")?
+        .split_once('/')
+        .filter(|(user, job)| is_user_chunk(user) && !job.is_empty() && !job.contains('/'))
+}
+
 /// The job id inside a job key (`gearcam/v1/jobs/{job}/...`) or program key
 /// (`gearcam/v1/machines/{machine}/programs/{job}`), if the key is well formed.
 pub fn job_of(key: &str) -> Option<JobId> {
@@ -455,6 +513,8 @@ pub const SIZE_LIMITS: [SizeLimit; 2] = [
             "gearcam/v1/station/**",
             "gearcam/v1/kb/**",
             "gearcam/v1/kb-changes/**",
+            "gearcam/v1/kb-log/**",
+            "gearcam/v1/kb-confirm/**",
             "gearcam/v1/machines/*/store/**",
         ],
         bytes: MAX_REQUEST_BYTES,
@@ -499,6 +559,13 @@ mod tests {
         );
         assert_eq!(kb_change_of("gearcam/v1/kb-changes/hobs"), None);
         assert_eq!(kb_change_of("gearcam/v1/kb-changes/*/hobs"), None);
+        assert_eq!(
+            kb_confirm_of(&kb_confirm("Wu Li/x", &JobId::new("J1").unwrap())),
+            Some(("Wu Li_x", "J1"))
+        );
+        assert_eq!(kb_confirm_of("gearcam/v1/kb-confirm/J1"), None);
+        assert_eq!(kb_confirm_of("gearcam/v1/kb-confirm/*/J1"), None);
+        assert_eq!(kb_confirm_of("gearcam/v1/kb-confirm/planner/J1/x"), None);
         let m = MachineId::new("H01").unwrap();
         assert_eq!(
             agent_key_of(&m, "gearcam/v1/machines/H01/store/changes/*/SP_1"),
@@ -541,6 +608,18 @@ mod tests {
         );
         assert_eq!(kb_of(&kb_library("cases")), Some(("cases".into(), None)));
         assert_eq!(kb_of("gearcam/v1/kb/a/b/c"), None);
+        assert_eq!(kb_log_of(&kb_log(None, Some("x"))), Some((None, None)));
+        assert_eq!(
+            kb_log_of(&kb_log(Some("hobs"), None)),
+            Some((Some("hobs".into()), None))
+        );
+        assert_eq!(
+            kb_log_of(&kb_log(Some("hobs"), Some("HOB-M3-80"))),
+            Some((Some("hobs".into()), Some("HOB-M3-80".into())))
+        );
+        assert_eq!(kb_log_of("gearcam/v1/kb-logs"), None);
+        assert_eq!(kb_log_of("gearcam/v1/kb-log/a/b/c"), None);
+        assert_eq!(kb_log_of("gearcam/v1/kb-log/"), None);
         assert_eq!(
             agent_key_of(&m, &store_version(&m, "SP_1", 3)),
             Some(AgentKey::Version("SP_1", "3"))

@@ -517,6 +517,146 @@ impl Message for KbReply {
     const KIND: &'static str = "kb_reply";
 }
 
+/// Message: a query of the knowledge base's change log, on
+/// `gearcam/v1/kb-log[/{library}[/{id}]]` ([`crate::keys::kb_log`]); a
+/// query without payload asks for the newest [`KbLogRequest::DEFAULT_LIMIT`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct KbLogRequest {
+    /// At most this many changes, newest first (1 to
+    /// [`KbLogRequest::MAX_LIMIT`]).
+    pub limit: u32,
+}
+
+impl KbLogRequest {
+    /// The changes a query without payload gets.
+    pub const DEFAULT_LIMIT: u32 = 50;
+    /// The most changes one query gets.
+    pub const MAX_LIMIT: u32 = 1000;
+}
+
+impl Default for KbLogRequest {
+    fn default() -> Self {
+        KbLogRequest {
+            limit: KbLogRequest::DEFAULT_LIMIT,
+        }
+    }
+}
+
+impl Message for KbLogRequest {
+    const KIND: &'static str = "kb_log_request";
+}
+
+/// One recorded change of the knowledge base: who, when, which record, the
+/// old and the new values. Every change is recorded, whatever made it (the
+/// CLI, a CSV import, a confirmed job, a change over the bus).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct KbChange {
+    /// Order of the change (larger is later).
+    pub seq: i64,
+    /// When, ms since the epoch (UTC).
+    pub at_ms: i64,
+    /// Who: the user of the change key, the CLI's login, `seed`, or
+    /// `{user} (confirm {job})` for what a confirmation changed.
+    pub by: String,
+    /// The library, e.g. `hobs` (as on the bus and the CLI).
+    pub library: String,
+    /// The record's key.
+    pub record_id: String,
+    /// `add`, `edit` or `remove`.
+    pub op: String,
+    /// The record before (edit, remove); absent for an add.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub old: Option<KbRecord>,
+    /// The record after (add, edit); absent for a remove.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub new: Option<KbRecord>,
+}
+
+/// Message: the knowledge service's reply to a [`KbLogRequest`]: the
+/// changes newest first, or every error (stage `knowledge`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct KbLogReply {
+    /// The changes, newest first.
+    #[serde(default)]
+    pub changes: Vec<KbChange>,
+    /// Errors; empty on success.
+    #[serde(default)]
+    pub errors: Vec<crate::error::JobError>,
+}
+
+impl Message for KbLogReply {
+    const KIND: &'static str = "kb_log_reply";
+}
+
+/// Message: the confirmation of a delivered job, on
+/// `gearcam/v1/kb-confirm/{user}/{job}` ([`crate::keys::kb_confirm`]): the
+/// values actually used (each absent: the plan's) and the outcome. The
+/// job becomes a case, recorded as `user`'s (what `gearcam confirm` does).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ConfirmRequest {
+    /// Parts actually cut (absent: the job's quantity).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub quantity: Option<u32>,
+    /// Cutting speed actually used, m/min (absent: the plan's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cutting_speed_m_min: Option<f64>,
+    /// Feed actually used (absent: the plan's): mm/rev for hobbing, mm per
+    /// tooth for spiral face milling.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub feed_mm_per_rev: Option<f64>,
+    /// Cuts actually made (absent: the plan's); depth passes for spiral
+    /// face milling.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cuts: Option<u32>,
+    /// Outcome of the cut: `ok`, `rework`, `scrap` or `unknown`.
+    pub outcome: String,
+    /// Accuracy grade measured.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub quality_achieved: Option<u8>,
+    /// Remarks.
+    #[serde(default)]
+    pub notes: String,
+    /// How far to trust the new case, 0–1.
+    pub confidence: f64,
+    /// Accept a job whose delivery the knowledge service did not hear (the
+    /// cutting speed and feed that ran must then be given).
+    #[serde(default)]
+    pub undelivered: bool,
+}
+
+impl Message for ConfirmRequest {
+    const KIND: &'static str = "confirm_request";
+}
+
+/// Message: the knowledge service's reply to a [`ConfirmRequest`]: the
+/// case the job became, the hob after its wear, the job after; or every
+/// error (stage `knowledge`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ConfirmReply {
+    /// The job, as the key named it.
+    pub job_id: String,
+    /// The library of the case: `cases` (hobbing) or `milling-cases`
+    /// (spiral face milling); empty on a refusal.
+    #[serde(default)]
+    pub case_library: String,
+    /// The new case.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub case: Option<KbRecord>,
+    /// The library hob after the update of its shift position and life.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hob: Option<KbRecord>,
+    /// The job's record after (state `confirmed`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub job: Option<KbRecord>,
+    /// Errors; empty on success.
+    #[serde(default)]
+    pub errors: Vec<crate::error::JobError>,
+}
+
+impl Message for ConfirmReply {
+    const KIND: &'static str = "confirm_reply";
+}
+
 impl Message for ProcessPlan {
     const KIND: &'static str = "process_plan";
 }
@@ -583,5 +723,53 @@ mod tests {
         };
         let back: KbReply = decode(&encode(&reply).unwrap()).unwrap();
         assert_eq!(back, reply);
+    }
+
+    #[test]
+    fn log_and_confirm_messages_round_trip() {
+        let mut rec = KbRecord::new();
+        rec.insert("coating".into(), KbValue::Text("TiN".into()));
+        let log = KbLogReply {
+            changes: vec![KbChange {
+                seq: 7,
+                at_ms: 1_700_000_000_000,
+                by: "admin".into(),
+                library: "hobs".into(),
+                record_id: "HOB-M3-80".into(),
+                op: "edit".into(),
+                old: Some(rec.clone()),
+                new: None,
+            }],
+            errors: vec![],
+        };
+        assert_eq!(decode::<KbLogReply>(&encode(&log).unwrap()).unwrap(), log);
+        let req = KbLogRequest::default();
+        assert_eq!(req.limit, KbLogRequest::DEFAULT_LIMIT);
+        assert_eq!(decode::<KbLogRequest>(&encode(&req).unwrap()).unwrap(), req);
+        let confirm = ConfirmRequest {
+            quantity: Some(20),
+            cutting_speed_m_min: Some(95.0),
+            feed_mm_per_rev: None,
+            cuts: None,
+            outcome: "ok".into(),
+            quality_achieved: Some(7),
+            notes: "good flanks".into(),
+            confidence: 0.8,
+            undelivered: false,
+        };
+        let back: ConfirmRequest = decode(&encode(&confirm).unwrap()).unwrap();
+        assert_eq!(back, confirm);
+        let reply = ConfirmReply {
+            job_id: "J1".into(),
+            case_library: "cases".into(),
+            case: Some(rec),
+            hob: None,
+            job: None,
+            errors: vec![],
+        };
+        assert_eq!(
+            decode::<ConfirmReply>(&encode(&reply).unwrap()).unwrap(),
+            reply
+        );
     }
 }

@@ -8,7 +8,9 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
 
-use gearcam_proto::plan::{KbOp, KbRecord, KbReply, KbRequest, KbValue};
+use gearcam_proto::plan::{
+    ConfirmReply, ConfirmRequest, KbLogReply, KbOp, KbRecord, KbReply, KbRequest, KbValue,
+};
 use gearcam_proto::{
     decode, encode, keys, DeliveryReply, Dialect, JobId, MachineId, NcProgram, StoreReply,
     StoreRequest, TemplateRef,
@@ -413,6 +415,50 @@ fn every_role_machine_and_command_on_the_secure_deployment() {
             );
             s.close().await.unwrap();
         }
+        // Every role reads the change log: the admin's change is the newest.
+        let s = planner_session(&planner).await.unwrap();
+        let replies = s
+            .get(keys::kb_log(Some("hobs"), Some("HOB-M3-80")))
+            .timeout(Duration::from_secs(5))
+            .await
+            .unwrap();
+        let reply = replies.recv_async().await.expect("a planner reads the log");
+        let log: KbLogReply = decode(&reply.result().unwrap().payload().to_bytes()).unwrap();
+        assert_eq!(log.changes[0].by, "admin", "{log:?}");
+        // Confirming a delivered job: a planner may, under their own name
+        // only; the job becomes a case recorded as the planner's.
+        let confirm = ConfirmRequest {
+            quantity: Some(1),
+            cutting_speed_m_min: None,
+            feed_mm_per_rev: None,
+            cuts: None,
+            outcome: "ok".into(),
+            quality_achieved: None,
+            notes: String::new(),
+            confidence: 0.8,
+            undelivered: false,
+        };
+        for (user, answered) in [("admin", false), ("planner", true)] {
+            let replies = s
+                .get(keys::kb_confirm(user, &h01_job))
+                .payload(encode(&confirm).unwrap())
+                .timeout(Duration::from_secs(5))
+                .await
+                .unwrap();
+            let reply = replies.recv_async().await;
+            assert_eq!(reply.is_ok(), answered, "a planner confirms as {user}");
+            if let Ok(reply) = reply {
+                let r: ConfirmReply =
+                    decode(&reply.result().unwrap().payload().to_bytes()).unwrap();
+                assert!(r.errors.is_empty(), "{r:?}");
+                let provenance = &r.case.expect("the case")["provenance"];
+                assert!(
+                    matches!(provenance, KbValue::Text(p) if p.contains("by planner")),
+                    "{provenance:?}"
+                );
+            }
+        }
+        s.close().await.unwrap();
         // A planner cannot report a job's events, not even
         // on the agent's key: nobody hears them.
         let listener = planner_session(&operator).await.unwrap();

@@ -136,11 +136,26 @@ pub struct Change {
 
 /// The recorded changes, newest first, at most `limit`.
 pub fn changes(conn: &Connection, limit: usize) -> Result<Vec<Change>, KnowledgeError> {
+    changes_of(conn, None, None, limit)
+}
+
+/// The recorded changes of one table (`table`, e.g. `gt_classes`) or of
+/// every table, of one record (`record_id`) or of every record, newest
+/// first, at most `limit`.
+pub fn changes_of(
+    conn: &Connection,
+    table: Option<&str>,
+    record_id: Option<&str>,
+    limit: usize,
+) -> Result<Vec<Change>, KnowledgeError> {
     let mut stmt = conn.prepare(
         "SELECT seq, at_ms, by_user, library, record_id, op, old_json, new_json
-         FROM kb_changes ORDER BY seq DESC LIMIT ?1",
+         FROM kb_changes
+         WHERE (?1 IS NULL OR library = ?1) AND (?2 IS NULL OR record_id = ?2)
+         ORDER BY seq DESC LIMIT ?3",
     )?;
-    let rows = stmt.query_map([limit as i64], |r| {
+    let limit = i64::try_from(limit).unwrap_or(i64::MAX);
+    let rows = stmt.query_map(params![table, record_id, limit], |r| {
         Ok(Change {
             seq: r.get(0)?,
             at_ms: r.get(1)?,
@@ -208,5 +223,13 @@ mod tests {
         let c = &changes(&conn, 1).unwrap()[0];
         assert_eq!((c.op.as_str(), c.new.as_deref()), ("remove", None));
         assert_eq!(changes(&conn, 1000).unwrap().len(), before + 4);
+        // One table's, one record's.
+        let hobs = changes_of(&conn, Some("hobs"), None, 1000).unwrap();
+        assert!(!hobs.is_empty() && hobs.iter().all(|c| c.library == "hobs"));
+        let one = changes_of(&conn, Some("materials"), Some("40Cr"), 1000).unwrap();
+        let ops: Vec<&str> = one.iter().map(|c| c.op.as_str()).collect();
+        assert_eq!(&ops[..2], ["remove", "edit"], "newest first");
+        assert!(one.iter().all(|c| c.record_id == "40Cr"));
+        assert_eq!(changes_of(&conn, None, None, 2).unwrap().len(), 2);
     }
 }

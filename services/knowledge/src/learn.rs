@@ -139,6 +139,9 @@ pub struct Confirmation {
 /// The result of a confirmation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Confirmed {
+    /// The library of the new case: `cases` (hobbing) or `milling-cases`
+    /// (spiral face milling).
+    pub case_library: &'static str,
     /// The new case.
     pub case: Record,
     /// The hob after the update, when it is a library hob.
@@ -297,7 +300,12 @@ fn confirm_hobbing(conn: &Connection, c: &Confirmation, plan_json: &str) -> Outc
     };
     let job = mark_confirmed(&tx, c, quantity, &case_id)?;
     tx.commit().map_err(KnowledgeError::from)?;
-    Ok(Confirmed { case, hob, job })
+    Ok(Confirmed {
+        case_library: library::CASES.name,
+        case,
+        hob,
+        job,
+    })
 }
 
 /// The case a confirmed hobbing job becomes: the gear, the machine, the hob
@@ -450,6 +458,7 @@ fn confirm_spiral(conn: &Connection, c: &Confirmation, plan_json: &str) -> Outco
     let job = mark_confirmed(&tx, c, quantity, &case_id)?;
     tx.commit().map_err(KnowledgeError::from)?;
     Ok(Confirmed {
+        case_library: library::MILLING_CASES.name,
         case,
         hob: None,
         job,

@@ -19,10 +19,14 @@
 //! - [`history`]: the case and workpiece records as the types of [`cbr`] and of a job.
 //! - [`plan`]: job request → process plan.
 //! - [`learn`]: the learning loop: a confirmed job becomes a case; hob life and shift.
+//! - [`audit`]: every change of the libraries recorded (who, when, old, new).
 //! - [`service`]: the Zenoh stage (`JobRequest` in, `ProcessPlan` out) and the
 //!   library queryable on `gearcam/v1/kb/**`.
+//! - [`answers`]: the change log (`gearcam/v1/kb-log/**`) and the
+//!   confirmation of delivered jobs (`gearcam/v1/kb-confirm/**`) on the bus.
 #![forbid(unsafe_code)]
 
+pub mod answers;
 pub mod audit;
 pub mod cbr;
 pub mod csvio;

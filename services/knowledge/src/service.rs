@@ -4,8 +4,11 @@
 //!   `planned` events, reports typed errors, and records each planned job;
 //!   the case base is held in memory (columnar, see [`crate::cbr`]) and
 //!   reloaded when another connection has changed the database;
-//! - the library queryable on `gearcam/v1/kb/**` ([`answer`]): list, read,
-//!   add, change and remove records of every library;
+//! - the library queryables on `gearcam/v1/kb/**` and
+//!   `gearcam/v1/kb-changes/**` ([`answer`]): list, read, add, change and
+//!   remove records of every library; beside them the change log on
+//!   `gearcam/v1/kb-log/**` and the confirmation of delivered jobs on
+//!   `gearcam/v1/kb-confirm/**` ([`crate::answers`]);
 //! - a subscriber to job events that marks jobs delivered, for the learning
 //!   loop ([`crate::learn`]).
 
@@ -14,7 +17,7 @@ use std::path::PathBuf;
 
 use gearcam_bus::stage::{run_stage, Handled, Output};
 use gearcam_bus::{Bus, BusError, CancellationToken};
-use gearcam_proto::plan::{KbOp, KbRecord, KbReply, KbRequest, KbValue};
+use gearcam_proto::plan::{KbOp, KbRecord, KbReply, KbRequest};
 use gearcam_proto::{
     decode, encode, keys, EventKind, JobError, JobEvent, JobRequest, Message, Stage,
 };
@@ -27,6 +30,7 @@ use zenoh::sample::Sample;
 
 use crate::cbr::CaseBase;
 use crate::library::{self, Record};
+pub use crate::library::{record_from_wire, record_to_wire};
 use crate::{db, history, learn, KnowledgeError};
 
 /// Configuration of the knowledge service.
@@ -101,12 +105,28 @@ pub async fn run(
         .declare_queryable(keys::KB_CHANGES_ALL)
         .await
         .map_err(zerr("declare queryable"))?;
+    let log = bus
+        .session()
+        .declare_queryable(keys::KB_LOG_ALL)
+        .await
+        .map_err(zerr("declare queryable"))?;
+    let confirm = bus
+        .session()
+        .declare_queryable(keys::KB_CONFIRM_ALL)
+        .await
+        .map_err(zerr("declare queryable"))?;
     let events = bus
         .session()
         .declare_subscriber(keys::ALL_JOB_EVENTS)
         .await
         .map_err(zerr("declare subscriber"))?;
-    let kb_task = tokio::spawn(serve_library(queryable, changes, kb_conn, shutdown.clone()));
+    let queryables = LibraryQueryables {
+        reads: queryable,
+        changes,
+        log,
+        confirm,
+    };
+    let kb_task = tokio::spawn(serve_library(queryables, kb_conn, shutdown.clone()));
     let events_task = tokio::spawn(follow_events(events, events_conn, shutdown.clone()));
 
     let result = run_stage::<JobRequest, _>(
@@ -125,29 +145,55 @@ pub async fn run(
     Ok(())
 }
 
-/// The library task: answers the queries on the read keys and on the change
-/// keys, one at a time on its own connection, until `stop` is cancelled or
-/// a queryable closes.
-async fn serve_library(
-    queryable: Queryable<FifoChannelHandler<Query>>,
+/// The knowledge base's queryables, one per key space.
+struct LibraryQueryables {
+    /// `gearcam/v1/kb/**`: reads.
+    reads: Queryable<FifoChannelHandler<Query>>,
+    /// `gearcam/v1/kb-changes/**`: changes.
     changes: Queryable<FifoChannelHandler<Query>>,
-    conn: Connection,
-    stop: CancellationToken,
-) {
+    /// `gearcam/v1/kb-log/**`: the change log.
+    log: Queryable<FifoChannelHandler<Query>>,
+    /// `gearcam/v1/kb-confirm/**`: confirmations of delivered jobs.
+    confirm: Queryable<FifoChannelHandler<Query>>,
+}
+
+/// Which queryable a query came to, and so which answer it gets.
+#[derive(Debug, Clone, Copy)]
+enum Asked {
+    /// A library's read or change ([`answer`]).
+    Library,
+    /// The change log ([`crate::answers::answer_log`]).
+    Log,
+    /// A confirmation ([`crate::answers::answer_confirm`]).
+    Confirm,
+}
+
+/// The library task: answers the queries on the read keys, the change
+/// keys, the change log and the confirmations, one at a time on its own
+/// connection, until `stop` is cancelled or a queryable closes.
+async fn serve_library(q: LibraryQueryables, conn: Connection, stop: CancellationToken) {
     loop {
-        let query = tokio::select! {
+        let (query, asked) = tokio::select! {
             _ = stop.cancelled() => break,
-            q = queryable.recv_async() => match q {
-                Ok(q) => q,
+            r = q.reads.recv_async() => match r {
+                Ok(r) => (r, Asked::Library),
                 Err(_) => break,
             },
-            q = changes.recv_async() => match q {
-                Ok(q) => q,
+            r = q.changes.recv_async() => match r {
+                Ok(r) => (r, Asked::Library),
+                Err(_) => break,
+            },
+            r = q.log.recv_async() => match r {
+                Ok(r) => (r, Asked::Log),
+                Err(_) => break,
+            },
+            r = q.confirm.recv_async() => match r {
+                Ok(r) => (r, Asked::Confirm),
                 Err(_) => break,
             },
         };
         let key = query.key_expr().as_str().to_string();
-        let Some(bytes) = encoded_answer(&conn, &key, &query) else {
+        let Some(bytes) = encoded_answer(&conn, &key, &query, asked) else {
             continue;
         };
         if let Err(e) = query.reply(query.key_expr().clone(), bytes).await {
@@ -156,23 +202,40 @@ async fn serve_library(
     }
 }
 
-/// The encoded reply to one library query (a refusal is logged with its
-/// first code), or `None` when the reply cannot be encoded: that is logged
-/// and the query gets no reply.
-fn encoded_answer(conn: &Connection, key: &str, query: &Query) -> Option<Vec<u8>> {
+/// The encoded reply to one query of the knowledge base (a refusal is
+/// logged with its first code), or `None` when the reply cannot be
+/// encoded: that is logged and the query gets no reply.
+fn encoded_answer(conn: &Connection, key: &str, query: &Query, asked: Asked) -> Option<Vec<u8>> {
     let payload = query
         .payload()
         .map(|p| p.to_bytes().into_owned())
         .unwrap_or_default();
-    let reply = answer(conn, key, &payload);
-    if !reply.errors.is_empty() {
-        tracing::info!(
-            key,
-            code = reply.errors[0].code.as_str(),
-            "kb query refused"
-        );
+    match asked {
+        Asked::Library => {
+            let reply = answer(conn, key, &payload);
+            logged(key, &reply, &reply.errors)
+        }
+        Asked::Log => {
+            let reply = crate::answers::answer_log(conn, key, &payload);
+            logged(key, &reply, &reply.errors)
+        }
+        Asked::Confirm => {
+            let reply =
+                crate::answers::answer_confirm(conn, key, &payload, gearcam_proto::now_ms());
+            if reply.errors.is_empty() {
+                tracing::info!(key, job = reply.job_id, "job confirmed over the bus");
+            }
+            logged(key, &reply, &reply.errors)
+        }
     }
-    match encode(&reply) {
+}
+
+/// `reply` encoded, its refusal (`errors`) logged with the first code.
+fn logged<M: Message>(key: &str, reply: &M, errors: &[JobError]) -> Option<Vec<u8>> {
+    if let Some(first) = errors.first() {
+        tracing::info!(key, code = first.code.as_str(), "kb query refused");
+    }
+    match encode(reply) {
         Ok(b) => Some(b),
         Err(e) => {
             tracing::error!(key, error = %e, "cannot encode kb reply");
@@ -290,46 +353,6 @@ fn plan_request(
             payload,
         }],
     })
-}
-
-/// A wire record as a JSON record.
-pub fn record_from_wire(r: &KbRecord) -> Record {
-    r.iter()
-        .map(|(k, v)| (k.clone(), value_from_wire(v)))
-        .collect()
-}
-
-fn value_from_wire(v: &KbValue) -> Value {
-    match v {
-        KbValue::Null => Value::Null,
-        KbValue::Bool(b) => Value::from(*b),
-        KbValue::Int(i) => Value::from(*i),
-        KbValue::Float(x) => Value::from(*x),
-        KbValue::Text(s) => Value::from(s.as_str()),
-        KbValue::List(l) => Value::Array(l.iter().map(value_from_wire).collect()),
-        KbValue::Map(m) => Value::Object(record_from_wire(m)),
-    }
-}
-
-/// A JSON record as a wire record.
-pub fn record_to_wire(r: &Record) -> KbRecord {
-    r.iter()
-        .map(|(k, v)| (k.clone(), value_to_wire(v)))
-        .collect()
-}
-
-fn value_to_wire(v: &Value) -> KbValue {
-    match v {
-        Value::Null => KbValue::Null,
-        Value::Bool(b) => KbValue::Bool(*b),
-        Value::Number(n) => n
-            .as_i64()
-            .map(KbValue::Int)
-            .unwrap_or_else(|| KbValue::Float(n.as_f64().unwrap_or(f64::NAN))),
-        Value::String(s) => KbValue::Text(s.clone()),
-        Value::Array(a) => KbValue::List(a.iter().map(value_to_wire).collect()),
-        Value::Object(m) => KbValue::Map(record_to_wire(m)),
-    }
 }
 
 /// Answers one library query: the key names the library (and record), the

@@ -1,18 +1,33 @@
 //! The knowledge service on a real Zenoh session over TCP loopback: library
-//! queries on `gearcam/v1/kb/**` and a job without a process section planned
-//! from the cases.
+//! queries on `gearcam/v1/kb/**`, the change log and a confirmation, and a
+//! job without a process section planned from the cases.
 
 use std::time::Duration;
 
 use gearcam_bus::{Bus, BusConfig, CancellationToken};
 use gearcam_knowledge::service::{self, Config};
-use gearcam_proto::plan::{KbOp, KbRecord, KbReply, KbRequest, KbValue};
-use gearcam_proto::{decode, encode, keys, JobRequest, JobSpec, ProcessPlan, Source};
+use gearcam_proto::plan::{
+    ConfirmReply, ConfirmRequest, KbLogReply, KbLogRequest, KbOp, KbRecord, KbReply, KbRequest,
+    KbValue,
+};
+use gearcam_proto::{decode, encode, keys, JobRequest, JobSpec, Message, ProcessPlan, Source};
 use tokio::time::timeout;
 
 const T: Duration = Duration::from_secs(20);
 
 async fn query(bus: &Bus, key: &str, req: Option<&KbRequest>) -> KbReply {
+    let mut get = bus.session().get(key).timeout(Duration::from_secs(5));
+    if let Some(r) = req {
+        get = get.payload(encode(r).unwrap());
+    }
+    let replies = timeout(T, get).await.unwrap().unwrap();
+    let reply = timeout(T, replies.recv_async()).await.unwrap().unwrap();
+    let sample = reply.result().expect("an ok reply");
+    decode(&sample.payload().to_bytes()).unwrap()
+}
+
+/// A query of any message on `key`, its reply decoded.
+async fn ask<Q: Message, R: Message>(bus: &Bus, key: &str, req: Option<&Q>) -> R {
     let mut get = bus.session().get(key).timeout(Duration::from_secs(5));
     if let Some(r) = req {
         get = get.payload(encode(r).unwrap());
@@ -152,6 +167,39 @@ async fn libraries_are_browsed_and_edited_over_zenoh_and_a_job_gets_a_proposal()
     assert_eq!(r.errors[0].code, "UNKNOWN_LIBRARY");
     let r = query(&client, &keys::kb_record("cases", "NOPE"), None).await;
     assert_eq!(r.errors[0].code, "NOT_FOUND");
+
+    // The change log, on the key without a library too: the machine's
+    // edit above is the newest change, the key's user's.
+    let log: KbLogReply = ask(&client, &keys::kb_log(None, None), None::<&KbLogRequest>).await;
+    assert!(log.errors.is_empty(), "{:?}", log.errors);
+    let c = &log.changes[0];
+    assert_eq!(
+        (c.by.as_str(), c.library.as_str(), c.record_id.as_str()),
+        ("tester", "machines", "H01")
+    );
+    let one = KbLogRequest { limit: 1 };
+    let log: KbLogReply = ask(&client, &keys::kb_log(Some("hobs"), None), Some(&one)).await;
+    let ops: Vec<(&str, &str)> = log
+        .changes
+        .iter()
+        .map(|c| (c.op.as_str(), c.record_id.as_str()))
+        .collect();
+    assert_eq!(ops, [("add", "HOB-M25-70")]);
+    // A confirmation of a job this knowledge base never planned.
+    let confirm = ConfirmRequest {
+        quantity: None,
+        cutting_speed_m_min: None,
+        feed_mm_per_rev: None,
+        cuts: None,
+        outcome: "ok".into(),
+        quality_achieved: None,
+        notes: String::new(),
+        confidence: 0.8,
+        undelivered: false,
+    };
+    let job = gearcam_proto::JobId::new("NEVER-PLANNED").unwrap();
+    let r: ConfirmReply = ask(&client, &keys::kb_confirm("tester", &job), Some(&confirm)).await;
+    assert_eq!(r.errors[0].code, "UNKNOWN_JOB", "{:?}", r.errors);
 
     // A job with no process section: the plan carries cases, similarities and confidence.
     let spec: JobSpec = serde_json::from_value(serde_json::json!({

@@ -25,6 +25,8 @@
 //!   `milling`: those of the spiral face milling family.
 //! - `validate`: [`validate`], field by field and across fields, and whole
 //!   machine profiles.
+//! - `onwire`: records as the bus carries them and back
+//!   ([`record_from_wire`], [`record_to_wire`]).
 //! - `store`: the SQL reads and writes ([`list`], [`get`], [`keys`], [`add`],
 //!   [`edit`], [`remove`]).
 
@@ -32,6 +34,7 @@ mod all;
 mod defs;
 mod fields;
 mod milling;
+mod onwire;
 mod store;
 mod validate;
 mod wire;
@@ -40,6 +43,7 @@ pub use all::{library, LIBRARIES};
 pub use defs::{CASES, CLASSES_LIB, HOBS, JOBS, MACHINES, MATERIALS, WEIGHTS, WORKPIECES};
 pub use fields::{cell, parse_value, Check, Def, Field, Kind, Library, Need, Outcome, Record};
 pub use milling::{MILLING_CASES, MILLING_DATA, MILLS, MILL_MACHINES};
+pub use onwire::{record_from_wire, record_to_wire};
 pub use store::{add, edit, get, keys, list, machine_error, remove};
 pub use validate::validate;
 pub use wire::{WIRES, WIRE_DATA, WIRE_MACHINES};
