@@ -6,6 +6,8 @@
 mod harness;
 #[path = "browser/jobs.rs"]
 mod jobs;
+#[path = "browser/kb.rs"]
+mod kb;
 
 use fantoccini::Locator;
 use harness::{Browser, Shop};

@@ -120,6 +120,7 @@ async fn job_page(
     let body = html! {
         p { a href="/" { "← jobs" } }
         h1 { "Job " (s.job) }
+        @if s.state == JobState::Delivered { p { a #confirm-link href=(format!("/jobs/{}/confirm", s.job)) { "Confirm what ran: the job becomes a case" } } }
         dl #status data-job=(s.job) data-events=(format!("/jobs/{}/events", s.job)) data-final=[s.state.is_final().then_some("1")] {
             dt { "part number" } dd { (s.part_number) }
             dt { "machine" } dd { (s.machine) }

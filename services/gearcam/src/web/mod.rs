@@ -15,6 +15,7 @@
 pub mod auth;
 mod form;
 mod jobs;
+mod kb;
 mod live;
 pub mod new;
 
@@ -48,6 +49,7 @@ pub const MAX_BODY_BYTES: usize = 64 * 1024;
 pub fn router(web: Web) -> Router {
     let signed_in = Router::new()
         .merge(jobs::routes())
+        .merge(kb::routes())
         .merge(new::routes())
         .merge(live::routes())
         .route("/signout", post(auth::signout))
@@ -161,6 +163,7 @@ pub fn page(title: &str, session: Option<&Session>, body: Markup) -> Markup {
                     nav {
                         a href="/" { "Jobs" } " "
                         a href="/new" { "New job" } " "
+                        a href="/kb" { "Knowledge base" } " "
                         span.who { (s.user.name) " (" (s.user.role.as_str()) ") " }
                         form.inline method="post" action="/signout" {
                             (auth::csrf_input(s))
