@@ -8,8 +8,8 @@
 //! (`/static/gearcam.js`) adds live progress and inline checks where it helps.
 //!
 //! Every page needs a signed-in user ([`auth`]); each module adds its pages:
-//! [`jobs`] the shared queue and each job, [`new`] a job's form per family
-//! (checked while typed, imported and exported as TOML, submitted), [`live`]
+//! `jobs` the shared queue and each job, [`new`] a job's form per family
+//! (checked while typed, imported and exported as TOML, submitted), `live`
 //! the jobs' events as they happen.
 
 pub mod auth;

@@ -1,4 +1,4 @@
-//! A new job: one form per family ([`super::form`]) with the knowledge
+//! A new job: one form per family (the `form` module) with the knowledge
 //! base's proposal beside each field (its value and source, and the cases
 //! behind the plan), the typed errors beside the fields they name, import
 //! and export of the TOML job file, and submit.
