@@ -471,6 +471,9 @@ catalogue! {
     MISSING_SECTION: "knowledge",
         "A spiral face milling job has neither a `[face]` nor a `[groove]` section, or a wire EDM job no `[die]`.",
         "Describe the face (outer_radius_mm, inner_radius_mm, depth_mm, material), the groove, or the die (part, module_mm, teeth, thickness_mm, material).";
+    MODEL_NOT_JOURNALED: "station",
+        "The station's journal has no model of the job: the model service has not computed it yet, or the job failed before its model (the station journals each job's model as the model service publishes it).",
+        "Wait for the job's `modelled` event (`gearcam status JOB`); a job that failed before its model has no picture.";
     MODEL_UNKNOWN: "agent",
         "The agent checks every program again against the model the model service published for the job and has not seen that model (it started after it was published); the job waits.",
         "Nothing: the station re-drives the job, the model is published again and the program is checked and stored.";

@@ -316,9 +316,27 @@ pub fn station_job(job: &JobId) -> String {
     format!("{PREFIX}/station/jobs/{job}")
 }
 
-/// Pattern of the station's per-job status queryable (`**`, so that a bad id
-/// with a `/` in it still reaches the station and is refused by name).
+/// Pattern of the station's per-job views, a job's status and its model
+/// (`**`, so that a bad id with a `/` in it still reaches the station and is
+/// refused by name).
 pub const STATION_JOB_ANY: &str = "gearcam/v1/station/jobs/**";
+
+/// `gearcam/v1/station/jobs/{job}/model`: queryable with the model the
+/// station journaled for a job, the bytes the model service published on
+/// [`job_model`] (a `machining_model`, `spiral_model` or `wire_model`, read
+/// as a [`crate::AnyModel`]), or a [`crate::StationReply::Refused`] when the
+/// station has none (`UNKNOWN_JOB`, `MODEL_NOT_JOURNALED`).
+pub fn station_job_model(job: &JobId) -> String {
+    format!("{PREFIX}/station/jobs/{job}/model")
+}
+
+/// The raw job id of a station model key
+/// (`gearcam/v1/station/jobs/{job}/model`).
+pub fn station_job_model_of(key: &str) -> Option<&str> {
+    station_job_of(key)?
+        .strip_suffix("/model")
+        .filter(|job| !job.contains('/'))
+}
 
 /// `gearcam/v1/station/cancel/{user}/{job}`: queryable of the planning
 /// station; the query of `user` carries a [`crate::CancelRequest`], the
@@ -636,5 +654,12 @@ mod tests {
         assert_eq!(agent_key_of(&m, &store_programs(&other)), None);
         assert_eq!(alive_of(&alive("station")), Some("station"));
         assert_eq!(station_job_of(&station_job(&job)), Some("J1"));
+        assert_eq!(station_job_model(&job), "gearcam/v1/station/jobs/J1/model");
+        assert_eq!(station_job_model_of(&station_job_model(&job)), Some("J1"));
+        assert_eq!(station_job_model_of(&station_job(&job)), None);
+        assert_eq!(
+            station_job_model_of("gearcam/v1/station/jobs/a/b/model"),
+            None
+        );
     }
 }

@@ -80,6 +80,7 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
     // The whole pipeline works through TLS, passwords and the ACL.
     let v = submit(dir, &planner, "SEC-0001");
     assert_eq!(v["state"], "delivered", "{v}\n{}", logs());
+    let sec_job = JobId::new(v["job"].as_str().unwrap()).unwrap();
     // So does a wire EDM die to W01 under its own agent user.
     let die = std::fs::read_to_string(gearcam_testkit::examples::dir().join("die_m2z20_3b.toml"))
         .unwrap()
@@ -110,6 +111,19 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
         let session = planner_session(&planner)
             .await
             .expect("the planner connects");
+        // The station received the job's model from the model service and
+        // journaled it; a planner reads it from the station.
+        let replies = session
+            .get(keys::station_job_model(&sec_job))
+            .timeout(Duration::from_secs(5))
+            .await
+            .unwrap();
+        let reply = replies.recv_async().await.expect("the station answers");
+        let bytes = reply.result().expect("a model").payload().to_bytes();
+        match <gearcam_proto::AnyModel as gearcam_proto::Incoming>::decode_incoming(&bytes) {
+            Ok(gearcam_proto::AnyModel::Hobbing(m)) => assert_eq!(m.job_id, sec_job),
+            other => panic!("the station's model of {sec_job}: {other:?}\n{}", logs()),
+        }
         // A planner may not deliver a program to a machine: the router drops the query.
         let text = "%_N_EVIL_MPF\n;$PATH=/_N_MPF_DIR\nM2\n".to_string();
         let program = NcProgram {

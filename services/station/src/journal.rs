@@ -114,12 +114,12 @@ impl Journal {
         )?;
         // The model's warnings, kept so that status can show them: a journal
         // from before the column gains it (its jobs have none recorded).
-        let has_warnings: bool = conn
-            .prepare("SELECT 1 FROM pragma_table_info('jobs') WHERE name = 'warnings_json'")?
-            .exists([])?;
-        if !has_warnings {
-            conn.execute_batch("ALTER TABLE jobs ADD COLUMN warnings_json TEXT")?;
-        }
+        add_column(&conn, "warnings_json", "TEXT")?;
+        // Each job's model as the model service published it, kept so that
+        // a client reads it after the job has ended (the web page draws its
+        // picture): a journal from before the column gains it (its jobs
+        // have none).
+        add_column(&conn, "model", "BLOB")?;
         gearcam_bus::durable::mark(path).map_err(|e| JournalError::Io {
             path: path.display().to_string(),
             source: e,
@@ -441,6 +441,46 @@ impl Journal {
         Ok(out)
     }
 
+    /// Journals the model the model service published for `job` (its
+    /// encoded message, as published); true when kept. A job that has
+    /// ended keeps the model it has: a model arriving later (a forged one,
+    /// or one of a job that ended before its model) does not replace it.
+    pub fn set_model(&self, job: &JobId, model: &[u8]) -> Result<bool, JournalError> {
+        Ok(self.conn.execute(
+            "UPDATE jobs SET model = ?2 WHERE job = ?1
+             AND (model IS NULL OR state NOT IN ('delivered', 'failed', 'superseded', 'cancelled'))",
+            params![job.as_str(), model],
+        )? > 0)
+    }
+
+    /// The model journaled for `job` (its encoded message): `None` for an
+    /// unknown job, `Some(None)` for a job without one yet.
+    pub fn model(&self, job: &JobId) -> Result<Option<Option<Vec<u8>>>, JournalError> {
+        Ok(self
+            .conn
+            .query_row(
+                "SELECT model FROM jobs WHERE job = ?1",
+                [job.as_str()],
+                |r| r.get(0),
+            )
+            .optional()?)
+    }
+
+    /// The machine of `job`, if journaled.
+    pub fn machine(&self, job: &JobId) -> Result<Option<MachineId>, JournalError> {
+        let machine: Option<String> = self
+            .conn
+            .query_row(
+                "SELECT machine FROM jobs WHERE job = ?1",
+                [job.as_str()],
+                |r| r.get(0),
+            )
+            .optional()?;
+        machine
+            .map(|m| MachineId::new(m).map_err(|e| corrupt("machine", e)))
+            .transpose()
+    }
+
     /// The request of a job, decoded.
     pub fn request(&self, job: &JobId) -> Result<Option<JobRequest>, JournalError> {
         let bytes: Option<Vec<u8>> = self
@@ -534,6 +574,18 @@ fn status_from(p: Parts) -> Result<JobStatus, JournalError> {
     })
 }
 
+/// Adds the column `name` of type `decl` to the jobs table of a journal
+/// written before it existed; a journal that has it is left as it is.
+fn add_column(conn: &Connection, name: &str, decl: &str) -> Result<(), JournalError> {
+    let has: bool = conn
+        .prepare("SELECT 1 FROM pragma_table_info('jobs') WHERE name = ?1")?
+        .exists([name])?;
+    if !has {
+        conn.execute_batch(&format!("ALTER TABLE jobs ADD COLUMN {name} {decl}"))?;
+    }
+    Ok(())
+}
+
 fn corrupt(what: &'static str, e: impl std::fmt::Display) -> JournalError {
     JournalError::Corrupt {
         what,
@@ -592,8 +644,42 @@ mod tests {
             .unwrap();
         assert_eq!(s.state, JobState::Accepted);
         assert!(s.warnings.is_empty());
-        // Opening again does not add the column twice.
+        // It gained the model's column too: no model yet, then the one kept.
+        let old = JobId::new("OLD-1").unwrap();
+        assert_eq!(journal.model(&old).unwrap(), Some(None));
+        assert!(journal.set_model(&old, b"model").unwrap());
+        assert_eq!(journal.model(&old).unwrap(), Some(Some(b"model".to_vec())));
+        // Opening again does not add the columns twice, and keeps the model.
         drop(journal);
-        Journal::open(&path).unwrap();
+        let journal = Journal::open(&path).unwrap();
+        assert_eq!(journal.model(&old).unwrap(), Some(Some(b"model".to_vec())));
+    }
+
+    /// A model is kept while its job runs; once the job has ended, a model
+    /// arriving later does not replace the one it has; an unknown job has
+    /// no model and a job without one says so.
+    #[test]
+    fn an_ended_job_keeps_its_model() {
+        let dir = tempfile::tempdir().unwrap();
+        let journal = Journal::open(&dir.path().join("station.db")).unwrap();
+        let spec: gearcam_proto::JobSpec =
+            serde_json::from_str(r#"{"job": {"machine": "H01", "part_number": "SP-1"}}"#).unwrap();
+        let job = JobId::new("J-1").unwrap();
+        let req = JobRequest {
+            job_id: job.clone(),
+            submitted_at_ms: 1,
+            submitted_by: "planner".into(),
+            spec,
+        };
+        journal.submit(&req, 1).unwrap();
+        assert_eq!(journal.model(&job).unwrap(), Some(None));
+        assert!(journal.set_model(&job, b"first").unwrap());
+        assert!(journal.set_model(&job, b"again").unwrap());
+        journal.cancel(&job, "planner", 2).unwrap();
+        assert!(!journal.set_model(&job, b"late").unwrap());
+        assert_eq!(journal.model(&job).unwrap(), Some(Some(b"again".to_vec())));
+        let unknown = JobId::new("J-2").unwrap();
+        assert_eq!(journal.model(&unknown).unwrap(), None);
+        assert!(!journal.set_model(&unknown, b"x").unwrap());
     }
 }

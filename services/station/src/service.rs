@@ -10,12 +10,17 @@
 //!   job's status; the same id with another spec is refused.
 //! - `gearcam/v1/station/jobs[/{job}]` (query): the journal's view, always a
 //!   typed `StationReply`.
+//! - `gearcam/v1/station/jobs/{job}/model` (query): the job's model as the
+//!   model service published it, or a `StationReply::Refused` (module
+//!   `models`).
 //! - `gearcam/v1/station/cancel/{user}/{job}` (query with a
 //!   `CancelRequest`): a job not yet final ends `cancelled`, by `user`, and a `cancelled` event is
 //!   published; the agent, which asks the station before it stores, never
 //!   stores it after. A final job is refused (`JOB_FINAL`), a cancelled one
 //!   answered with its status again.
-//! - Events of every job update the journal. Jobs without progress for
+//! - Events of every job update the journal, and each job's model is
+//!   journaled beside it as the model service publishes it (checked to be
+//!   the model of the journaled request). Jobs without progress for
 //!   `redrive` are re-driven with backoff: first the agent's store is asked for
 //!   the job (a lost receipt), then the request is published again (every stage
 //!   is idempotent; the agent answers a repeat with the original receipt).
@@ -45,8 +50,10 @@ use zenoh::Session;
 
 use crate::journal::{Due, Journal, JournalError};
 
+mod models;
 mod submit;
 
+use models::Published;
 use submit::{check_submits, Verdict};
 
 /// Configuration of the station service.
@@ -101,6 +108,7 @@ pub async fn run(
     loop {
         let mut new_submits: Vec<Query> = Vec::new();
         let mut new_events: Vec<(String, JobEvent)> = Vec::new();
+        let mut new_models: Vec<Published> = Vec::new();
         let mut new_views: Vec<Query> = Vec::new();
         let mut drive_now = false;
         tokio::select! {
@@ -109,6 +117,7 @@ pub async fn run(
             s = inputs.events.recv_async() => if let Ok(s) = s {
                 if let Some(ev) = reported(&s) { new_events.push(ev) }
             },
+            s = inputs.models.recv_async() => if let Ok(s) = s { new_models.push(Published::of(&s)) },
             q = inputs.views.recv_async() => if let Ok(q) = q { new_views.push(q) },
             q = inputs.list_view.recv_async() => if let Ok(q) = q { new_views.push(q) },
             q = inputs.cancels.recv_async() => if let Ok(q) = q {
@@ -131,14 +140,18 @@ pub async fn run(
             },
             _ = tick.tick() => drive_now = true,
         }
-        inputs.take_waiting(&mut new_submits, &mut new_events);
-        if !new_submits.is_empty() || !new_events.is_empty() {
+        inputs.take_waiting(&mut new_submits, &mut new_events, &mut new_models);
+        if !new_submits.is_empty() || !new_events.is_empty() || !new_models.is_empty() {
             // Ids and machines are checked before the journal's transaction:
             // the machine check may ask the knowledge base.
             let checked = check_submits(&bus, &mut machines, new_submits).await;
             let now = now_ms();
-            let (replies, to_send) =
-                journal.batch(|j| journal_batch(j, &new_events, checked, now, redrive_ms))?;
+            // A model before the events of the same batch: the job's
+            // `delivered` among them must not end it before its model is kept.
+            let (replies, to_send) = journal.batch(|j| {
+                models::journal_models(j, &new_models);
+                journal_batch(j, &new_events, checked, now, redrive_ms)
+            })?;
             // The journal is committed: acknowledge, then drive the new jobs.
             acknowledge(&bus, replies, &to_send).await;
             drives.start(&bus, &alive, redrive_ms, to_send);
@@ -147,7 +160,13 @@ pub async fn run(
         // before it are journaled: a client that saw a job's event and then
         // asks for its status reads a status that has it.
         for q in new_views {
-            let reply = view_reply(&journal, q.key_expr().as_str());
+            let key = q.key_expr().as_str().to_string();
+            if let Some(raw) = keys::station_job_model_of(&key) {
+                let answer = models::answer(&journal, raw);
+                models::reply(q, answer).await;
+                continue;
+            }
+            let reply = view_reply(&journal, &key);
             reply_message(q, &reply).await;
         }
         if drive_now && drives.has_room() {
@@ -170,6 +189,7 @@ struct Inputs {
     list_view: Queryable<FifoChannelHandler<Query>>,
     cancels: Queryable<FifoChannelHandler<Query>>,
     events: Subscriber<FifoChannelHandler<Sample>>,
+    models: Subscriber<FifoChannelHandler<Sample>>,
     alive: Subscriber<FifoChannelHandler<Sample>>,
 }
 
@@ -198,6 +218,10 @@ impl Inputs {
             .declare_subscriber(keys::ALL_JOB_EVENTS)
             .await
             .map_err(zerr("declare subscriber"))?;
+        let models = session
+            .declare_subscriber(keys::ALL_JOB_MODELS)
+            .await
+            .map_err(zerr("declare subscriber"))?;
         let alive = session
             .liveliness()
             .declare_subscriber(keys::ALIVE_ANY)
@@ -210,13 +234,19 @@ impl Inputs {
             list_view,
             cancels,
             events,
+            models,
             alive,
         })
     }
 
     /// Group commit: takes whatever else is already waiting (up to a bound
     /// per batch), so one transaction journals them all.
-    fn take_waiting(&self, new_submits: &mut Vec<Query>, new_events: &mut Vec<(String, JobEvent)>) {
+    fn take_waiting(
+        &self,
+        new_submits: &mut Vec<Query>,
+        new_events: &mut Vec<(String, JobEvent)>,
+        new_models: &mut Vec<Published>,
+    ) {
         while new_submits.len() < 1024 {
             match self.submits.try_recv() {
                 Ok(Some(q)) => new_submits.push(q),
@@ -230,6 +260,12 @@ impl Inputs {
                         new_events.push(ev);
                     }
                 }
+                _ => break,
+            }
+        }
+        while new_models.len() < models::MAX_MODELS_PER_BATCH {
+            match self.models.try_recv() {
+                Ok(Some(s)) => new_models.push(Published::of(&s)),
                 _ => break,
             }
         }
