@@ -1,7 +1,8 @@
 //! `gearcam check` for a hobbing job: knowledge → model → template and the
-//! NC path check, with the gear's figures.
+//! NC path check, with the gear's figures; the model comes back for the
+//! picture of the set-up and the path ([`super::picture_hobbing`]).
 
-use gearcam_proto::{Geometry, JobRequest};
+use gearcam_proto::{Geometry, JobRequest, MachiningModel};
 use gearcam_template::Templates;
 use rusqlite::Connection;
 
@@ -19,13 +20,14 @@ fn describes_a_gear(g: &Geometry) -> bool {
         && g.df_mm < g.da_mm
 }
 
-/// Knowledge → model → template for a hobbing job; the report.
+/// Knowledge → model → template for a hobbing job; the report and the
+/// model (for the picture).
 pub fn check_hobbing(
     conn: &Connection,
     templates: &Templates,
     req: &JobRequest,
     mut report: CheckReport,
-) -> CheckReport {
+) -> (CheckReport, Option<MachiningModel>) {
     let spec = &req.spec;
     // Before the model has validated the gear, its figures are shown only
     // when they describe a gear (a module of -3 gives d -75 mm: no figures).
@@ -36,7 +38,7 @@ pub fn check_hobbing(
         Ok(p) => p,
         Err(errors) => {
             report.errors = errors;
-            return report;
+            return (report, None);
         }
     };
     // The plan's gear: the job's, or the workpiece library's for a job that
@@ -59,7 +61,7 @@ pub fn check_hobbing(
         Ok(m) => m,
         Err(errors) => {
             report.errors = errors;
-            return report;
+            return (report, None);
         }
     };
     report.geometry = Some(model.geometry.clone());
@@ -80,5 +82,5 @@ pub fn check_hobbing(
         }
         Err(errors) => report.errors = errors,
     }
-    report
+    (report, Some(model))
 }

@@ -5,7 +5,8 @@
 //! One module per family runs its pipeline into the one [`CheckReport`]
 //! ([`hobbing`], [`spiral`], [`wire`]); [`check`] picks it by the job's
 //! family, the only place here that tells families apart; [`human`] writes
-//! the report for a person.
+//! the report for a person; [`picture_hobbing`] draws a hobbing job's
+//! set-up and path.
 
 use std::collections::BTreeMap;
 
@@ -22,10 +23,12 @@ use serde::Serialize;
 
 pub mod hobbing;
 pub mod human;
+pub mod picture_hobbing;
 pub mod spiral;
 pub mod wire;
 
 pub use human::{format_errors, format_human};
+pub use picture_hobbing::hobbing_svg;
 pub use spiral::spiral_picture;
 pub use wire::die_drawings;
 
@@ -255,7 +258,7 @@ pub struct CheckReport {
     /// and the program's largest deviation from the spiral.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub coverage: Option<CoverageCheck>,
-    /// Where the SVG picture of a spiral or wire job was written.
+    /// Where the SVG picture of the job was written.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub picture: Option<String>,
     /// Where the DXF of a wire job's outline was written.
@@ -301,6 +304,8 @@ pub(crate) fn job_summary(req: &JobRequest) -> CheckReport {
 /// The model of a job that has a picture.
 #[derive(Debug, Clone)]
 pub enum Drawing {
+    /// A hobbing job's.
+    Hobbing(Box<gearcam_proto::MachiningModel>),
     /// A spiral job's.
     Spiral(Box<SpiralModel>),
     /// A wire job's, with its die as made (outline, path, program).
@@ -308,7 +313,7 @@ pub enum Drawing {
 }
 
 /// Runs knowledge → model → program locally for one request of any
-/// family; a spiral or wire job's model comes back too (for its picture).
+/// family; the job's model comes back too (for its picture).
 pub fn check(
     conn: &Connection,
     templates: &Templates,
@@ -316,7 +321,10 @@ pub fn check(
 ) -> (CheckReport, Option<Drawing>) {
     let report = job_summary(req);
     match req.spec.family() {
-        Family::Hobbing => (hobbing::check_hobbing(conn, templates, req, report), None),
+        Family::Hobbing => {
+            let (r, m) = hobbing::check_hobbing(conn, templates, req, report);
+            (r, m.map(|m| Drawing::Hobbing(Box::new(m))))
+        }
         Family::SpiralFace => {
             let (r, m) = spiral::check_spiral(conn, req, report);
             (r, m.map(|m| Drawing::Spiral(Box::new(m))))

@@ -19,7 +19,7 @@ pub fn template_library(data: &Path) -> anyhow::Result<Templates> {
     )?)
 }
 
-/// Where the picture of a spiral or wire job goes by default: `DATA/pictures/STEM.svg`, STEM the job file's name without `.toml`.
+/// Where the picture of a job goes by default: `DATA/pictures/STEM.svg`, STEM the job file's name without `.toml`.
 fn default_picture(job: &Path, data: &Path) -> std::path::PathBuf {
     let stem = job
         .file_stem()
@@ -37,10 +37,11 @@ fn write_file(path: &Path, bytes: &[u8]) -> Result<String, String> {
     Ok(path.display().to_string())
 }
 
-/// Writes the picture of a spiral or wire model to `svg`, and a wire
-/// job's outline as DXF to `dxf`.
+/// Writes the picture of a hobbing, spiral or wire model to `svg`, and a
+/// wire job's outline as DXF to `dxf`.
 fn write_drawings(model: &crate::check::Drawing, report: &mut CheckReport, svg: &Path, dxf: &Path) {
     let files = match model {
+        crate::check::Drawing::Hobbing(m) => Ok((check::hobbing_svg(m), None)),
         crate::check::Drawing::Spiral(m) => Ok((check::spiral_picture(m), None)),
         crate::check::Drawing::Wire(m, made) => {
             crate::check::die_drawings(m, made).map(|(svg, dxf)| (svg, Some(dxf)))
@@ -142,4 +143,29 @@ fn finish(mut report: CheckReport, json: bool) -> ExitCode {
         crate::out!("{}", check::format_human(&report));
     }
     crate::exit::code(code)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A hobbing job's picture is written where asked and named in the
+    /// report's `picture`, as a spiral job's or a die's is; it has no DXF.
+    #[test]
+    fn a_hobbing_jobs_picture_is_written_and_named_in_the_report() {
+        let text = gearcam_testkit::examples::example("spur_840d.toml");
+        let spec = jobfile::parse(&text, "spur_840d.toml").unwrap();
+        let conn = gearcam_knowledge::db::open_in_memory().unwrap();
+        let (mut report, drawing) =
+            crate::check::check(&conn, &Templates::builtin(), &jobfile::request(spec));
+        let dir = tempfile::tempdir().unwrap();
+        let svg = dir.path().join("pictures").join("spur_840d.svg");
+        let dxf = svg.with_extension("dxf");
+        write_drawings(&drawing.expect("a model"), &mut report, &svg, &dxf);
+        let json = serde_json::to_value(&report).unwrap();
+        assert_eq!(json["picture"], svg.display().to_string());
+        assert!(json.get("drawing").is_none() && !dxf.exists());
+        let picture = std::fs::read_to_string(&svg).unwrap();
+        assert!(picture.starts_with("<svg") && picture.contains("hob Ø80"));
+    }
 }
