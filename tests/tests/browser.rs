@@ -6,6 +6,8 @@
 mod harness;
 #[path = "browser/jobs.rs"]
 mod jobs;
+#[path = "browser/pictures.rs"]
+mod pictures;
 #[path = "browser/kb.rs"]
 mod kb;
 

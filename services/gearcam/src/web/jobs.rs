@@ -133,6 +133,7 @@ async fn job_page(
                 dt { "program" } dd { code { (p.name) } " at " (s.machine) " (sha256 " code { (p.sha256) } ")" }
             }
         }
+        (super::pictures::section(&s))
         h2 { "Progress" }
         ol #progress { li { (gearcam_proto::utc_text(s.updated_at_ms)) " " (s.state.as_str()) } }
         @if !s.errors.is_empty() { h2 { "Errors" } (errors_table(&s.errors)) }

@@ -18,6 +18,7 @@ mod jobs;
 mod kb;
 mod live;
 pub mod new;
+mod pictures;
 
 use std::net::SocketAddr;
 
@@ -52,6 +53,7 @@ pub fn router(web: Web) -> Router {
         .merge(kb::routes())
         .merge(new::routes())
         .merge(live::routes())
+        .merge(pictures::routes())
         .route("/signout", post(auth::signout))
         .route_layer(axum::middleware::from_fn_with_state(
             web.clone(),
@@ -60,6 +62,7 @@ pub fn router(web: Web) -> Router {
     Router::new()
         .route("/signin", get(auth::signin_page).post(auth::signin))
         .route("/static/gearcam.js", get(script))
+        .route("/static/zoom.js", get(pictures::zoom_script))
         .merge(signed_in)
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
         .with_state(web)
@@ -157,6 +160,7 @@ pub fn page(title: &str, session: Option<&Session>, body: Markup) -> Markup {
                 title { (title) " · gearcam" }
                 style { (maud::PreEscaped(STYLE)) }
                 script src="/static/gearcam.js" defer {}
+                script src="/static/zoom.js" defer {}
             }
             body {
                 @if let Some(s) = session {
