@@ -122,6 +122,10 @@ pub struct JobStatus {
     /// The model's warnings (what to check before cutting), once modelled.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<crate::model::Warning>,
+    /// Parts to cut (the job's `[job] quantity`); 0 from a station that
+    /// does not say.
+    #[serde(default)]
+    pub quantity: u32,
 }
 
 impl Message for JobStatus {

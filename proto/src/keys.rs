@@ -338,6 +338,22 @@ pub fn station_job_model_of(key: &str) -> Option<&str> {
         .filter(|job| !job.contains('/'))
 }
 
+/// `gearcam/v1/station/jobs/{job}/request`: queryable with the request the
+/// station journaled for a job, the bytes of its [`crate::JobRequest`]
+/// message as submitted (so a client submits the same job again, under a
+/// new id), or a [`crate::StationReply::Refused`] for an unknown job.
+pub fn station_job_request(job: &JobId) -> String {
+    format!("{PREFIX}/station/jobs/{job}/request")
+}
+
+/// The raw job id of a station request key
+/// (`gearcam/v1/station/jobs/{job}/request`).
+pub fn station_job_request_of(key: &str) -> Option<&str> {
+    station_job_of(key)?
+        .strip_suffix("/request")
+        .filter(|job| !job.contains('/'))
+}
+
 /// `gearcam/v1/station/cancel/{user}/{job}`: queryable of the planning
 /// station; the query of `user` carries a [`crate::CancelRequest`], the
 /// reply is the job's [`crate::StationReply::Status`] (now `cancelled`) or a
@@ -657,6 +673,15 @@ mod tests {
         assert_eq!(station_job_model(&job), "gearcam/v1/station/jobs/J1/model");
         assert_eq!(station_job_model_of(&station_job_model(&job)), Some("J1"));
         assert_eq!(station_job_model_of(&station_job(&job)), None);
+        assert_eq!(
+            station_job_request(&job),
+            "gearcam/v1/station/jobs/J1/request"
+        );
+        assert_eq!(
+            station_job_request_of(&station_job_request(&job)),
+            Some("J1")
+        );
+        assert_eq!(station_job_request_of(&station_job_model(&job)), None);
         assert_eq!(
             station_job_model_of("gearcam/v1/station/jobs/a/b/model"),
             None

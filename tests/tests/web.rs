@@ -112,7 +112,8 @@ fn the_page_lists_the_journal_and_shows_each_job_as_text() {
         "{list}"
     );
     assert!(!list.contains(script), "a raw script in the page:\n{list}");
-    assert!(list.contains("2 of 2 job(s)"), "{list}");
+    // The count of parts: 20 of the spur example, 1 of the invalid one.
+    assert!(list.contains("2 of 2 job(s), 21 part(s)"), "{list}");
 
     // Filter by state and search by part number.
     let (_, failed_only) = get("/?state=failed");
@@ -135,6 +136,30 @@ fn the_page_lists_the_journal_and_shows_each_job_as_text() {
         page.contains("BASE_PITCH_MISMATCH") && page.contains("hob.module_mm"),
         "{page}"
     );
+
+    // Submitted again from its page: the same job under a new id, by the
+    // signed-in planner, refused again for the same reason.
+    let csrf = csrf_of(&page);
+    let (code, head, body) = http(
+        addr,
+        "POST",
+        &format!("/jobs/{failed}/resubmit"),
+        &format!("Cookie: {cookie}\r\nContent-Type: application/x-www-form-urlencoded\r\n"),
+        &format!("csrf={csrf}"),
+    );
+    assert_eq!(code, 303, "{head}\n{body}");
+    let again = head
+        .lines()
+        .find_map(|l| l.strip_prefix("location: /jobs/"))
+        .expect("the new job's page")
+        .to_string();
+    assert_ne!(again, failed);
+    let jobs = cluster.jobs().expect("the station lists its jobs");
+    let new = jobs
+        .iter()
+        .find(|j| j["job"] == again.as_str())
+        .expect("journaled");
+    assert_eq!(new["part_number"], "BAD-0001");
 
     // An unknown job, and a path that is no job id.
     let (code, _) = get("/jobs/NO-SUCH-JOB");

@@ -218,6 +218,30 @@ fn unexpected(reply: &StationReply) -> JobError {
     )
 }
 
+/// The request the station journaled for `job` (to submit the same job
+/// again), or the station's refusal (`UNKNOWN_JOB`, `BAD_JOB_ID`).
+pub async fn request(
+    bus: &Bus,
+    job: &JobId,
+) -> Result<Result<JobRequest, Vec<JobError>>, CallError> {
+    let bytes = bus
+        .call_bytes(&keys::station_job_request(job), None, Retry::default())
+        .await?;
+    if let Ok(StationReply::Refused { errors }) = decode::<StationReply>(&bytes) {
+        return Ok(Err(errors));
+    }
+    Ok(decode::<JobRequest>(&bytes).map_err(|e| {
+        vec![JobError::new(
+            gearcam_proto::Stage::Station,
+            Code::UNEXPECTED_REPLY,
+            "reply",
+            "the journaled request of the job (job_request)",
+            e.to_string(),
+            "the station answered with something else; is it another version?",
+        )]
+    }))
+}
+
 /// One line describing an event, for progress output.
 pub fn describe(ev: &JobEvent) -> String {
     match &ev.event {

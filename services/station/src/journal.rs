@@ -120,6 +120,12 @@ impl Journal {
         // picture): a journal from before the column gains it (its jobs
         // have none).
         add_column(&conn, "model", "BLOB")?;
+        // Parts to cut, kept beside the request so that a list of a
+        // thousand jobs does not decode a thousand requests: a journal
+        // from before the column gains it, filled from each job's request.
+        if add_column(&conn, "quantity", "INTEGER NOT NULL DEFAULT 0")? {
+            fill_quantities(&conn)?;
+        }
         gearcam_bus::durable::mark(path).map_err(|e| JournalError::Io {
             path: path.display().to_string(),
             source: e,
@@ -182,9 +188,9 @@ impl Journal {
             None => {
                 self.conn
                     .execute(
-                        "INSERT INTO jobs (job, machine, part_number, request, request_sha256, state, accepted_at_ms, updated_at_ms, next_attempt_ms)
-                         VALUES (?1, ?2, ?3, ?4, ?5, 'accepted', ?6, ?6, ?6)",
-                        params![req.job_id.as_str(), req.spec.job.machine.as_str(), req.spec.job.part_number, bytes, hash, now as i64],
+                        "INSERT INTO jobs (job, machine, part_number, request, request_sha256, state, accepted_at_ms, updated_at_ms, next_attempt_ms, quantity)
+                         VALUES (?1, ?2, ?3, ?4, ?5, 'accepted', ?6, ?6, ?6, ?7)",
+                        params![req.job_id.as_str(), req.spec.job.machine.as_str(), req.spec.job.part_number, bytes, hash, now as i64, req.spec.job.quantity],
                     )
                     .map_err(db_error)?;
             }
@@ -481,23 +487,27 @@ impl Journal {
             .transpose()
     }
 
-    /// The request of a job, decoded.
-    pub fn request(&self, job: &JobId) -> Result<Option<JobRequest>, JournalError> {
-        let bytes: Option<Vec<u8>> = self
+    /// The request of a job as journaled (its encoded message).
+    pub fn request_bytes(&self, job: &JobId) -> Result<Option<Vec<u8>>, JournalError> {
+        Ok(self
             .conn
             .query_row(
                 "SELECT request FROM jobs WHERE job = ?1",
                 [job.as_str()],
                 |r| r.get(0),
             )
-            .optional()?;
-        bytes
+            .optional()?)
+    }
+
+    /// The request of a job, decoded.
+    pub fn request(&self, job: &JobId) -> Result<Option<JobRequest>, JournalError> {
+        self.request_bytes(job)?
             .map(|b| decode(&b).map_err(|e| corrupt("request", e)))
             .transpose()
     }
 }
 
-const SELECT_STATUS: &str = "SELECT job, machine, part_number, state, attempts, accepted_at_ms, updated_at_ms, waiting_for, receipt_json, errors_json, warnings_json FROM jobs";
+const SELECT_STATUS: &str = "SELECT job, machine, part_number, state, attempts, accepted_at_ms, updated_at_ms, waiting_for, receipt_json, errors_json, warnings_json, quantity FROM jobs";
 
 type Parts = (
     String,
@@ -511,6 +521,7 @@ type Parts = (
     Option<String>,
     Option<String>,
     Option<String>,
+    u32,
 );
 
 fn row_parts(r: &rusqlite::Row<'_>) -> rusqlite::Result<Parts> {
@@ -526,6 +537,7 @@ fn row_parts(r: &rusqlite::Row<'_>) -> rusqlite::Result<Parts> {
         r.get(8)?,
         r.get(9)?,
         r.get(10)?,
+        r.get(11)?,
     ))
 }
 
@@ -542,6 +554,7 @@ fn status_from(p: Parts) -> Result<JobStatus, JournalError> {
         receipt,
         errors,
         warnings,
+        quantity,
     ) = p;
     let receipt: Option<DeliveryReceipt> = receipt
         .map(|j| serde_json::from_str(&j).map_err(|e| corrupt("receipt", e)))
@@ -571,17 +584,42 @@ fn status_from(p: Parts) -> Result<JobStatus, JournalError> {
         receipt,
         errors,
         warnings,
+        quantity,
     })
 }
 
 /// Adds the column `name` of type `decl` to the jobs table of a journal
 /// written before it existed; a journal that has it is left as it is.
-fn add_column(conn: &Connection, name: &str, decl: &str) -> Result<(), JournalError> {
+fn add_column(conn: &Connection, name: &str, decl: &str) -> Result<bool, JournalError> {
     let has: bool = conn
         .prepare("SELECT 1 FROM pragma_table_info('jobs') WHERE name = ?1")?
         .exists([name])?;
     if !has {
         conn.execute_batch(&format!("ALTER TABLE jobs ADD COLUMN {name} {decl}"))?;
+    }
+    Ok(!has)
+}
+
+/// Fills the new `quantity` column of a journal from each job's request.
+fn fill_quantities(conn: &Connection) -> Result<(), JournalError> {
+    let rows: Vec<(i64, Vec<u8>)> = conn
+        .prepare("SELECT seq, request FROM jobs")?
+        .query_map([], |r| Ok((r.get(0)?, r.get(1)?)))?
+        .collect::<Result<_, _>>()?;
+    for (seq, bytes) in rows {
+        // A request this version cannot read keeps 0: "not said", as from
+        // an older station; the job itself is left as it is.
+        match decode::<JobRequest>(&bytes) {
+            Ok(req) => {
+                conn.execute(
+                    "UPDATE jobs SET quantity = ?2 WHERE seq = ?1",
+                    params![seq, req.spec.job.quantity],
+                )?;
+            }
+            Err(e) => {
+                tracing::warn!(seq, error = %e, "a journaled request does not decode; its quantity stays unknown")
+            }
+        }
     }
     Ok(())
 }
@@ -653,6 +691,59 @@ mod tests {
         drop(journal);
         let journal = Journal::open(&path).unwrap();
         assert_eq!(journal.model(&old).unwrap(), Some(Some(b"model".to_vec())));
+    }
+
+    /// A journal from before the quantity column gains it, filled from
+    /// each job's request; a new job's quantity is kept as submitted.
+    #[test]
+    fn every_job_says_its_quantity_an_old_journal_too() {
+        let spec: gearcam_proto::JobSpec =
+            toml::from_str(include_str!("../../../examples/spur_840d.toml")).unwrap();
+        let request = |id: &str, quantity: u32| {
+            let mut spec = spec.clone();
+            spec.job.quantity = quantity;
+            JobRequest {
+                job_id: JobId::new(id).unwrap(),
+                submitted_at_ms: 1,
+                submitted_by: "test".into(),
+                spec,
+            }
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("station.db");
+        let conn = Connection::open(&path).unwrap();
+        conn.execute_batch(
+            "CREATE TABLE jobs (
+                 seq INTEGER PRIMARY KEY AUTOINCREMENT, job TEXT NOT NULL UNIQUE,
+                 machine TEXT NOT NULL, part_number TEXT NOT NULL, request BLOB NOT NULL,
+                 request_sha256 TEXT NOT NULL, state TEXT NOT NULL,
+                 attempts INTEGER NOT NULL DEFAULT 0, accepted_at_ms INTEGER NOT NULL,
+                 updated_at_ms INTEGER NOT NULL, next_attempt_ms INTEGER NOT NULL,
+                 waiting_for TEXT, receipt_json TEXT, errors_json TEXT);",
+        )
+        .unwrap();
+        conn.execute(
+            "INSERT INTO jobs (job, machine, part_number, request, request_sha256, state,
+                               accepted_at_ms, updated_at_ms, next_attempt_ms)
+             VALUES ('OLD-7', 'H01', 'SP-1001', ?1, '-', 'delivered', 1, 1, 1)",
+            [encode(&request("OLD-7", 7)).unwrap()],
+        )
+        .unwrap();
+        drop(conn);
+        let journal = Journal::open(&path).unwrap();
+        let old = journal
+            .status(&JobId::new("OLD-7").unwrap())
+            .unwrap()
+            .unwrap();
+        assert_eq!(old.quantity, 7);
+        let new = journal.submit(&request("NEW-12", 12), 5).unwrap();
+        assert_eq!(new.quantity, 12);
+        assert_eq!(
+            journal
+                .request_bytes(&JobId::new("NEW-12").unwrap())
+                .unwrap(),
+            Some(encode(&request("NEW-12", 12)).unwrap())
+        );
     }
 
     /// A model is kept while its job runs; once the job has ended, a model

@@ -166,6 +166,11 @@ pub async fn run(
                 models::reply(q, answer).await;
                 continue;
             }
+            if let Some(raw) = keys::station_job_request_of(&key) {
+                let answer = models::request_answer(&journal, raw);
+                models::reply(q, answer).await;
+                continue;
+            }
             let reply = view_reply(&journal, &key);
             reply_message(q, &reply).await;
         }

@@ -49,12 +49,14 @@ function followQueue(tbody) {
       const a = document.createElement("a");
       a.href = "/jobs/" + encodeURIComponent(ev.job);
       a.textContent = ev.job;
-      const cells = [a, "", "", "", ""].map((c) => {
+      // job, part number, parts, machine, state, updated: the page shows
+      // the rest when it is loaded again.
+      const cells = [a, "", "", "", "", ""].map((c) => {
         const td = document.createElement("td");
         if (typeof c === "string") td.textContent = c; else td.appendChild(c);
         return td;
       });
-      cells[3].className = "state";
+      cells[4].className = "state";
       cells.forEach((td) => row.appendChild(td));
       tbody.insertBefore(row, tbody.firstChild);
     }

@@ -20,6 +20,7 @@ pub(super) fn routes() -> Router<Web> {
     Router::new()
         .route("/", get(jobs_page))
         .route("/jobs/{job}", get(job_page))
+        .route("/jobs/{job}/resubmit", axum::routing::post(resubmit))
 }
 
 /// The job list's filter: a state and a search text.
@@ -68,14 +69,18 @@ async fn jobs_page(
             label { "Search " input type="search" name="q" value=(filter.q) placeholder="job id or part number"; }
             " " button type="submit" { "Filter" }
         }
-        p.count { (shown.len()) " of " (jobs.len()) " job(s)" }
+        p.count {
+            (shown.len()) " of " (jobs.len()) " job(s), "
+            (shown.iter().map(|s| u64::from(s.quantity)).sum::<u64>()) " part(s)"
+        }
         table {
-            thead { tr { th { "job" } th { "part number" } th { "machine" } th { "state" } th { "updated" } } }
+            thead { tr { th { "job" } th { "part number" } th { "parts" } th { "machine" } th { "state" } th { "updated" } } }
             tbody #jobs data-events="/events" {
                 @for s in &shown {
                     tr class=(s.state.as_str()) data-job=(s.job) {
                         td { a href=(format!("/jobs/{}", s.job)) { (s.job) } }
                         td { (s.part_number) }
+                        td.parts { (s.quantity) }
                         td { (s.machine) }
                         td.state { (s.state.as_str()) }
                         td { (gearcam_proto::utc_text(s.updated_at_ms)) }
@@ -133,6 +138,11 @@ async fn job_page(
                 dt { "program" } dd { code { (p.name) } " at " (s.machine) " (sha256 " code { (p.sha256) } ")" }
             }
         }
+        form method="post" action=(format!("/jobs/{}/resubmit", s.job)) {
+            (super::auth::csrf_input(&session))
+            button type="submit" id="resubmit" { "Submit again" }
+            " " small { "the same job under a new job id, as you" }
+        }
         (super::pictures::section(&s))
         h2 { "Progress" }
         ol #progress { li { (gearcam_proto::utc_text(s.updated_at_ms)) " " (s.state.as_str()) } }
@@ -146,4 +156,51 @@ async fn job_page(
         StatusCode::OK,
         page(&format!("Job {}", s.job), Some(&session), body),
     )
+}
+
+/// `POST /jobs/{job}/resubmit`: the job as the station journaled it,
+/// submitted again under a new id by the signed-in user; its page follows.
+async fn resubmit(
+    State(web): State<Web>,
+    Path(job): Path<String>,
+    form: super::auth::CsrfForm<super::auth::Empty>,
+) -> axum::response::Response {
+    use axum::response::IntoResponse;
+    let session = form.session;
+    let Ok(id) = JobId::new(job.clone()) else {
+        return super::auth::refuse(
+            StatusCode::NOT_FOUND,
+            &format!("job: expected a job id, got {job:?}"),
+        );
+    };
+    let old = match station::request(&web.bus, &id).await {
+        Ok(Ok(r)) => r,
+        Ok(Err(errors)) => {
+            return trouble(StatusCode::NOT_FOUND, &format!("job {id}"), &errors).into_response()
+        }
+        Err(e) => return unreachable(&e.to_string()).into_response(),
+    };
+    let mut spec = old.spec;
+    spec.job.id = None;
+    let req = gearcam_proto::JobRequest {
+        job_id: crate::jobfile::job_id(&spec),
+        submitted_at_ms: gearcam_proto::now_ms(),
+        submitted_by: session.user.name.clone(),
+        spec,
+    };
+    let opts = station::SubmitOptions {
+        wait: false,
+        alive_timeout: std::time::Duration::from_secs(5),
+        timeout: std::time::Duration::from_secs(10),
+    };
+    match station::submit(&web.bus, &req, &opts, |_| {}).await {
+        Ok(station::Outcome::Failed(errors)) => trouble(
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "The station refused the job",
+            &errors,
+        )
+        .into_response(),
+        Ok(_) => axum::response::Redirect::to(&format!("/jobs/{}", req.job_id)).into_response(),
+        Err(e) => unreachable(&e.to_string()).into_response(),
+    }
 }

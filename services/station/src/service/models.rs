@@ -8,7 +8,8 @@
 //! family, names the job of its key, and was computed from the very request
 //! the station journaled for that job (so its machine is the job's). Any
 //! other is logged and dropped. The answer is the model's message as
-//! published, read with [`gearcam_proto::AnyModel`].
+//! published, read with [`gearcam_proto::AnyModel`]. The job's request is
+//! answered the same way on `gearcam/v1/station/jobs/{job}/request`.
 
 use gearcam_proto::{
     keys, AnyModel, Code, Incoming, JobError, JobId, JobRequest, Stage, StationReply,
@@ -100,7 +101,18 @@ pub(super) fn answer(journal: &Journal, raw: &str) -> Result<Vec<u8>, JobError> 
     }
 }
 
-/// Sends the [`answer`] to a model view
+/// The answer to a request view of `raw` (the key's job id as given): the
+/// request's message as journaled, or the station's refusal.
+pub(super) fn request_answer(journal: &Journal, raw: &str) -> Result<Vec<u8>, JobError> {
+    let job = JobId::new(raw).map_err(|e| JobError::bad_id(Stage::Station, "job_id", &e))?;
+    match journal.request_bytes(&job) {
+        Ok(Some(bytes)) => Ok(bytes),
+        Ok(None) => Err(unknown_job(&job)),
+        Err(e) => Err(journal_error(e)),
+    }
+}
+
+/// Sends the [`answer`] (or [`request_answer`]) to a model (or request) view
 /// (`gearcam/v1/station/jobs/{job}/model`).
 pub(super) async fn reply(q: Query, answer: Result<Vec<u8>, JobError>) {
     match answer {
