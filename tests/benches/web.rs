@@ -40,8 +40,6 @@
 #[path = "../tests/browser/harness.rs"]
 mod harness;
 
-use std::io::{Read, Write};
-use std::net::TcpStream;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
@@ -49,7 +47,7 @@ use anyhow::{anyhow, bail, ensure, Context, Result};
 use gearcam_proto::{
     decode, encode, keys, now_ms, JobEvent, JobId, JobRequest, JobSpec, MachineId, StationReply,
 };
-use gearcam_testkit::web_password;
+use gearcam_testkit::web::{http, sign_in};
 use harness::{Browser, Shop};
 use zenoh::Session;
 
@@ -119,7 +117,7 @@ async fn bench(opts: Options) -> Result<()> {
     );
 
     let addr = shop.base.trim_start_matches("http://").to_string();
-    let cookie = sign_in(&addr, "planner")?;
+    let cookie = sign_in(&addr, "planner");
     let one = format!("/jobs/WB-{:05}", opts.jobs / 2);
     let search = format!("/?q=WBP-{:05}", opts.jobs / 3);
     println!("\n  page (server-side, request → last byte)     p50        p95        target");
@@ -321,45 +319,7 @@ async fn wait_delivered(session: &Session, n: usize) -> Result<()> {
     }
 }
 
-/// Signs in: the session cookie.
-fn sign_in(addr: &str, name: &str) -> Result<String> {
-    let (code, head, _) = http(
-        addr,
-        &format!(
-            "POST /signin HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\nContent-Type: application/x-www-form-urlencoded\r\nContent-Length: {len}\r\n\r\nname={name}&password={pw}",
-            len = format!("name={name}&password={}", web_password(name)).len(),
-            pw = web_password(name)
-        ),
-    )?;
-    ensure!(code == 303, "sign-in: {code}\n{head}");
-    head.lines()
-        .find_map(|l| l.strip_prefix("set-cookie: "))
-        .and_then(|c| c.split(';').next())
-        .map(str::to_string)
-        .context("no session cookie")
-}
-
 fn get(addr: &str, path: &str, cookie: &str) -> Result<(u16, String)> {
-    let (code, _, body) = http(
-        addr,
-        &format!(
-            "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\nCookie: {cookie}\r\n\r\n"
-        ),
-    )?;
+    let (code, _, body) = http(addr, "GET", path, &format!("Cookie: {cookie}\r\n"), "");
     Ok((code, body))
-}
-
-fn http(addr: &str, request: &str) -> Result<(u16, String, String)> {
-    let mut s = TcpStream::connect(addr)?;
-    s.write_all(request.as_bytes())?;
-    let mut raw = Vec::new();
-    s.read_to_end(&mut raw)?;
-    let text = String::from_utf8_lossy(&raw).into_owned();
-    let (head, body) = text.split_once("\r\n\r\n").context("not HTTP")?;
-    let code = head
-        .split_whitespace()
-        .nth(1)
-        .and_then(|c| c.parse().ok())
-        .context("no status")?;
-    Ok((code, head.to_string(), body.to_string()))
 }

@@ -101,3 +101,78 @@ fn every_key_a_service_uses_is_granted_on_the_secure_deployment() {
     assert_eq!(code, Some(1), "{v}");
     assert_eq!(v["errors"][0]["code"], "UNKNOWN_MACHINE", "{v}");
 }
+
+/// The web page's server on the secure deployment, under its own login
+/// (`deploy/secure/web.json5`): a planner signed in to the page submits a
+/// job and follows it to delivery, reads the queue, the job, its picture,
+/// its program and the knowledge base, and the router refuses none of it.
+#[test]
+fn the_web_pages_own_login_is_granted_what_its_users_do() {
+    use gearcam_testkit::web::{csrf_of, http, sign_in};
+    let secure = Secure::start_auditing();
+    let users = gearcam_testkit::web_users(secure.dir());
+    let web = gearcam_testkit::Proc::start(
+        secure.dir(),
+        "web",
+        "gearcam",
+        &[
+            "web".to_string(),
+            "--listen".into(),
+            "127.0.0.1:0".into(),
+            "--users".into(),
+            users.display().to_string(),
+            "--data".into(),
+            secure.dir().display().to_string(),
+            "--config".into(),
+            secure.cfg("web").display().to_string(),
+        ],
+    );
+    let line = web.wait_for_line("gearcam web: http://", std::time::Duration::from_secs(30));
+    let addr = line.trim_end_matches('/');
+    let cookie = sign_in(addr, "planner");
+    let with_cookie = format!("Cookie: {cookie}\r\n");
+    let (code, _, form) = http(addr, "GET", "/new/hobbing", &with_cookie, "");
+    assert_eq!(code, 200, "{form}");
+    let fields = format!(
+        "csrf={}&action=submit&job.machine=H01&job.part_number=WEB-1&job.quantity=3&gear.module_mm=3.0&gear.teeth=25&gear.face_width_mm=30&gear.material=C45&gear.fixture_height_mm=100&hob.id=HOB-M3-80",
+        csrf_of(&form)
+    );
+    let (code, head, body) = http(
+        addr,
+        "POST",
+        "/new/hobbing",
+        &format!("{with_cookie}Content-Type: application/x-www-form-urlencoded\r\n"),
+        &fields,
+    );
+    assert_eq!(code, 303, "{head}\n{body}\n{}", secure.logs());
+    let job = head
+        .lines()
+        .find_map(|l| l.strip_prefix("location: "))
+        .expect("the job's page")
+        .to_string();
+    // Up to a minute, in steps of 200 ms.
+    let delivered = (0..300).any(|_| {
+        let (code, _, page) = http(addr, "GET", &job, &with_cookie, "");
+        assert_eq!(code, 200, "{page}");
+        let done = page.contains("\">delivered</dd>");
+        if !done {
+            std::thread::sleep(std::time::Duration::from_millis(200));
+        }
+        done
+    });
+    assert!(
+        delivered,
+        "not delivered within a minute\n{}",
+        secure.logs()
+    );
+    for path in [
+        "/".to_string(),
+        format!("{job}/picture.svg"),
+        format!("{job}/program"),
+        "/kb/hobs".to_string(),
+    ] {
+        let (code, _, page) = http(addr, "GET", &path, &with_cookie, "");
+        assert_eq!(code, 200, "{path}: {page}");
+    }
+    assert_eq!(secure.denials(), Vec::<String>::new(), "{}", secure.logs());
+}

@@ -20,6 +20,7 @@ pub mod flood;
 pub mod pipeline;
 pub mod process;
 pub mod secure;
+pub mod web;
 
 pub use process::{
     bin, client_config, gearcam, start_web, wait_for_port, web_password, web_users, Cluster, Proc,
