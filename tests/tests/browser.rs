@@ -6,10 +6,12 @@
 mod harness;
 #[path = "browser/jobs.rs"]
 mod jobs;
-#[path = "browser/pictures.rs"]
-mod pictures;
 #[path = "browser/kb.rs"]
 mod kb;
+#[path = "browser/pictures.rs"]
+mod pictures;
+#[path = "browser/stores.rs"]
+mod stores;
 
 use fantoccini::Locator;
 use harness::{Browser, Shop};
@@ -25,7 +27,7 @@ async fn a_user_signs_in_and_sees_the_queue() {
     b.screenshot("signin").await;
     b.sign_in(&shop, "planner").await;
     b.wait_for_text("h1", "Jobs").await;
-    b.screenshot("jobs").await;
+    b.screenshot("jobs-empty").await;
     b.client
         .find(Locator::Id("signout"))
         .await

@@ -121,7 +121,7 @@ async fn ask(
 }
 
 /// The machines whose agents have a liveliness token on the bus, sorted.
-async fn agents_on_the_bus(bus: &Bus) -> Vec<String> {
+pub async fn agents_on_the_bus(bus: &Bus) -> Vec<String> {
     let Ok(replies) = bus
         .session()
         .liveliness()

@@ -135,7 +135,7 @@ async fn job_page(
             dt { "updated" } dd { (gearcam_proto::utc_text(s.updated_at_ms)) }
             dt { "sent" } dd { (s.attempts) " time(s)" }
             @if let Some(p) = &s.program {
-                dt { "program" } dd { code { (p.name) } " at " (s.machine) " (sha256 " code { (p.sha256) } ")" }
+                dt { "program" } dd { a href=(super::stores::program_href(&s.machine, &p.name)) { code { (p.name) } } " at " (s.machine) " (sha256 " code { (p.sha256) } ")" }
             }
         }
         form method="post" action=(format!("/jobs/{}/resubmit", s.job)) {

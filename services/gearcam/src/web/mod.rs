@@ -19,6 +19,7 @@ mod kb;
 mod live;
 pub mod new;
 mod pictures;
+mod stores;
 
 use std::net::SocketAddr;
 
@@ -54,6 +55,7 @@ pub fn router(web: Web) -> Router {
         .merge(new::routes())
         .merge(live::routes())
         .merge(pictures::routes())
+        .merge(stores::routes())
         .route("/signout", post(auth::signout))
         .route_layer(axum::middleware::from_fn_with_state(
             web.clone(),
@@ -168,6 +170,7 @@ pub fn page(title: &str, session: Option<&Session>, body: Markup) -> Markup {
                         a href="/" { "Jobs" } " "
                         a href="/new" { "New job" } " "
                         a href="/kb" { "Knowledge base" } " "
+                        a href="/machines" { "Programs" } " "
                         span.who { (s.user.name) " (" (s.user.role.as_str()) ") " }
                         form.inline method="post" action="/signout" {
                             (auth::csrf_input(s))
