@@ -136,6 +136,33 @@ fn the_page_lists_the_journal_and_shows_each_job_as_text() {
         "name=planner&password=guess",
     );
     assert_eq!(code, 401, "{body}");
+    // A sign-in from another site is refused; after a sign-in, only a path
+    // of this server is followed (a tab, which browsers drop, does not make
+    // `/<tab>/host` another host).
+    let form = "Content-Type: application/x-www-form-urlencoded\r\n";
+    let (code, _, _) = http(
+        addr,
+        "POST",
+        "/signin",
+        &format!("{form}Origin: http://evil.example\r\n"),
+        &format!(
+            "name=planner&password={}",
+            gearcam_testkit::web_password("planner")
+        ),
+    );
+    assert_eq!(code, 403);
+    let (code, head, _) = http(
+        addr,
+        "POST",
+        "/signin",
+        form,
+        &format!(
+            "name=planner&password={}&next=%2F%09%2Fevil.example",
+            gearcam_testkit::web_password("planner")
+        ),
+    );
+    assert_eq!(code, 303, "{head}");
+    assert!(head.contains("location: /\r\n"), "{head}");
     let form = "Content-Type: application/x-www-form-urlencoded\r\n";
     let with_cookie = format!("{form}Cookie: {cookie}\r\n");
     let (code, _, body) = http(addr, "POST", "/signout", &with_cookie, "csrf=forged");

@@ -150,7 +150,7 @@ pub fn web_user(users_path: &Path, name: &str, role: &str, machines: Vec<Machine
         );
     }
     crate::outln!(
-        "gearcam web-user: {name} ({}) in {}",
+        "gearcam web-user: {name} ({}) in {}; a running page takes it when restarted",
         role.as_str(),
         users_path.display()
     );

@@ -35,6 +35,8 @@ use super::{page, Web};
 pub const SESSION_COOKIE: &str = "gearcam_session";
 /// The form field that carries the CSRF token.
 pub const CSRF_FIELD: &str = "csrf";
+/// Password checks (Argon2, about 19 MiB each) running at once at most.
+const PASSWORD_CHECKS_AT_ONCE: usize = 2;
 /// A session ends after this long without a request.
 const IDLE: Duration = Duration::from_secs(8 * 3600);
 
@@ -157,8 +159,8 @@ impl Users {
             std::fs::create_dir_all(dir)?;
         }
         let tmp = path.with_extension("tmp");
-        std::fs::write(&tmp, text)?;
-        restrict(&tmp)?;
+        let _ = std::fs::remove_file(&tmp);
+        write_private(&tmp, text.as_bytes())?;
         std::fs::rename(&tmp, path)?;
         Ok(())
     }
@@ -191,15 +193,30 @@ impl Users {
 /// The hash of a password nobody has, checked for an unknown user name.
 const DUMMY_HASH: &str = "$argon2id$v=19$m=19456,t=2,p=1$c29tZXNhbHRzb21lc2FsdA$0tbXk3aPqB1YVaVCVHHIaOgVjEySvq4hiOt0bxmTbnk";
 
+/// Writes `bytes` to a new file `path` readable by its owner only from
+/// the start (never for a moment by others); an existing file is refused.
 #[cfg(unix)]
-fn restrict(path: &Path) -> std::io::Result<()> {
-    use std::os::unix::fs::PermissionsExt;
-    std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o600))
+fn write_private(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write;
+    use std::os::unix::fs::OpenOptionsExt;
+    let mut f = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .mode(0o600)
+        .open(path)?;
+    f.write_all(bytes)?;
+    f.sync_all()
 }
 
 #[cfg(not(unix))]
-fn restrict(_path: &Path) -> std::io::Result<()> {
-    Ok(())
+fn write_private(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write;
+    let mut f = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(path)?;
+    f.write_all(bytes)?;
+    f.sync_all()
 }
 
 /// The Argon2id hash (PHC form, a fresh random salt) of `password`.
@@ -271,6 +288,8 @@ pub struct Auth {
     pub users: Arc<Users>,
     /// The signed-in sessions.
     pub sessions: Sessions,
+    /// Permits for password checks running at once.
+    pub checking: Arc<tokio::sync::Semaphore>,
 }
 
 impl Auth {
@@ -280,6 +299,7 @@ impl Auth {
             path: path.to_path_buf(),
             users: Arc::new(Users::load(path)?),
             sessions: Sessions::default(),
+            checking: Arc::new(tokio::sync::Semaphore::new(PASSWORD_CHECKS_AT_ONCE)),
         })
     }
 }
@@ -329,12 +349,24 @@ fn signin_form(next: &str, refused: Option<&str>) -> (StatusCode, maud::Markup) 
 /// `POST /signin`: a session for the right password, else the form again.
 pub async fn signin(
     State(web): State<Web>,
+    headers: HeaderMap,
     jar: CookieJar,
     axum::Form(form): axum::Form<SignIn>,
 ) -> Response {
+    if !same_origin(&headers) {
+        return refuse(
+            StatusCode::FORBIDDEN,
+            "a sign-in from another site is refused",
+        );
+    }
     let users = web.auth.users.clone();
     let (name, password) = (form.name.clone(), form.password.clone());
-    // Argon2 is slow on purpose: off the async threads.
+    // Argon2 is slow and takes memory on purpose: off the async threads,
+    // and only a few at once, so a flood of sign-ins queues instead of
+    // exhausting the memory.
+    let Ok(_permit) = web.auth.checking.clone().acquire_owned().await else {
+        return refuse(StatusCode::SERVICE_UNAVAILABLE, "the page is stopping");
+    };
     let user = tokio::task::spawn_blocking(move || users.verify(&name, &password).cloned())
         .await
         .ok()
@@ -354,7 +386,16 @@ pub async fn signin(
 
 /// Only a path on this server (`/…`, not `//host`) is followed after sign-in.
 fn safe_next(next: &str) -> &str {
-    if next.starts_with('/') && !next.starts_with("//") && !next.contains('\\') {
+    // A path of this server only: `/` then a path character, never a
+    // second `/` or `\` (another host), no control character, space or
+    // encoded control character (browsers drop tabs and newlines, turning
+    // `/<tab>/host` into `//host`).
+    let path_char = |c: char| c.is_ascii_alphanumeric() || "/_.~%?=&-".contains(c);
+    let on_this_server = next.starts_with('/')
+        && !matches!(next.chars().nth(1), Some('/' | '\\'))
+        && next.chars().all(path_char)
+        && !next.contains("%0");
+    if on_this_server {
         next
     } else {
         "/"
@@ -549,8 +590,7 @@ pub fn first_users(path: &Path, passwords: &Path, machines: &[MachineId]) -> any
         });
     }
     users.save(path)?;
-    std::fs::write(passwords, list)?;
-    restrict(passwords)?;
+    write_private(passwords, list.as_bytes())?;
     Ok(true)
 }
 
@@ -597,6 +637,10 @@ mod tests {
         assert_eq!(safe_next("//evil.example/"), "/");
         assert_eq!(safe_next("https://evil.example/"), "/");
         assert_eq!(safe_next("/\\evil"), "/");
+        assert_eq!(safe_next("/\t/evil.example"), "/");
+        assert_eq!(safe_next("/%09/evil.example"), "/");
+        assert_eq!(safe_next("/%0A"), "/");
+        assert_eq!(safe_next("/?state=failed&q=SP-1"), "/?state=failed&q=SP-1");
     }
 
     #[test]

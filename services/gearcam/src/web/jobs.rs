@@ -176,7 +176,15 @@ async fn resubmit(
     let old = match station::request(&web.bus, &id).await {
         Ok(Ok(r)) => r,
         Ok(Err(errors)) => {
-            return trouble(StatusCode::NOT_FOUND, &format!("job {id}"), &errors).into_response()
+            let status = if errors
+                .iter()
+                .all(|e| e.code == gearcam_proto::Code::UNKNOWN_JOB)
+            {
+                StatusCode::NOT_FOUND
+            } else {
+                StatusCode::BAD_GATEWAY
+            };
+            return trouble(status, &format!("job {id}"), &errors).into_response();
         }
         Err(e) => return unreachable(&e.to_string()).into_response(),
     };

@@ -100,7 +100,15 @@ async fn stream(web: &Web, key: String, job: Option<JobId>) -> Response {
         }
     }
     tokio::spawn(async move {
-        while let Ok(sample) = subscriber.recv_async().await {
+        loop {
+            // Until the page goes away, even when no event comes.
+            let sample = tokio::select! {
+                () = tx.closed() => break,
+                s = subscriber.recv_async() => match s {
+                    Ok(s) => s,
+                    Err(_) => break,
+                },
+            };
             let Ok(ev) = decode::<JobEvent>(&sample.payload().to_bytes()) else {
                 continue;
             };

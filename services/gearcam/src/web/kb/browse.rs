@@ -241,6 +241,18 @@ pub(super) async fn changes(
     };
     let lib = q.library.trim();
     let rec = q.record.trim();
+    // Each a library's name and a record's id, never a key pattern.
+    if !lib.is_empty() {
+        let library = match lib_of(&session, lib) {
+            Ok(l) => l,
+            Err(refusal) => return refusal,
+        };
+        if !rec.is_empty() {
+            if let Err(refusal) = id_of(&session, &library, rec) {
+                return refusal;
+            }
+        }
+    }
     let (lib, rec) = (
         (!lib.is_empty()).then_some(lib),
         (!rec.is_empty() && !lib.is_empty()).then_some(rec),

@@ -26,7 +26,7 @@ use crate::web::{page, Web};
 fn version_cells(v: &ProgramVersion, versions: &[ProgramVersion]) -> Markup {
     html! {
         td { (v.seq) } td { (made_by(v, versions)) } td { (v.job) } td { (utc_text(v.stored_at_ms)) }
-        td { code { (&v.sha256[..12.min(v.sha256.len())]) } }
+        td { code { (v.sha256.chars().take(12).collect::<String>()) } }
     }
 }
 

@@ -76,7 +76,7 @@ pub(super) async fn machine_page(
                 thead { tr { th { "program" } th { "current version" } th { "state" } th { "stored at" } th { "job" } th { "part" } th { "versions" } th { "" } } }
                 tbody {
                     @for (name, versions) in &programs {
-                        @let cur = versions[0];
+                        @let cur = versions.iter().copied().find(|v| v.current).unwrap_or(versions[0]);
                         @let conflict = jobs.as_deref().is_some_and(|j| !conflicts(j, &machine, cur).is_empty());
                         tr data-program=(name) {
                             td { a href=(program_href(&machine, name)) { (name) } }

@@ -211,7 +211,7 @@ fn versions_table(
                         td { a href=(format!("/jobs/{}", segment(&v.job))) { (v.job) } }
                         (provenance_cells(headers.get(&v.seq)))
                         td { (utc_text(v.stored_at_ms)) }
-                        td { code { (&v.sha256[..12.min(v.sha256.len())]) } }
+                        td { code { (v.sha256.chars().take(12).collect::<String>()) } }
                         td { (v.size_bytes) }
                         td {
                             a href=(format!("{href}/versions/{}", v.seq)) { "text" } " · "
@@ -265,7 +265,7 @@ fn conflict_box(
             h2 { "Changed at the machine: a conflict to review" }
             p {
                 "The file " code { (current.file_name) } " at " (machine) " is no longer gearcam's current version "
-                (current.seq) " (sha256 " code { (&current.sha256[..12.min(current.sha256.len())]) } "): it was edited at the machine. "
+                (current.seq) " (sha256 " code { (current.sha256.chars().take(12).collect::<String>()) } "): it was edited at the machine. "
                 "The agent kept the edit and overwrites nothing; these jobs wait for a decision:"
             }
             ul {
