@@ -462,26 +462,12 @@ impl Journal {
     /// The model journaled for `job` (its encoded message): `None` for an
     /// unknown job, `Some(None)` for a job without one yet.
     pub fn model(&self, job: &JobId) -> Result<Option<Option<Vec<u8>>>, JournalError> {
-        Ok(self
-            .conn
-            .query_row(
-                "SELECT model FROM jobs WHERE job = ?1",
-                [job.as_str()],
-                |r| r.get(0),
-            )
-            .optional()?)
+        self.column(Column::Model, job)
     }
 
     /// The machine of `job`, if journaled.
     pub fn machine(&self, job: &JobId) -> Result<Option<MachineId>, JournalError> {
-        let machine: Option<String> = self
-            .conn
-            .query_row(
-                "SELECT machine FROM jobs WHERE job = ?1",
-                [job.as_str()],
-                |r| r.get(0),
-            )
-            .optional()?;
+        let machine: Option<String> = self.column(Column::Machine, job)?;
         machine
             .map(|m| MachineId::new(m).map_err(|e| corrupt("machine", e)))
             .transpose()
@@ -489,13 +475,24 @@ impl Journal {
 
     /// The request of a job as journaled (its encoded message).
     pub fn request_bytes(&self, job: &JobId) -> Result<Option<Vec<u8>>, JournalError> {
+        self.column(Column::Request, job)
+    }
+
+    /// One column of `job`'s row: `None` for an unknown job.
+    fn column<T: rusqlite::types::FromSql>(
+        &self,
+        column: Column,
+        job: &JobId,
+    ) -> Result<Option<T>, JournalError> {
+        let sql = match column {
+            Column::Model => "SELECT model FROM jobs WHERE job = ?1",
+            Column::Machine => "SELECT machine FROM jobs WHERE job = ?1",
+            Column::Request => "SELECT request FROM jobs WHERE job = ?1",
+        };
         Ok(self
             .conn
-            .query_row(
-                "SELECT request FROM jobs WHERE job = ?1",
-                [job.as_str()],
-                |r| r.get(0),
-            )
+            .prepare_cached(sql)?
+            .query_row([job.as_str()], |r| r.get(0))
             .optional()?)
     }
 
@@ -505,6 +502,14 @@ impl Journal {
             .map(|b| decode(&b).map_err(|e| corrupt("request", e)))
             .transpose()
     }
+}
+
+/// A column read by job ([`Journal::column`]).
+#[derive(Debug, Clone, Copy)]
+enum Column {
+    Model,
+    Machine,
+    Request,
 }
 
 const SELECT_STATUS: &str = "SELECT job, machine, part_number, state, attempts, accepted_at_ms, updated_at_ms, waiting_for, receipt_json, errors_json, warnings_json, quantity FROM jobs";

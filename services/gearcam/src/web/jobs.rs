@@ -110,14 +110,7 @@ async fn job_page(
     let s = match station::status(&web.bus, &id).await {
         Ok(Ok(s)) => s,
         Ok(Err(errors)) => {
-            let status = if errors
-                .iter()
-                .all(|e| e.code == gearcam_proto::Code::UNKNOWN_JOB)
-            {
-                StatusCode::NOT_FOUND
-            } else {
-                StatusCode::BAD_GATEWAY
-            };
+            let status = super::refusal_status(&errors);
             return trouble(status, &format!("job {id}"), &errors);
         }
         Err(e) => return unreachable(&e.to_string()),
@@ -176,14 +169,7 @@ async fn resubmit(
     let old = match station::request(&web.bus, &id).await {
         Ok(Ok(r)) => r,
         Ok(Err(errors)) => {
-            let status = if errors
-                .iter()
-                .all(|e| e.code == gearcam_proto::Code::UNKNOWN_JOB)
-            {
-                StatusCode::NOT_FOUND
-            } else {
-                StatusCode::BAD_GATEWAY
-            };
+            let status = super::refusal_status(&errors);
             return trouble(status, &format!("job {id}"), &errors).into_response();
         }
         Err(e) => return unreachable(&e.to_string()).into_response(),

@@ -110,6 +110,20 @@ const SCRIPT: &str = include_str!("gearcam.js");
 /// A page answered with `status`.
 pub type Page = (StatusCode, Markup);
 
+/// The status of a page for a station's refusal: 404 when every error
+/// says the station has no such job (or no model of it), else 502.
+pub fn refusal_status(errors: &[gearcam_proto::JobError]) -> StatusCode {
+    use gearcam_proto::Code;
+    if errors
+        .iter()
+        .all(|e| matches!(e.code, Code::UNKNOWN_JOB | Code::MODEL_NOT_JOURNALED))
+    {
+        StatusCode::NOT_FOUND
+    } else {
+        StatusCode::BAD_GATEWAY
+    }
+}
+
 /// Typed errors as a table: stage, code, field, expected, given, message.
 pub fn errors_table(errors: &[gearcam_proto::JobError]) -> Markup {
     html! {

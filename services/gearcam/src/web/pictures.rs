@@ -104,19 +104,6 @@ fn job_id(raw: &str, session: Option<&Session>) -> Result<JobId, Page> {
     })
 }
 
-/// The status for the station's typed refusal: not found when it only
-/// says it has no such job or model.
-fn refusal_status(errors: &[JobError]) -> StatusCode {
-    if errors
-        .iter()
-        .all(|e| matches!(e.code, Code::UNKNOWN_JOB | Code::MODEL_NOT_JOURNALED))
-    {
-        StatusCode::NOT_FOUND
-    } else {
-        StatusCode::BAD_GATEWAY
-    }
-}
-
 /// The job's model from the station's journal.
 async fn model(web: &Web, job: &JobId) -> Result<AnyModel, Page> {
     let bytes = match web
@@ -134,7 +121,7 @@ async fn model(web: &Web, job: &JobId) -> Result<AnyModel, Page> {
             Ok(other) => return Err(undecodable(job, &format!("{other:?}"))),
             Err(e) => return Err(undecodable(job, &e.to_string())),
         };
-        let status = refusal_status(&errors);
+        let status = super::refusal_status(&errors);
         return Err(trouble(status, &format!("the model of job {job}"), &errors));
     }
     let model = AnyModel::decode_incoming(&bytes).map_err(|e| undecodable(job, &e.to_string()))?;
@@ -241,7 +228,7 @@ async fn delivered(web: &Web, job: &JobId) -> Result<(JobStatus, ProgramText), P
         Ok(Ok(s)) => s,
         Ok(Err(errors)) => {
             return Err(trouble(
-                refusal_status(&errors),
+                super::refusal_status(&errors),
                 &format!("job {job}"),
                 &errors,
             ))
