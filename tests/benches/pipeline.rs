@@ -24,8 +24,12 @@
 //!    holds exactly one file per job (plus the warm-up job's), with one index
 //!    row each and the hashes of the receipts.
 //!
-//! By Little's law the latency under load is about window ÷ throughput; use
-//! a small `--window` to see the latency of a lightly loaded pipeline.
+//! It runs twice: a throughput run (`--jobs`, default 2000, at window 64,
+//! held to ≥ 1,000 jobs/s) and a latency run (`--latency-jobs`, default 500,
+//! at window 1, held to a submit→receipt p99 ≤ 10 ms), each beside raw Zenoh
+//! at the same window; the last lines say whether each target is met. With
+//! `--window W` it makes one run at that window instead. By Little's law the
+//! latency under load is about window ÷ throughput.
 //!
 //! # Running it
 //!
@@ -91,17 +95,21 @@ const JOB_TIMEOUT: Duration = Duration::from_secs(120);
 /// Command-line options (after `--`).
 #[derive(Debug, Clone, Copy)]
 struct Options {
-    /// Jobs to submit (and echo queries to send).
+    /// Jobs to submit (and echo queries to send) in the throughput run.
     jobs: usize,
-    /// Most jobs (queries) in flight at once.
-    window: usize,
+    /// Jobs of the latency run (window 1).
+    latency_jobs: usize,
+    /// Most jobs (queries) in flight at once: given, one run at this window;
+    /// not given, a throughput run at 64 and a latency run at 1.
+    window: Option<usize>,
 }
 
 impl Options {
     fn parse(args: impl Iterator<Item = String>) -> Result<Options> {
         let mut opts = Options {
             jobs: 2000,
-            window: 64,
+            latency_jobs: 500,
+            window: None,
         };
         let mut args = args;
         while let Some(arg) = args.next() {
@@ -117,16 +125,17 @@ impl Options {
             };
             match arg.as_str() {
                 "--jobs" => opts.jobs = number("--jobs")?,
-                "--window" => opts.window = number("--window")?,
+                "--window" => opts.window = Some(number("--window")?),
+                "--latency-jobs" => opts.latency_jobs = number("--latency-jobs")?,
                 // `cargo bench` passes `--bench` to every bench binary.
                 "--bench" => {}
                 other => bail!(
-                    "unknown argument {other:?}; usage: cargo bench -p gearcam-tests --bench pipeline -- [--jobs N] [--window W]"
+                    "unknown argument {other:?}; usage: cargo bench -p gearcam-tests --bench pipeline -- [--jobs N] [--latency-jobs M] [--window W]"
                 ),
             }
         }
         ensure!(
-            opts.jobs <= 99_999,
+            opts.jobs + opts.latency_jobs <= 99_999,
             "--jobs is at most 99999 (job ids are BENCH-00000 … BENCH-99999)"
         );
         Ok(opts)
@@ -147,9 +156,14 @@ fn run() -> Result<()> {
     let opts = Options::parse(std::env::args().skip(1))?;
     let bin_dir = check_binaries()?;
     println!(
-        "gearcam pipeline benchmark: {} jobs, window {}, binaries from {}",
-        opts.jobs,
-        opts.window,
+        "gearcam pipeline benchmark: {}, binaries from {}",
+        match opts.window {
+            Some(w) => format!("{} jobs at window {w}", opts.jobs),
+            None => format!(
+                "{} jobs at window 64, then {} at window 1",
+                opts.jobs, opts.latency_jobs
+            ),
+        },
         bin_dir.display()
     );
     let cluster = Cluster::start();
@@ -196,6 +210,27 @@ fn check_binaries() -> Result<PathBuf> {
     Ok(dir)
 }
 
+/// One run of the pipeline beside raw Zenoh at the same window, and the
+/// target it is held to.
+struct Phase {
+    jobs: usize,
+    window: usize,
+    /// The first job's number (job ids of phases do not overlap).
+    first: usize,
+    target: Target,
+}
+
+/// What a phase is held to.
+#[derive(Clone, Copy)]
+enum Target {
+    /// At least this many jobs per second.
+    Throughput(f64),
+    /// A submit→receipt p99 of at most this many milliseconds.
+    P99(f64),
+    /// None: a run with the window given on the command line.
+    None,
+}
+
 async fn bench(cluster: &Cluster, opts: Options) -> Result<()> {
     let session = open_session(&cluster.endpoint).await?;
     wait_alive(&session).await?;
@@ -211,47 +246,99 @@ async fn bench(cluster: &Cluster, opts: Options) -> Result<()> {
     let request_size = encode(&job_request(&template, "BENCH-00000", "BP-00000")?)?.len();
     println!("payloads: job_request {request_size} B, nc_program {nc_size} B (encoded, measured)");
 
-    // The pipeline.
-    let requests = (0..opts.jobs)
-        .map(|i| job_request(&template, &format!("BENCH-{i:05}"), &format!("BP-{i:05}")))
-        .collect::<Result<Vec<_>>>()?;
-    let (pipeline, jobs) = run_pipeline(&session, &tracker, requests, opts.window).await?;
-    println!();
-    println!(
-        "pipeline (station → knowledge → model → template → agent, durable, separate processes)"
-    );
-    println!(
-        "  {} jobs in {:.2} s: {:.0} jobs/s; submit→receipt p50 {}, p99 {}",
-        opts.jobs,
-        pipeline.elapsed.as_secs_f64(),
-        pipeline.rate(),
-        ms(pipeline.percentile(50.0)),
-        ms(pipeline.percentile(99.0)),
-    );
-    for (stage, p50, p99) in stage_percentiles(&jobs) {
-        println!("    {stage:<28} p50 {:>9}  p99 {:>9}", ms(p50), ms(p99));
+    let phases = match opts.window {
+        Some(window) => vec![Phase {
+            jobs: opts.jobs,
+            window,
+            first: 0,
+            target: Target::None,
+        }],
+        None => vec![
+            Phase {
+                jobs: opts.jobs,
+                window: 64,
+                first: 0,
+                target: Target::Throughput(1000.0),
+            },
+            Phase {
+                jobs: opts.latency_jobs,
+                window: 1,
+                first: opts.jobs,
+                target: Target::P99(10.0),
+            },
+        ],
+    };
+    let mut all_jobs = Vec::new();
+    let mut held = Vec::new();
+    for phase in phases {
+        let requests = (phase.first..phase.first + phase.jobs)
+            .map(|i| job_request(&template, &format!("BENCH-{i:05}"), &format!("BP-{i:05}")))
+            .collect::<Result<Vec<_>>>()?;
+        let (pipeline, jobs) = run_pipeline(&session, &tracker, requests, phase.window).await?;
+        println!();
+        println!(
+            "pipeline, window {} (station → knowledge → model → template → agent, durable, separate processes)",
+            phase.window
+        );
+        println!(
+            "  {} jobs in {:.2} s: {:.0} jobs/s; submit→receipt p50 {}, p99 {}",
+            phase.jobs,
+            pipeline.elapsed.as_secs_f64(),
+            pipeline.rate(),
+            ms(pipeline.percentile(50.0)),
+            ms(pipeline.percentile(99.0)),
+        );
+        for (stage, p50, p99) in stage_percentiles(&jobs) {
+            println!("    {stage:<28} p50 {:>9}  p99 {:>9}", ms(p50), ms(p99));
+        }
+        // Raw Zenoh request/reply of the same sizes through the same router.
+        let raw = run_echo(&session, phase.jobs, phase.window, request_size, nc_size).await?;
+        println!("  raw zenoh request/reply, same window (bench → router → gearcam-echo, {request_size} B query, {nc_size} B reply)");
+        println!(
+            "    {} queries in {:.2} s: {:.0} req/s; p50 {}, p99 {}",
+            phase.jobs,
+            raw.elapsed.as_secs_f64(),
+            raw.rate(),
+            ms(raw.percentile(50.0)),
+            ms(raw.percentile(99.0)),
+        );
+        println!(
+            "  pipeline vs raw: throughput {:.1} % of raw; latency p50 {:.1}×, p99 {:.1}× raw",
+            100.0 * pipeline.rate() / raw.rate(),
+            ratio(pipeline.percentile(50.0), raw.percentile(50.0)),
+            ratio(pipeline.percentile(99.0), raw.percentile(99.0)),
+        );
+        let verdict = match phase.target {
+            Target::Throughput(min) => Some((
+                pipeline.rate() >= min,
+                format!(
+                    "throughput at window {}: {:.0} jobs/s (target ≥ {min:.0} jobs/s)",
+                    phase.window,
+                    pipeline.rate()
+                ),
+            )),
+            Target::P99(max) => {
+                let p99 = pipeline.percentile(99.0).as_secs_f64() * 1e3;
+                Some((
+                    p99 <= max,
+                    format!(
+                        "submit→receipt p99 at window {}: {p99:.2} ms (target ≤ {max:.0} ms)",
+                        phase.window
+                    ),
+                ))
+            }
+            Target::None => None,
+        };
+        held.extend(verdict);
+        all_jobs.extend(jobs);
     }
 
-    // Raw Zenoh request/reply of the same sizes through the same router.
-    let raw = run_echo(&session, opts.jobs, opts.window, request_size, nc_size).await?;
-    println!("raw zenoh request/reply (bench → router → gearcam-echo, {request_size} B query, {nc_size} B reply)");
-    println!(
-        "  {} queries in {:.2} s: {:.0} req/s; p50 {}, p99 {}",
-        opts.jobs,
-        raw.elapsed.as_secs_f64(),
-        raw.rate(),
-        ms(raw.percentile(50.0)),
-        ms(raw.percentile(99.0)),
-    );
-    println!(
-        "pipeline vs raw: throughput {:.1} % of raw; latency p50 {:.1}×, p99 {:.1}× raw",
-        100.0 * pipeline.rate() / raw.rate(),
-        ratio(pipeline.percentile(50.0), raw.percentile(50.0)),
-        ratio(pipeline.percentile(99.0), raw.percentile(99.0)),
-    );
-
-    let verified = verify_store(cluster, &jobs)?;
+    let verified = verify_store(cluster, &all_jobs)?;
+    println!();
     println!("verified: {verified}");
+    for (met, line) in &held {
+        println!("{} {line}", if *met { "met:    " } else { "NOT MET:" });
+    }
     session
         .close()
         .await

@@ -236,18 +236,20 @@ pub async fn journaled(
     }
     verdicts
         .into_iter()
-        .map(|v| {
-            v.unwrap_or_else(|| {
-                Err(Stage::Agent.error(
-                    Code::STATION_UNREACHABLE,
-                    "job_id",
-                    "an answer of the planning station about the job",
-                    "the question failed",
-                    "the agent could not ask the station; the job waits",
-                ))
-            })
-        })
+        .map(|v| v.unwrap_or_else(|| Err(unasked("the question failed"))))
         .collect()
+}
+
+/// The verdict on a job the station could not be asked about (`why`): the
+/// job waits.
+pub fn unasked(why: &str) -> JobError {
+    Stage::Agent.error(
+        Code::STATION_UNREACHABLE,
+        "job_id",
+        "an answer of the planning station about the job",
+        why,
+        "the agent could not ask the station; the job waits",
+    )
 }
 
 fn not_journaled(job: &JobId, machine: &MachineId, got: &str) -> JobError {

@@ -69,17 +69,23 @@ pub async fn run(
                     }
                 })
                 .collect();
+            // The station is asked while the programs are checked: the
+            // question's round trip overlaps the path checks.
             let jobs: Vec<JobId> = deliveries.iter().map(|(_, p)| p.job_id.clone()).collect();
-            let verdicts = if jobs.is_empty() {
-                Vec::new()
-            } else {
-                tokio::task::block_in_place(|| {
-                    runtime.block_on(guard::journaled(&guard_bus, &machine, &jobs))
-                })
+            let asked = (!jobs.is_empty()).then(|| {
+                let (bus, machine) = (guard_bus.clone(), machine.clone());
+                runtime.spawn(async move { guard::journaled(&bus, &machine, &jobs).await })
+            });
+            let checks: Vec<Result<(), JobError>> =
+                deliveries.iter().map(|(_, p)| models.check(p)).collect();
+            let verdicts = match asked {
+                None => Vec::new(),
+                Some(task) => tokio::task::block_in_place(|| runtime.block_on(task))
+                    .unwrap_or_else(|e| vec![Err(guard::unasked(&e.to_string())); deliveries.len()]),
             };
             let mut checked = Vec::with_capacity(deliveries.len());
-            for ((i, program), verdict) in deliveries.into_iter().zip(verdicts) {
-                match verdict.and_then(|()| models.check(&program)) {
+            for (((i, program), verdict), check) in deliveries.into_iter().zip(verdicts).zip(checks) {
+                match verdict.and(check) {
                     Ok(()) => checked.push((i, program)),
                     Err(error) => {
                         tracing::warn!(job = %program.job_id, code = error.code.as_str(), "program refused before storing");

@@ -10,9 +10,11 @@
 //! - [`stage`]: the loop every pipeline stage runs: subscribe, decode and
 //!   validate, handle, publish, report typed errors; never panic, never silence.
 //! - [`query`]: typed request/reply with retries, and a serving loop for queryables.
+//! - [`alive`]: the services alive, as a liveliness subscriber follows them.
 //! - [`shutdown`]: one future for SIGINT and SIGTERM.
 #![forbid(unsafe_code)]
 
+pub mod alive;
 pub mod config;
 pub mod durable;
 pub mod query;

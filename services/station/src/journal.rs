@@ -1,9 +1,11 @@
-//! The planning station's durable job journal (SQLite, synchronous FULL).
+//! The planning station's durable job journal (SQLite in WAL mode).
 //!
 //! Every accepted job is a row holding its encoded request, state, attempts and
 //! the time it is next due to be re-driven. A job is acknowledged to the
-//! submitter only after its row is committed, so a station killed at any point
-//! and started again re-drives every journaled job that is not final.
+//! submitter only after its row is committed and fsynced, so a station killed
+//! at any point and started again re-drives every journaled job that is not
+//! final. What the station can learn again (events) is committed without
+//! its own fsync ([`Durability`]).
 
 use gearcam_proto::Code;
 use std::path::Path;
@@ -59,6 +61,20 @@ pub struct Due {
     pub waiting_for: Option<String>,
     /// The encoded request, ready to publish.
     pub request: Vec<u8>,
+}
+
+/// How durable a batch is once its transaction commits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Durability {
+    /// On disk when the commit returns (the WAL fsynced): what the station
+    /// acknowledges to a person (a submission, a cancellation) must be.
+    Full,
+    /// In the WAL when the commit returns, on disk at the next full commit or
+    /// checkpoint: it survives the station's process dying, not the
+    /// machine's power. For what the station learns again by itself: job
+    /// events and the drives' bookkeeping. A job whose event is lost is
+    /// re-driven, and the agent answers a re-drive with the receipt it keeps.
+    Normal,
 }
 
 /// The journal.
@@ -133,11 +149,25 @@ impl Journal {
         Ok(Journal { conn })
     }
 
-    /// Runs `f` in one transaction (group commit for a batch of changes).
-    pub fn batch<T>(&mut self, f: impl FnOnce(&Journal) -> T) -> Result<T, JournalError> {
+    /// Runs `f` in one transaction (group commit for a batch of changes),
+    /// committed as `durability` says.
+    pub fn batch<T>(
+        &mut self,
+        durability: Durability,
+        f: impl FnOnce(&Journal) -> T,
+    ) -> Result<T, JournalError> {
+        let level = match durability {
+            Durability::Full => "FULL",
+            Durability::Normal => "NORMAL",
+        };
+        // Outside a transaction the level may change from one commit to
+        // the next; the journal is in WAL mode, where a FULL commit also
+        // makes every NORMAL commit before it durable.
+        self.conn.pragma_update(None, "synchronous", level)?;
         self.conn.execute_batch("BEGIN IMMEDIATE")?;
         let out = f(self);
         self.conn.execute_batch("COMMIT")?;
+        self.conn.pragma_update(None, "synchronous", "FULL")?;
         Ok(out)
     }
 

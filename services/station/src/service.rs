@@ -48,7 +48,7 @@ use zenoh::query::{Query, Queryable};
 use zenoh::sample::{Sample, SampleKind};
 use zenoh::Session;
 
-use crate::journal::{Due, Journal, JournalError};
+use crate::journal::{Due, Durability, Journal, JournalError};
 
 mod models;
 mod submit;
@@ -136,7 +136,7 @@ pub async fn run(
                 while let Some(done) = drives.tasks.try_join_next_with_id() {
                     drives.finished(done, &mut updates);
                 }
-                journal.batch(|j| apply_updates(j, updates))??;
+                journal.batch(Durability::Normal, |j| apply_updates(j, updates))??;
             },
             _ = tick.tick() => drive_now = true,
         }
@@ -148,7 +148,16 @@ pub async fn run(
             let now = now_ms();
             // A model before the events of the same batch: the job's
             // `delivered` among them must not end it before its model is kept.
-            let (replies, to_send) = journal.batch(|j| {
+            // A submission is acknowledged once durable, and a model is
+            // published once (a re-drive that finds the receipt does not
+            // make it again); events only need to survive the process (the
+            // journal's Durability).
+            let durability = if checked.is_empty() && new_models.is_empty() {
+                Durability::Normal
+            } else {
+                Durability::Full
+            };
+            let (replies, to_send) = journal.batch(durability, |j| {
                 models::journal_models(j, &new_models);
                 journal_batch(j, &new_events, checked, now, redrive_ms)
             })?;

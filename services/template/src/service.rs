@@ -10,6 +10,7 @@
 
 use std::time::Duration;
 
+use gearcam_bus::alive::Alive;
 use gearcam_bus::query::{CallError, Retry};
 use gearcam_bus::stage::{run_stage, Handled};
 use gearcam_bus::{Bus, BusError, CancellationToken};
@@ -32,6 +33,7 @@ pub async fn run(
 ) -> Result<(), BusError> {
     let (tx, mut rx) = mpsc::unbounded_channel::<NcProgram>();
     let delivery_bus = bus.clone();
+    let alive = Alive::follow(&bus, shutdown.clone()).await?;
     let stop = shutdown.clone();
     let deliveries = tokio::spawn(async move {
         loop {
@@ -39,7 +41,7 @@ pub async fn run(
                 _ = stop.cancelled() => break,
                 p = rx.recv() => match p { Some(p) => p, None => break },
             };
-            tokio::spawn(deliver(delivery_bus.clone(), program));
+            tokio::spawn(deliver(delivery_bus.clone(), alive.clone(), program));
         }
     });
     let result = run_stage::<AnyModel, _>(
@@ -79,12 +81,13 @@ pub async fn run(
     result
 }
 
-/// Hands one program to its machine's agent.
-pub async fn deliver(bus: Bus, program: NcProgram) {
+/// Hands one program to its machine's agent (asked only when `alive` has
+/// seen its token, or the bus says it is there).
+pub async fn deliver(bus: Bus, alive: Alive, program: NcProgram) {
     let job = program.job_id.clone();
     let agent = keys::agent_service(&program.machine);
     let waiting = |reason: String| EventKind::Waiting { reason };
-    let event = match bus.is_alive(&agent).await {
+    let event = match alive.check(&bus, &agent).await {
         Ok(false) => Some(waiting(format!(
             "the agent of machine {} is offline",
             program.machine
