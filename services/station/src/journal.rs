@@ -133,9 +133,15 @@ impl Journal {
         add_column(&conn, "warnings_json", "TEXT")?;
         // Each job's model as the model service published it, kept so that
         // a client reads it after the job has ended (the web page draws its
-        // picture): a journal from before the column gains it (its jobs
-        // have none).
-        add_column(&conn, "model", "BLOB")?;
+        // picture). In a table of its own: a model is kilobytes, and in the
+        // job's row every state change would rewrite it.
+        conn.execute_batch(
+            "CREATE TABLE IF NOT EXISTS models (
+                 job   TEXT PRIMARY KEY REFERENCES jobs (job),
+                 model BLOB NOT NULL
+             );",
+        )?;
+        move_models(&conn)?;
         // Parts to cut, kept beside the request so that a list of a
         // thousand jobs does not decode a thousand requests: a journal
         // from before the column gains it, filled from each job's request.
@@ -483,8 +489,11 @@ impl Journal {
     /// or one of a job that ended before its model) does not replace it.
     pub fn set_model(&self, job: &JobId, model: &[u8]) -> Result<bool, JournalError> {
         Ok(self.conn.execute(
-            "UPDATE jobs SET model = ?2 WHERE job = ?1
-             AND (model IS NULL OR state NOT IN ('delivered', 'failed', 'superseded', 'cancelled'))",
+            "INSERT INTO models (job, model)
+             SELECT job, ?2 FROM jobs WHERE job = ?1
+             ON CONFLICT (job) DO UPDATE SET model = excluded.model
+             WHERE (SELECT state FROM jobs WHERE job = ?1)
+                   NOT IN ('delivered', 'failed', 'superseded', 'cancelled')",
             params![job.as_str(), model],
         )? > 0)
     }
@@ -515,7 +524,9 @@ impl Journal {
         job: &JobId,
     ) -> Result<Option<T>, JournalError> {
         let sql = match column {
-            Column::Model => "SELECT model FROM jobs WHERE job = ?1",
+            Column::Model => {
+                "SELECT m.model FROM jobs j LEFT JOIN models m ON m.job = j.job WHERE j.job = ?1"
+            }
             Column::Machine => "SELECT machine FROM jobs WHERE job = ?1",
             Column::Request => "SELECT request FROM jobs WHERE job = ?1",
         };
@@ -635,6 +646,24 @@ fn add_column(conn: &Connection, name: &str, decl: &str) -> Result<bool, Journal
     Ok(!has)
 }
 
+/// Moves the models of a journal that kept them in the jobs' rows into
+/// their own table, and drops the column.
+fn move_models(conn: &Connection) -> Result<(), JournalError> {
+    let has: bool = conn
+        .prepare("SELECT 1 FROM pragma_table_info('jobs') WHERE name = 'model'")?
+        .exists([])?;
+    if has {
+        conn.execute_batch(
+            "BEGIN IMMEDIATE;
+             INSERT OR IGNORE INTO models (job, model)
+                 SELECT job, model FROM jobs WHERE model IS NOT NULL;
+             ALTER TABLE jobs DROP COLUMN model;
+             COMMIT;",
+        )?;
+    }
+    Ok(())
+}
+
 /// Fills the new `quantity` column of a journal from each job's request.
 fn fill_quantities(conn: &Connection) -> Result<(), JournalError> {
     let rows: Vec<(i64, Vec<u8>)> = conn
@@ -686,126 +715,4 @@ fn db_error(e: rusqlite::Error) -> JobError {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A journal written before the model's warnings were kept opens, gains
-    /// the column, and its jobs read with no warnings.
-    #[test]
-    fn a_journal_from_before_the_warnings_column_opens_and_reads() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("station.db");
-        let conn = Connection::open(&path).unwrap();
-        conn.execute_batch(
-            "CREATE TABLE jobs (
-                 seq INTEGER PRIMARY KEY AUTOINCREMENT, job TEXT NOT NULL UNIQUE,
-                 machine TEXT NOT NULL, part_number TEXT NOT NULL, request BLOB NOT NULL,
-                 request_sha256 TEXT NOT NULL, state TEXT NOT NULL,
-                 attempts INTEGER NOT NULL DEFAULT 0, accepted_at_ms INTEGER NOT NULL,
-                 updated_at_ms INTEGER NOT NULL, next_attempt_ms INTEGER NOT NULL,
-                 waiting_for TEXT, receipt_json TEXT, errors_json TEXT);
-             INSERT INTO jobs (job, machine, part_number, request, request_sha256, state,
-                               accepted_at_ms, updated_at_ms, next_attempt_ms)
-             VALUES ('OLD-1', 'H01', 'SP-1001', x'00', '-', 'accepted', 1, 1, 1);",
-        )
-        .unwrap();
-        drop(conn);
-        let journal = Journal::open(&path).unwrap();
-        let s = journal
-            .status(&JobId::new("OLD-1").unwrap())
-            .unwrap()
-            .unwrap();
-        assert_eq!(s.state, JobState::Accepted);
-        assert!(s.warnings.is_empty());
-        // It gained the model's column too: no model yet, then the one kept.
-        let old = JobId::new("OLD-1").unwrap();
-        assert_eq!(journal.model(&old).unwrap(), Some(None));
-        assert!(journal.set_model(&old, b"model").unwrap());
-        assert_eq!(journal.model(&old).unwrap(), Some(Some(b"model".to_vec())));
-        // Opening again does not add the columns twice, and keeps the model.
-        drop(journal);
-        let journal = Journal::open(&path).unwrap();
-        assert_eq!(journal.model(&old).unwrap(), Some(Some(b"model".to_vec())));
-    }
-
-    /// A journal from before the quantity column gains it, filled from
-    /// each job's request; a new job's quantity is kept as submitted.
-    #[test]
-    fn every_job_says_its_quantity_an_old_journal_too() {
-        let spec: gearcam_proto::JobSpec =
-            toml::from_str(include_str!("../../../examples/spur_840d.toml")).unwrap();
-        let request = |id: &str, quantity: u32| {
-            let mut spec = spec.clone();
-            spec.job.quantity = quantity;
-            JobRequest {
-                job_id: JobId::new(id).unwrap(),
-                submitted_at_ms: 1,
-                submitted_by: "test".into(),
-                spec,
-            }
-        };
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("station.db");
-        let conn = Connection::open(&path).unwrap();
-        conn.execute_batch(
-            "CREATE TABLE jobs (
-                 seq INTEGER PRIMARY KEY AUTOINCREMENT, job TEXT NOT NULL UNIQUE,
-                 machine TEXT NOT NULL, part_number TEXT NOT NULL, request BLOB NOT NULL,
-                 request_sha256 TEXT NOT NULL, state TEXT NOT NULL,
-                 attempts INTEGER NOT NULL DEFAULT 0, accepted_at_ms INTEGER NOT NULL,
-                 updated_at_ms INTEGER NOT NULL, next_attempt_ms INTEGER NOT NULL,
-                 waiting_for TEXT, receipt_json TEXT, errors_json TEXT);",
-        )
-        .unwrap();
-        conn.execute(
-            "INSERT INTO jobs (job, machine, part_number, request, request_sha256, state,
-                               accepted_at_ms, updated_at_ms, next_attempt_ms)
-             VALUES ('OLD-7', 'H01', 'SP-1001', ?1, '-', 'delivered', 1, 1, 1)",
-            [encode(&request("OLD-7", 7)).unwrap()],
-        )
-        .unwrap();
-        drop(conn);
-        let journal = Journal::open(&path).unwrap();
-        let old = journal
-            .status(&JobId::new("OLD-7").unwrap())
-            .unwrap()
-            .unwrap();
-        assert_eq!(old.quantity, 7);
-        let new = journal.submit(&request("NEW-12", 12), 5).unwrap();
-        assert_eq!(new.quantity, 12);
-        assert_eq!(
-            journal
-                .request_bytes(&JobId::new("NEW-12").unwrap())
-                .unwrap(),
-            Some(encode(&request("NEW-12", 12)).unwrap())
-        );
-    }
-
-    /// A model is kept while its job runs; once the job has ended, a model
-    /// arriving later does not replace the one it has; an unknown job has
-    /// no model and a job without one says so.
-    #[test]
-    fn an_ended_job_keeps_its_model() {
-        let dir = tempfile::tempdir().unwrap();
-        let journal = Journal::open(&dir.path().join("station.db")).unwrap();
-        let spec: gearcam_proto::JobSpec =
-            serde_json::from_str(r#"{"job": {"machine": "H01", "part_number": "SP-1"}}"#).unwrap();
-        let job = JobId::new("J-1").unwrap();
-        let req = JobRequest {
-            job_id: job.clone(),
-            submitted_at_ms: 1,
-            submitted_by: "planner".into(),
-            spec,
-        };
-        journal.submit(&req, 1).unwrap();
-        assert_eq!(journal.model(&job).unwrap(), Some(None));
-        assert!(journal.set_model(&job, b"first").unwrap());
-        assert!(journal.set_model(&job, b"again").unwrap());
-        journal.cancel(&job, "planner", 2).unwrap();
-        assert!(!journal.set_model(&job, b"late").unwrap());
-        assert_eq!(journal.model(&job).unwrap(), Some(Some(b"again".to_vec())));
-        let unknown = JobId::new("J-2").unwrap();
-        assert_eq!(journal.model(&unknown).unwrap(), None);
-        assert!(!journal.set_model(&unknown, b"x").unwrap());
-    }
-}
+mod tests;
