@@ -29,7 +29,9 @@
 //! - [`number`]: NC numbers as programs write them.
 //! - `sim`: the contact zones and the simulation that applies the rules
 //!   (motion, machine functions, the electronic gearbox).
-//! - `collide`: the swept hob solid against blanks and the machine's envelope.
+//! - `collide`: the swept hob solid against blanks and the machine's envelope,
+//!   in closed form (its pieces reachable for the crate's tests and benchmark
+//!   through the hidden `collide_hook`).
 
 #![forbid(unsafe_code)]
 
@@ -42,6 +44,8 @@ mod sim;
 
 use gearcam_proto::{Code, Dialect, MachiningModel, MoveKind, PathCheck, PathFinding};
 
+#[doc(hidden)]
+pub use collide::hook as collide_hook;
 pub use expr::{Cond, EvalError, NcExpr, NcValue, Num, Rel};
 pub use number::{format_fixed, push_fixed};
 
