@@ -12,11 +12,15 @@
 //!   evaluated by our compiled expression and by minijinja's expression API
 //!   (the candidate crate; see services/template/EXPRESSIONS.md).
 
+// A bench: the wall clock is what it measures.
+#![allow(clippy::disallowed_methods)]
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use gearcam_proto::{JobId, JobRequest, JobSpec, MachiningModel};
 use gearcam_template::expr::{self, EvalState, TplValue};
 use gearcam_template::Templates;
 use std::hint::black_box;
+use std::time::{Duration, Instant};
 
 fn model(file: &str, machine: &str) -> MachiningModel {
     let path = format!("{}/../examples/{file}", env!("CARGO_MANIFEST_DIR"));
@@ -121,5 +125,56 @@ fn cold_job(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, one_job, cold_job, expression);
+/// Mean time of `f` over enough runs to fill about a second.
+fn mean(mut f: impl FnMut()) -> Duration {
+    f();
+    let mut runs = 0u32;
+    let start = Instant::now();
+    while start.elapsed() < Duration::from_secs(1) || runs < 20 {
+        f();
+        runs += 1;
+    }
+    start.elapsed() / runs
+}
+
+/// The figures of the spur job beside what they are held to: the clearance
+/// of a program's moves within 100 µs for 50 moves, so that the template
+/// and the path check of a whole program stay far below a person's notice.
+fn figures(_c: &mut Criterion) {
+    let templates = Templates::builtin();
+    let m = model("spur_840d.toml", "H01");
+    let p = templates
+        .render(&m)
+        .expect("renders and passes the path check");
+    let whole = mean(|| {
+        black_box(templates.render(black_box(&m)).unwrap().sha256.len());
+    });
+    let check = mean(|| {
+        black_box(gearcam_nc::check(black_box(&p.text), &m).0.ok);
+    });
+    let (_, trace) = gearcam_nc::check(&p.text, &m);
+    let moves = trace
+        .moves
+        .iter()
+        .filter(|mv| mv.kind != gearcam_proto::MoveKind::Dwell)
+        .count();
+    let clear = mean(|| {
+        black_box(gearcam_nc::collide_hook::clearance(black_box(&m), &trace));
+    });
+    let per_50 = clear.as_secs_f64() * 1e6 * 50.0 / moves.max(1) as f64;
+    println!();
+    println!("figures, 840D spur job ({moves} moves):");
+    println!(
+        "  template + path check: {:.1} µs; the path check alone: {:.1} µs",
+        whole.as_secs_f64() * 1e6,
+        check.as_secs_f64() * 1e6
+    );
+    println!(
+        "  {} clearance of its {moves} moves: {:.1} µs, {per_50:.1} µs per 50 moves (target ≤ 100 µs per 50 moves)",
+        if per_50 <= 100.0 { "met:    " } else { "NOT MET:" },
+        clear.as_secs_f64() * 1e6
+    );
+}
+
+criterion_group!(benches, figures, one_job, cold_job, expression);
 criterion_main!(benches);

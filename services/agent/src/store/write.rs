@@ -12,7 +12,10 @@
 //!    refused as changed at the machine), then the temporary file is renamed
 //!    over the final name; the directory is fsynced;
 //! 4. one transaction turns the renamed programs' rows to `stored` and
-//!    deletes the rows of those not renamed.
+//!    deletes the rows of those not renamed; it is not fsynced on its own
+//!    (steps 1–3 are durable, and they alone decide what `recover` makes of
+//!    each row after a power cut), so the receipt waits for three fsyncs,
+//!    not four.
 //!
 //! A crash between 2 and 4 leaves `pending` rows: [`Store::recover`] (at
 //! open) makes each `stored` when its file holds exactly its hash (the rename
@@ -211,14 +214,23 @@ impl Store {
         renamed: &[(Pending, i64)],
         undone: &[i64],
     ) -> rusqlite::Result<()> {
-        let tx = self.conn.transaction()?;
-        for (_, seq) in renamed {
-            tx.execute("UPDATE programs SET state = 'stored' WHERE seq = ?1", [seq])?;
-        }
-        for seq in undone {
-            tx.execute("DELETE FROM programs WHERE seq = ?1", [seq])?;
-        }
-        tx.commit()
+        // Not fsynced on its own: the intents and the renames are durable
+        // already, and after a power cut `recover` comes to the same rows
+        // from them; the next full commit (the next batch's intents) makes
+        // it durable too. One fsync less per batch.
+        self.conn.pragma_update(None, "synchronous", "NORMAL")?;
+        let settled = (|| {
+            let tx = self.conn.transaction()?;
+            for (_, seq) in renamed {
+                tx.execute("UPDATE programs SET state = 'stored' WHERE seq = ?1", [seq])?;
+            }
+            for seq in undone {
+                tx.execute("DELETE FROM programs WHERE seq = ?1", [seq])?;
+            }
+            tx.commit()
+        })();
+        self.conn.pragma_update(None, "synchronous", "FULL")?;
+        settled
     }
 
     /// Finishes or undoes the writes a crash cut off (module docs): a
