@@ -7,7 +7,15 @@
 //!   (`gearcam/v1/station/jobs/{job}`): it must exist, be for this machine and
 //!   not be failed, superseded or cancelled (`JOB_CANCELLED`: a cancelled
 //!   job is never stored, even when its program was on its way). No such job: `JOB_NOT_JOURNALED` (final). No answer:
-//!   `STATION_UNREACHABLE` (the job waits and is re-driven).
+//!   `STATION_UNREACHABLE` (the job waits and is re-driven). The model the
+//!   agent holds already shows the job was journaled for this machine (the
+//!   model service plans only what the knowledge service planned from a
+//!   request, and under `deploy/secure` only the station publishes requests,
+//!   after journaling them), but not that nobody cancelled it since: a
+//!   cancellation is a person's decision at the station, so the station's
+//!   word at store time is what keeps it. The question is asked while the
+//!   programs are checked, so its round trip overlaps the checks, and one
+//!   batch's jobs are asked all at once.
 //! - **Path check**: the agent follows the models the model service
 //!   publishes for its machine (`gearcam/v1/jobs/*/model`, which only the
 //!   model service may publish under `deploy/secure`) and re-runs the NC path
