@@ -15,7 +15,7 @@ pub(crate) fn var(vars: &HashMap<u32, f64>, n: u32) -> Result<f64, String> {
 
 /// Evaluates an expression (the subset's grammar, with precedence
 /// OR < AND < comparison < + - < * / < unary < primary).
-pub(crate) fn eval(vars: &HashMap<u32, f64>, s: &str) -> Result<f64, String> {
+pub(crate) fn eval<'a>(vars: &'a HashMap<u32, f64>, s: &'a str) -> Result<f64, String> {
     let tokens = tokenize(s)?;
     let mut p = Parser { vars, tokens, i: 0 };
     let v = p.or()?;
@@ -25,56 +25,52 @@ pub(crate) fn eval(vars: &HashMap<u32, f64>, s: &str) -> Result<f64, String> {
     Ok(v)
 }
 
-#[derive(Debug, Clone, PartialEq)]
-enum Tok {
+/// A token, its text borrowed from the expression (no allocation per
+/// token: the replay evaluates an expression every time a loop runs it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Tok<'a> {
     Num(f64),
     Var(u32),
-    Word(String),
+    Word(&'a str),
     Op(char),
     Open,
     Close,
 }
 
-fn tokenize(s: &str) -> Result<Vec<Tok>, String> {
+fn tokenize(s: &str) -> Result<Vec<Tok<'_>>, String> {
     let mut out = Vec::new();
-    let cs: Vec<char> = s.chars().collect();
-    let mut i = 0;
-    while i < cs.len() {
-        let c = cs[i];
+    let mut chars = s.char_indices().peekable();
+    // The end of the run of characters from `start` that `keep` accepts.
+    let run = |chars: &mut std::iter::Peekable<std::str::CharIndices>, keep: fn(char) -> bool| {
+        while chars.next_if(|&(_, c)| keep(c)).is_some() {}
+        chars.peek().map_or(s.len(), |&(j, _)| j)
+    };
+    while let Some(&(i, c)) = chars.peek() {
         if c.is_whitespace() {
-            i += 1;
+            chars.next();
         } else if c.is_ascii_digit() || c == '.' {
-            let start = i;
-            while i < cs.len() && (cs[i].is_ascii_digit() || cs[i] == '.') {
-                i += 1;
-            }
-            let t: String = cs[start..i].iter().collect();
+            let end = run(&mut chars, |c| c.is_ascii_digit() || c == '.');
+            let t = &s[i..end];
             out.push(Tok::Num(t.parse().map_err(|_| format!("bad number {t}"))?));
         } else if c == '#' {
-            let start = i + 1;
-            i += 1;
-            while i < cs.len() && cs[i].is_ascii_digit() {
-                i += 1;
-            }
-            let t: String = cs[start..i].iter().collect();
+            chars.next();
+            let end = run(&mut chars, |c| c.is_ascii_digit());
+            let t = &s[i + 1..end];
             out.push(Tok::Var(
                 t.parse().map_err(|_| format!("bad variable #{t}"))?,
             ));
         } else if c.is_ascii_alphabetic() {
-            let start = i;
-            while i < cs.len() && cs[i].is_ascii_alphabetic() {
-                i += 1;
-            }
-            out.push(Tok::Word(cs[start..i].iter().collect()));
+            let end = run(&mut chars, |c| c.is_ascii_alphabetic());
+            out.push(Tok::Word(&s[i..end]));
         } else if "+-*/".contains(c) {
             out.push(Tok::Op(c));
-            i += 1;
+            chars.next();
         } else if c == '[' {
             out.push(Tok::Open);
-            i += 1;
+            chars.next();
         } else if c == ']' {
             out.push(Tok::Close);
-            i += 1;
+            chars.next();
         } else {
             return Err(format!("character {c:?} outside the subset"));
         }
@@ -84,13 +80,13 @@ fn tokenize(s: &str) -> Result<Vec<Tok>, String> {
 
 struct Parser<'a> {
     vars: &'a HashMap<u32, f64>,
-    tokens: Vec<Tok>,
+    tokens: Vec<Tok<'a>>,
     i: usize,
 }
 
 impl Parser<'_> {
     fn peek_word(&self, w: &str) -> bool {
-        matches!(self.tokens.get(self.i), Some(Tok::Word(x)) if x == w)
+        matches!(self.tokens.get(self.i), Some(Tok::Word(x)) if *x == w)
     }
 
     fn or(&mut self) -> Result<f64, String> {
@@ -195,7 +191,7 @@ impl Parser<'_> {
                     return Err(format!("{f} needs [ … ]"));
                 }
                 let x = self.primary()?;
-                Ok(match f.as_str() {
+                Ok(match f {
                     "SIN" => x.to_radians().sin(),
                     "COS" => x.to_radians().cos(),
                     "TAN" => x.to_radians().tan(),
