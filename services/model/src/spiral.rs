@@ -112,23 +112,6 @@ fn spiral_of(plan: &SpiralPlan) -> Result<(Spiral, Option<GrooveFigures>), Vec<J
     Ok((spiral, groove))
 }
 
-/// Sagitta of the polyline an arc path is checked as, mm.
-const SAG_MM: f64 = 1e-4;
-
-/// The arcs as a polyline whose chords stray at most [`SAG_MM`] from them.
-fn arc_polyline(arcs: &[arcs::Arc]) -> Vec<(f64, f64)> {
-    let mut out = Vec::new();
-    if let Some(first) = arcs.first() {
-        out.push(first.start);
-    }
-    for a in arcs {
-        let step = 2.0 * (1.0 - SAG_MM / a.radius).clamp(-1.0, 1.0).acos();
-        let n = (a.sweep() / step).ceil().max(1.0) as usize;
-        out.extend((1..=n).map(|i| a.point(i as f64 / n as f64)));
-    }
-    out
-}
-
 /// The measured pitch error of a groove's chord path, mm: along 72 rays the
 /// radial distance between neighbouring turns, against the pitch (the path
 /// is seen only through its points).
@@ -262,8 +245,8 @@ fn input_errors(plan: &SpiralPlan) -> Vec<JobError> {
 
 /// A face's neighbouring turns must overlap by more than the path strays
 /// from the spiral (chords and arcs up to the tolerance, on either side
-/// for arcs): the analytic condition the coverage check then confirms by
-/// sampling.
+/// for arcs): refused on the step-over before the coverage proof, which
+/// then takes the path's own stray.
 fn ring_error(plan: &SpiralPlan, spiral: &Spiral) -> Option<JobError> {
     let rt = plan.tool.radius_mm;
     let tol = plan.process.tolerance_mm.value;
@@ -361,13 +344,18 @@ fn model_of(plan: &SpiralPlan, checked: Checked) -> Result<SpiralModel, Vec<JobE
     let depth = plan.part.depth_mm();
     let (angle_step_deg, points) = spiral.chords(tol);
     let fitted = arcs::fit(&spiral, tol);
-    let chord_dev = gearcam_spiral::chord_deviation(&spiral, &points);
-    let arc_dev = arcs::max_deviation(&spiral, &fitted, ARC_SAMPLES);
+    // The deviation of the path the program cuts, measured.
     let (blocks, max_deviation_mm) = match p.program {
-        SpiralProgram::FanucArcs => (fitted.len(), arc_dev),
-        _ => (points.len() - 1, chord_dev),
+        SpiralProgram::FanucArcs => (
+            fitted.len(),
+            arcs::max_deviation(&spiral, &fitted, ARC_SAMPLES),
+        ),
+        _ => (
+            points.len() - 1,
+            gearcam_spiral::chord_deviation(&spiral, &points),
+        ),
     };
-    let coverage = coverage_of(plan, groove.as_ref(), &points, &fitted, max_deviation_mm);
+    let coverage = coverage_of(plan, groove.as_ref(), &spiral, &points, max_deviation_mm);
     if !coverage.ok {
         return Err(vec![coverage_error(plan, &spiral, &coverage)]);
     }
@@ -419,15 +407,19 @@ fn model_of(plan: &SpiralPlan, checked: Checked) -> Result<SpiralModel, Vec<JobE
     })
 }
 
-/// The coverage check of the path the program cuts (its chords, or its
-/// arcs as a polyline within [`SAG_MM`], the tool's disc shrunk by that
-/// much) over a face; over a groove, the pitch measured on the chords
-/// within twice the tolerance, with a land left between the turns.
+/// The coverage of a face, proved from the spiral
+/// ([`gearcam_spiral::prove_coverage`]: neighbouring turns overlap and the
+/// innermost and outermost turns reach past the edges, the tool's reach
+/// taken less δ, how far the spiral may lie from the path the program
+/// cuts: for chords the proven bound [`Spiral::chord_stray_mm`] and the
+/// measured deviation, for arcs the measured deviation and at least the
+/// tolerance the fit holds); over a groove, the pitch measured on the
+/// chords within twice the tolerance, with a land left between the turns.
 fn coverage_of(
     plan: &SpiralPlan,
     groove: Option<&GrooveFigures>,
+    spiral: &Spiral,
     points: &[(f64, f64)],
-    fitted: &[arcs::Arc],
     max_deviation_mm: f64,
 ) -> CoverageCheck {
     let p = &plan.process;
@@ -435,27 +427,25 @@ fn coverage_of(
     let tol = p.tolerance_mm.value;
     match (&plan.part, groove) {
         (SpiralPart::Face(f), _) => {
-            // The path the program cuts: its chords, or its arcs as a
-            // polyline within SAG_MM (the disc is shrunk by that much).
-            let (path, shrink) = match p.program {
-                SpiralProgram::FanucArcs => (arc_polyline(fitted), SAG_MM),
-                _ => (points.to_vec(), 0.0),
+            let stray = match p.program {
+                SpiralProgram::FanucArcs => max_deviation_mm.max(tol),
+                _ => spiral.chord_stray_mm(tol).max(max_deviation_mm),
             };
-            let c = gearcam_spiral::coverage(
+            let proof = gearcam_spiral::prove_coverage(
                 &Region {
                     outer_radius_mm: f.outer_radius_mm,
                     inner_radius_mm: f.inner_radius_mm,
                 },
-                rt - shrink,
-                &path,
-                (rt / 4.0).min(0.5),
+                spiral,
+                rt,
+                stray,
             );
             CoverageCheck {
-                ok: c.ok,
-                max_gap_mm: c.max_gap_mm,
-                worst_point_mm: c.worst_point,
+                ok: proof.ok,
+                max_gap_mm: proof.max_gap_mm,
+                worst_point_mm: proof.worst_point,
                 max_deviation_mm,
-                samples: c.samples as u64,
+                samples: 0,
             }
         }
         (SpiralPart::Groove(g), Some(fig)) => {
@@ -486,10 +476,10 @@ fn coverage_error(plan: &SpiralPlan, spiral: &Spiral, coverage: &CoverageCheck) 
             SpiralPart::Groove(_) => format!("turns {} mm apart within {} mm", spiral.step_over_mm(), 2.0 * tol),
         },
         match plan.part {
-            SpiralPart::Face(_) => format!("a point {:.4} mm outside the tool at X{x:.3} Y{y:.3}", coverage.max_gap_mm),
+            SpiralPart::Face(_) => format!("up to {:.4} mm of the face outside the tool, near X{x:.3} Y{y:.3}", coverage.max_gap_mm),
             SpiralPart::Groove(_) => format!("a pitch error of {:.4} mm", coverage.max_gap_mm),
         },
-        "the coverage check found material the path leaves uncut; lower the step-over or the inner overtravel",
+        "the coverage proof finds material the path may leave uncut; lower the step-over or raise the overtravels",
     )
 }
 
@@ -605,6 +595,45 @@ mod tests {
             ("SPIRAL_RANGE", "milling.step_over_mm")
         );
         assert!(e[0].expected.contains("15.99"), "{}", e[0].expected);
+    }
+
+    /// A face's coverage is the proof's, with the form's stray: the
+    /// plan's own spiral is proved; the same face in turns 2.5 tool radii
+    /// apart or more is refused, by at least L/2 − (R − δ) (between the
+    /// turns; the inner edge falls short too, the end radius kept), the
+    /// shortfall the proof gives for the chords' stray.
+    #[test]
+    fn a_faces_coverage_is_proved_with_the_paths_stray() {
+        let p = face(json!({"tolerance_mm": 0.002}));
+        let rt = p.tool.radius_mm;
+        let (spiral, _) = spiral_of(&p).unwrap();
+        let (_, points) = spiral.chords(0.002);
+        let dev = gearcam_spiral::chord_deviation(&spiral, &points);
+        let ok = coverage_of(&p, None, &spiral, &points, dev);
+        assert!(ok.ok && ok.max_gap_mm == 0.0 && ok.samples == 0, "{ok:?}");
+        let span = (spiral.start_radius_mm - spiral.end_radius_mm).abs();
+        let wide = Spiral {
+            turns: ((span / (2.5 * rt)).floor() as u32).max(1),
+            ..spiral
+        };
+        let (_, points) = wide.chords(0.002);
+        let dev = gearcam_spiral::chord_deviation(&wide, &points);
+        let gap = coverage_of(&p, None, &wide, &points, dev);
+        let stray = wide.chord_stray_mm(0.002).max(dev);
+        let between = wide.step_over_mm() / 2.0 - (rt - stray);
+        assert!(
+            between > 0.0 && !gap.ok && gap.max_gap_mm >= between,
+            "{gap:?}"
+        );
+        let region = Region {
+            outer_radius_mm: 60.0,
+            inner_radius_mm: 10.0,
+        };
+        let proof = gearcam_spiral::prove_coverage(&region, &wide, rt, stray);
+        assert_eq!(
+            (gap.max_gap_mm, gap.worst_point_mm),
+            (proof.max_gap_mm, proof.worst_point)
+        );
     }
 
     /// The groove's pitch is measured on the path's points: a path of
