@@ -36,25 +36,110 @@ pub(crate) fn lead_crossing(
     hits.first().copied()
 }
 
-/// Turns of the closed `path` about `p` (counter-clockwise positive), from
-/// points 1° apart at most on every arc.
+/// Turns of the closed `path` about `p` (counter-clockwise positive): the
+/// angle each segment turns as seen from `p`, summed, over 2π.
+///
+/// A line turns by the principal angle from its start to its end (under a
+/// half turn: a straight segment not through `p`). So does an arc seen from
+/// outside its circle: the circle lies within a half plane seen from there.
+/// Seen from inside its circle, an arc turns the way it runs, steadily, by
+/// up to a whole turn: its principal angle moved into (0, 2π) for a
+/// counter-clockwise arc, (−2π, 0) for a clockwise one; an arc that ends
+/// where it starts ([`Segment::sweep`]: a whole turn) turns by ±2π from
+/// inside and 0 from outside. Exact, with one arctangent a segment.
 pub(crate) fn winding(p: (f64, f64), path: &[Segment]) -> f64 {
+    use std::f64::consts::TAU;
     let mut angle = 0.0;
-    let mut last: Option<f64> = None;
-    let mut add = |q: (f64, f64)| {
-        let a = (q.1 - p.1).atan2(q.0 - p.0);
-        if let Some(l) = last {
-            angle += (a - l + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-                - std::f64::consts::PI;
-        }
-        last = Some(a);
-    };
     for s in path {
-        let arc = s.arc();
-        let n = (s.sweep().to_degrees().ceil() as usize).max(1);
-        for i in 0..=n {
-            add(arc.point_at(arc.length * i as f64 / n as f64));
+        let (a, b) = (sub(s.from(), p), sub(s.to(), p));
+        let mut turn = (a.0 * b.1 - a.1 * b.0).atan2(a.0 * b.0 + a.1 * b.1);
+        if let Segment::Arc { centre, ccw, .. } = *s {
+            let inside = length(sub(p, centre)) < length(sub(s.from(), centre));
+            // A whole turn ends where it starts: its principal angle is
+            // next to nothing (the sweep only asked then).
+            let whole = || turn.abs() < 1e-9 && s.sweep() == TAU;
+            if inside && whole() {
+                turn = if ccw { TAU } else { -TAU };
+            } else if inside && ccw && turn < 0.0 {
+                turn += TAU;
+            } else if inside && !ccw && turn > 0.0 {
+                turn -= TAU;
+            } else if whole() {
+                turn = 0.0;
+            }
         }
+        angle += turn;
     }
-    angle / std::f64::consts::TAU
+    angle / TAU
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::{PI, TAU};
+
+    /// The winding number as it was first taken: the polar angle of points
+    /// 1° apart at most along every arc, its changes summed. The reference
+    /// for points not closer to the path than a sample step.
+    fn sampled(p: (f64, f64), path: &[Segment]) -> f64 {
+        let mut angle = 0.0;
+        let mut last: Option<f64> = None;
+        for s in path {
+            let arc = s.arc();
+            let n = (s.sweep().to_degrees().ceil() as usize).max(1) * 8;
+            for i in 0..=n {
+                let q = arc.point_at(arc.length * i as f64 / n as f64);
+                let a = (q.1 - p.1).atan2(q.0 - p.0);
+                if let Some(l) = last {
+                    angle += (a - l + PI).rem_euclid(TAU) - PI;
+                }
+                last = Some(a);
+            }
+        }
+        angle / TAU
+    }
+
+    /// A closed path of lines and arcs both ways, big and small (a slot with
+    /// a bite out of one side, run clockwise, and its reverse), against
+    /// the sampled winding at points on a grid over and around it, and
+    /// a whole circle from inside and outside.
+    #[test]
+    fn the_exact_winding_agrees_with_the_sampled_one() {
+        let arc = |from, to, centre, ccw| Segment::Arc {
+            from,
+            to,
+            centre,
+            ccw,
+        };
+        let line = |from, to| Segment::Line { from, to };
+        // Clockwise: over the top by a half circle, down the right, a
+        // bite (counter-clockwise arc into the shape) along the bottom,
+        // up the left.
+        let path = vec![
+            arc((-3.0, 2.0), (3.0, 2.0), (0.0, 2.0), false),
+            line((3.0, 2.0), (3.0, -2.0)),
+            line((3.0, -2.0), (1.0, -2.0)),
+            arc((1.0, -2.0), (-1.0, -2.0), (0.0, -2.0), true),
+            line((-1.0, -2.0), (-3.0, -2.0)),
+            line((-3.0, -2.0), (-3.0, 2.0)),
+        ];
+        let back: Vec<Segment> = path.iter().rev().map(Segment::reversed).collect();
+        let mut inside = 0;
+        for i in -45..=45 {
+            for j in -45..=60 {
+                let p = (0.1 * f64::from(i) + 0.013, 0.1 * f64::from(j) + 0.007);
+                for (way, sense) in [(&path, -1.0), (&back, 1.0)] {
+                    let w = winding(p, way);
+                    assert!((w - sampled(p, way)).abs() < 1e-9, "{p:?}: {w}");
+                    assert!(w.abs() < 1e-12 || (w - sense).abs() < 1e-12, "{p:?}: {w}");
+                    inside += usize::from(w.abs() > 0.5);
+                }
+            }
+        }
+        // Inside: the 6 × 4 box and the half disc, less the bite.
+        assert!(inside > 2 * 2000, "{inside}");
+        let circle = [arc((2.0, 0.0), (2.0, 0.0), (0.0, 0.0), true)];
+        assert_eq!(winding((0.5, 0.5), &circle), 1.0);
+        assert_eq!(winding((3.0, 0.5), &circle), 0.0);
+    }
 }
