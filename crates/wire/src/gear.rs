@@ -377,6 +377,19 @@ impl Flank {
         let (s, c) = self.sin_cos;
         (c * p.0 + s * p.1, s * p.0 - c * p.1)
     }
+
+    /// [`Curve::distance`] of the point at radius `r` and polar angle `a`
+    /// (radians), `point` the point itself (needed only when an end of the
+    /// flank is nearest). The placement, a reflection, takes the polar
+    /// angle a to θb − a: (cos θb·cos a + sin θb·sin a, sin θb·cos a −
+    /// cos θb·sin a) = (cos(θb − a), sin(θb − a)); taken into (−π, π] as
+    /// the arctangent gives it.
+    pub(crate) fn distance_polar(&self, r: f64, a: f64, point: impl FnOnce() -> (f64, f64)) -> f64 {
+        use std::f64::consts::{PI, TAU};
+        let angle = PI - (PI - (self.base_angle - a)).rem_euclid(TAU);
+        self.involute
+            .distance_polar(r, angle, || self.place(point()))
+    }
 }
 
 impl Curve for Flank {

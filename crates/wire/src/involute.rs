@@ -55,15 +55,32 @@ impl Curve for Involute {
     }
 
     fn distance(&self, q: (f64, f64)) -> f64 {
-        let rb = self.base_radius_mm;
-        let d = |p: (f64, f64)| ((p.0 - q.0).powi(2) + (p.1 - q.1).powi(2)).sqrt();
-        let ends = || d(self.point(self.roll_from)).min(d(self.point(self.roll_to)));
         let r = (q.0 * q.0 + q.1 * q.1).sqrt();
+        self.distance_polar(r, q.1.atan2(q.0), || q)
+    }
+}
+
+impl Involute {
+    /// [`Curve::distance`] of the point at radius `r` and polar angle
+    /// `angle` (radians, in (−π, π]), for a caller that has them; `point`
+    /// gives the point itself, needed only when an end point is nearest.
+    pub(crate) fn distance_polar(
+        &self,
+        r: f64,
+        angle: f64,
+        point: impl FnOnce() -> (f64, f64),
+    ) -> f64 {
+        let rb = self.base_radius_mm;
+        let ends = || {
+            let q = point();
+            let d = |p: (f64, f64)| ((p.0 - q.0).powi(2) + (p.1 - q.1).powi(2)).sqrt();
+            d(self.point(self.roll_from)).min(d(self.point(self.roll_to)))
+        };
         if r <= rb {
             return ends();
         }
         let l = (r * r - rb * rb).sqrt();
-        let phi = q.1.atan2(q.0) + (rb / r).acos();
+        let phi = angle + (rb / r).acos();
         if (self.roll_from..=self.roll_to).contains(&phi) {
             (l - rb * phi).abs()
         } else {

@@ -18,9 +18,10 @@
 use gearcam_geom::plane::{mirror, rotate};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use gearcam_arcfit::{fit, Curve, FitError, Options, Sampled};
+use gearcam_arcfit::{fit, Curve, FitError, Options};
 
 use crate::gear::{Figures, Flank, ToothSpace};
+use crate::polyline::Fillet;
 use crate::Segment;
 
 /// The fit's tolerances, mm.
@@ -55,7 +56,7 @@ pub struct Outline {
     /// The fillet fit's deviation from the fillet, mm.
     pub fillet_fit_mm: f64,
     flank: Flank,
-    fillet: Sampled,
+    fillet: Fillet,
     /// The fillet's smallest and largest radius, mm.
     fillet_radii: (f64, f64),
     /// The root arc's polar angles (from the fillet's start to the space's
@@ -114,7 +115,7 @@ pub fn outline(gear: &dyn ToothSpace, tol: &Tolerances) -> Result<Outline, Outli
     let figures = gear.figures();
     let flank = gear.flank();
     let exact_fillet = gear.fillet_curve();
-    let fillet = Sampled::new(exact_fillet.as_ref(), FILLET_SAMPLES);
+    let fillet = Fillet::new(exact_fillet.as_ref(), FILLET_SAMPLES);
     let undercut = gear.undercut();
     let mut o = Options::tolerance(tol.flank_mm);
     o.min_radius = tol.min_radius_mm;
@@ -251,22 +252,31 @@ impl Outline {
     /// exactly, the fillet on 4,096 chords), and the nearest piece: `q` is
     /// folded into the half tooth space by the gear's symmetry.
     pub fn distance(&self, q: (f64, f64)) -> (f64, Piece) {
+        self.distance_at((q.0 * q.0 + q.1 * q.1).sqrt(), q.1.atan2(q.0))
+    }
+
+    /// [`Outline::distance`] of the point at radius `r` and polar angle
+    /// `polar` (radians), for a caller that has them: the flank's distance
+    /// is taken from the folded angle itself, and the folded point is
+    /// worked out only where an end point or the fillet needs it.
+    pub(crate) fn distance_at(&self, r: f64, polar: f64) -> (f64, Piece) {
         let z = f64::from(self.teeth);
         // The angle from the first space's axis (π/2 + π/z), folded into
         // (−π/z, 0] by whole pitches and the mirror about that axis; the
         // point is then the fit frame's, the space's axis on +Y, on the
         // circle of its radius.
-        let r = q.0.hypot(q.1);
-        let d = (q.1.atan2(q.0) - FRAC_PI_2).rem_euclid(TAU / z) - PI / z;
+        let d = (polar - FRAC_PI_2).rem_euclid(TAU / z) - PI / z;
         let a = FRAC_PI_2 - d.abs();
-        let q = (r * a.cos(), r * a.sin());
+        let folded = std::cell::OnceCell::new();
+        let q = || *folded.get_or_init(|| (r * a.cos(), r * a.sin()));
         // An arc of the root or tip circle: the radial gap within its
         // angles, else the nearer end point (the ends computed once).
         let circle = |radius: f64, lo: f64, hi: f64, ends: &[(f64, f64); 2]| {
             if (lo..=hi).contains(&a) {
                 (r - radius).abs()
             } else {
-                let end = |e: &(f64, f64)| (q.0 - e.0).hypot(q.1 - e.1);
+                let q = q();
+                let end = |e: &(f64, f64)| ((q.0 - e.0).powi(2) + (q.1 - e.1).powi(2)).sqrt();
                 end(&ends[0]).min(end(&ends[1]))
             }
         };
@@ -276,7 +286,7 @@ impl Outline {
                 circle(f.root_radius_mm, self.root_from, FRAC_PI_2, &self.root_ends),
                 Piece::Root,
             ),
-            (self.flank.distance(q), Piece::Flank),
+            (self.flank.distance_polar(r, a, q), Piece::Flank),
             (
                 circle(
                     f.tip_radius_mm,
@@ -298,7 +308,7 @@ impl Outline {
         if bound >= best.0 {
             return best;
         }
-        let fillet = (self.fillet.distance(q), Piece::Fillet);
+        let fillet = (self.fillet.distance(q()), Piece::Fillet);
         if fillet.0 < best.0 {
             fillet
         } else {
@@ -341,5 +351,59 @@ impl Outline {
         let mut out: Vec<(f64, f64)> = right.iter().rev().copied().collect();
         out.extend(right.iter().map(|&p| mirror(p, axis)));
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gear::RackGear;
+
+    /// The distance from the polar angle (the flank's from θb − a, the
+    /// folded point built only where needed) against the way it was first
+    /// taken: the folded point built, each piece's own distance of it.
+    /// Points round a whole gear, on and off the outline, agree within
+    /// 10⁻¹² mm and on the nearest piece.
+    #[test]
+    fn the_polar_distance_is_the_pieces_distance() {
+        let gear = RackGear {
+            module_mm: 2.0,
+            teeth: 23,
+            pressure_angle_deg: 20.0,
+            profile_shift: 0.2,
+            addendum_coef: 1.0,
+            clearance_coef: 0.25,
+            tip_radius_coef: 0.38,
+        };
+        let tol = Tolerances {
+            flank_mm: 0.001,
+            fillet_mm: 0.005,
+            min_radius_mm: 0.005,
+        };
+        let o = outline(&gear, &tol).unwrap();
+        let z = f64::from(o.teeth);
+        let f = &o.figures;
+        let mut n = 0;
+        for i in 0..4000 {
+            let polar = TAU * f64::from(i) / 4000.0 - PI;
+            for k in 0..=20 {
+                let r = f.root_radius_mm - 0.3
+                    + (f.tip_radius_mm - f.root_radius_mm + 0.6) * f64::from(k) / 20.0;
+                let (d, piece) = o.distance((r * polar.cos(), r * polar.sin()));
+                // The fold and each piece, written out.
+                let p = (r * polar.cos(), r * polar.sin());
+                let fold = (p.1.atan2(p.0) - FRAC_PI_2).rem_euclid(TAU / z) - PI / z;
+                let a = FRAC_PI_2 - fold.abs();
+                let q = (r * a.cos(), r * a.sin());
+                let flank = o.flank.distance(q);
+                if piece == Piece::Flank {
+                    assert!((d - flank).abs() < 1e-12, "{r} {polar}: {d} vs {flank}");
+                    n += 1;
+                } else {
+                    assert!(d <= flank + 1e-12, "{r} {polar}: {d} vs {flank}");
+                }
+            }
+        }
+        assert!(n > 10_000, "{n} points nearest the flank");
     }
 }
