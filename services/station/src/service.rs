@@ -136,7 +136,16 @@ pub async fn run(
                 while let Some(done) = drives.tasks.try_join_next_with_id() {
                     drives.finished(done, &mut updates);
                 }
+                let announce = waiting_events(&updates);
                 journal.batch(Durability::Normal, |j| apply_updates(j, updates))??;
+                // Journaled first: a client that sees the event and asks for
+                // the job's status reads a status that has it.
+                for (job, reason) in announce {
+                    let waiting = EventKind::Waiting { reason };
+                    if let Err(e) = bus.event(&job, Stage::Station, waiting).await {
+                        tracing::warn!(%job, error = %e, "cannot publish the waiting event");
+                    }
+                }
             },
             _ = tick.tick() => drive_now = true,
         }
@@ -455,16 +464,30 @@ impl Drives {
 /// A journal change decided while driving jobs.
 #[derive(Debug)]
 enum Update {
-    Waiting(JobId, String, u64),
+    /// The job waits for what the reason names, until the time given; the
+    /// flag says its reason is new, so its `waiting` event is published
+    /// once the change is journaled.
+    Waiting(JobId, String, u64, bool),
     Sent(JobId, u64),
     Delivered(Box<gearcam_proto::DeliveryReceipt>),
+}
+
+/// The `waiting` events to publish for `updates` once they are journaled.
+fn waiting_events(updates: &[Update]) -> Vec<(JobId, String)> {
+    updates
+        .iter()
+        .filter_map(|u| match u {
+            Update::Waiting(job, reason, _, true) => Some((job.clone(), reason.clone())),
+            _ => None,
+        })
+        .collect()
 }
 
 fn apply_updates(j: &Journal, updates: Vec<Update>) -> Result<(), JournalError> {
     let now = now_ms();
     for u in updates {
         match u {
-            Update::Waiting(job, reason, next) => j.waiting(&job, &reason, now, next)?,
+            Update::Waiting(job, reason, next, _) => j.waiting(&job, &reason, now, next)?,
             Update::Sent(job, next) => j.sent(&job, now, next)?,
             Update::Delivered(receipt) => {
                 j.delivered(&receipt, now)?;
@@ -480,15 +503,8 @@ async fn drive(bus: &Bus, missing: Vec<String>, redrive_ms: u64, d: Due) -> Opti
     let now = now_ms();
     if !missing.is_empty() {
         let reason = format!("offline: {}", missing.join(", "));
-        if d.waiting_for.as_deref() != Some(reason.as_str()) {
-            let waiting = EventKind::Waiting {
-                reason: reason.clone(),
-            };
-            if let Err(e) = bus.event(&d.job, Stage::Station, waiting).await {
-                tracing::warn!(job = %d.job, error = %e, "cannot publish the waiting event");
-            }
-        }
-        return Some(Update::Waiting(d.job, reason, now + 1000));
+        let new = d.waiting_for.as_deref() != Some(reason.as_str());
+        return Some(Update::Waiting(d.job, reason, now + 1000, new));
     }
     if d.attempts > 0 {
         // A re-drive: the receipt may have been lost; ask the agent's store first.
