@@ -22,8 +22,8 @@
 //!   check (`gearcam_nc::check`; for the spiral family the replay of
 //!   `gearcam_spiral::verify`, for the wire family the replay of
 //!   `gearcam_wire::programs::check_plan`) of every program against its job's model.
-//!   A finding: `PATH_CHECK_FAILED` (final). No model seen yet (the agent
-//!   started after it was published): `MODEL_UNKNOWN` (the job waits; the
+//!   A finding: `PATH_CHECK_FAILED` (final). No model seen within [`MODEL_WAIT`] of
+//!   the delivery (the agent started after it was published): `MODEL_UNKNOWN` (the job waits; the
 //!   station's re-drive publishes the model again).
 
 use gearcam_proto::Code;
@@ -48,7 +48,14 @@ type Kept = (HashMap<JobId, Arc<AnyModel>>, VecDeque<JobId>);
 #[derive(Debug, Clone, Default)]
 pub struct Models {
     inner: Arc<Mutex<Kept>>,
+    /// Woken at each model kept.
+    arrived: Arc<tokio::sync::Notify>,
 }
+
+/// How long a delivery waits for its job's model: the model goes to the
+/// template service and to the agent at once, and the template's program
+/// can reach the agent before the model does.
+pub const MODEL_WAIT: Duration = Duration::from_millis(500);
 
 impl Models {
     fn insert(&self, model: AnyModel) {
@@ -61,6 +68,23 @@ impl Models {
         while order.len() > MAX_MODELS {
             if let Some(old) = order.pop_front() {
                 map.remove(&old);
+            }
+        }
+        drop(g);
+        self.arrived.notify_waiters();
+    }
+
+    /// Waits until the model of every job in `jobs` is kept, or `limit`
+    /// has passed (the check then says which one is missing).
+    pub async fn wait_for(&self, jobs: &[JobId], limit: Duration) {
+        let deadline = tokio::time::Instant::now() + limit;
+        loop {
+            let arrived = self.arrived.notified();
+            if jobs.iter().all(|j| self.get(j).is_some()) {
+                return;
+            }
+            if tokio::time::timeout_at(deadline, arrived).await.is_err() {
+                return;
             }
         }
     }

@@ -72,10 +72,16 @@ pub async fn run(
             // The station is asked while the programs are checked: the
             // question's round trip overlaps the path checks.
             let jobs: Vec<JobId> = deliveries.iter().map(|(_, p)| p.job_id.clone()).collect();
+            let jobs_asked = jobs.clone();
             let asked = (!jobs.is_empty()).then(|| {
                 let (bus, machine) = (guard_bus.clone(), machine.clone());
                 runtime.spawn(async move { guard::journaled(&bus, &machine, &jobs).await })
             });
+            if !jobs_asked.is_empty() {
+                tokio::task::block_in_place(|| {
+                    runtime.block_on(models.wait_for(&jobs_asked, guard::MODEL_WAIT))
+                });
+            }
             let checks: Vec<Result<(), JobError>> =
                 deliveries.iter().map(|(_, p)| models.check(p)).collect();
             let verdicts = match asked {
