@@ -2,6 +2,15 @@
 
 use super::*;
 
+/// The jobs table of the first journals, before any column was added.
+const FIRST_JOBS_TABLE: &str = "CREATE TABLE jobs (
+             seq INTEGER PRIMARY KEY AUTOINCREMENT, job TEXT NOT NULL UNIQUE,
+             machine TEXT NOT NULL, part_number TEXT NOT NULL, request BLOB NOT NULL,
+             request_sha256 TEXT NOT NULL, state TEXT NOT NULL,
+             attempts INTEGER NOT NULL DEFAULT 0, accepted_at_ms INTEGER NOT NULL,
+             updated_at_ms INTEGER NOT NULL, next_attempt_ms INTEGER NOT NULL,
+             waiting_for TEXT, receipt_json TEXT, errors_json TEXT";
+
 /// A journal written before the model's warnings were kept opens, gains
 /// the column, and its jobs read with no warnings.
 #[test]
@@ -9,18 +18,12 @@ fn a_journal_from_before_the_warnings_column_opens_and_reads() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("station.db");
     let conn = Connection::open(&path).unwrap();
-    conn.execute_batch(
-        "CREATE TABLE jobs (
-             seq INTEGER PRIMARY KEY AUTOINCREMENT, job TEXT NOT NULL UNIQUE,
-             machine TEXT NOT NULL, part_number TEXT NOT NULL, request BLOB NOT NULL,
-             request_sha256 TEXT NOT NULL, state TEXT NOT NULL,
-             attempts INTEGER NOT NULL DEFAULT 0, accepted_at_ms INTEGER NOT NULL,
-             updated_at_ms INTEGER NOT NULL, next_attempt_ms INTEGER NOT NULL,
-             waiting_for TEXT, receipt_json TEXT, errors_json TEXT);
+    conn.execute_batch(&format!(
+        "{FIRST_JOBS_TABLE});
          INSERT INTO jobs (job, machine, part_number, request, request_sha256, state,
                            accepted_at_ms, updated_at_ms, next_attempt_ms)
-         VALUES ('OLD-1', 'H01', 'SP-1001', x'00', '-', 'accepted', 1, 1, 1);",
-    )
+         VALUES ('OLD-1', 'H01', 'SP-1001', x'00', '-', 'accepted', 1, 1, 1);"
+    ))
     .unwrap();
     drop(conn);
     let journal = Journal::open(&path).unwrap();
@@ -49,20 +52,14 @@ fn a_journal_with_models_in_the_jobs_rows_moves_them_to_their_own_table() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("station.db");
     let conn = Connection::open(&path).unwrap();
-    conn.execute_batch(
-        "CREATE TABLE jobs (
-             seq INTEGER PRIMARY KEY AUTOINCREMENT, job TEXT NOT NULL UNIQUE,
-             machine TEXT NOT NULL, part_number TEXT NOT NULL, request BLOB NOT NULL,
-             request_sha256 TEXT NOT NULL, state TEXT NOT NULL,
-             attempts INTEGER NOT NULL DEFAULT 0, accepted_at_ms INTEGER NOT NULL,
-             updated_at_ms INTEGER NOT NULL, next_attempt_ms INTEGER NOT NULL,
-             waiting_for TEXT, receipt_json TEXT, errors_json TEXT,
+    conn.execute_batch(&format!(
+        "{FIRST_JOBS_TABLE},
              warnings_json TEXT, model BLOB);
          INSERT INTO jobs (job, machine, part_number, request, request_sha256, state,
                            accepted_at_ms, updated_at_ms, next_attempt_ms, model)
          VALUES ('OLD-1', 'H01', 'SP-1001', x'00', '-', 'delivered', 1, 1, 1, x'0102'),
-                ('OLD-2', 'H01', 'SP-1002', x'00', '-', 'accepted', 1, 1, 1, NULL);",
-    )
+                ('OLD-2', 'H01', 'SP-1002', x'00', '-', 'accepted', 1, 1, 1, NULL);"
+    ))
     .unwrap();
     drop(conn);
     let journal = Journal::open(&path).unwrap();
@@ -115,16 +112,8 @@ fn every_job_says_its_quantity_an_old_journal_too() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("station.db");
     let conn = Connection::open(&path).unwrap();
-    conn.execute_batch(
-        "CREATE TABLE jobs (
-             seq INTEGER PRIMARY KEY AUTOINCREMENT, job TEXT NOT NULL UNIQUE,
-             machine TEXT NOT NULL, part_number TEXT NOT NULL, request BLOB NOT NULL,
-             request_sha256 TEXT NOT NULL, state TEXT NOT NULL,
-             attempts INTEGER NOT NULL DEFAULT 0, accepted_at_ms INTEGER NOT NULL,
-             updated_at_ms INTEGER NOT NULL, next_attempt_ms INTEGER NOT NULL,
-             waiting_for TEXT, receipt_json TEXT, errors_json TEXT);",
-    )
-    .unwrap();
+    conn.execute_batch(&format!("{FIRST_JOBS_TABLE});"))
+        .unwrap();
     conn.execute(
         "INSERT INTO jobs (job, machine, part_number, request, request_sha256, state,
                            accepted_at_ms, updated_at_ms, next_attempt_ms)
