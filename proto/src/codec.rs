@@ -43,8 +43,43 @@ struct EnvelopeHead {
     body: IgnoredAny,
 }
 
+impl EnvelopeHead {
+    /// Reads the head. What [`encode`] writes starts with `schema` and
+    /// `kind`, and those are read without walking the body; a map in any
+    /// other order is read whole.
+    fn read(bytes: &[u8]) -> Result<EnvelopeHead, rmp_serde::decode::Error> {
+        match Self::leading(bytes) {
+            Some(head) => Ok(head),
+            None => rmp_serde::from_slice(bytes),
+        }
+    }
+
+    /// The head when the map's first two entries are `schema` and `kind`.
+    fn leading(bytes: &[u8]) -> Option<EnvelopeHead> {
+        use rmp::decode::{read_int, read_map_len, read_str};
+        let mut rd = bytes;
+        let mut buf = [0u8; 64];
+        if read_map_len(&mut rd).ok()? != 3 || read_str(&mut rd, &mut buf).ok()? != "schema" {
+            return None;
+        }
+        let schema: u16 = read_int(&mut rd).ok()?;
+        if read_str(&mut rd, &mut buf).ok()? != "kind" {
+            return None;
+        }
+        let kind = read_str(&mut rd, &mut buf).ok()?.to_string();
+        Some(EnvelopeHead {
+            schema,
+            kind,
+            body: IgnoredAny,
+        })
+    }
+}
+
+/// The whole envelope, read in one pass.
 #[derive(Deserialize)]
 struct EnvelopeIn<T> {
+    schema: u16,
+    kind: String,
     body: T,
 }
 
@@ -61,7 +96,10 @@ pub fn encode<T: Message>(msg: &T) -> Result<Vec<u8>, CodecError> {
     })
 }
 
-/// Decodes a message, checking size, schema version and kind first.
+/// Decodes a message, checking size, schema version and kind first: a
+/// message of another version or kind is refused as such, whatever its body.
+/// The envelope is read in one pass; only when that fails, or finds another
+/// version or kind, is the head read alone to say which.
 pub fn decode<T: Message>(bytes: &[u8]) -> Result<T, CodecError> {
     if bytes.len() > MAX_MESSAGE_BYTES {
         return Err(CodecError::TooLarge {
@@ -70,11 +108,16 @@ pub fn decode<T: Message>(bytes: &[u8]) -> Result<T, CodecError> {
             got: bytes.len(),
         });
     }
+    let body_error = match rmp_serde::from_slice::<EnvelopeIn<T>>(bytes) {
+        Ok(env) if env.schema == SCHEMA_VERSION && env.kind == T::KIND => return Ok(env.body),
+        Ok(_) => None,
+        Err(e) => Some(e),
+    };
     let malformed = |e: rmp_serde::decode::Error| CodecError::Malformed {
         expected_kind: T::KIND,
         detail: e.to_string(),
     };
-    let head: EnvelopeHead = rmp_serde::from_slice(bytes).map_err(malformed)?;
+    let head = EnvelopeHead::read(bytes).map_err(malformed)?;
     if head.schema != SCHEMA_VERSION {
         return Err(CodecError::UnknownVersion {
             kind: head.kind,
@@ -88,8 +131,13 @@ pub fn decode<T: Message>(bytes: &[u8]) -> Result<T, CodecError> {
             got: head.kind,
         });
     }
-    let env: EnvelopeIn<T> = rmp_serde::from_slice(bytes).map_err(malformed)?;
-    Ok(env.body)
+    Err(match body_error {
+        Some(e) => malformed(e),
+        None => CodecError::Malformed {
+            expected_kind: T::KIND,
+            detail: "the envelope's head and body disagree".into(),
+        },
+    })
 }
 
 /// A message type a stage receives: one [`Message`] kind, or one of several
@@ -118,7 +166,7 @@ pub fn kind_of(bytes: &[u8], expected: &'static str) -> Result<String, CodecErro
             got: bytes.len(),
         });
     }
-    let head: EnvelopeHead = rmp_serde::from_slice(bytes).map_err(|e| CodecError::Malformed {
+    let head = EnvelopeHead::read(bytes).map_err(|e| CodecError::Malformed {
         expected_kind: expected,
         detail: e.to_string(),
     })?;
@@ -195,6 +243,42 @@ mod tests {
         .unwrap();
         let err = decode::<Ping>(&bytes).unwrap_err();
         assert!(err.to_string().contains("label"), "{err}");
+    }
+
+    #[test]
+    fn a_body_that_fits_does_not_hide_another_kind() {
+        let other = rmp_serde::to_vec_named(&serde_json::json!(
+            {"schema": 1, "kind": "pong", "body": {"n": 1, "label": "x"}}
+        ))
+        .unwrap();
+        let err = decode::<Ping>(&other).unwrap_err();
+        assert_eq!(err.code(), "WRONG_MESSAGE_KIND", "{err}");
+        assert!(err.to_string().contains("pong"), "{err}");
+    }
+
+    #[test]
+    fn the_head_is_read_without_the_body() {
+        let mut bytes = encode(&Ping {
+            n: 7,
+            label: "a label long enough to cut".into(),
+        })
+        .unwrap();
+        bytes.truncate(bytes.len() - 5);
+        assert_eq!(kind_of(&bytes, "ping").unwrap(), "ping");
+        assert_eq!(
+            decode::<Ping>(&bytes).unwrap_err().code(),
+            "MALFORMED_MESSAGE"
+        );
+        // The head's fields in another order, after the body.
+        let reordered = rmp_serde::to_vec_named(&serde_json::json!(
+            {"body": {"n": 1, "label": ""}, "kind": "ping", "schema": 1}
+        ))
+        .unwrap();
+        assert_eq!(kind_of(&reordered, "ping").unwrap(), "ping");
+        assert_eq!(decode::<Ping>(&reordered).unwrap().n, 1);
+        let headless = rmp_serde::to_vec_named(&serde_json::json!({"kind": "ping"})).unwrap();
+        let err = kind_of(&headless, "ping").unwrap_err();
+        assert!(err.to_string().contains("schema"), "{err}");
     }
 
     #[test]
