@@ -107,6 +107,9 @@ impl Journal {
         let conn = Connection::open(path)?;
         conn.pragma_update(None, "journal_mode", "WAL")?;
         conn.pragma_update(None, "synchronous", "FULL")?;
+        // 32 MiB of page cache: the jobs being driven and their models stay
+        // in memory instead of being read back from the file for every event.
+        conn.pragma_update(None, "cache_size", -32768)?;
         conn.busy_timeout(std::time::Duration::from_secs(5))?;
         conn.execute_batch(
             "CREATE TABLE IF NOT EXISTS jobs (
@@ -152,6 +155,7 @@ impl Journal {
             path: path.display().to_string(),
             source: e,
         })?;
+        conn.set_prepared_statement_cache_capacity(64);
         Ok(Journal { conn })
     }
 
@@ -177,6 +181,23 @@ impl Journal {
         Ok(out)
     }
 
+    /// `execute` on a cached statement: the journal runs the same few
+    /// statements for every job, and parsing each again costs more than
+    /// running it.
+    fn exec<P: rusqlite::Params>(&self, sql: &str, params: P) -> rusqlite::Result<usize> {
+        self.conn.prepare_cached(sql)?.execute(params)
+    }
+
+    /// `query_row` on a cached statement.
+    fn row<T, P: rusqlite::Params>(
+        &self,
+        sql: &str,
+        params: P,
+        f: impl FnOnce(&rusqlite::Row<'_>) -> rusqlite::Result<T>,
+    ) -> rusqlite::Result<T> {
+        self.conn.prepare_cached(sql)?.query_row(params, f)
+    }
+
     /// Journals a request. The same request again is accepted as is (idempotent);
     /// a different spec under a known job id is refused (`JOB_ID_EXISTS`).
     pub fn submit(&self, req: &JobRequest, now: u64) -> Result<JobStatus, JobError> {
@@ -190,8 +211,7 @@ impl Journal {
         })?;
         let hash = sha(&bytes);
         let known: Option<Vec<u8>> = self
-            .conn
-            .query_row(
+            .row(
                 "SELECT request FROM jobs WHERE job = ?1",
                 [req.job_id.as_str()],
                 |r| r.get(0),
@@ -259,8 +279,7 @@ impl Journal {
         redrive_ms: u64,
     ) -> Result<bool, JournalError> {
         let row: Option<(String, String)> = self
-            .conn
-            .query_row(
+            .row(
                 "SELECT state, machine FROM jobs WHERE job = ?1",
                 [ev.job_id.as_str()],
                 |r| Ok((r.get(0)?, r.get(1)?)),
@@ -284,7 +303,7 @@ impl Journal {
         // holds.
         if let (JobState::Cancelled, EventKind::Delivered { receipt }) = (current, &ev.event) {
             tracing::warn!(job = %ev.job_id, file = receipt.file_name, "a cancelled job's program was stored before the agent heard of the cancellation");
-            return Ok(self.conn.execute(
+            return Ok(self.exec(
                 "UPDATE jobs SET receipt_json = ?2, updated_at_ms = ?3 WHERE job = ?1 AND receipt_json IS NULL",
                 params![
                     ev.job_id.as_str(),
@@ -306,14 +325,14 @@ impl Journal {
             EventKind::Accepted { .. } => 0,
             EventKind::Planned { .. } => self.set_state(job, JobState::Planned, now, next)?,
             EventKind::Modelled { warnings } => {
-                self.conn.execute(
+                self.exec(
                     "UPDATE jobs SET warnings_json = ?2 WHERE job = ?1",
                     params![job, serde_json::to_string(warnings).unwrap_or_default()],
                 )?;
                 self.set_state(job, JobState::Modelled, now, next)?
             }
             EventKind::Programmed { .. } => self.set_state(job, JobState::Programmed, now, next)?,
-            EventKind::Waiting { reason } => self.conn.execute(
+            EventKind::Waiting { reason } => self.exec(
                 "UPDATE jobs SET state = 'waiting', waiting_for = ?2, updated_at_ms = ?3, next_attempt_ms = ?4 WHERE job = ?1",
                 params![job, reason, now as i64, next],
             )?,
@@ -337,7 +356,7 @@ impl Journal {
         why: &[JobError],
         now: u64,
     ) -> Result<usize, JournalError> {
-        Ok(self.conn.execute(
+        Ok(self.exec(
             "UPDATE jobs SET state = ?2, errors_json = ?3, updated_at_ms = ?4, waiting_for = NULL WHERE job = ?1",
             params![
                 job,
@@ -357,7 +376,7 @@ impl Journal {
         by: &str,
         now: u64,
     ) -> Result<Option<JobStatus>, JournalError> {
-        self.conn.execute(
+        self.exec(
             "UPDATE jobs SET state = 'cancelled', errors_json = ?2, updated_at_ms = ?3, waiting_for = NULL
              WHERE job = ?1 AND state NOT IN ('delivered', 'failed', 'superseded', 'cancelled')",
             params![
@@ -376,7 +395,7 @@ impl Journal {
         now: u64,
         next: i64,
     ) -> Result<usize, JournalError> {
-        Ok(self.conn.execute(
+        Ok(self.exec(
             "UPDATE jobs SET state = ?2, waiting_for = NULL, updated_at_ms = ?3, next_attempt_ms = ?4 WHERE job = ?1",
             params![job, state.as_str(), now as i64, next],
         )?)
@@ -384,7 +403,7 @@ impl Journal {
 
     /// Records a job as delivered with its receipt.
     pub fn delivered(&self, receipt: &DeliveryReceipt, now: u64) -> Result<usize, JournalError> {
-        Ok(self.conn.execute(
+        Ok(self.exec(
             "UPDATE jobs SET state = 'delivered', receipt_json = ?2, waiting_for = NULL, updated_at_ms = ?3
              WHERE job = ?1 AND state NOT IN ('delivered', 'failed', 'superseded', 'cancelled')",
             params![
@@ -397,7 +416,7 @@ impl Journal {
 
     /// Records that the job was (re)sent.
     pub fn sent(&self, job: &JobId, now: u64, next_attempt: u64) -> Result<(), JournalError> {
-        self.conn.execute(
+        self.exec(
             "UPDATE jobs SET attempts = attempts + 1, waiting_for = NULL, updated_at_ms = ?2, next_attempt_ms = ?3,
                     state = CASE WHEN state = 'waiting' THEN 'accepted' ELSE state END
              WHERE job = ?1",
@@ -414,7 +433,7 @@ impl Journal {
         now: u64,
         next_attempt: u64,
     ) -> Result<(), JournalError> {
-        self.conn.execute(
+        self.exec(
             "UPDATE jobs SET state = 'waiting', waiting_for = ?2, updated_at_ms = ?3, next_attempt_ms = ?4
              WHERE job = ?1 AND state NOT IN ('delivered', 'failed', 'superseded', 'cancelled')",
             params![job.as_str(), reason, now as i64, next_attempt as i64],
@@ -424,7 +443,7 @@ impl Journal {
 
     /// Makes every unfinished job of `machine` (or of every machine) due now.
     pub fn wake(&self, machine: Option<&str>, now: u64) -> Result<usize, JournalError> {
-        Ok(self.conn.execute(
+        Ok(self.exec(
             "UPDATE jobs SET next_attempt_ms = ?2 WHERE state NOT IN ('delivered', 'failed', 'superseded', 'cancelled') AND (?1 IS NULL OR machine = ?1)",
             params![machine, now as i64],
         )?)
@@ -488,7 +507,7 @@ impl Journal {
     /// ended keeps the model it has: a model arriving later (a forged one,
     /// or one of a job that ended before its model) does not replace it.
     pub fn set_model(&self, job: &JobId, model: &[u8]) -> Result<bool, JournalError> {
-        Ok(self.conn.execute(
+        Ok(self.exec(
             "INSERT INTO models (job, model)
              SELECT job, ?2 FROM jobs WHERE job = ?1
              ON CONFLICT (job) DO UPDATE SET model = excluded.model

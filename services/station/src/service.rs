@@ -149,7 +149,12 @@ pub async fn run(
             },
             _ = tick.tick() => drive_now = true,
         }
-        inputs.take_waiting(&mut new_submits, &mut new_events, &mut new_models);
+        inputs.take_waiting(
+            &mut new_views,
+            &mut new_submits,
+            &mut new_events,
+            &mut new_models,
+        );
         if !new_submits.is_empty() || !new_events.is_empty() || !new_models.is_empty() {
             // Ids and machines are checked before the journal's transaction:
             // the machine check may ask the knowledge base.
@@ -263,20 +268,36 @@ impl Inputs {
     }
 
     /// Group commit: takes whatever else is already waiting (up to a bound
-    /// per batch), so one transaction journals them all.
+    /// per batch), so one transaction journals them all. Views are taken
+    /// first: every event that reached the station before one of them is
+    /// then taken too, and journaled before the view is answered. A view
+    /// waits for one journal commit, not for one per query ahead of it.
     fn take_waiting(
         &self,
+        new_views: &mut Vec<Query>,
         new_submits: &mut Vec<Query>,
         new_events: &mut Vec<(String, JobEvent)>,
         new_models: &mut Vec<Published>,
     ) {
+        while new_views.len() < 1024 {
+            match self.views.try_recv() {
+                Ok(Some(q)) => new_views.push(q),
+                _ => break,
+            }
+        }
         while new_submits.len() < 1024 {
             match self.submits.try_recv() {
                 Ok(Some(q)) => new_submits.push(q),
                 _ => break,
             }
         }
-        while new_events.len() < 4096 {
+        // With views taken, every event before them is taken, however many.
+        let events_cap = if new_views.is_empty() {
+            4096
+        } else {
+            usize::MAX
+        };
+        while new_events.len() < events_cap {
             match self.events.try_recv() {
                 Ok(Some(s)) => {
                     if let Some(ev) = reported(&s) {
