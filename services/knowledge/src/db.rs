@@ -320,6 +320,9 @@ pub fn open(path: &Path) -> Result<Connection, KnowledgeError> {
     // is, with FULL), and a fsync per planned job would cap the pipeline.
     conn.pragma_update(None, "synchronous", "NORMAL")?;
     conn.busy_timeout(std::time::Duration::from_secs(5))?;
+    // Every plan runs the same few lookups: their statements are kept
+    // prepared rather than parsed again for each job.
+    conn.set_prepared_statement_cache_capacity(64);
     migrate(&mut conn)?;
     Ok(conn)
 }

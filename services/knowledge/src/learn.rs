@@ -63,11 +63,12 @@ pub(crate) fn record_job(
     p: &Planned<'_>,
     at_ms: u64,
 ) -> Result<(), KnowledgeError> {
-    conn.execute(
+    conn.prepare_cached(
         "INSERT OR REPLACE INTO jobs (job_id, part_number, machine, class, quantity, tool_id, state,
                                       confidence, plan_json, planned_at_ms)
          VALUES (?1, ?2, ?3, ?4, ?5, ?6, 'planned', ?7, ?8, ?9)",
-        rusqlite::params![
+    )?
+    .execute(rusqlite::params![
             p.job_id,
             p.part_number,
             p.machine,
@@ -76,20 +77,24 @@ pub(crate) fn record_job(
             p.tool,
             p.confidence,
             p.plan_json,
-            at_ms as i64,
-        ],
-    )?;
+        at_ms as i64,
+    ])?;
     Ok(())
 }
 
 /// Marks a planned job delivered (from the agent's `delivered` event).
 /// Returns false when the job is unknown or already past delivery.
 pub fn record_delivered(conn: &Connection, r: &DeliveryReceipt) -> Result<bool, KnowledgeError> {
-    let n = conn.execute(
-        "UPDATE jobs SET state = 'delivered', delivered_at_ms = ?2, program_name = ?3
-         WHERE job_id = ?1 AND state = 'planned'",
-        rusqlite::params![r.job_id.as_str(), r.stored_at_ms as i64, r.name],
-    )?;
+    let n = conn
+        .prepare_cached(
+            "UPDATE jobs SET state = 'delivered', delivered_at_ms = ?2, program_name = ?3
+             WHERE job_id = ?1 AND state = 'planned'",
+        )?
+        .execute(rusqlite::params![
+            r.job_id.as_str(),
+            r.stored_at_ms as i64,
+            r.name
+        ])?;
     Ok(n == 1)
 }
 
@@ -97,10 +102,11 @@ pub fn record_delivered(conn: &Connection, r: &DeliveryReceipt) -> Result<bool, 
 /// never cut from gearcam's program and never becomes a case. Returns false
 /// when the job is unknown or no longer planned.
 pub fn record_refused(conn: &Connection, job_id: &str) -> Result<bool, KnowledgeError> {
-    let n = conn.execute(
-        "UPDATE jobs SET state = 'refused' WHERE job_id = ?1 AND state = 'planned'",
-        [job_id],
-    )?;
+    let n = conn
+        .prepare_cached(
+            "UPDATE jobs SET state = 'refused' WHERE job_id = ?1 AND state = 'planned'",
+        )?
+        .execute([job_id])?;
     Ok(n == 1)
 }
 

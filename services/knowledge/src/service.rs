@@ -260,7 +260,22 @@ async fn follow_events(
                 Err(_) => break,
             },
         };
-        record_event(&conn, &sample);
+        // The events already waiting are recorded in one transaction: one
+        // WAL commit for all of them, not one each.
+        let mut waiting = vec![sample];
+        while waiting.len() < 1024 {
+            match events.try_recv() {
+                Ok(Some(s)) => waiting.push(s),
+                _ => break,
+            }
+        }
+        let tx = conn.unchecked_transaction();
+        for sample in &waiting {
+            record_event(&conn, sample);
+        }
+        if let Err(e) = tx.and_then(|tx| tx.commit()) {
+            tracing::warn!(error = %e, events = waiting.len(), "cannot commit the recorded events");
+        }
     }
 }
 

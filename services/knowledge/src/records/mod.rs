@@ -127,7 +127,7 @@ pub fn machine(
     conn: &Connection,
     id: &MachineId,
 ) -> Result<Option<MachineProfile>, KnowledgeError> {
-    let mut stmt = conn.prepare("SELECT id, profile_json FROM machines WHERE id = ?1")?;
+    let mut stmt = conn.prepare_cached("SELECT id, profile_json FROM machines WHERE id = ?1")?;
     let mut rows = stmt.query([id.as_str()])?;
     match rows.next()? {
         Some(row) => Ok(Some(machine_from_row(row)?)),
@@ -137,7 +137,7 @@ pub fn machine(
 
 /// Every machine's profile, ordered by id.
 pub fn machines(conn: &Connection) -> Result<Vec<MachineProfile>, KnowledgeError> {
-    let mut stmt = conn.prepare("SELECT id, profile_json FROM machines ORDER BY id")?;
+    let mut stmt = conn.prepare_cached("SELECT id, profile_json FROM machines ORDER BY id")?;
     let mut rows = stmt.query([])?;
     let mut out = Vec::new();
     while let Some(row) = rows.next()? {

@@ -127,7 +127,7 @@ pub(super) fn read_all<T: TableRecord>(conn: &Connection) -> Result<Vec<T>, Know
         lib.table,
         lib.key
     );
-    let mut stmt = conn.prepare(&sql)?;
+    let mut stmt = conn.prepare_cached(&sql)?;
     let mut rows = stmt.query([])?;
     let mut out = Vec::new();
     while let Some(row) = rows.next()? {
@@ -149,7 +149,7 @@ pub(super) fn read_one<T: TableRecord>(
         lib.table,
         lib.key
     );
-    let mut stmt = conn.prepare(&sql)?;
+    let mut stmt = conn.prepare_cached(&sql)?;
     let mut rows = stmt.query([key])?;
     match rows.next()? {
         Some(row) => Ok(Some(T::from_row(&RecordRow::new(lib, row))?)),
