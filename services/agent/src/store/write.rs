@@ -221,12 +221,16 @@ impl Store {
         self.conn.pragma_update(None, "synchronous", "NORMAL")?;
         let settled = (|| {
             let tx = self.conn.transaction()?;
+            let mut stored =
+                tx.prepare_cached("UPDATE programs SET state = 'stored' WHERE seq = ?1")?;
             for (_, seq) in renamed {
-                tx.execute("UPDATE programs SET state = 'stored' WHERE seq = ?1", [seq])?;
+                stored.execute([seq])?;
             }
+            let mut delete = tx.prepare_cached("DELETE FROM programs WHERE seq = ?1")?;
             for seq in undone {
-                tx.execute("DELETE FROM programs WHERE seq = ?1", [seq])?;
+                delete.execute([seq])?;
             }
+            drop((stored, delete));
             tx.commit()
         })();
         self.conn.pragma_update(None, "synchronous", "FULL")?;
