@@ -165,3 +165,25 @@ fn an_ended_job_keeps_its_model() {
     assert_eq!(journal.model(&unknown).unwrap(), None);
     assert!(!journal.set_model(&unknown, b"x").unwrap());
 }
+
+/// The station asks for the due jobs ten times a second: the question is
+/// answered from the partial index of unfinished jobs, never by a scan of
+/// every job the journal holds.
+#[test]
+fn the_due_jobs_are_read_through_their_index() {
+    let dir = tempfile::tempdir().unwrap();
+    let journal = Journal::open(&dir.path().join("station.db")).unwrap();
+    let plan: Vec<String> = journal
+        .conn
+        .prepare(&format!("EXPLAIN QUERY PLAN {DUE}"))
+        .unwrap()
+        .query_map(params![0i64, 1i64], |r| r.get::<_, String>(3))
+        .unwrap()
+        .collect::<Result<_, _>>()
+        .unwrap();
+    assert!(
+        plan.iter().any(|step| step.contains("USING INDEX jobs_due")),
+        "{plan:?}"
+    );
+    assert!(!plan.iter().any(|step| step.starts_with("SCAN")), "{plan:?}");
+}
