@@ -4,9 +4,12 @@
 //! Order of one group commit:
 //!
 //! 1. every file written to a temporary file beside its final name and
-//!    fsynced (in parallel); a failed write's temporary file is removed at once;
-//! 2. one transaction inserts a `pending` row per program (the intent: job,
-//!    revision, hash, text) — committed before any file is renamed;
+//!    fsynced (in parallel); a failed write's temporary file is removed at
+//!    once, and its program refused;
+//! 2. at the same time as 1, one transaction inserts a `pending` row per
+//!    program (the intent: job, revision, hash, text); both 1 and 2 are
+//!    durable before any file is renamed (the intent of a program whose
+//!    file failed is undone in 4);
 //! 3. per program, the file at the machine is compared again with what the
 //!    checks saw (an operator's edit during the write is kept: the program is
 //!    refused as changed at the machine), then the temporary file is renamed
@@ -14,8 +17,8 @@
 //! 4. one transaction turns the renamed programs' rows to `stored` and
 //!    deletes the rows of those not renamed; it is not fsynced on its own
 //!    (steps 1–3 are durable, and they alone decide what `recover` makes of
-//!    each row after a power cut), so the receipt waits for three fsyncs,
-//!    not four.
+//!    each row after a power cut), so the receipt waits for the fsyncs of 1
+//!    and 2 (at once) and the directory's.
 //!
 //! A crash between 2 and 4 leaves `pending` rows: [`Store::recover`] (at
 //! open) makes each `stored` when its file holds exactly its hash (the rename
@@ -77,34 +80,55 @@ impl Store {
             return;
         }
         let dir = self.config.program_dir.clone();
-        // 1. Temporary files, written and fsynced in parallel.
-        let written = write_temps(&dir, programs, &pending);
-        let mut ready: Vec<(Pending, PathBuf)> = Vec::new();
-        for (q, tmp) in pending.into_iter().zip(written) {
-            match tmp {
-                Ok(tmp) => ready.push((q, tmp)),
-                Err(e) => results[q.index] = Some(Err(io_error(&dir, &q.file_name, &e))),
-            }
-        }
-        // 2. The intent, durable before any rename.
+        // 1 and 2 at once: the temporary files are written and fsynced
+        // while the intents are committed, so the two fsyncs overlap; both
+        // are durable before any rename.
         let stored_at = now_ms();
-        let seqs = match self.record_intents(programs, &ready, stored_at) {
+        let (written, seqs) = std::thread::scope(|scope| {
+            let writer = scope.spawn(|| write_temps(&dir, programs, &pending));
+            let seqs = self.record_intents(programs, &pending, stored_at);
+            let written = writer.join().unwrap_or_else(|_| {
+                pending
+                    .iter()
+                    .map(|_| Err(std::io::Error::other("writer thread panicked")))
+                    .collect()
+            });
+            (written, seqs)
+        });
+        let seqs = match seqs {
             Ok(seqs) => seqs,
             Err(e) => {
-                for (q, tmp) in ready {
-                    let _ = fs::remove_file(&tmp);
+                for (q, tmp) in pending.into_iter().zip(written) {
+                    if let Ok(tmp) = tmp {
+                        let _ = fs::remove_file(&tmp);
+                    }
                     results[q.index] = Some(Err(index_error(e.to_string())));
                 }
                 return;
             }
         };
+        // A program whose file could not be written is refused, its intent undone.
+        let (mut ready, mut seqs_ready, mut unwritten) = (Vec::new(), Vec::new(), Vec::new());
+        for ((q, tmp), seq) in pending.into_iter().zip(written).zip(seqs) {
+            match tmp {
+                Ok(tmp) => {
+                    ready.push((q, tmp));
+                    seqs_ready.push(seq);
+                }
+                Err(e) => {
+                    results[q.index] = Some(Err(io_error(&dir, &q.file_name, &e)));
+                    unwritten.push(seq);
+                }
+            }
+        }
         if self.config.faults.pause_before_rename_ms > 0 {
             std::thread::sleep(std::time::Duration::from_millis(
                 self.config.faults.pause_before_rename_ms,
             ));
         }
         // 3. Compare again, then rename.
-        let (renamed, undone) = self.rename_unchanged(&dir, ready, seqs, results);
+        let (renamed, mut undone) = self.rename_unchanged(&dir, ready, seqs_ready, results);
+        undone.extend(unwritten);
         let synced = File::open(&dir).and_then(|d| d.sync_all());
         if self.config.faults.crash_after_rename && !renamed.is_empty() {
             tracing::error!("fault injection: aborting after the rename, before the index commit");
@@ -134,22 +158,22 @@ impl Store {
     }
 
     /// Step 2: one transaction inserts a `pending` row (the intent) per
-    /// program whose temporary file is ready, committed before any rename.
-    /// Returns the rows' sequence numbers, in the order of `ready`.
+    /// program to write, committed before any rename. Returns the rows'
+    /// sequence numbers, in the order of `pending`.
     fn record_intents(
         &mut self,
         programs: &[NcProgram],
-        ready: &[(Pending, PathBuf)],
+        pending: &[Pending],
         stored_at: u64,
     ) -> rusqlite::Result<Vec<i64>> {
         let tx = self.conn.transaction()?;
-        let mut seqs = Vec::with_capacity(ready.len());
+        let mut seqs = Vec::with_capacity(pending.len());
         {
             let mut insert = tx.prepare_cached(
                 "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text, part)
                  VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, 'pending', ?9, ?10)",
             )?;
-            for (q, _) in ready {
+            for q in pending {
                 let p = &programs[q.index];
                 insert.execute(params![
                     p.name,
@@ -440,5 +464,42 @@ mod tests {
             .map(|e| e.unwrap().file_name())
             .collect();
         assert_eq!(names, vec![std::ffi::OsString::from("_N_X_MPF")]);
+    }
+
+    /// The intent is committed while the files are written: a program
+    /// whose file cannot be written is refused, its intent undone, and the
+    /// rest of its group stored.
+    #[test]
+    fn a_file_that_cannot_be_written_is_refused_and_its_intent_undone() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = store(dir.path());
+        // A directory where the temporary file would go: its write fails.
+        let blocked = format!(".{}.tmp-{}", "_N_SP_2_MPF", std::process::id());
+        fs::create_dir(dir.path().join("programs").join(&blocked)).unwrap();
+        let group = [
+            program("J1", "SP_1", "first\n"),
+            program("J2", "SP_2", "blocked\n"),
+            program("J3", "SP_3", "third\n"),
+        ];
+        let results = s.store_batch(&group);
+        assert!(results[0].is_ok() && results[2].is_ok(), "{results:?}");
+        let refused = results[1].as_ref().unwrap_err();
+        assert_eq!(refused.code, Code::STORE_IO_ERROR, "{refused:?}");
+        let rows: Vec<(String, String)> = s
+            .conn
+            .prepare("SELECT job, state FROM programs ORDER BY job")
+            .unwrap()
+            .query_map([], |r| Ok((r.get(0)?, r.get(1)?)))
+            .unwrap()
+            .collect::<Result<_, _>>()
+            .unwrap();
+        assert_eq!(
+            rows,
+            vec![
+                ("J1".into(), "stored".into()),
+                ("J3".into(), "stored".into())
+            ]
+        );
+        assert!(!dir.path().join("programs/_N_SP_2_MPF").exists());
     }
 }

@@ -182,8 +182,12 @@ fn the_due_jobs_are_read_through_their_index() {
         .collect::<Result<_, _>>()
         .unwrap();
     assert!(
-        plan.iter().any(|step| step.contains("USING INDEX jobs_due")),
+        plan.iter()
+            .any(|step| step.contains("USING INDEX jobs_due")),
         "{plan:?}"
     );
-    assert!(!plan.iter().any(|step| step.starts_with("SCAN")), "{plan:?}");
+    assert!(
+        !plan.iter().any(|step| step.starts_with("SCAN")),
+        "{plan:?}"
+    );
 }
