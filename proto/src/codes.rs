@@ -612,6 +612,9 @@ catalogue! {
     TOOL_RANGE: "knowledge",
         "An inline tool's value is out of range (radius not positive, no flutes, a corner radius above the radius).",
         "Correct the field named.";
+    TOO_MANY_JOBS: "station",
+        "An agent's question about the jobs it is to store (`gearcam/v1/station/journaled/{machine}`) names more jobs than the station answers at once; expected gives the most.",
+        "Ask about a large group in parts; gearcam's agent never asks about more at once.";
     TRAVEL_LIMIT: "template (path check)",
         "Path check finding: an X or Z target lies outside the machine's travel, or a swivel goes beyond its limit.",
         "The program was not sent; check the machine profile's travel or correct the template.";

@@ -241,6 +241,23 @@ pub fn valid_by(by: &str) -> bool {
     !by.trim().is_empty() && !by.chars().any(char::is_control) && by.chars().count() <= 64
 }
 
+/// Message: the jobs an agent asks the station about before it stores their
+/// programs, at most [`JobIds::MAX`] (key [`crate::keys::station_journaled`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JobIds {
+    /// The jobs.
+    pub jobs: Vec<JobId>,
+}
+
+impl JobIds {
+    /// Most jobs in one question (an agent's largest group of deliveries).
+    pub const MAX: usize = 256;
+}
+
+impl Message for JobIds {
+    const KIND: &'static str = "job_ids";
+}
+
 /// Message: a person cancels a journaled job that is not yet final
 /// (`gearcam cancel JOB`). Key [`crate::keys::station_cancel`], which names
 /// who cancels; the station records that user and answers with the job's

@@ -316,6 +316,25 @@ pub fn station_job(job: &JobId) -> String {
     format!("{PREFIX}/station/jobs/{job}")
 }
 
+/// `gearcam/v1/station/journaled/{machine}`: queryable the machine's agent
+/// asks, with a [`crate::JobIds`], before it stores a group of programs:
+/// the station answers [`crate::StationReply::Jobs`] with the status of
+/// each of those jobs it journaled for that machine (one question for the
+/// group, not one per job).
+pub fn station_journaled(machine: &MachineId) -> String {
+    format!("{PREFIX}/station/journaled/{machine}")
+}
+
+/// Pattern of [`station_journaled`].
+pub const STATION_JOURNALED_ANY: &str = "gearcam/v1/station/journaled/*";
+
+/// The machine of a [`station_journaled`] key.
+pub fn station_journaled_of(key: &str) -> Option<&str> {
+    key.strip_prefix(PREFIX)?
+        .strip_prefix("/station/journaled/")
+        .filter(|m| !m.is_empty() && !m.contains('/'))
+}
+
 /// Pattern of the station's per-job views, a job's status and its model
 /// (`**`, so that a bad id with a `/` in it still reaches the station and is
 /// refused by name).
@@ -586,6 +605,13 @@ mod tests {
             Some(("planner", "J1"))
         );
         assert_eq!(station_cancel_of("gearcam/v1/station/cancel/J1"), None);
+        let h01 = MachineId::new("H01").unwrap();
+        assert_eq!(station_journaled_of(&station_journaled(&h01)), Some("H01"));
+        assert_eq!(station_journaled_of("gearcam/v1/station/journaled/"), None);
+        assert_eq!(
+            station_journaled_of("gearcam/v1/station/journaled/a/b"),
+            None
+        );
         assert_eq!(station_cancel_of("gearcam/v1/station/cancel/*/J1"), None);
         assert_eq!(
             kb_change_of(&kb_change("admin", "hobs", Some("H-1"))),

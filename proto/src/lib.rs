@@ -50,8 +50,8 @@ pub use class::{classify, GearClass};
 pub use codec::{decode, encode, Incoming, Message, MAX_MESSAGE_BYTES, SCHEMA_VERSION};
 pub use codes::Code;
 pub use delivery::{
-    CancelRequest, DeliveryReply, JobState, JobStatus, ProgramHistory, ProgramRef, ProgramText,
-    ProgramVersion, StationReply, StoreReply, StoreRequest,
+    CancelRequest, DeliveryReply, JobIds, JobState, JobStatus, ProgramHistory, ProgramRef,
+    ProgramText, ProgramVersion, StationReply, StoreReply, StoreRequest,
 };
 pub use die::{Cutter, DiePart, DieSpec, WireOverrides, WireProgram};
 pub use error::{CodecError, IdError, JobError, Problem, Stage};

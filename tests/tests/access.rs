@@ -12,8 +12,8 @@ use gearcam_proto::plan::{
     ConfirmReply, ConfirmRequest, KbLogReply, KbOp, KbRecord, KbReply, KbRequest, KbValue,
 };
 use gearcam_proto::{
-    decode, encode, keys, DeliveryReply, Dialect, JobId, MachineId, NcProgram, StoreReply,
-    StoreRequest, TemplateRef,
+    decode, encode, keys, DeliveryReply, Dialect, JobId, JobIds, MachineId, NcProgram,
+    StationReply, StoreReply, StoreRequest, TemplateRef,
 };
 use gearcam_testkit::bin;
 use gearcam_testkit::secure::Secure;
@@ -354,6 +354,7 @@ fn every_role_machine_and_command_on_the_secure_deployment() {
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["program"]["name"], "O2107", "{v}");
     let id = v["job"].as_str().unwrap().to_string();
+    let h02_job = JobId::new(id.as_str()).unwrap();
 
     // A planner's reads.
     for args in [
@@ -546,6 +547,40 @@ fn every_role_machine_and_command_on_the_secure_deployment() {
         }
         assert_eq!(std::fs::read_to_string(&file).unwrap(), stored);
         template.close().await.unwrap();
+        // The agent's one question before it stores a group: the station
+        // answers the jobs journaled for the agent's machine only, and
+        // refuses a question larger than a group by name.
+        let agent = planner_session(&secure.cfg("agent-H01")).await.unwrap();
+        let not_journaled = JobId::new("NOT-JOURNALED-1").unwrap();
+        let many: Vec<JobId> = (0..=JobIds::MAX)
+            .map(|i| JobId::new(format!("J{i}")).unwrap())
+            .collect();
+        for (jobs, want) in [
+            (
+                vec![h01_job.clone(), not_journaled, h02_job.clone()],
+                Ok(vec![h01_job.clone()]),
+            ),
+            (many, Err("TOO_MANY_JOBS")),
+        ] {
+            let replies = agent
+                .get(keys::station_journaled(&MachineId::new("H01").unwrap()))
+                .payload(encode(&JobIds { jobs }).unwrap())
+                .timeout(Duration::from_secs(10))
+                .await
+                .unwrap();
+            let reply = replies.recv_async().await.expect("the station answers");
+            match decode::<StationReply>(&reply.result().unwrap().payload().to_bytes()).unwrap() {
+                StationReply::Jobs { jobs } => assert_eq!(
+                    Ok(jobs.into_iter().map(|s| s.job).collect::<Vec<_>>()),
+                    want
+                ),
+                StationReply::Refused { errors } => {
+                    assert_eq!(Err(errors[0].code.as_str()), want, "{errors:?}")
+                }
+                other => panic!("an unexpected answer: {other:?}"),
+            }
+        }
+        agent.close().await.unwrap();
         // A planner declares an agent's liveliness token: nobody sees it.
         let _fake = forger
             .liveliness()

@@ -3,8 +3,9 @@
 //! each program again against the model the model service computed for the
 //! job — not the one the sender might claim.
 //!
-//! - **Journaled**: the station is asked for the job's status
-//!   (`gearcam/v1/station/jobs/{job}`): it must exist, be for this machine and
+//! - **Journaled**: the station is asked for the jobs' statuses, one
+//!   question for a group (`gearcam/v1/station/journaled/{machine}`): each
+//!   must exist, be for this machine and
 //!   not be failed, superseded or cancelled (`JOB_CANCELLED`: a cancelled
 //!   job is never stored, even when its program was on its way). No such job: `JOB_NOT_JOURNALED` (final). No answer:
 //!   `STATION_UNREACHABLE` (the job waits and is re-driven). The model the
@@ -14,8 +15,7 @@
 //!   after journaling them), but not that nobody cancelled it since: a
 //!   cancellation is a person's decision at the station, so the station's
 //!   word at store time is what keeps it. The question is asked while the
-//!   programs are checked, so its round trip overlaps the checks, and one
-//!   batch's jobs are asked all at once.
+//!   programs are checked, so its round trip overlaps the checks.
 //! - **Path check**: the agent follows the models the model service
 //!   publishes for its machine (`gearcam/v1/jobs/*/model`, which only the
 //!   model service may publish under `deploy/secure`) and re-runs the NC path
@@ -34,8 +34,8 @@ use std::time::Duration;
 use gearcam_bus::query::Retry;
 use gearcam_bus::{Bus, CancellationToken};
 use gearcam_proto::{
-    keys, AnyModel, Incoming, JobError, JobId, JobRequest, JobState, MachineId, NcProgram, Stage,
-    StationReply,
+    keys, AnyModel, Incoming, JobError, JobId, JobIds, JobState, JobStatus, MachineId, NcProgram,
+    Stage, StationReply,
 };
 
 /// Models kept, newest last (a bounded memory).
@@ -202,8 +202,8 @@ impl Models {
     }
 }
 
-/// Asks the station whether each job is journaled for `machine`, all at
-/// once; one verdict per job, in order.
+/// Asks the station whether each job is journaled for `machine`, in one
+/// question ([`keys::station_journaled`]); one verdict per job, in order.
 pub async fn journaled(
     bus: &Bus,
     machine: &MachineId,
@@ -214,61 +214,61 @@ pub async fn journaled(
         attempts: 2,
         pause: Duration::from_millis(200),
     };
-    let mut asks = tokio::task::JoinSet::new();
-    for (i, job) in jobs.iter().enumerate() {
-        let (bus, machine, job) = (bus.clone(), machine.clone(), job.clone());
-        asks.spawn(async move {
-            let reply = bus
-                .call::<JobRequest, StationReply>(&keys::station_job(&job), None, retry)
-                .await;
-            let verdict = match reply {
-                // A cancelled job is never stored, whatever reached the
-                // agent before the cancellation did.
-                Ok(StationReply::Status { status })
-                    if status.machine == machine && status.state == JobState::Cancelled =>
-                {
-                    Err(status
-                        .errors
-                        .first()
-                        .cloned()
-                        .unwrap_or_else(|| JobError::cancelled("unknown")))
-                }
-                Ok(StationReply::Status { status })
-                    if status.machine == machine
-                        && !matches!(status.state, JobState::Failed | JobState::Superseded) =>
-                {
-                    Ok(())
-                }
-                Ok(StationReply::Status { status }) => Err(not_journaled(
-                    &job,
-                    &machine,
-                    &format!(
-                        "job {job} of machine {} in state {}",
-                        status.machine,
-                        status.state.as_str()
-                    ),
-                )),
-                Ok(_) => Err(not_journaled(&job, &machine, "no such job in the station's journal")),
-                Err(e) => Err(Stage::Agent.error(
-                    Code::STATION_UNREACHABLE,
-                    "job_id",
-                    "an answer of the planning station about the job",
-                    e.to_string(),
-                    "the agent stores only programs of journaled jobs and could not ask the station; the job waits",
-                )),
-            };
-            (i, verdict)
-        });
-    }
-    let mut verdicts: Vec<Option<Result<(), JobError>>> = vec![None; jobs.len()];
-    while let Some(done) = asks.join_next().await {
-        if let Ok((i, verdict)) = done {
-            verdicts[i] = Some(verdict);
+    let asked = JobIds {
+        jobs: jobs.to_vec(),
+    };
+    let reply = bus
+        .call::<JobIds, StationReply>(&keys::station_journaled(machine), Some(&asked), retry)
+        .await;
+    let statuses: HashMap<&JobId, &JobStatus> = match &reply {
+        Ok(StationReply::Jobs { jobs: statuses }) => statuses.iter().map(|s| (&s.job, s)).collect(),
+        Ok(other) => {
+            let why = format!("the station answered {other:?}");
+            return jobs.iter().map(|_| Err(unasked(&why))).collect();
         }
-    }
-    verdicts
-        .into_iter()
-        .map(|v| v.unwrap_or_else(|| Err(unasked("the question failed"))))
+        Err(e) => {
+            let error = Stage::Agent.error(
+                Code::STATION_UNREACHABLE,
+                "job_id",
+                "an answer of the planning station about the job",
+                e.to_string(),
+                "the agent stores only programs of journaled jobs and could not ask the station; the job waits",
+            );
+            return jobs.iter().map(|_| Err(error.clone())).collect();
+        }
+    };
+    jobs.iter()
+        .map(|job| match statuses.get(job) {
+            // A cancelled job is never stored, whatever reached the agent
+            // before the cancellation did.
+            Some(status) if status.machine == *machine && status.state == JobState::Cancelled => {
+                Err(status
+                    .errors
+                    .first()
+                    .cloned()
+                    .unwrap_or_else(|| JobError::cancelled("unknown")))
+            }
+            Some(status)
+                if status.machine == *machine
+                    && !matches!(status.state, JobState::Failed | JobState::Superseded) =>
+            {
+                Ok(())
+            }
+            Some(status) => Err(not_journaled(
+                job,
+                machine,
+                &format!(
+                    "job {job} of machine {} in state {}",
+                    status.machine,
+                    status.state.as_str()
+                ),
+            )),
+            None => Err(not_journaled(
+                job,
+                machine,
+                &format!("no job {job} of machine {machine} in the station's journal"),
+            )),
+        })
         .collect()
 }
 

@@ -208,7 +208,7 @@ async fn single_agent(
 }
 
 /// Largest group of deliveries committed together.
-const MAX_BATCH: usize = 256;
+const MAX_BATCH: usize = gearcam_proto::JobIds::MAX;
 
 /// Answers a store query (lost receipts, history, versions, changes), always
 /// with a typed reply.

@@ -40,7 +40,7 @@ use gearcam_bus::query::Retry;
 use gearcam_bus::{Bus, BusError, CancellationToken};
 use gearcam_proto::{
     decode, encode, keys, now_ms, CancelRequest, DeliveryReply, EventKind, JobError, JobEvent,
-    JobId, JobRequest, JobState, MachineId, Stage, StationReply,
+    JobId, JobIds, JobRequest, JobState, MachineId, Stage, StationReply,
 };
 use zenoh::handlers::FifoChannelHandler;
 use zenoh::pubsub::Subscriber;
@@ -119,6 +119,7 @@ pub async fn run(
             },
             s = inputs.models.recv_async() => if let Ok(s) = s { new_models.push(Published::of(&s)) },
             q = inputs.views.recv_async() => if let Ok(q) = q { new_views.push(q) },
+            q = inputs.journaled.recv_async() => if let Ok(q) = q { new_views.push(q) },
             q = inputs.list_view.recv_async() => if let Ok(q) = q { new_views.push(q) },
             q = inputs.cancels.recv_async() => if let Ok(q) = q {
                 let (reply, cancelled) = cancel_reply(&journal, &q);
@@ -194,7 +195,10 @@ pub async fn run(
                 models::reply(q, answer).await;
                 continue;
             }
-            let reply = view_reply(&journal, &key);
+            let reply = match keys::station_journaled_of(&key) {
+                Some(machine) => journaled_reply(&journal, machine, &q),
+                None => view_reply(&journal, &key),
+            };
             reply_message(q, &reply).await;
         }
         if drive_now && drives.has_room() {
@@ -214,6 +218,7 @@ pub async fn run(
 struct Inputs {
     submits: Queryable<FifoChannelHandler<Query>>,
     views: Queryable<FifoChannelHandler<Query>>,
+    journaled: Queryable<FifoChannelHandler<Query>>,
     list_view: Queryable<FifoChannelHandler<Query>>,
     cancels: Queryable<FifoChannelHandler<Query>>,
     events: Subscriber<FifoChannelHandler<Sample>>,
@@ -232,6 +237,10 @@ impl Inputs {
             .map_err(zerr("declare queryable"))?;
         let views = session
             .declare_queryable(keys::STATION_JOB_ANY)
+            .await
+            .map_err(zerr("declare queryable"))?;
+        let journaled = session
+            .declare_queryable(keys::STATION_JOURNALED_ANY)
             .await
             .map_err(zerr("declare queryable"))?;
         let list_view = session
@@ -259,6 +268,7 @@ impl Inputs {
         Ok(Inputs {
             submits,
             views,
+            journaled,
             list_view,
             cancels,
             events,
@@ -279,10 +289,12 @@ impl Inputs {
         new_events: &mut Vec<(String, JobEvent)>,
         new_models: &mut Vec<Published>,
     ) {
-        while new_views.len() < 1024 {
-            match self.views.try_recv() {
-                Ok(Some(q)) => new_views.push(q),
-                _ => break,
+        for views in [&self.views, &self.journaled] {
+            while new_views.len() < 1024 {
+                match views.try_recv() {
+                    Ok(Some(q)) => new_views.push(q),
+                    _ => break,
+                }
             }
         }
         while new_submits.len() < 1024 {
@@ -685,6 +697,46 @@ fn journal_error(e: JournalError) -> JobError {
         e.to_string(),
         "the station could not read its journal; see its log",
     )
+}
+
+/// The reply to an agent's question before it stores a group of programs:
+/// the status of each asked job journaled for `machine` (a job unknown, or
+/// of another machine, is left out: the agent stores none of its programs).
+fn journaled_reply(journal: &Journal, machine: &str, q: &Query) -> StationReply {
+    let refused = |error: JobError| StationReply::Refused {
+        errors: vec![error],
+    };
+    let payload = q
+        .payload()
+        .map(|p| p.to_bytes().into_owned())
+        .unwrap_or_default();
+    let asked = match decode::<JobIds>(&payload) {
+        Ok(asked) => asked,
+        Err(e) => {
+            return refused(gearcam_bus::stage::codec_error::<JobIds>(
+                Stage::Station,
+                &e,
+            ))
+        }
+    };
+    if asked.jobs.len() > JobIds::MAX {
+        return refused(Stage::Station.error(
+            Code::TOO_MANY_JOBS,
+            "jobs",
+            format!("at most {} jobs", JobIds::MAX),
+            format!("{} jobs", asked.jobs.len()),
+            "ask about a large group in parts",
+        ));
+    }
+    let mut jobs = Vec::with_capacity(asked.jobs.len());
+    for job in &asked.jobs {
+        match journal.status(job) {
+            Ok(Some(status)) if status.machine.as_str() == machine => jobs.push(status),
+            Ok(_) => {}
+            Err(e) => return refused(journal_error(e)),
+        }
+    }
+    StationReply::Jobs { jobs }
 }
 
 /// The reply to a view query (`jobs` or `jobs/{job}`), computed from the journal.
