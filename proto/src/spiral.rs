@@ -240,7 +240,8 @@ pub struct CoverageCheck {
     pub worst_point_mm: (f64, f64),
     /// The largest deviation of the program's chords or arcs from the spiral, mm.
     pub max_deviation_mm: f64,
-    /// Points checked.
+    /// Points checked (rays for a groove); 0 for a face whose coverage is
+    /// proved in closed form, with no points sampled.
     pub samples: u64,
 }
 

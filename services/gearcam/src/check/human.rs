@@ -107,7 +107,7 @@ pub fn format_human(r: &CheckReport) -> String {
     if let Some(c) = &r.coverage {
         let _ = writeln!(
             out,
-            "{} {}  {} {:.4} mm  max deviation from the spiral {:.5} mm  ({} {})",
+            "{} {}  {} {:.4} mm  max deviation from the spiral {:.5} mm  ({})",
             if groove { "pitch check" } else { "coverage" },
             if c.ok { "ok" } else { "FAILED" },
             if groove {
@@ -117,8 +117,11 @@ pub fn format_human(r: &CheckReport) -> String {
             },
             c.max_gap_mm,
             c.max_deviation_mm,
-            c.samples,
-            if groove { "rays" } else { "points of the face" }
+            match (groove, c.samples) {
+                (true, n) => format!("{n} rays"),
+                (false, 0) => "proved in closed form from the step-over and the tool".into(),
+                (false, n) => format!("{n} points of the face"),
+            }
         );
     }
     if let Some(p) = &r.picture {
