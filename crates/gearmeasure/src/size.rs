@@ -1,0 +1,1 @@
+//! Span measurement and dimension over balls (in progress).
