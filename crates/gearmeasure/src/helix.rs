@@ -111,3 +111,46 @@ pub fn evaluate_helix(
 ) -> Result<HelixDeviations, Error> {
     evaluate(axial_mm, deviation_um, range.start_mm, range.end_mm).map(Into::into)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flank built at a helix angle 0.05° steeper than the design, its
+    /// material deviation taken as the distance (µm, along the base
+    /// tangent) by which it lies further into the space it faces: the
+    /// slope's sign times `helix_angle_sign` must say "steeper".
+    #[test]
+    fn a_steeper_helix_reads_as_steeper_on_every_flank_and_hand() {
+        let (rb, beta_b) = (40.0_f64, 15.0_f64.to_radians());
+        let steeper = beta_b + 0.05_f64.to_radians();
+        let z: Vec<f64> = (0..=40).map(|i| f64::from(i) * 0.5).collect();
+        for hand in [Hand::Right, Hand::Left] {
+            let h = if hand == Hand::Right { 1.0 } else { -1.0 };
+            for flank in [Flank::Right, Flank::Left] {
+                // The flank facing +θ is the right flank.
+                let faces = if flank == Flank::Right { 1.0 } else { -1.0 };
+                let e: Vec<f64> = z
+                    .iter()
+                    .map(|z| {
+                        let design = h * z * beta_b.tan() / rb;
+                        let actual = h * z * steeper.tan() / rb;
+                        faces * rb * (actual - design) * 1000.0
+                    })
+                    .collect();
+                let range = EvaluationRange {
+                    start_mm: 0.0,
+                    end_mm: 20.0,
+                };
+                let d = evaluate_helix(&z, &e, range).unwrap();
+                assert!(d.slope_um.abs() > 1.0, "{d:?}");
+                assert!(
+                    d.slope_um * helix_angle_sign(flank, hand) > 0.0,
+                    "{hand:?} {flank:?}"
+                );
+            }
+        }
+        let r = EvaluationRange::default_for(40.0, 3.0);
+        assert_eq!((r.start_mm, r.end_mm), (2.0, 38.0));
+    }
+}
