@@ -183,24 +183,7 @@ pub async fn run(
         // A view is answered once the events that reached the station
         // before it are journaled: a client that saw a job's event and then
         // asks for its status reads a status that has it.
-        for q in new_views {
-            let key = q.key_expr().as_str().to_string();
-            if let Some(raw) = keys::station_job_model_of(&key) {
-                let answer = models::answer(&journal, raw);
-                models::reply(q, answer).await;
-                continue;
-            }
-            if let Some(raw) = keys::station_job_request_of(&key) {
-                let answer = models::request_answer(&journal, raw);
-                models::reply(q, answer).await;
-                continue;
-            }
-            let reply = match keys::station_journaled_of(&key) {
-                Some(machine) => journaled_reply(&journal, machine, &q),
-                None => view_reply(&journal, &key),
-            };
-            reply_message(q, &reply).await;
-        }
+        answer_views(&journal, new_views).await;
         if drive_now && drives.has_room() {
             let due = journal.due(now_ms(), 2048)?;
             drives.start(&bus, &alive, redrive_ms, due);
@@ -697,6 +680,29 @@ fn journal_error(e: JournalError) -> JobError {
         e.to_string(),
         "the station could not read its journal; see its log",
     )
+}
+
+/// Answers the views taken (a job's status, model or request, the list,
+/// an agent's question), each from the journal as it now is.
+async fn answer_views(journal: &Journal, views: Vec<Query>) {
+    for q in views {
+        let key = q.key_expr().as_str().to_string();
+        if let Some(raw) = keys::station_job_model_of(&key) {
+            let answer = models::answer(journal, raw);
+            models::reply(q, answer).await;
+            continue;
+        }
+        if let Some(raw) = keys::station_job_request_of(&key) {
+            let answer = models::request_answer(journal, raw);
+            models::reply(q, answer).await;
+            continue;
+        }
+        let reply = match keys::station_journaled_of(&key) {
+            Some(machine) => journaled_reply(journal, machine, &q),
+            None => view_reply(journal, &key),
+        };
+        reply_message(q, &reply).await;
+    }
 }
 
 /// The reply to an agent's question before it stores a group of programs:
