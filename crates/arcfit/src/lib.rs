@@ -23,9 +23,22 @@
 //! the arcs may straddle the curve, the junctions need not lie on it, so
 //! fewer arcs suffice than for a biarc fit whose junctions sit on the curve.
 //! Not proved optimal: k is the smallest this search finds.
+//!
+//! # Layout
+//!
+//! - this file: the curve, the arc, the options and [`fit`];
+//! - `measure`: [`deviation`], each arc's constants worked out once and the
+//!   arcs too far to be the nearest skipped (the same figure to the bit);
+//! - `simplex`: the Nelder–Mead method, its vertices kept in place.
 #![forbid(unsafe_code)]
 
 use std::f64::consts::{PI, TAU};
+
+mod measure;
+mod simplex;
+
+pub use measure::{deviation, CHECK_SAMPLES};
+use simplex::nelder_mead;
 
 /// A plane curve to approximate, over its parameter domain.
 pub trait Curve {
@@ -170,17 +183,25 @@ pub struct Arc {
 impl Arc {
     /// The point `s` along the arc.
     pub fn point_at(&self, s: f64) -> (f64, f64) {
+        let a = self.start_angle;
+        self.point_with(a.sin(), a.cos(), s)
+    }
+
+    /// [`Arc::point_at`] with the start angle's sine and cosine given (a
+    /// caller taking many points of one arc works them out once): the same
+    /// operations on the same values, so the same point to the last bit.
+    pub(crate) fn point_with(&self, sin_a: f64, cos_a: f64, s: f64) -> (f64, f64) {
         let (x, y) = self.start;
         let a = self.start_angle;
         let k = self.curvature;
         if (k * s).abs() < 1e-9 {
             // A line, or an arc so flat that the series is exact to 1e-18 mm.
             let h = 0.5 * k * s * s;
-            return (x + s * a.cos() - h * a.sin(), y + s * a.sin() + h * a.cos());
+            return (x + s * cos_a - h * sin_a, y + s * sin_a + h * cos_a);
         }
         (
-            x + ((a + k * s).sin() - a.sin()) / k,
-            y - ((a + k * s).cos() - a.cos()) / k,
+            x + ((a + k * s).sin() - sin_a) / k,
+            y - ((a + k * s).cos() - cos_a) / k,
         )
     }
 
@@ -309,35 +330,6 @@ impl std::fmt::Display for FitError {
 
 impl std::error::Error for FitError {}
 
-/// Samples per arc and per curve piece of [`deviation`].
-pub const CHECK_SAMPLES: usize = 500;
-
-/// The largest distance between `arcs` and `curve`, both ways: `samples`
-/// points along each arc against the curve, and `samples`·n points of the
-/// curve against the nearest arc; and the end points' gaps. Independent of
-/// the fit's own sampling.
-pub fn deviation(curve: &dyn Curve, arcs: &[Arc], samples: usize) -> f64 {
-    let (t0, t1) = curve.domain();
-    let mut worst: f64 = 0.0;
-    for a in arcs {
-        for i in 0..=samples {
-            let q = a.point_at(a.length * i as f64 / samples as f64);
-            worst = worst.max(curve.distance(q));
-        }
-    }
-    let n = samples * arcs.len().max(1);
-    for i in 0..=n {
-        let t = t0 + (t1 - t0) * i as f64 / n as f64;
-        let q = curve.point(t);
-        let d = arcs
-            .iter()
-            .map(|a| a.distance(q))
-            .fold(f64::INFINITY, f64::min);
-        worst = worst.max(d * curve.scale_at(t));
-    }
-    worst
-}
-
 /// The arc from `p` with the tangent angle `a` through `q`.
 fn arc_to(p: (f64, f64), a: f64, q: (f64, f64)) -> Arc {
     let (dx, dy) = (q.0 - p.0, q.1 - p.1);
@@ -451,9 +443,11 @@ fn cost(curve: &dyn Curve, o: &Options, x: &[f64], k: usize) -> f64 {
     let (_, t1) = curve.domain();
     let mut worst: f64 = 0.0;
     for a in &arcs {
+        // The start angle's sine and cosine once for the arc's samples.
+        let (sin_a, cos_a) = (a.start_angle.sin(), a.start_angle.cos());
         for i in 1..=COST_SAMPLES {
-            worst =
-                worst.max(curve.distance(a.point_at(a.length * i as f64 / COST_SAMPLES as f64)));
+            let q = a.point_with(sin_a, cos_a, a.length * i as f64 / COST_SAMPLES as f64);
+            worst = worst.max(curve.distance(q));
         }
         if o.min_radius > 0.0 && a.curvature.abs() * o.min_radius > 1.0 {
             worst = worst.max(o.tolerance * (1.0 + a.curvature.abs() * o.min_radius));
@@ -475,69 +469,6 @@ fn cost(curve: &dyn Curve, o: &Options, x: &[f64], k: usize) -> f64 {
         worst = worst.max(miss.abs() * last.length.max(o.tolerance));
     }
     worst
-}
-
-/// Nelder–Mead on `f` from `x0` with initial steps `scale`.
-fn nelder_mead(
-    f: &dyn Fn(&[f64]) -> f64,
-    x0: &[f64],
-    scale: &[f64],
-    iterations: usize,
-    good_enough: f64,
-) -> (Vec<f64>, f64) {
-    let n = x0.len();
-    let mut s: Vec<Vec<f64>> = (0..=n)
-        .map(|i| {
-            let mut x = x0.to_vec();
-            if i > 0 {
-                x[i - 1] += scale[i - 1];
-            }
-            x
-        })
-        .collect();
-    let mut fs: Vec<f64> = s.iter().map(|x| f(x)).collect();
-    for _ in 0..iterations {
-        let mut order: Vec<usize> = (0..=n).collect();
-        order.sort_by(|&a, &b| fs[a].total_cmp(&fs[b]));
-        s = order.iter().map(|&i| s[i].clone()).collect();
-        fs = order.iter().map(|&i| fs[i]).collect();
-        // Stop once good enough, or once the simplex has flattened (a
-        // relative spread of 1e-6 moves the deviation by far less than the
-        // tolerance's rounding).
-        if fs[0] <= good_enough || (fs[n] - fs[0]).abs() <= 1e-6 * fs[0].abs().max(1e-12) {
-            break;
-        }
-        let c: Vec<f64> = (0..n)
-            .map(|j| s[..n].iter().map(|x| x[j]).sum::<f64>() / n as f64)
-            .collect();
-        let along = |t: f64| -> Vec<f64> { (0..n).map(|j| c[j] + t * (s[n][j] - c[j])).collect() };
-        let xr = along(-1.0);
-        let fr = f(&xr);
-        if fr < fs[0] {
-            let xe = along(-2.0);
-            let fe = f(&xe);
-            (s[n], fs[n]) = if fe < fr { (xe, fe) } else { (xr, fr) };
-        } else if fr < fs[n - 1] {
-            (s[n], fs[n]) = (xr, fr);
-        } else {
-            let xc = along(0.5);
-            let fc = f(&xc);
-            if fc < fs[n] {
-                (s[n], fs[n]) = (xc, fc);
-            } else {
-                for i in 1..=n {
-                    s[i] = (0..n)
-                        .map(|j| s[0][j] + 0.5 * (s[i][j] - s[0][j]))
-                        .collect();
-                    fs[i] = f(&s[i]);
-                }
-            }
-        }
-    }
-    let best = (0..=n)
-        .min_by(|&a, &b| fs[a].total_cmp(&fs[b]))
-        .expect("a simplex");
-    (s[best].clone(), fs[best])
 }
 
 /// A start for k arcs: the curve cut into k pieces of equal turning (by a
