@@ -183,7 +183,7 @@ pub async fn run(
         // A view is answered once the events that reached the station
         // before it are journaled: a client that saw a job's event and then
         // asks for its status reads a status that has it.
-        answer_views(&journal, new_views).await;
+        answer_views(&mut journal, new_views).await;
         if drive_now && drives.has_room() {
             let due = journal.due(now_ms(), 2048)?;
             drives.start(&bus, &alive, redrive_ms, due);
@@ -682,26 +682,39 @@ fn journal_error(e: JournalError) -> JobError {
     )
 }
 
+/// The answer to one view: bytes as kept (a model, a request) or a reply.
+enum ViewAnswer {
+    Kept(Result<Vec<u8>, JobError>),
+    Reply(StationReply),
+}
+
 /// Answers the views taken (a job's status, model or request, the list,
-/// an agent's question), each from the journal as it now is.
-async fn answer_views(journal: &Journal, views: Vec<Query>) {
-    for q in views {
-        let key = q.key_expr().as_str().to_string();
-        if let Some(raw) = keys::station_job_model_of(&key) {
-            let answer = models::answer(journal, raw);
-            models::reply(q, answer).await;
-            continue;
+/// an agent's question), each from the journal as it now is. The answers
+/// are read first and sent after, so no borrow of the journal is held
+/// while a reply is sent.
+async fn answer_views(journal: &mut Journal, views: Vec<Query>) {
+    let answers: Vec<(Query, ViewAnswer)> = views
+        .into_iter()
+        .map(|q| {
+            let journal = &*journal;
+            let key = q.key_expr().as_str().to_string();
+            let answer = if let Some(raw) = keys::station_job_model_of(&key) {
+                ViewAnswer::Kept(models::answer(journal, raw))
+            } else if let Some(raw) = keys::station_job_request_of(&key) {
+                ViewAnswer::Kept(models::request_answer(journal, raw))
+            } else if let Some(machine) = keys::station_journaled_of(&key) {
+                ViewAnswer::Reply(journaled_reply(journal, machine, &q))
+            } else {
+                ViewAnswer::Reply(view_reply(journal, &key))
+            };
+            (q, answer)
+        })
+        .collect();
+    for (q, answer) in answers {
+        match answer {
+            ViewAnswer::Kept(answer) => models::reply(q, answer).await,
+            ViewAnswer::Reply(reply) => reply_message(q, &reply).await,
         }
-        if let Some(raw) = keys::station_job_request_of(&key) {
-            let answer = models::request_answer(journal, raw);
-            models::reply(q, answer).await;
-            continue;
-        }
-        let reply = match keys::station_journaled_of(&key) {
-            Some(machine) => journaled_reply(journal, machine, &q),
-            None => view_reply(journal, &key),
-        };
-        reply_message(q, &reply).await;
     }
 }
 
