@@ -16,6 +16,8 @@
 //! equal turning, restarted until it stalls. It tries k = 1, 2, … and returns
 //! the first spline whose deviation, measured again densely and both ways by
 //! [`deviation`] (independently of the optimiser's own samples), is within ε.
+//! A count that [`impossible`] proves cannot pass that check is skipped
+//! (see `bound` for the derivations); the result is unchanged.
 //!
 //! This is a minimax fit in the spirit of Maier (2014), "Optimal arc spline
 //! approximation", and Drysdale, Rote and Sturm (2008), "Approximation of an
@@ -29,14 +31,20 @@
 //! - this file: the curve, the arc, the options and [`fit`];
 //! - `measure`: [`deviation`], each arc's constants worked out once and the
 //!   arcs too far to be the nearest skipped (the same figure to the bit);
-//! - `simplex`: the Nelder–Mead method, its vertices kept in place.
+//! - `simplex`: the Nelder–Mead method, its vertices kept in place;
+//! - `bound`: [`impossible`], proofs that one arc or two cannot pass the
+//!   check (four curve points no circle passes near, and every 2-colouring
+//!   of a dozen points leaving such four in one colour), so [`fit`] skips
+//!   those counts with the same result as [`fit_exhaustive`].
 #![forbid(unsafe_code)]
 
 use std::f64::consts::{PI, TAU};
 
+mod bound;
 mod measure;
 mod simplex;
 
+pub use bound::impossible;
 pub use measure::{deviation, CHECK_SAMPLES};
 use simplex::nelder_mead;
 
@@ -513,75 +521,111 @@ fn start(curve: &dyn Curve, k: usize, free: usize, biarc: bool) -> Vec<f64> {
 }
 
 /// The fewest-arcs spline within `o.tolerance` of `curve` (see the module).
+/// Counts proven unable to pass the check ([`impossible`]) are skipped:
+/// each count's attempt starts afresh, so the result is [`fit_exhaustive`]'s
+/// (when every count fails, the skipped ones are tried after all, for the
+/// error's best deviation).
 pub fn fit(curve: &dyn Curve, o: &Options) -> Result<Fit, FitError> {
-    let target = 0.97 * o.tolerance;
+    search(curve, o, true)
+}
+
+/// [`fit`] trying every count from the first, proofs or not: the reference
+/// the proofs are checked against.
+pub fn fit_exhaustive(curve: &dyn Curve, o: &Options) -> Result<Fit, FitError> {
+    search(curve, o, false)
+}
+
+fn search(curve: &dyn Curve, o: &Options, prove: bool) -> Result<Fit, FitError> {
     let mut best_dev = f64::INFINITY;
     let first_k = if ends_fixed(o) { 2 } else { 1 };
+    let mut skipped = Vec::new();
     for k in first_k..=o.max_arcs {
-        let x0 = start(curve, k, free_arcs(o, k), ends_fixed(o));
-        let f = |y: &[f64]| cost(curve, o, y, k);
-        // Two simplex sizes for the start tangent (the optimiser stalls in
-        // different places); the better result is kept.
-        let mut runs = [1e-2, 1e-3].into_iter().map(|step| {
-            let scale: Vec<f64> = x0
-                .iter()
-                .enumerate()
-                .map(|(i, v)| {
-                    if i == 0 {
-                        step
-                    } else if i == x0.len() - 1 && ends_fixed(o) {
-                        0.2 // the biarc's scale, a logarithm
-                    } else {
-                        0.05 * v.abs().max(1e-6)
-                    }
-                })
-                .collect();
-            let mut x = x0.clone();
-            let mut fx = f(&x);
-            // Restart from the best point until a restart gains under 0.1 %.
-            for round in 0..30 {
-                let (y, fy) = nelder_mead(&f, &x, &scale, 600 * (1 + 2 * k), target);
-                let gain = fx - fy;
-                x = y;
-                fx = fy;
-                // Far off after a round: more arcs are needed, not more rounds.
-                if fx <= target || gain < 1e-3 * fx || (round == 0 && fx > 4.0 * target) {
-                    break;
-                }
-            }
-            (x, fx)
-        });
-        // The second size only when the first did not reach the target.
-        let first = runs.next().expect("two starts");
-        let (x, fx) = if first.1 <= target {
-            first
-        } else {
-            let second = runs.next().expect("two starts");
-            if second.1 < first.1 {
-                second
-            } else {
-                first
-            }
-        };
-        if let (true, Some(arcs)) = (fx <= target, spline(curve, o, &x, k)) {
-            let d = deviation(curve, &arcs, CHECK_SAMPLES);
-            let (_, t1) = curve.domain();
-            let goal = o.end_point.unwrap_or_else(|| curve.point(t1));
-            let e = arcs.last().expect("k ≥ 1").end();
-            let gap = ((e.0 - goal.0).powi(2) + (e.1 - goal.1).powi(2)).sqrt();
-            if d <= o.tolerance && gap <= o.end_tolerance.unwrap_or(o.tolerance) {
-                return Ok(Fit {
-                    arcs,
-                    max_deviation: d,
-                });
-            }
-            best_dev = best_dev.min(d);
-        } else {
-            best_dev = best_dev.min(fx);
+        if prove && impossible(curve, o, k) {
+            skipped.push(k);
+            continue;
+        }
+        match attempt(curve, o, k) {
+            Ok(fit) => return Ok(fit),
+            Err(d) => best_dev = best_dev.min(d),
+        }
+    }
+    // Every count tried failed. The skipped ones in order: the first that
+    // passed would have been the answer (it cannot, if the proofs hold).
+    for k in skipped {
+        match attempt(curve, o, k) {
+            Ok(fit) => return Ok(fit),
+            Err(d) => best_dev = best_dev.min(d),
         }
     }
     Err(FitError {
         max_arcs: o.max_arcs,
         best_deviation: best_dev,
     })
+}
+
+/// One count's fit from its own start: the spline if it passes the check,
+/// else the deviation it came to (measured, or the optimiser's cost).
+fn attempt(curve: &dyn Curve, o: &Options, k: usize) -> Result<Fit, f64> {
+    let target = 0.97 * o.tolerance;
+    let x0 = start(curve, k, free_arcs(o, k), ends_fixed(o));
+    let f = |y: &[f64]| cost(curve, o, y, k);
+    // Two simplex sizes for the start tangent (the optimiser stalls in
+    // different places); the better result is kept.
+    let mut runs = [1e-2, 1e-3].into_iter().map(|step| {
+        let scale: Vec<f64> = x0
+            .iter()
+            .enumerate()
+            .map(|(i, v)| {
+                if i == 0 {
+                    step
+                } else if i == x0.len() - 1 && ends_fixed(o) {
+                    0.2 // the biarc's scale, a logarithm
+                } else {
+                    0.05 * v.abs().max(1e-6)
+                }
+            })
+            .collect();
+        let mut x = x0.clone();
+        let mut fx = f(&x);
+        // Restart from the best point until a restart gains under 0.1 %.
+        for round in 0..30 {
+            let (y, fy) = nelder_mead(&f, &x, &scale, 600 * (1 + 2 * k), target);
+            let gain = fx - fy;
+            x = y;
+            fx = fy;
+            // Far off after a round: more arcs are needed, not more rounds.
+            if fx <= target || gain < 1e-3 * fx || (round == 0 && fx > 4.0 * target) {
+                break;
+            }
+        }
+        (x, fx)
+    });
+    // The second size only when the first did not reach the target.
+    let first = runs.next().expect("two starts");
+    let (x, fx) = if first.1 <= target {
+        first
+    } else {
+        let second = runs.next().expect("two starts");
+        if second.1 < first.1 {
+            second
+        } else {
+            first
+        }
+    };
+    if let (true, Some(arcs)) = (fx <= target, spline(curve, o, &x, k)) {
+        let d = deviation(curve, &arcs, CHECK_SAMPLES);
+        let (_, t1) = curve.domain();
+        let goal = o.end_point.unwrap_or_else(|| curve.point(t1));
+        let e = arcs.last().expect("k ≥ 1").end();
+        let gap = ((e.0 - goal.0).powi(2) + (e.1 - goal.1).powi(2)).sqrt();
+        if d <= o.tolerance && gap <= o.end_tolerance.unwrap_or(o.tolerance) {
+            return Ok(Fit {
+                arcs,
+                max_deviation: d,
+            });
+        }
+        Err(d)
+    } else {
+        Err(fx)
+    }
 }
