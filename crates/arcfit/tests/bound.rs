@@ -82,7 +82,7 @@ fn tolerance() -> impl Strategy<Value = f64> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(48))]
+    #![proptest_config(ProptestConfig::with_cases(32))]
 
     /// Where one or two arcs pass, the proofs do not say they cannot.
     #[test]
