@@ -74,6 +74,25 @@ fn run(h: &Hob, z0: f64, z1: f64, turns: f64) -> Timeline {
     .expect("timeline")
 }
 
+/// Cuts `blank` along `tl` with `h`: discs 0.02 mm apart along the hob,
+/// each gash's pass in `sweep_steps` steps of hob angle.
+fn cut_blank(tl: &Timeline, h: &Hob, blank: &mut Blank, sweep_steps: u32) {
+    let resolution = Resolution {
+        axial_step_mm: 0.02,
+        sweep_steps,
+    };
+    cut::cut(tl, h, blank, resolution).expect("cut");
+}
+
+/// One transverse section at z 50 mm, 2¹⁶ samples round, cut by `h` in
+/// one pass at that height (1.05 table turns), three steps per gash pass.
+fn one_section(h: &Hob) -> Blank {
+    let tl = run(h, 50.0, 50.0, 1.05);
+    let mut blank = Blank::new(vec![50.0], 110.0, 1 << 16).expect("blank");
+    cut_blank(&tl, h, &mut blank, 3);
+    blank
+}
+
 /// Normal deviation of the sampled outline from the involute of one flank,
 /// as (roll angle ε, deviation), for the flank of tooth space 0 rising
 /// counter-clockwise from the root; the involute's own angle offset cancels
@@ -155,18 +174,7 @@ fn generating_flats_are_as_deep_as_the_tangents_of_the_involute_leave() {
     let rb = MN * f64::from(Z) / 2.0 * ALPHA.to_radians().cos();
     for (starts, gashes) in [(1, 3), (1, 4), (1, 6), (2, 6)] {
         let h = hob(starts, gashes);
-        let tl = run(&h, 50.0, 50.0, 1.05);
-        let mut blank = Blank::new(vec![50.0], 110.0, 1 << 16).expect("blank");
-        cut::cut(
-            &tl,
-            &h,
-            &mut blank,
-            Resolution {
-                axial_step_mm: 0.02,
-                sweep_steps: 3,
-            },
-        )
-        .expect("cut");
+        let blank = one_section(&h);
         let d_eps = TAU * f64::from(starts) / (f64::from(Z) * f64::from(gashes));
         let f = flank(&blank.r_mm[0], rb, 96.0, 107.0);
         eprintln!(
@@ -219,16 +227,7 @@ fn feed_marks_in_the_root_are_as_deep_as_the_tip_circles_leave() {
         let tl = run(&h, 50.0 + 3.0 * f, 50.0 - f, 4.0);
         let z = Blank::planes(50.0, 50.0 + 2.0 * f, 13);
         let mut blank = Blank::new(z, 110.0, 20 * 64).expect("blank");
-        cut::cut(
-            &tl,
-            &h,
-            &mut blank,
-            Resolution {
-                axial_step_mm: 0.02,
-                sweep_steps: 1,
-            },
-        )
-        .expect("cut");
+        cut_blank(&tl, &h, &mut blank, 1);
         let root: Vec<f64> = blank.r_mm.iter().map(|o| o[0]).collect();
         let lo = root.iter().cloned().fold(f64::MAX, f64::min);
         let hi = root.iter().cloned().fold(f64::MIN, f64::max);
@@ -259,18 +258,7 @@ fn feed_marks_in_the_root_are_as_deep_as_the_tip_circles_leave() {
 fn many_gashes_cut_the_involute() {
     let rb = MN * f64::from(Z) / 2.0 * ALPHA.to_radians().cos();
     let h = hob(1, 32);
-    let tl = run(&h, 50.0, 50.0, 1.05);
-    let mut blank = Blank::new(vec![50.0], 110.0, 1 << 16).expect("blank");
-    cut::cut(
-        &tl,
-        &h,
-        &mut blank,
-        Resolution {
-            axial_step_mm: 0.02,
-            sweep_steps: 3,
-        },
-    )
-    .expect("cut");
+    let blank = one_section(&h);
     let f = flank(&blank.r_mm[0], rb, 97.0, 107.0);
     assert!(f.len() > 100, "{} flank samples", f.len());
     let lo = f.iter().map(|p| p.1).fold(f64::MAX, f64::min);
