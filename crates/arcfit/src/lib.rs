@@ -112,6 +112,44 @@ impl Sampled {
         self.sag
     }
 
+    /// The polyline's points, as sampled.
+    pub fn points(&self) -> &[(f64, f64)] {
+        &self.points
+    }
+
+    /// The coarse step of the nearest-point search: every this many points,
+    /// and the last one, are scanned first.
+    pub const COARSE: usize = COARSE;
+
+    /// The distance from `q` to the polyline, from the point `start` (the
+    /// nearest coarse point): walks down to the nearest point, then takes
+    /// the two chords beside it. On a dense polyline of a smooth curve the
+    /// nearest point of the polyline lies on a chord beside it (and were it
+    /// not, the chords give more, not less, than the distance: a check stays
+    /// on the safe side).
+    pub fn distance_from(&self, start: usize, q: (f64, f64)) -> f64 {
+        let n = self.points.len() - 1;
+        let d2 = |p: (f64, f64)| (p.0 - q.0).powi(2) + (p.1 - q.1).powi(2);
+        let mut i = start;
+        while i > 0 && d2(self.points[i - 1]) < d2(self.points[i]) {
+            i -= 1;
+        }
+        while i < n && d2(self.points[i + 1]) < d2(self.points[i]) {
+            i += 1;
+        }
+        let before = if i > 0 {
+            self.chord_distance(i - 1, q)
+        } else {
+            f64::INFINITY
+        };
+        let after = if i < n {
+            self.chord_distance(i, q)
+        } else {
+            f64::INFINITY
+        };
+        before.min(after)
+    }
+
     fn chord_distance(&self, i: usize, q: (f64, f64)) -> f64 {
         let (a, b) = (self.points[i], self.points[i + 1]);
         let (dx, dy) = (b.0 - a.0, b.1 - a.1);
@@ -150,28 +188,7 @@ impl Curve for Sampled {
             .chain(std::iter::once(n))
             .min_by(|&a, &b| d2(self.points[a]).total_cmp(&d2(self.points[b])))
             .expect("points");
-        // Down to the nearest point, then its two chords: on a dense
-        // polyline of a smooth curve the nearest point of the polyline lies
-        // on a chord beside it (and were it not, the chords give more, not
-        // less, than the distance: a check stays on the safe side).
-        let mut i = best;
-        while i > 0 && d2(self.points[i - 1]) < d2(self.points[i]) {
-            i -= 1;
-        }
-        while i < n && d2(self.points[i + 1]) < d2(self.points[i]) {
-            i += 1;
-        }
-        let before = if i > 0 {
-            self.chord_distance(i - 1, q)
-        } else {
-            f64::INFINITY
-        };
-        let after = if i < n {
-            self.chord_distance(i, q)
-        } else {
-            f64::INFINITY
-        };
-        before.min(after)
+        self.distance_from(best, q)
     }
 }
 

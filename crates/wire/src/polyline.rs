@@ -8,15 +8,13 @@
 //! groups of 8 with a circle round each group, and a group whose circle is
 //! farther than the best point so far cannot hold a nearer point (nor an
 //! equally near one: the bound keeps a margin of 10⁻⁹ of the distance for
-//! the rounding). The walk and the chords are then [`Sampled`]'s, on the
-//! same points computed the same way, so the distance is the same to the
-//! last bit (the unit test holds the two equal on points all round the
+//! the rounding). The walk and the chords are then [`Sampled`]'s own
+//! ([`Sampled::distance_from`], on its points), so the distance is the same
+//! to the last bit (the unit test holds the two equal on points all round the
 //! fillet).
 
 use gearcam_arcfit::{Curve, Sampled};
 
-/// Points per coarse step, as in [`Sampled`].
-const COARSE: usize = 16;
 /// Coarse points per group.
 const GROUP: usize = 8;
 /// Groups at most: the fillet is sampled at [`crate::outline`]'s 1,024
@@ -28,8 +26,7 @@ const MAX_GROUPS: usize = 16;
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Fillet {
     sampled: Sampled,
-    points: Vec<(f64, f64)>,
-    /// The coarse points' indices into `points`, in [`Sampled`]'s order.
+    /// The coarse points' indices into [`Sampled::points`], in its order.
     coarse: Vec<usize>,
     /// Each group of [`GROUP`] coarse points: its centre and radius.
     groups: Vec<((f64, f64), f64)>,
@@ -39,12 +36,12 @@ impl Fillet {
     /// `curve` sampled at `n` + 1 equally spaced parameters (n ≥ 2).
     pub(crate) fn new(curve: &dyn Curve, n: usize) -> Fillet {
         let sampled = Sampled::new(curve, n);
-        let n = n.max(2);
-        let (t0, t1) = curve.domain();
-        let points: Vec<(f64, f64)> = (0..=n)
-            .map(|i| curve.point(t0 + (t1 - t0) * i as f64 / n as f64))
+        let points = sampled.points();
+        let n = points.len() - 1;
+        let coarse: Vec<usize> = (0..=n)
+            .step_by(Sampled::COARSE)
+            .chain(std::iter::once(n))
             .collect();
-        let coarse: Vec<usize> = (0..=n).step_by(COARSE).chain(std::iter::once(n)).collect();
         let groups = coarse
             .chunks(GROUP)
             .map(|g| {
@@ -62,7 +59,6 @@ impl Fillet {
         assert!(groups.len() <= MAX_GROUPS, "a fillet of {n} samples");
         Fillet {
             sampled,
-            points,
             coarse,
             groups,
         }
@@ -105,18 +101,6 @@ impl Fillet {
         }
         best.1
     }
-
-    fn chord_distance(&self, i: usize, q: (f64, f64)) -> f64 {
-        let (a, b) = (self.points[i], self.points[i + 1]);
-        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-        let l2 = dx * dx + dy * dy;
-        let u = if l2 > 0.0 {
-            (((q.0 - a.0) * dx + (q.1 - a.1) * dy) / l2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        ((a.0 + u * dx - q.0).powi(2) + (a.1 + u * dy - q.1).powi(2)).sqrt()
-    }
 }
 
 impl Curve for Fillet {
@@ -130,29 +114,13 @@ impl Curve for Fillet {
         self.sampled.tangent_angle(t)
     }
     fn distance(&self, q: (f64, f64)) -> f64 {
-        let n = self.points.len() - 1;
+        let points = self.sampled.points();
         let d2 = |i: usize| {
-            let p = self.points[i];
+            let p = points[i];
             (p.0 - q.0).powi(2) + (p.1 - q.1).powi(2)
         };
-        let mut i = self.nearest_coarse(q, d2);
-        while i > 0 && d2(i - 1) < d2(i) {
-            i -= 1;
-        }
-        while i < n && d2(i + 1) < d2(i) {
-            i += 1;
-        }
-        let before = if i > 0 {
-            self.chord_distance(i - 1, q)
-        } else {
-            f64::INFINITY
-        };
-        let after = if i < n {
-            self.chord_distance(i, q)
-        } else {
-            f64::INFINITY
-        };
-        before.min(after)
+        let start = self.nearest_coarse(q, d2);
+        self.sampled.distance_from(start, q)
     }
 }
 
@@ -202,7 +170,7 @@ mod tests {
                     // The coarse point the walk starts from: the first
                     // nearest by a scan of them all.
                     let d2 = |i: usize| {
-                        let p = fast.points[i];
+                        let p = fast.sampled.points()[i];
                         (p.0 - q.0).powi(2) + (p.1 - q.1).powi(2)
                     };
                     let scan = fast
