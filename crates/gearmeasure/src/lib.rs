@@ -22,11 +22,15 @@
 //! - [`pitch`]: single and cumulative pitch deviations (fp, Fp) per flank
 //!   and the runout Fr;
 //! - [`size`]: span measurement Wk and dimension over balls or pins, and
-//!   the tooth thickness each implies.
+//!   the tooth thickness each implies;
+//! - [`outline`]: a gear given as transverse outlines r(θ) (a simulated
+//!   cut) measured like a gear-measuring machine: every item above, and
+//!   its ISO 1328 class.
 #![forbid(unsafe_code)]
 
 pub mod helix;
 pub mod iso1328;
+pub mod outline;
 pub mod pitch;
 pub mod profile;
 pub mod size;

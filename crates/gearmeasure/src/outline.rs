@@ -1,0 +1,218 @@
+//! Measuring a gear given as its transverse outlines, the way a
+//! gear-measuring machine (GMM) measures a real one, and grading it by
+//! ISO 1328-1:2013 (docs/measurement.md, section 6).
+//!
+//! The input is what a simulated cut leaves ([`PolarSections`]): sections
+//! at heights z (mm, up the gear axis), each an outline r(θᵢ) with
+//! θᵢ = 2π·i/n counter-clockwise seen from +z. The coordinates are those of
+//! [`crate::helix`]: a right-hand gear's flanks turn +θ as z grows,
+//! dθ/dz = +tan β / r (left hand: −); the right flank of a tooth faces +θ.
+//!
+//! From the outlines [`measure`] takes, like a GMM:
+//!
+//! - a **profile** trace on both flanks of every tooth in the middle
+//!   section: where the outline crosses each radius of the evaluation range,
+//!   the flank's angle θ(r) interpolated between samples, and its
+//!   deviation from the design involute along the base tangent,
+//!   e = rb·(n·θ + inv α(r)) + const (n = +1 right flank, −1 left; the
+//!   derivation in docs/measurement.md, section 6) → Fα, fHα, ffα;
+//! - a **helix** trace on both flanks of every tooth at the measuring
+//!   diameter, one point per section in the face: e(z) = n·(rb·θ(z) −
+//!   h·z·tan βb) + const (h = +1 right hand, −1 left, 0 spur) → Fβ, fHβ, ffβ;
+//! - **pitch**: both flanks of every tooth at the measuring diameter in the
+//!   middle section → fp, Fp;
+//! - **runout**: a ball touching both flanks of every space, its centre
+//!   found on the polygonal outline → Fr;
+//! - **size**: the mean arc tooth thickness at the reference circle, the
+//!   span Wk (two parallel jaws rocked to their smallest opening) and the
+//!   dimension over two balls, against the design values of
+//!   [`crate::size`];
+//! - the ISO 1328-1:2013 **class** of every graded item and the overall
+//!   class.
+//!
+//! Every tooth is measured (it costs little here), and each graded item is
+//! the worst over teeth and flanks: ISO 1328-1:2013 applies its tolerances
+//! to every measured flank, so one flank out of tolerance is enough to fail
+//! a class. The mean slope deviation per flank (fHαm, fHβm, which
+//! ISO/TR 10064-1 discusses for lead and profile corrections) is reported
+//! beside it, not graded.
+
+mod flank;
+mod gauge;
+mod report;
+mod spec;
+mod traces;
+
+pub use report::{FlankValues, ItemResult, Measurement, Runout, SizeResult, TeethTraces};
+pub use spec::{Direction, GearSpec, Geometry};
+
+use crate::helix::{Hand, HelixDeviations};
+use crate::iso1328::{self, GearData, Grade, Item};
+use crate::profile::ProfileDeviations;
+use crate::Error;
+use serde::{Deserialize, Serialize};
+
+/// A gear as transverse sections: at height `z_mm[j]` the outline radius
+/// `r_mm[j][i]` (mm) at the angle θᵢ = 2π·i/n, counter-clockwise seen from
+/// +z, the same n for every section. The heights must increase.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PolarSections {
+    /// Heights of the sections along the gear axis, mm, increasing.
+    pub z_mm: Vec<f64>,
+    /// One outline per section, n radii each, mm.
+    pub r_mm: Vec<Vec<f64>>,
+}
+
+impl PolarSections {
+    /// The number of angles n per section, after checking the shape: as
+    /// many outlines as heights, increasing heights, n ≥ 64 equal in every
+    /// section, positive finite radii.
+    fn check(&self) -> Result<usize, Error> {
+        if self.z_mm.is_empty() || self.r_mm.len() != self.z_mm.len() {
+            return Err(Error::TooFewSamples {
+                what: "outlines, one per section height",
+                needed: self.z_mm.len().max(1),
+                got: self.r_mm.len(),
+            });
+        }
+        if let Some(w) = self.z_mm.windows(2).find(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater)) {
+            return Err(Error::OutOfRange {
+                field: "z_mm",
+                expected: "finite section heights, strictly increasing",
+                got: w[1],
+            });
+        }
+        let n = self.r_mm[0].len();
+        for r in &self.r_mm {
+            if r.len() != n || n < 64 {
+                return Err(Error::TooFewSamples {
+                    what: "angles per section, the same in every section (at least 64)",
+                    needed: n.max(64),
+                    got: r.len(),
+                });
+            }
+            if let Some(bad) = r.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+                return Err(Error::OutOfRange {
+                    field: "r_mm",
+                    expected: "positive finite radii",
+                    got: *bad,
+                });
+            }
+        }
+        Ok(n)
+    }
+}
+
+/// Measures the gear `sections` against the drawing `spec`: profile, helix,
+/// pitch, runout, size and the ISO 1328-1:2013 classes (the module doc says
+/// how). Errors name the input at fault: a spec outside its range or the
+/// standard's scope, sections of the wrong shape, an outline that does not
+/// cross the measuring circle 2z times (not z teeth there), a tooth that
+/// cannot be followed from section to section, or too few samples in an
+/// evaluation range.
+pub fn measure(sections: &PolarSections, spec: &GearSpec) -> Result<Measurement, Error> {
+    let n = sections.check()?;
+    let geo = spec.geometry()?;
+    let gear = GearData::new(
+        spec.teeth,
+        spec.normal_module_mm,
+        spec.helix_deg,
+        spec.face_width_mm,
+    )?;
+    let middle = geo.middle_section(&sections.z_mm, spec.face_start_mm);
+    let mid = flank::Section::new(&sections.r_mm[middle], n);
+    let teeth = flank::find_teeth(&mid, spec.teeth, geo.measuring_diameter_mm / 2.0)?;
+    let profile = traces::profiles(&mid, &teeth, &geo, spec)?;
+    let helix = traces::helices(sections, middle, &teeth, &geo, spec)?;
+    let pitch = traces::pitch(&teeth, &geo)?;
+    let (runout, size) = gauge::size_and_runout(&mid, &teeth, &geo, spec)?;
+    let items = grade_items(&gear, &profile, helix.as_ref(), &pitch, &runout)?;
+    let overall = items
+        .iter()
+        .map(|i| i.grade)
+        .max()
+        .unwrap_or(Grade::WorseThan11);
+    Ok(Measurement {
+        geometry: geo,
+        middle_section_mm: sections.z_mm[middle],
+        profile_slope_mean_um: FlankValues::mean_of(&profile, |d| d.slope_um),
+        helix_slope_mean_um: helix
+            .as_ref()
+            .map(|h| FlankValues::mean_of(h, |d: &HelixDeviations| d.slope_um)),
+        profile,
+        helix,
+        pitch,
+        runout,
+        size,
+        items,
+        overall,
+    })
+}
+
+/// The value of every graded item (worst over teeth and flanks), its class
+/// and the tolerance of that class (of class 11 when it is worse).
+fn grade_items(
+    gear: &GearData,
+    profile: &TeethTraces<ProfileDeviations>,
+    helix: Option<&TeethTraces<HelixDeviations>>,
+    pitch: &crate::pitch::FlankPair,
+    runout: &Runout,
+) -> Result<Vec<ItemResult>, Error> {
+    let mut values = vec![
+        (
+            Item::SinglePitch,
+            pitch.left.single_max_um.max(pitch.right.single_max_um),
+        ),
+        (
+            Item::CumulativePitch,
+            pitch
+                .left
+                .cumulative_total_um
+                .max(pitch.right.cumulative_total_um),
+        ),
+        (Item::ProfileSlope, profile.worst_signed(|d| d.slope_um)),
+        (Item::ProfileForm, profile.worst_signed(|d| d.form_um)),
+        (Item::ProfileTotal, profile.worst_signed(|d| d.total_um)),
+    ];
+    if let Some(h) = helix {
+        values.push((Item::HelixSlope, h.worst_signed(|d| d.slope_um)));
+        values.push((Item::HelixForm, h.worst_signed(|d| d.form_um)));
+        values.push((Item::HelixTotal, h.worst_signed(|d| d.total_um)));
+    }
+    values.push((Item::Runout, runout.runout_um));
+    values
+        .into_iter()
+        .map(|(item, value_um)| {
+            let grade = iso1328::grade(gear, item, value_um)?;
+            let class = match grade {
+                Grade::Class(c) => c,
+                Grade::WorseThan11 => iso1328::Class::COARSEST,
+            };
+            Ok(ItemResult {
+                item,
+                value_um,
+                grade,
+                tolerance_um: iso1328::tolerance_um(gear, item, class),
+            })
+        })
+        .collect()
+}
+
+/// The sign of a flank in the deviation formulas: +1 for the right flank
+/// (facing +θ), −1 for the left.
+fn flank_sign(right: bool) -> f64 {
+    if right {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
+/// h: +1 right hand, −1 left hand, 0 spur.
+fn hand_sign(hand: Option<Hand>) -> f64 {
+    match hand {
+        Some(Hand::Right) => 1.0,
+        Some(Hand::Left) => -1.0,
+        None => 0.0,
+    }
+}

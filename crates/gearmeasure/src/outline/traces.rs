@@ -1,0 +1,205 @@
+//! Profile, helix and pitch traces from the outlines.
+//!
+//! **Profile.** A right flank (facing +θ) of a design tooth is the involute
+//! θ(r) = C − inv α(r), cos α = rb/r; a left flank is θ(r) = C′ + inv α(r).
+//! Two involutes of one base circle turned by Δθ about the axis are a
+//! distance rb·Δθ apart along every base tangent, which is their common
+//! normal in the transverse plane (a point at roll length L on one and the
+//! point on the other on the same tangent differ by rb·Δθ in roll length).
+//! A measured flank point at angle θ at radius r lies on the involute turned
+//! by Δθ = θ − (C − inv α(r)) from the design: its deviation normal to the
+//! involute, +material towards the space the flank faces, is
+//! e = n·rb·Δθ = rb·(n·θ + inv α(r)) − n·rb·C with n = +1 for the right
+//! flank and −1 for the left (a left flank with more material lies at
+//! smaller θ). The constant drops out of Fα, fHα and ffα; inv α is computed
+//! from the roll length L = √(r² − rb²) as L/rb − atan(L/rb). On the flank
+//! surface the normal deviation is e·cos βb (spec [`super::Direction`]).
+//!
+//! **Helix.** At the measuring radius the design flank is at
+//! θ(z) = θ₀ + h·z·tan βb / rb (h = +1 right hand, −1 left, 0 spur;
+//! tan βb / rb = tan β / r, one lead for every radius); a deviation e along
+//! the base tangent turns it by n·e/rb, so e(z) = n·(rb·θ(z) − h·z·tan βb)
+//! + const, the convention of [`crate::helix`].
+//!
+//! **Pitch.** Each flank's angle at the measuring circle, converted by
+//! [`crate::pitch::positions_from_angles`] to µm of arc from nominal.
+
+use super::flank::{self, Section, Tooth};
+use super::report::TeethTraces;
+use super::{flank_sign, hand_sign, Direction, GearSpec, Geometry, PolarSections};
+use crate::helix::{evaluate_helix, HelixDeviations};
+use crate::pitch::{evaluate_flanks, positions_from_angles, FlankPair};
+use crate::profile::{evaluate_profile, ProfileDeviations};
+use crate::Error;
+use std::f64::consts::TAU;
+
+/// Points per profile trace, evenly spaced in roll length over the
+/// evaluation range (a GMM records a few hundred).
+pub(super) const PROFILE_POINTS: usize = 241;
+
+/// The factor from the transverse deviation to the reported one.
+fn direction_factor(geo: &Geometry, spec: &GearSpec) -> f64 {
+    match spec.direction {
+        Direction::Transverse => 1.0,
+        Direction::Normal => geo.base_helix_deg.to_radians().cos(),
+    }
+}
+
+/// The profile deviations of both flanks of every tooth of the middle
+/// section `mid`.
+pub(super) fn profiles(
+    mid: &Section<'_>,
+    teeth: &[Tooth],
+    geo: &Geometry,
+    spec: &GearSpec,
+) -> Result<TeethTraces<ProfileDeviations>, Error> {
+    let rb = geo.rb();
+    let range = geo.profile_range;
+    let reach = 0.75 * TAU / teeth.len() as f64;
+    let um = 1000.0 * direction_factor(geo, spec);
+    let rolls: Vec<f64> = (0..PROFILE_POINTS)
+        .map(|k| {
+            range.start_mm
+                + (range.end_mm - range.start_mm) * k as f64 / (PROFILE_POINTS - 1) as f64
+        })
+        .collect();
+    let trace = |tooth: &Tooth, right: bool| {
+        let n = flank_sign(right);
+        let (mut xs, mut es) = (Vec::new(), Vec::new());
+        for &l in &rolls {
+            let rho = rb.hypot(l);
+            if let Some(theta) = mid.crossing(tooth.centre(), rho, n as i64, reach) {
+                let inv = l / rb - (l / rb).atan();
+                xs.push(l);
+                es.push(rb * (n * theta + inv));
+            }
+        }
+        // Offsets change none of the deviations; taking the first keeps the
+        // numbers small before they are scaled to µm.
+        let e0 = es.first().copied().unwrap_or(0.0);
+        let es: Vec<f64> = es.iter().map(|e| (e - e0) * um).collect();
+        evaluate_profile(&xs, &es, range)
+    };
+    let mut out = TeethTraces::default();
+    for tooth in teeth {
+        out.left.push(trace(tooth, false)?);
+        out.right.push(trace(tooth, true)?);
+    }
+    Ok(out)
+}
+
+/// Every tooth's flank angles at the measuring radius in each section of
+/// the face, followed from the middle section up and down: in the next
+/// section the tooth is looked for where the design helix turns it, and
+/// found by going out from there to both flanks. Returns the heights and,
+/// per tooth, the flanks in those sections.
+fn follow_teeth(
+    sections: &PolarSections,
+    middle: usize,
+    teeth: &[Tooth],
+    geo: &Geometry,
+    spec: &GearSpec,
+) -> Result<(Vec<f64>, Vec<Vec<Tooth>>), Error> {
+    let n = sections.r_mm[0].len();
+    let (lo, hi) = (spec.face_start_mm, spec.face_start_mm + spec.face_width_mm);
+    let inside: Vec<usize> = (0..sections.z_mm.len())
+        .filter(|&j| (lo..=hi).contains(&sections.z_mm[j]) || j == middle)
+        .collect();
+    let rho = geo.measuring_diameter_mm / 2.0;
+    let turn = hand_sign(spec.hand) * spec.helix_deg.to_radians().tan()
+        / (geo.reference_diameter_mm / 2.0);
+    let pitch = TAU / teeth.len() as f64;
+    let at = inside.iter().position(|&j| j == middle).unwrap_or(0);
+    let mut found: Vec<Vec<Option<Tooth>>> = vec![vec![None; inside.len()]; teeth.len()];
+    for (t, tooth) in teeth.iter().enumerate() {
+        found[t][at] = Some(*tooth);
+        let order = (at + 1..inside.len()).chain((0..at).rev());
+        for k in order {
+            let prev = if k > at { k - 1 } else { k + 1 };
+            let was = found[t][prev].ok_or(Error::TooFewSamples {
+                what: "sections",
+                needed: 1,
+                got: 0,
+            })?;
+            let dz = sections.z_mm[inside[k]] - sections.z_mm[inside[prev]];
+            let sec = Section::new(&sections.r_mm[inside[k]], n);
+            let tooth = flank::tooth_near(&sec, was.centre() + turn * dz, rho, pitch).ok_or(
+                Error::OutOfRange {
+                    field: "sections",
+                    expected:
+                        "every tooth found again in the next section where the helix turns it",
+                    got: sections.z_mm[inside[k]],
+                },
+            )?;
+            found[t][k] = Some(tooth);
+        }
+    }
+    let z: Vec<f64> = inside.iter().map(|&j| sections.z_mm[j]).collect();
+    let per_tooth = found
+        .into_iter()
+        .map(|v| v.into_iter().flatten().collect())
+        .collect();
+    Ok((z, per_tooth))
+}
+
+/// The helix deviations of both flanks of every tooth, or `None` when fewer
+/// than three sections lie in the helix evaluation range (a spur gear
+/// simulated in one section).
+pub(super) fn helices(
+    sections: &PolarSections,
+    middle: usize,
+    teeth: &[Tooth],
+    geo: &Geometry,
+    spec: &GearSpec,
+) -> Result<Option<TeethTraces<HelixDeviations>>, Error> {
+    let range = geo.helix_range;
+    let in_range = sections
+        .z_mm
+        .iter()
+        .filter(|z| {
+            let x = *z - spec.face_start_mm;
+            x >= range.start_mm.min(range.end_mm) && x <= range.start_mm.max(range.end_mm)
+        })
+        .count();
+    if in_range < 3 {
+        return Ok(None);
+    }
+    let (z, per_tooth) = follow_teeth(sections, middle, teeth, geo, spec)?;
+    let rb = geo.rb();
+    let tan_bb = geo.base_helix_deg.to_radians().tan();
+    let h = hand_sign(spec.hand);
+    let um = 1000.0 * direction_factor(geo, spec);
+    let x: Vec<f64> = z.iter().map(|z| z - spec.face_start_mm).collect();
+    let mut out = TeethTraces::default();
+    for flanks in &per_tooth {
+        for right in [false, true] {
+            let n = flank_sign(right);
+            let e: Vec<f64> = flanks
+                .iter()
+                .zip(&x)
+                .map(|(t, x)| {
+                    let theta = if right { t.right } else { t.left };
+                    n * (rb * theta - h * x * tan_bb)
+                })
+                .collect();
+            let e0 = e[0];
+            let e: Vec<f64> = e.iter().map(|v| (v - e0) * um).collect();
+            let d = evaluate_helix(&x, &e, range)?;
+            if right {
+                out.right.push(d);
+            } else {
+                out.left.push(d);
+            }
+        }
+    }
+    Ok(Some(out))
+}
+
+/// Single and cumulative pitch deviations of both flanks at the measuring
+/// circle, from the teeth found there.
+pub(super) fn pitch(teeth: &[Tooth], geo: &Geometry) -> Result<FlankPair, Error> {
+    let deg = |f: fn(&Tooth) -> f64| teeth.iter().map(|t| f(t).to_degrees()).collect::<Vec<_>>();
+    let left = positions_from_angles(&deg(|t| t.left), geo.measuring_diameter_mm);
+    let right = positions_from_angles(&deg(|t| t.right), geo.measuring_diameter_mm);
+    evaluate_flanks(&left, &right)
+}
