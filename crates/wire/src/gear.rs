@@ -386,7 +386,15 @@ impl Flank {
     /// the arctangent gives it.
     pub(crate) fn distance_polar(&self, r: f64, a: f64, point: impl FnOnce() -> (f64, f64)) -> f64 {
         use std::f64::consts::{PI, TAU};
-        let angle = PI - (PI - (self.base_angle - a)).rem_euclid(TAU);
+        // rem_euclid leaves a value in [0, 2π) as it is (the remainder of
+        // a smaller number is the number): only others pay for it.
+        let y = PI - (self.base_angle - a);
+        let angle = PI
+            - if (0.0..TAU).contains(&y) {
+                y
+            } else {
+                y.rem_euclid(TAU)
+            };
         self.involute
             .distance_polar(r, angle, || self.place(point()))
     }

@@ -281,21 +281,32 @@ impl Outline {
             }
         };
         let f = &self.figures;
+        // The flank first; a circle's arc is at least |r − its radius|
+        // away (its ends lie on the circle, to a rounding far below
+        // `MARGIN`), so one whose gap exceeds the nearest so far by more
+        // than that can neither be the nearest nor tie with it, and is not
+        // measured (its ends need the folded point's sine and cosine).
+        const MARGIN: f64 = 1e-9;
+        let flank = self.flank.distance_polar(r, a, q);
+        let root = if (r - f.root_radius_mm).abs() - MARGIN > flank {
+            f64::INFINITY
+        } else {
+            circle(f.root_radius_mm, self.root_from, FRAC_PI_2, &self.root_ends)
+        };
+        let tip = if (r - f.tip_radius_mm).abs() - MARGIN > flank.min(root) {
+            f64::INFINITY
+        } else {
+            circle(
+                f.tip_radius_mm,
+                FRAC_PI_2 - PI / z,
+                self.tip_to,
+                &self.tip_ends,
+            )
+        };
         let best = [
-            (
-                circle(f.root_radius_mm, self.root_from, FRAC_PI_2, &self.root_ends),
-                Piece::Root,
-            ),
-            (self.flank.distance_polar(r, a, q), Piece::Flank),
-            (
-                circle(
-                    f.tip_radius_mm,
-                    FRAC_PI_2 - PI / z,
-                    self.tip_to,
-                    &self.tip_ends,
-                ),
-                Piece::Tip,
-            ),
+            (root, Piece::Root),
+            (flank, Piece::Flank),
+            (tip, Piece::Tip),
         ]
         .into_iter()
         .min_by(|a, b| a.0.total_cmp(&b.0))
@@ -405,5 +416,86 @@ mod tests {
             }
         }
         assert!(n > 10_000, "{n} points nearest the flank");
+    }
+
+    /// The nearest piece as first taken: the folded point built, all four
+    /// pieces measured (the fillet too), the first of equal minima among
+    /// root, flank and tip, the fillet only when strictly nearer.
+    fn every_piece(o: &Outline, r: f64, polar: f64) -> (f64, Piece) {
+        let z = f64::from(o.teeth);
+        let d = (polar - FRAC_PI_2).rem_euclid(TAU / z) - PI / z;
+        let a = FRAC_PI_2 - d.abs();
+        let q = (r * a.cos(), r * a.sin());
+        let circle = |radius: f64, lo: f64, hi: f64, ends: &[(f64, f64); 2]| {
+            if (lo..=hi).contains(&a) {
+                (r - radius).abs()
+            } else {
+                let end = |e: &(f64, f64)| ((q.0 - e.0).powi(2) + (q.1 - e.1).powi(2)).sqrt();
+                end(&ends[0]).min(end(&ends[1]))
+            }
+        };
+        let f = &o.figures;
+        let best = [
+            (
+                circle(f.root_radius_mm, o.root_from, FRAC_PI_2, &o.root_ends),
+                Piece::Root,
+            ),
+            (o.flank.distance_polar(r, a, || q), Piece::Flank),
+            (
+                circle(f.tip_radius_mm, FRAC_PI_2 - PI / z, o.tip_to, &o.tip_ends),
+                Piece::Tip,
+            ),
+        ]
+        .into_iter()
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .unwrap();
+        let fillet = o.fillet.distance(q);
+        if fillet < best.0 {
+            (fillet, Piece::Fillet)
+        } else {
+            best
+        }
+    }
+
+    /// The pieces the distance skips (a circle's arc further than the
+    /// nearest so far, the fillet beyond its band) change nothing: on two
+    /// gears, at points all round them from inside the root circle to
+    /// outside the tip circle, the same distance to the bit and the same
+    /// piece as every piece measured.
+    #[test]
+    fn skipping_far_pieces_changes_nothing() {
+        for (m, z, x) in [(2.0, 23, 0.2), (2.0, 40, 0.0), (0.8, 9, 0.5)] {
+            let gear = RackGear {
+                module_mm: m,
+                teeth: z,
+                pressure_angle_deg: 20.0,
+                profile_shift: x,
+                addendum_coef: 1.0,
+                clearance_coef: 0.25,
+                tip_radius_coef: 0.38,
+            };
+            let tol = Tolerances {
+                flank_mm: 0.001,
+                fillet_mm: 0.005,
+                min_radius_mm: 0.005,
+            };
+            let o = outline(&gear, &tol).unwrap();
+            let f = o.figures;
+            let mut pieces = [0usize; 4];
+            for i in 0..3000 {
+                let polar = TAU * f64::from(i) / 3000.0 - PI + 1e-4;
+                for k in 0..=40 {
+                    let r = f.root_radius_mm - 0.2 * m
+                        + (f.tip_radius_mm - f.root_radius_mm + 0.4 * m) * f64::from(k) / 40.0;
+                    let fast = o.distance_at(r, polar);
+                    let all = every_piece(&o, r, polar);
+                    assert_eq!(fast.0.to_bits(), all.0.to_bits(), "{r} {polar}");
+                    assert_eq!(fast.1, all.1, "{r} {polar}");
+                    pieces[fast.1 as usize] += 1;
+                }
+            }
+            // Every piece is the nearest somewhere.
+            assert!(pieces.iter().all(|&n| n > 100), "{pieces:?}");
+        }
     }
 }

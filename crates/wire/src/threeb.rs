@@ -148,8 +148,11 @@ pub(crate) fn blocks_from(start: (f64, f64), segments: &[Segment]) -> Vec<Block>
     let mut at = start;
     let mut out = Vec::with_capacity(segments.len());
     for s in segments {
-        let b = match *s {
-            Segment::Line { to, .. } => line_block(um(to.0 - at.0), um(to.1 - at.1)),
+        let (b, end) = match *s {
+            Segment::Line { to, .. } => {
+                let b = line_block(um(to.0 - at.0), um(to.1 - at.1));
+                (b, replay(&[b], at)[0].to())
+            }
             Segment::Arc {
                 from,
                 to,
@@ -160,12 +163,17 @@ pub(crate) fn blocks_from(start: (f64, f64), segments: &[Segment]) -> Vec<Block>
                 let r_ideal = (from.0 - centre.0).hypot(from.1 - centre.1);
                 let centre = onto_bisector(centre, at, to);
                 let (rx0, ry0) = (um(at.0 - centre.0), um(at.1 - centre.1));
+                // What every candidate shares: the ideal sweep and the
+                // ideal ends' angles.
+                let ideal = s.sweep();
+                let i0 = (from.1 - ideal_centre.1).atan2(from.0 - ideal_centre.0);
+                let i1 = (to.1 - ideal_centre.1).atan2(to.0 - ideal_centre.0);
                 // The rounded offset and its eight neighbours: the block
                 // whose replay keeps nearest the ideal arc (its middle, its
                 // quarters and its end against the ideal circle, and the
                 // end against the ideal end) — a µm on a wire's 0.1 mm
                 // corner arc is a µm of the part.
-                let mut best: Option<(f64, Block)> = None;
+                let mut best: Option<(f64, Block, (f64, f64))> = None;
                 for (dx, dy) in (-1..=1).flat_map(|a| (-1..=1).map(move |b| (a, b))) {
                     let (rx, ry) = (rx0 + dx, ry0 + dy);
                     // The centre the control will use.
@@ -173,11 +181,8 @@ pub(crate) fn blocks_from(start: (f64, f64), segments: &[Segment]) -> Vec<Block>
                     // The ideal sweep decides a whole circle or a sliver;
                     // the simulated start moves it by the small difference
                     // of angle.
-                    let ideal = s.sweep();
                     let a0 = (ry as f64).atan2(rx as f64);
                     let a1 = (to.1 - c.1).atan2(to.0 - c.0);
-                    let i0 = (from.1 - ideal_centre.1).atan2(from.0 - ideal_centre.0);
-                    let i1 = (to.1 - ideal_centre.1).atan2(to.0 - ideal_centre.0);
                     let moved = ((a1 - a0) - (i1 - i0) + PI).rem_euclid(TAU) - PI;
                     let sweep = (ideal + if ccw { moved } else { -moved }).max(0.0);
                     let b = arc_block(rx, ry, (to.0 - c.0, to.1 - c.1), sweep, ccw);
@@ -187,7 +192,7 @@ pub(crate) fn blocks_from(start: (f64, f64), segments: &[Segment]) -> Vec<Block>
                     let r = (rx as f64 / UM).hypot(ry as f64 / UM);
                     // Along the arc's own sweep (a whole circle ends where
                     // it starts: its end says nothing of its middle).
-                    let (s0, span) = ((ry as f64).atan2(rx as f64), sweep);
+                    let (s0, span) = (a0, sweep);
                     let sign = if ccw { 1.0 } else { -1.0 };
                     for k in 1..4 {
                         let t = s0 + sign * span * f64::from(k) / 4.0;
@@ -196,15 +201,15 @@ pub(crate) fn blocks_from(start: (f64, f64), segments: &[Segment]) -> Vec<Block>
                             ((p.0 - ideal_centre.0).hypot(p.1 - ideal_centre.1) - r_ideal).abs();
                         miss = miss.max(off);
                     }
-                    if best.is_none_or(|(m, _)| miss < m) {
-                        best = Some((miss, b));
+                    if best.is_none_or(|(m, _, _)| miss < m) {
+                        best = Some((miss, b, e));
                     }
                 }
-                best.expect("the rounded offset itself").1
+                let (_, b, e) = best.expect("the rounded offset itself");
+                (b, e)
             }
         };
-        let seg = replay(&[b], at);
-        at = seg[0].to();
+        at = end;
         out.push(b);
     }
     out

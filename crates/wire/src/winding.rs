@@ -54,7 +54,9 @@ pub(crate) fn winding(p: (f64, f64), path: &[Segment]) -> f64 {
         let (a, b) = (sub(s.from(), p), sub(s.to(), p));
         let mut turn = (a.0 * b.1 - a.1 * b.0).atan2(a.0 * b.0 + a.1 * b.1);
         if let Segment::Arc { centre, ccw, .. } = *s {
-            let inside = length(sub(p, centre)) < length(sub(s.from(), centre));
+            // Nearer the centre than the arc's start, by the squares.
+            let d2 = |v: (f64, f64)| v.0 * v.0 + v.1 * v.1;
+            let inside = d2(sub(p, centre)) < d2(sub(s.from(), centre));
             // A whole turn ends where it starts: its principal angle is
             // next to nothing (the sweep only asked then).
             let whole = || turn.abs() < 1e-9 && s.sweep() == TAU;
