@@ -49,6 +49,8 @@ struct Built {
     shift: Vec<f64>,
     /// The gear's centre, mm.
     ecc: [f64; 2],
+    /// One tooth whose right flank differs: (tooth, its side).
+    odd_tooth: Option<(usize, Side)>,
 }
 
 impl Built {
@@ -86,6 +88,7 @@ impl Built {
             twist: h * beta.tan() / r,
             shift: vec![0.0; z],
             ecc: [0.0, 0.0],
+            odd_tooth: None,
         }
     }
 
@@ -139,7 +142,11 @@ impl Built {
         let mut delta = t - j as f64 * pitch - self.shift[j];
         delta -= TAU * (delta / TAU).round();
         if delta >= 0.0 {
-            self.side_radius(&self.right, delta)
+            let side = match self.odd_tooth {
+                Some((k, side)) if k == j => side,
+                _ => self.right,
+            };
+            self.side_radius(&side, delta)
         } else {
             self.side_radius(&self.left, -delta)
         }
@@ -300,6 +307,18 @@ fn a_larger_base_circle_is_a_profile_slope() {
     }
     assert!((m.profile_slope_mean_um.left - expected).abs() < 0.01 * expected);
     assert!(value(&m, Item::SinglePitch) < 0.05);
+    // The same on the right flank of one tooth only: the graded fHα is that
+    // flank's (the worst), the mean over the right flanks 1/24 of it.
+    let mut one = Built::new(&spec);
+    one.odd_tooth = Some((5, g.right));
+    let m = measure(&one.sections(&[10.0], N), &spec).unwrap();
+    assert!(
+        (value(&m, Item::ProfileSlope) - expected).abs() < 0.01 * expected,
+        "{m}"
+    );
+    assert!((value(&m, Item::ProfileTotal) - expected).abs() < 0.01 * expected);
+    assert!((m.profile_slope_mean_um.right - expected / 24.0).abs() < 0.01 * expected);
+    assert!(m.profile_slope_mean_um.left.abs() < 0.05);
 }
 
 #[test]
@@ -397,6 +416,13 @@ fn an_eccentric_gear_has_runout_2e_and_a_sine_of_pitch() {
         assert!((p.single_max_um - fp).abs() < 0.05, "{p:?} vs {fp}");
         // About 2e/cos αm.
         assert!((fp_total - 2000.0 * e / alpha_m.cos()).abs() < 0.1);
+        // Tooth by tooth: the measurement's tooth 0 is the first whose left
+        // flank is at θ ≥ 0, the construction's tooth 1 (its tooth 0 is
+        // centred on θ = 0).
+        for (i, f) in p.cumulative_um.iter().enumerate() {
+            let want = pos[(i + 1) % z] - pos[1];
+            assert!((f - want).abs() < 0.05, "tooth {i}: {f} vs {want}");
+        }
     }
 }
 
@@ -525,13 +551,40 @@ fn wrong_inputs_are_refused_with_their_name() {
 fn sampling_needs_about_15_um_of_arc_per_sample_for_a_tenth_of_a_micrometre() {
     // The worst graded item of the perfect spur gear (r = 36 mm) against n:
     // 16 384 (13.8 µm of arc per sample at the reference circle) is within
-    // 0.05 µm, 4 096 is not within 1 µm: the linear-in-θ outline near the
-    // form circle, where the flank is nearly radial and its samples sparse.
+    // 0.05 µm, 8 192 within 1 µm (0.53), 4 096 is not (3.1): near the form
+    // circle the flank is nearly radial and its samples sparse.
     let spec = spur();
     let worst = |n: usize| {
         let m = measure(&Built::new(&spec).sections(&[10.0], n), &spec).unwrap();
         m.items.iter().map(|i| i.value_um.abs()).fold(0.0, f64::max)
     };
     assert!(worst(16384) <= 0.05);
+    assert!(worst(8192) <= 1.0);
     assert!(worst(4096) > 1.0);
+}
+
+#[test]
+fn the_default_ranges_start_where_the_rack_ends_the_involute() {
+    // The spur gear: r = 36, rb = 36·cos 20°, rf = 32.85, ra = 39.6 mm. The
+    // basic rack's straight flank ends h = (r − rf) − 0.38·mn·(1 − sin αn)
+    // inside the pitch line; in the rolling position where it meets the
+    // line of action (through the pitch point, at αt to the pitch line) it
+    // is at (−h/tan αt, −h) from the pitch point, with the gear's centre at
+    // (0, −r): the involute starts at that point's distance from the
+    // centre. Lα ends at 95 % of the roll length up to the tip.
+    let spec = spur();
+    let g = spec.geometry().unwrap();
+    let a = 20.0_f64.to_radians();
+    let (r, rf, ra) = (36.0, 32.85, 39.6);
+    let h = (r - rf) - 0.38 * 3.0 * (1.0 - a.sin());
+    let form = 2.0 * (h / a.tan()).hypot(r - h);
+    assert!((g.form_diameter_mm - form).abs() < 1e-9, "{g:?} {form}");
+    let rb = r * a.cos();
+    let roll = |rr: f64| (rr * rr - rb * rb).sqrt();
+    let l0 = roll(form / 2.0);
+    assert!((g.profile_range.start_mm - l0).abs() < 1e-9);
+    assert!((g.profile_range.end_mm - (l0 + 0.95 * (roll(ra) - l0))).abs() < 1e-9);
+    // Lβ: b = 20 less min(5 % of b, mn) = 1 mm at each end.
+    assert_eq!((g.helix_range.start_mm, g.helix_range.end_mm), (1.0, 19.0));
+    assert!((g.measuring_diameter_mm - (2.0 * ra + 2.0 * rf) / 2.0).abs() < 1e-9);
 }

@@ -229,6 +229,30 @@ mod tests {
     }
 
     #[test]
+    fn a_step_beyond_the_crossing_does_not_bend_it() {
+        // Falling by 0.2 a sample, then a step down to the root: the chord
+        // (the data are linear up to the step) puts r = 1.7 halfway between
+        // samples 11 and 12; the cubic through the step would not.
+        let mut r = vec![2.0; 64];
+        r[10..20].copy_from_slice(&[2.0, 1.8, 1.6, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5]);
+        let s = Section::new(&r, 64);
+        let step = TAU / 64.0;
+        let t = s.crossing(5.0 * step, 1.7, 1, 1.0).unwrap();
+        assert!((t - 11.5 * step).abs() < 1e-12, "{}", t / step);
+        // Smooth data: the cubic is exact for a cubic in the index.
+        let c: Vec<f64> = (0..64)
+            .map(|i| {
+                let x = f64::from(i) / 64.0;
+                3.0 - x * x * x - x
+            })
+            .collect();
+        let s = Section::new(&c, 64);
+        let x0 = 0.4_f64;
+        let t = s.crossing(0.0, 3.0 - x0.powi(3) - x0, 1, 7.0).unwrap();
+        assert!((t / step / 64.0 - x0).abs() < 1e-12);
+    }
+
+    #[test]
     fn a_tooth_across_zero_is_unwrapped_past_the_others() {
         // Teeth from 355° to 5° (and every 90°).
         let r: Vec<f64> = (0..360)
