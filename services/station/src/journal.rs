@@ -486,11 +486,7 @@ impl Journal {
 
     /// One job's status.
     pub fn status(&self, job: &JobId) -> Result<Option<JobStatus>, JournalError> {
-        let mut stmt = self
-            .conn
-            .prepare_cached(&format!("{SELECT_STATUS} WHERE job = ?1"))?;
-        let row = stmt.query_row([job.as_str()], row_parts).optional()?;
-        row.map(status_from).transpose()
+        status_in(&self.conn, job)
     }
 
     /// Every job, oldest first.
@@ -574,6 +570,13 @@ enum Column {
     Model,
     Machine,
     Request,
+}
+
+/// One job's status read on `conn` (the journal's or a reader's).
+fn status_in(conn: &Connection, job: &JobId) -> Result<Option<JobStatus>, JournalError> {
+    let mut stmt = conn.prepare_cached(&format!("{SELECT_STATUS} WHERE job = ?1"))?;
+    let row = stmt.query_row([job.as_str()], row_parts).optional()?;
+    row.map(status_from).transpose()
 }
 
 const SELECT_STATUS: &str = "SELECT job, machine, part_number, state, attempts, accepted_at_ms, updated_at_ms, waiting_for, receipt_json, errors_json, warnings_json, quantity FROM jobs";
@@ -736,6 +739,9 @@ fn db_error(e: rusqlite::Error) -> JobError {
         &e.to_string(),
     )
 }
+
+mod reader;
+pub use reader::JournalReader;
 
 #[cfg(test)]
 mod tests;

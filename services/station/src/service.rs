@@ -18,6 +18,10 @@
 //!   published; the agent, which asks the station before it stores, never
 //!   stores it after. A final job is refused (`JOB_FINAL`), a cancelled one
 //!   answered with its status again.
+//! - `gearcam/v1/station/journaled/{machine}` (query with `JobIds`, an
+//!   agent's question before it stores): the status of each asked job of that
+//!   machine, read from the committed journal beside the loop (module
+//!   `journaled`).
 //! - Events of every job update the journal, and each job's model is
 //!   journaled beside it as the model service publishes it (checked to be
 //!   the model of the journaled request). Jobs without progress for
@@ -40,7 +44,7 @@ use gearcam_bus::query::Retry;
 use gearcam_bus::{Bus, BusError, CancellationToken};
 use gearcam_proto::{
     decode, encode, keys, now_ms, CancelRequest, DeliveryReply, EventKind, JobError, JobEvent,
-    JobId, JobIds, JobRequest, JobState, MachineId, Stage, StationReply,
+    JobId, JobRequest, JobState, MachineId, Stage, StationReply,
 };
 use zenoh::handlers::FifoChannelHandler;
 use zenoh::pubsub::Subscriber;
@@ -50,6 +54,7 @@ use zenoh::Session;
 
 use crate::journal::{Due, Durability, Journal, JournalError};
 
+mod journaled;
 mod models;
 mod submit;
 
@@ -94,6 +99,10 @@ pub async fn run(
     let mut journal = Journal::open(&config.journal)?;
     let redrive_ms = config.redrive.as_millis() as u64;
     let inputs = Inputs::declare(bus.session()).await?;
+    // The agents' question is answered beside the loop, and stops with it.
+    let answering = shutdown.child_token();
+    let _stop_answering = answering.clone().drop_guard();
+    journaled::serve(bus.session(), &config.journal, answering).await?;
     let _token = bus.alive_token(keys::STATION_SERVICE).await?;
     let mut alive: HashSet<String> = HashSet::new();
     let mut machines: HashSet<MachineId> = HashSet::new();
@@ -119,7 +128,6 @@ pub async fn run(
             },
             s = inputs.models.recv_async() => if let Ok(s) = s { new_models.push(Published::of(&s)) },
             q = inputs.views.recv_async() => if let Ok(q) = q { new_views.push(q) },
-            q = inputs.journaled.recv_async() => if let Ok(q) = q { new_views.push(q) },
             q = inputs.list_view.recv_async() => if let Ok(q) = q { new_views.push(q) },
             q = inputs.cancels.recv_async() => if let Ok(q) = q {
                 let (reply, cancelled) = cancel_reply(&journal, &q);
@@ -201,7 +209,6 @@ pub async fn run(
 struct Inputs {
     submits: Queryable<FifoChannelHandler<Query>>,
     views: Queryable<FifoChannelHandler<Query>>,
-    journaled: Queryable<FifoChannelHandler<Query>>,
     list_view: Queryable<FifoChannelHandler<Query>>,
     cancels: Queryable<FifoChannelHandler<Query>>,
     events: Subscriber<FifoChannelHandler<Sample>>,
@@ -220,10 +227,6 @@ impl Inputs {
             .map_err(zerr("declare queryable"))?;
         let views = session
             .declare_queryable(keys::STATION_JOB_ANY)
-            .await
-            .map_err(zerr("declare queryable"))?;
-        let journaled = session
-            .declare_queryable(keys::STATION_JOURNALED_ANY)
             .await
             .map_err(zerr("declare queryable"))?;
         let list_view = session
@@ -251,7 +254,6 @@ impl Inputs {
         Ok(Inputs {
             submits,
             views,
-            journaled,
             list_view,
             cancels,
             events,
@@ -272,12 +274,10 @@ impl Inputs {
         new_events: &mut Vec<(String, JobEvent)>,
         new_models: &mut Vec<Published>,
     ) {
-        for views in [&self.views, &self.journaled] {
-            while new_views.len() < 1024 {
-                match views.try_recv() {
-                    Ok(Some(q)) => new_views.push(q),
-                    _ => break,
-                }
+        while new_views.len() < 1024 {
+            match self.views.try_recv() {
+                Ok(Some(q)) => new_views.push(q),
+                _ => break,
             }
         }
         while new_submits.len() < 1024 {
@@ -689,7 +689,7 @@ enum ViewAnswer {
 }
 
 /// Answers the views taken (a job's status, model or request, the list,
-/// an agent's question), each from the journal as it now is. The answers
+/// a job's request), each from the journal as it now is. The answers
 /// are read first and sent after, so no borrow of the journal is held
 /// while a reply is sent.
 async fn answer_views(journal: &mut Journal, views: Vec<Query>) {
@@ -702,8 +702,6 @@ async fn answer_views(journal: &mut Journal, views: Vec<Query>) {
                 ViewAnswer::Kept(models::answer(journal, raw))
             } else if let Some(raw) = keys::station_job_request_of(&key) {
                 ViewAnswer::Kept(models::request_answer(journal, raw))
-            } else if let Some(machine) = keys::station_journaled_of(&key) {
-                ViewAnswer::Reply(journaled_reply(journal, machine, &q))
             } else {
                 ViewAnswer::Reply(view_reply(journal, &key))
             };
@@ -716,46 +714,6 @@ async fn answer_views(journal: &mut Journal, views: Vec<Query>) {
             ViewAnswer::Reply(reply) => reply_message(q, &reply).await,
         }
     }
-}
-
-/// The reply to an agent's question before it stores a group of programs:
-/// the status of each asked job journaled for `machine` (a job unknown, or
-/// of another machine, is left out: the agent stores none of its programs).
-fn journaled_reply(journal: &Journal, machine: &str, q: &Query) -> StationReply {
-    let refused = |error: JobError| StationReply::Refused {
-        errors: vec![error],
-    };
-    let payload = q
-        .payload()
-        .map(|p| p.to_bytes().into_owned())
-        .unwrap_or_default();
-    let asked = match decode::<JobIds>(&payload) {
-        Ok(asked) => asked,
-        Err(e) => {
-            return refused(gearcam_bus::stage::codec_error::<JobIds>(
-                Stage::Station,
-                &e,
-            ))
-        }
-    };
-    if asked.jobs.len() > JobIds::MAX {
-        return refused(Stage::Station.error(
-            Code::TOO_MANY_JOBS,
-            "jobs",
-            format!("at most {} jobs", JobIds::MAX),
-            format!("{} jobs", asked.jobs.len()),
-            "ask about a large group in parts",
-        ));
-    }
-    let mut jobs = Vec::with_capacity(asked.jobs.len());
-    for job in &asked.jobs {
-        match journal.status(job) {
-            Ok(Some(status)) if status.machine.as_str() == machine => jobs.push(status),
-            Ok(_) => {}
-            Err(e) => return refused(journal_error(e)),
-        }
-    }
-    StationReply::Jobs { jobs }
 }
 
 /// The reply to a view query (`jobs` or `jobs/{job}`), computed from the journal.

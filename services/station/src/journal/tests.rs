@@ -191,3 +191,47 @@ fn the_due_jobs_are_read_through_their_index() {
         "{plan:?}"
     );
 }
+
+/// The agents' questions are answered on a reader of their own: it sees a
+/// job once its submission is committed, a cancellation as soon as it is,
+/// and nothing of a group commit still open (the station's loop may be in
+/// the middle of one while the reader answers).
+#[test]
+fn a_reader_sees_what_is_committed_and_only_that() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("station.db");
+    let mut journal = Journal::open(&path).unwrap();
+    let reader = JournalReader::open(&path).unwrap();
+    let spec: gearcam_proto::JobSpec =
+        serde_json::from_str(r#"{"job": {"machine": "H01", "part_number": "SP-1"}}"#).unwrap();
+    let request = |job: &JobId| JobRequest {
+        job_id: job.clone(),
+        submitted_at_ms: 1,
+        submitted_by: "planner".into(),
+        spec: spec.clone(),
+    };
+    let first = JobId::new("J-1").unwrap();
+    assert_eq!(reader.status(&first).unwrap(), None);
+    journal.submit(&request(&first), 1).unwrap();
+    let seen = reader.status(&first).unwrap().unwrap();
+    assert_eq!(
+        (seen.machine.as_str(), seen.state),
+        ("H01", JobState::Accepted)
+    );
+    // A second job journaled in a group commit not yet committed is not
+    // seen; the first stays readable meanwhile.
+    let second = JobId::new("J-2").unwrap();
+    journal
+        .batch(Durability::Full, |j| {
+            j.submit(&request(&second), 2).unwrap();
+            assert_eq!(reader.status(&second).unwrap(), None);
+            assert!(reader.status(&first).unwrap().is_some());
+        })
+        .unwrap();
+    assert!(reader.status(&second).unwrap().is_some());
+    journal.cancel(&first, "planner", 3).unwrap();
+    assert_eq!(
+        reader.status(&first).unwrap().unwrap().state,
+        JobState::Cancelled
+    );
+}
