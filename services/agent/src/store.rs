@@ -13,14 +13,15 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use gearcam_proto::{
-    naming, now_ms, DeliveryReceipt, Dialect, JobError, MachineId, NcProgram, ProgramText,
-    ProgramVersion, Stage,
+    now_ms, DeliveryReceipt, Dialect, JobError, MachineId, NcProgram, ProgramText, ProgramVersion,
+    Stage,
 };
 use rusqlite::{params, Connection, OptionalExtension};
 use sha2::{Digest, Sha256};
 
 use crate::AgentError;
 
+mod check;
 mod owner;
 mod rebuild;
 mod resolve;
@@ -229,56 +230,9 @@ impl Store {
             .collect()
     }
 
-    /// The checks of a program on its own (machine, dialect, name, size,
-    /// hash), before anything is asked or written; its file name.
+    /// The checks of a program on its own ([`StoreConfig::check_program`]).
     pub fn check_program(&self, p: &NcProgram) -> Result<String, JobError> {
-        if p.machine != self.config.machine {
-            return Err(Stage::Agent.error(
-                Code::WRONG_MACHINE,
-                "machine",
-                self.config.machine.to_string(),
-                p.machine.to_string(),
-                "this agent stores programs for its own machine only",
-            ));
-        }
-        if p.dialect != self.config.dialect {
-            return Err(Stage::Agent.error(
-                Code::WRONG_DIALECT,
-                "dialect",
-                self.config.dialect.as_str(),
-                p.dialect.as_str(),
-                "the program is written for another controller",
-            ));
-        }
-        let file_name = naming::file_name(p.dialect, &p.name).map_err(|rule| {
-            Stage::Agent.error(
-                Code::BAD_PROGRAM_NAME,
-                "name",
-                rule.clone(),
-                p.name.clone(),
-                format!("program name refused: {rule}"),
-            )
-        })?;
-        if p.text.len() > MAX_PROGRAM_BYTES {
-            return Err(Stage::Agent.error(
-                Code::PROGRAM_TOO_LARGE,
-                "text",
-                format!("at most {MAX_PROGRAM_BYTES} bytes"),
-                format!("{} bytes", p.text.len()),
-                "the program exceeds the store's size limit",
-            ));
-        }
-        let hash = sha256_hex(p.text.as_bytes());
-        if hash != p.sha256 {
-            return Err(Stage::Agent.error(
-                Code::HASH_MISMATCH,
-                "sha256",
-                hash,
-                p.sha256.clone(),
-                "the program text does not match its hash; it was damaged on the way",
-            ));
-        }
-        Ok(file_name)
+        self.config.check_program(p)
     }
 
     /// Checks a program and decides whether it must be written.

@@ -7,6 +7,9 @@ use std::time::Duration;
 use gearcam_proto::{decode, encode, keys, EventKind, JobId, Message, Stage};
 use tokio_util::sync::CancellationToken;
 
+use zenoh::handlers::FifoChannelHandler;
+use zenoh::query::{Query, Queryable};
+
 use crate::{Bus, BusError};
 
 /// What a query handler produced.
@@ -19,6 +22,14 @@ pub struct Answer {
 }
 
 impl Answer {
+    /// The error reply of a handler that failed unexpectedly (a panic).
+    pub fn internal(stage: Stage) -> Answer {
+        Answer::error(format!(
+            "internal error in the {} stage; please report it",
+            stage.as_str()
+        ))
+    }
+
     /// A reply with an encoded message and no events.
     pub fn message<T: Message>(msg: &T) -> Answer {
         Answer {
@@ -164,6 +175,71 @@ where
     .await
 }
 
+/// The next queries to answer: the first to arrive and every other already
+/// waiting, up to `max_batch`; `None` once `shutdown` is cancelled or the
+/// queryable is closed.
+pub async fn next_batch(
+    queryable: &Queryable<FifoChannelHandler<Query>>,
+    shutdown: &CancellationToken,
+    max_batch: usize,
+) -> Option<Vec<Query>> {
+    let first = tokio::select! {
+        _ = shutdown.cancelled() => return None,
+        q = queryable.recv_async() => q.ok()?,
+    };
+    let mut queries = vec![first];
+    while queries.len() < max_batch.max(1) {
+        match queryable.try_recv() {
+            Ok(Some(q)) => queries.push(q),
+            _ => break,
+        }
+    }
+    Some(queries)
+}
+
+/// Each query's key and payload (empty when it has none).
+pub fn keyed(queries: &[Query]) -> Vec<(String, Vec<u8>)> {
+    queries
+        .iter()
+        .map(|q| {
+            (
+                q.key_expr().as_str().to_string(),
+                q.payload()
+                    .map(|p| p.to_bytes().into_owned())
+                    .unwrap_or_default(),
+            )
+        })
+        .collect()
+}
+
+/// Sends each query its answer, in order, then publishes the answers' events
+/// as `reporter` (a client that has its reply may ask about the job at once;
+/// the events follow).
+pub async fn send_answers(
+    bus: &Bus,
+    reporter: &str,
+    stage: Stage,
+    queries: Vec<Query>,
+    answers: Vec<Answer>,
+) {
+    let mut events = Vec::new();
+    for (query, answer) in queries.into_iter().zip(answers) {
+        let sent = match answer.reply {
+            Ok(bytes) => query.reply(query.key_expr().clone(), bytes).await,
+            Err(text) => query.reply_err(text.into_bytes()).await,
+        };
+        if let Err(e) = sent {
+            tracing::warn!(key = %query.key_expr(), error = %e, "cannot send reply");
+        }
+        events.extend(answer.events);
+    }
+    for (job, ev) in events {
+        if let Err(e) = bus.event_as(reporter, &job, stage, ev).await {
+            tracing::warn!(%job, error = %e, "cannot publish event");
+        }
+    }
+}
+
 /// Like [`run_queryable`], but hands `handle` every query already waiting (up
 /// to `max_batch`) at once, so a durable store can commit them as a group.
 /// `handle` returns one answer per query, in order.
@@ -194,60 +270,11 @@ where
     // Events go out on the service's own key (an agent: `agent-{machine}`).
     let reporter = keys::reporter(service.unwrap_or(stage.as_str()));
     tracing::info!(stage = stage.as_str(), pattern, "serving queries");
-    loop {
-        let first = tokio::select! {
-            _ = shutdown.cancelled() => break,
-            q = queryable.recv_async() => match q {
-                Ok(q) => q,
-                Err(_) => break,
-            },
-        };
-        let mut queries = vec![first];
-        while queries.len() < max_batch.max(1) {
-            match queryable.try_recv() {
-                Ok(Some(q)) => queries.push(q),
-                _ => break,
-            }
-        }
-        let batch: Vec<(String, Vec<u8>)> = queries
-            .iter()
-            .map(|q| {
-                (
-                    q.key_expr().as_str().to_string(),
-                    q.payload()
-                        .map(|p| p.to_bytes().into_owned())
-                        .unwrap_or_default(),
-                )
-            })
-            .collect();
+    while let Some(queries) = next_batch(&queryable, &shutdown, max_batch).await {
+        let batch = keyed(&queries);
         let answers = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| handle(&batch)))
-            .unwrap_or_else(|_| {
-                batch
-                    .iter()
-                    .map(|_| {
-                        Answer::error(format!(
-                            "internal error in the {} stage; please report it",
-                            stage.as_str()
-                        ))
-                    })
-                    .collect()
-            });
-        let mut events = Vec::new();
-        for (query, answer) in queries.into_iter().zip(answers) {
-            let sent = match answer.reply {
-                Ok(bytes) => query.reply(query.key_expr().clone(), bytes).await,
-                Err(text) => query.reply_err(text.into_bytes()).await,
-            };
-            if let Err(e) = sent {
-                tracing::warn!(key = %query.key_expr(), error = %e, "cannot send reply");
-            }
-            events.extend(answer.events);
-        }
-        for (job, ev) in events {
-            if let Err(e) = bus.event_as(&reporter, &job, stage, ev).await {
-                tracing::warn!(%job, error = %e, "cannot publish event");
-            }
-        }
+            .unwrap_or_else(|_| batch.iter().map(|_| Answer::internal(stage)).collect());
+        send_answers(bus, &reporter, stage, queries, answers).await;
     }
     Ok(())
 }
