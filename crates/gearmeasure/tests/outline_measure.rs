@@ -256,6 +256,33 @@ fn a_perfect_spur_gear_measures_perfect_with_its_design_size() {
 }
 
 #[test]
+fn the_report_lists_every_item_and_survives_json() {
+    let spec = helical(Hand::Right);
+    let m = measure(&Built::new(&spec).sections(&faces(&spec), 4096), &spec).unwrap();
+    assert_eq!(m.items.len(), 9);
+    let text = m.to_string();
+    for sym in [
+        "fp ", "Fp ", "fHα", "ffα", "Fα ", "fHβ", "ffβ", "Fβ ", "Fr ", "overall", "W4",
+    ] {
+        assert!(text.contains(sym), "{sym} missing from\n{text}");
+    }
+    let json = serde_json::to_string(&m).unwrap();
+    let back: Measurement = serde_json::from_str(&json).unwrap();
+    assert_eq!(back.items, m.items);
+    assert_eq!(back.overall, m.overall);
+    // serde_json's float parsing is not exact to the last bit.
+    let (a, b) = (back.size, m.size);
+    for (x, y) in [
+        (a.span_mm, b.span_mm),
+        (a.over_balls_mm, b.over_balls_mm),
+        (a.design_thickness_mm, b.design_thickness_mm),
+    ] {
+        assert!((x - y).abs() < 1e-12 * y.abs());
+    }
+    assert_eq!(back.pitch.left.cumulative_um.len(), 31);
+}
+
+#[test]
 fn a_perfect_helical_gear_measures_perfect_in_every_section() {
     for hand in [Hand::Right, Hand::Left] {
         let spec = helical(hand);

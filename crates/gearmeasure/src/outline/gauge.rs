@@ -58,6 +58,13 @@ fn dot(a: P2, b: P2) -> f64 {
 /// The largest t ≥ 0 with the point t·u within `r` of the segment ab, if
 /// any: the far exit of the ray from the segment's capsule.
 fn capsule_exit(a: P2, b: P2, u: P2, r: f64) -> Option<f64> {
+    // The distance to the ray's line is linear along the segment: two ends
+    // more than r off on one side keep the whole segment (and its capsule)
+    // off the line.
+    let (sa, sb) = (cross(u, a), cross(u, b));
+    if (sa > r && sb > r) || (sa < -r && sb < -r) {
+        return None;
+    }
     let mut best: Option<f64> = None;
     let mut take = |t: f64| {
         if t >= 0.0 && best.is_none_or(|b| t > b) {
@@ -104,7 +111,7 @@ fn golden_min(mut lo: f64, mut hi: f64, f: impl Fn(f64) -> f64) -> (f64, f64) {
     let g = (5.0_f64.sqrt() - 1.0) / 2.0;
     let (mut a, mut b) = (hi - g * (hi - lo), lo + g * (hi - lo));
     let (mut fa, mut fb) = (f(a), f(b));
-    for _ in 0..80 {
+    for _ in 0..60 {
         if fa <= fb {
             hi = b;
             (b, fb) = (a, fa);
