@@ -11,7 +11,8 @@
 //! From the outlines [`measure`] takes, like a GMM:
 //!
 //! - a **profile** trace on both flanks of every tooth in the middle
-//!   section: where the outline crosses each radius of the evaluation range,
+//!   section (graded), and in every other section of the face (reported
+//!   per section, worst over its teeth): where the outline crosses each radius of the evaluation range,
 //!   the flank's angle θ(r) interpolated between samples, and its
 //!   deviation from the design involute along the base tangent,
 //!   e = rb·(n·θ + inv α(r)) + const (n = +1 right flank, −1 left; the
@@ -43,7 +44,9 @@ mod report;
 mod spec;
 mod traces;
 
-pub use report::{FlankValues, ItemResult, Measurement, Runout, SizeResult, TeethTraces};
+pub use report::{
+    FlankValues, ItemResult, Measurement, Runout, SectionProfile, SizeResult, TeethTraces,
+};
 pub use spec::{Direction, GearSpec, Geometry};
 
 use crate::helix::{Hand, HelixDeviations};
@@ -75,7 +78,11 @@ impl PolarSections {
                 got: self.r_mm.len(),
             });
         }
-        if let Some(w) = self.z_mm.windows(2).find(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater)) {
+        if let Some(w) = self
+            .z_mm
+            .windows(2)
+            .find(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+        {
             return Err(Error::OutOfRange {
                 field: "z_mm",
                 expected: "finite section heights, strictly increasing",
@@ -123,7 +130,15 @@ pub fn measure(sections: &PolarSections, spec: &GearSpec) -> Result<Measurement,
     let mid = flank::Section::new(&sections.r_mm[middle], n);
     let teeth = flank::find_teeth(&mid, spec.teeth, geo.measuring_diameter_mm / 2.0)?;
     let profile = traces::profiles(&mid, &teeth, &geo, spec)?;
-    let helix = traces::helices(sections, middle, &teeth, &geo, spec)?;
+    let followed = traces::follow_teeth(sections, middle, &teeth, &geo, spec)?;
+    let helix = match &followed {
+        Some(f) => Some(traces::helices(f, &geo, spec)?),
+        None => None,
+    };
+    let profile_by_section = match &followed {
+        Some(f) => traces::section_profiles(sections, f, &geo, spec)?,
+        None => Vec::new(),
+    };
     let pitch = traces::pitch(&teeth, &geo)?;
     let (runout, size) = gauge::size_and_runout(&mid, &teeth, &geo, spec)?;
     let items = grade_items(&gear, &profile, helix.as_ref(), &pitch, &runout)?;
@@ -141,6 +156,7 @@ pub fn measure(sections: &PolarSections, spec: &GearSpec) -> Result<Measurement,
             .map(|h| FlankValues::mean_of(h, |d: &HelixDeviations| d.slope_um)),
         profile,
         helix,
+        profile_by_section,
         pitch,
         runout,
         size,

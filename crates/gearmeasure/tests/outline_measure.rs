@@ -290,6 +290,11 @@ fn a_perfect_helical_gear_measures_perfect_in_every_section() {
         let h = m.helix.as_ref().expect("helix measured");
         assert_eq!(h.left.len(), 31);
         assert_flanks_clean(&m, 0.05);
+        // The profile of every section, each tooth followed up the helix.
+        assert_eq!(m.profile_by_section.len(), 21);
+        for p in &m.profile_by_section {
+            assert!(p.total_um <= 0.05 && p.slope_um.abs() <= 0.05, "{p:?}");
+        }
         let inv = Involute::new(31, 2.5, 20.0, 15.0).unwrap();
         let sn = inv.thickness_from_shift(-0.1);
         let s = m.size;

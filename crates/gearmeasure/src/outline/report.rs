@@ -61,6 +61,22 @@ impl FlankValues {
     }
 }
 
+/// The profile deviations of one section, worst over its teeth and flanks
+/// (not graded: the graded profile items are the middle section's).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SectionProfile {
+    /// The section's height, mm.
+    pub z_mm: f64,
+    /// fHα with the largest magnitude, µm, signed.
+    pub slope_um: f64,
+    /// The largest ffα, µm.
+    pub form_um: f64,
+    /// The largest Fα, µm.
+    pub total_um: f64,
+    /// Mean fHα per flank, µm.
+    pub slope_mean_um: FlankValues,
+}
+
 /// One graded item.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ItemResult {
@@ -135,6 +151,9 @@ pub struct Measurement {
     pub helix: Option<TeethTraces<HelixDeviations>>,
     /// Mean helix slope deviation fHβm per flank, µm.
     pub helix_slope_mean_um: Option<FlankValues>,
+    /// The profile in every section of the face, worst over its teeth
+    /// (empty when the helix is not measured).
+    pub profile_by_section: Vec<SectionProfile>,
     /// Pitch deviations of both flanks.
     pub pitch: FlankPair,
     /// Runout.

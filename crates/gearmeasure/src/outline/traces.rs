@@ -25,7 +25,7 @@
 //! [`crate::pitch::positions_from_angles`] to µm of arc from nominal.
 
 use super::flank::{self, Section, Tooth};
-use super::report::TeethTraces;
+use super::report::{FlankValues, SectionProfile, TeethTraces};
 use super::{flank_sign, hand_sign, Direction, GearSpec, Geometry, PolarSections};
 use crate::helix::{evaluate_helix, HelixDeviations};
 use crate::pitch::{evaluate_flanks, positions_from_angles, FlankPair};
@@ -88,18 +88,42 @@ pub(super) fn profiles(
     Ok(out)
 }
 
+/// The teeth followed through the sections of the face.
+#[derive(Debug, Clone)]
+pub(super) struct Followed {
+    /// The indices of the sections in the face (and the middle one).
+    pub(super) index: Vec<usize>,
+    /// Their heights, mm.
+    pub(super) z_mm: Vec<f64>,
+    /// Per tooth, its flanks at the measuring radius in those sections.
+    pub(super) teeth: Vec<Vec<Tooth>>,
+}
+
 /// Every tooth's flank angles at the measuring radius in each section of
 /// the face, followed from the middle section up and down: in the next
 /// section the tooth is looked for where the design helix turns it, and
-/// found by going out from there to both flanks. Returns the heights and,
-/// per tooth, the flanks in those sections.
-fn follow_teeth(
+/// found by going out from there to both flanks. `None` when fewer than
+/// three sections lie in the helix evaluation range (a spur gear simulated
+/// in one section): then neither helix nor per-section profiles.
+pub(super) fn follow_teeth(
     sections: &PolarSections,
     middle: usize,
     teeth: &[Tooth],
     geo: &Geometry,
     spec: &GearSpec,
-) -> Result<(Vec<f64>, Vec<Vec<Tooth>>), Error> {
+) -> Result<Option<Followed>, Error> {
+    let range = geo.helix_range;
+    let in_range = sections
+        .z_mm
+        .iter()
+        .filter(|z| {
+            let x = *z - spec.face_start_mm;
+            x >= range.start_mm.min(range.end_mm) && x <= range.start_mm.max(range.end_mm)
+        })
+        .count();
+    if in_range < 3 {
+        return Ok(None);
+    }
     let n = sections.r_mm[0].len();
     let (lo, hi) = (spec.face_start_mm, spec.face_start_mm + spec.face_width_mm);
     let inside: Vec<usize> = (0..sections.z_mm.len())
@@ -134,44 +158,33 @@ fn follow_teeth(
             found[t][k] = Some(tooth);
         }
     }
-    let z: Vec<f64> = inside.iter().map(|&j| sections.z_mm[j]).collect();
-    let per_tooth = found
+    let z_mm: Vec<f64> = inside.iter().map(|&j| sections.z_mm[j]).collect();
+    let teeth = found
         .into_iter()
         .map(|v| v.into_iter().flatten().collect())
         .collect();
-    Ok((z, per_tooth))
+    Ok(Some(Followed {
+        index: inside,
+        z_mm,
+        teeth,
+    }))
 }
 
-/// The helix deviations of both flanks of every tooth, or `None` when fewer
-/// than three sections lie in the helix evaluation range (a spur gear
-/// simulated in one section).
+/// The helix deviations of both flanks of every tooth followed.
 pub(super) fn helices(
-    sections: &PolarSections,
-    middle: usize,
-    teeth: &[Tooth],
+    followed: &Followed,
     geo: &Geometry,
     spec: &GearSpec,
-) -> Result<Option<TeethTraces<HelixDeviations>>, Error> {
+) -> Result<TeethTraces<HelixDeviations>, Error> {
     let range = geo.helix_range;
-    let in_range = sections
-        .z_mm
-        .iter()
-        .filter(|z| {
-            let x = *z - spec.face_start_mm;
-            x >= range.start_mm.min(range.end_mm) && x <= range.start_mm.max(range.end_mm)
-        })
-        .count();
-    if in_range < 3 {
-        return Ok(None);
-    }
-    let (z, per_tooth) = follow_teeth(sections, middle, teeth, geo, spec)?;
+    let (z, per_tooth) = (&followed.z_mm, &followed.teeth);
     let rb = geo.rb();
     let tan_bb = geo.base_helix_deg.to_radians().tan();
     let h = hand_sign(spec.hand);
     let um = 1000.0 * direction_factor(geo, spec);
     let x: Vec<f64> = z.iter().map(|z| z - spec.face_start_mm).collect();
     let mut out = TeethTraces::default();
-    for flanks in &per_tooth {
+    for flanks in per_tooth {
         for right in [false, true] {
             let n = flank_sign(right);
             let e: Vec<f64> = flanks
@@ -192,7 +205,33 @@ pub(super) fn helices(
             }
         }
     }
-    Ok(Some(out))
+    Ok(out)
+}
+
+/// The profile deviations in every section of the face, each tooth's
+/// traces started from its middle there as followed, summarised per
+/// section.
+pub(super) fn section_profiles(
+    sections: &PolarSections,
+    followed: &Followed,
+    geo: &Geometry,
+    spec: &GearSpec,
+) -> Result<Vec<SectionProfile>, Error> {
+    let n = sections.r_mm[0].len();
+    let mut out = Vec::with_capacity(followed.index.len());
+    for (k, &j) in followed.index.iter().enumerate() {
+        let sec = Section::new(&sections.r_mm[j], n);
+        let teeth: Vec<Tooth> = followed.teeth.iter().map(|t| t[k]).collect();
+        let p = profiles(&sec, &teeth, geo, spec)?;
+        out.push(SectionProfile {
+            z_mm: followed.z_mm[k],
+            slope_um: p.worst_signed(|d| d.slope_um),
+            form_um: p.worst_signed(|d| d.form_um),
+            total_um: p.worst_signed(|d| d.total_um),
+            slope_mean_um: FlankValues::mean_of(&p, |d| d.slope_um),
+        });
+    }
+    Ok(out)
 }
 
 /// Single and cumulative pitch deviations of both flanks at the measuring
