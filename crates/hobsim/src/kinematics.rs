@@ -14,6 +14,13 @@ use gearcam_proto::{MachiningModel, MoveKind};
 
 use crate::SimError;
 
+mod errors;
+mod sync;
+
+pub use errors::MachineErrors;
+pub use sync::CouplingPhase;
+use sync::{CouplingStart, Phaser};
+
 /// Position of the linear axes in the neutral frame, mm: X centre distance,
 /// Y hob shift along u, Z height of the hob centre.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -82,6 +89,10 @@ pub struct Timeline {
     segments: Vec<Segment>,
     /// (B, C) at each segment's start, radians.
     start_angles: Vec<(f64, f64)>,
+    /// How each coupling's phase was set (empty for a hand-built timeline).
+    phases: Vec<CouplingPhase>,
+    /// The what-if errors laid over every pose.
+    errors: MachineErrors,
 }
 
 const TAU: f64 = std::f64::consts::TAU;
@@ -125,12 +136,32 @@ impl Timeline {
     /// A timeline from segments in time order (each starting where the last
     /// ended), with B = C = 0 at the start.
     pub fn from_segments(segments: Vec<Segment>) -> Result<Timeline, SimError> {
+        Timeline::build(segments, &[])
+    }
+
+    /// A timeline whose segment `i` starts coupling `starts[i]` (when
+    /// `Some`): the table jumps to the phase [`Phaser`] gives it.
+    fn build(
+        segments: Vec<Segment>,
+        starts: &[Option<CouplingStart>],
+    ) -> Result<Timeline, SimError> {
         if segments.is_empty() {
             return Err(SimError::Empty);
         }
         let mut start_angles = Vec::with_capacity(segments.len());
+        let mut phaser = Phaser::default();
         let (mut b, mut c) = (0.0, 0.0);
-        for s in &segments {
+        for (i, s) in segments.iter().enumerate() {
+            if let (Some(Some(start)), Some(g)) = (starts.get(i), s.gearbox) {
+                let residual = c
+                    - g.c_per_b * b
+                    - g.c_per_z_rad_mm * s.from.z_mm
+                    - g.c_per_y_rad_mm * s.from.y_mm;
+                c += phaser.couple(i, *start, residual);
+            }
+            if s.gearbox.is_some() && s.feed && s.hob_rev_s != 0.0 && s.t1_s > s.t0_s {
+                phaser.cutting();
+            }
             start_angles.push((b, c));
             let (db, dc) = s.turns(s.t1_s);
             b += db;
@@ -139,7 +170,25 @@ impl Timeline {
         Ok(Timeline {
             segments,
             start_angles,
+            phases: phaser.phases,
+            errors: MachineErrors::default(),
         })
+    }
+
+    /// The same timeline on a machine with `errors` (every pose carries them).
+    pub fn with_errors(mut self, errors: MachineErrors) -> Timeline {
+        self.errors = errors;
+        self
+    }
+
+    /// The what-if errors the poses carry.
+    pub fn errors(&self) -> MachineErrors {
+        self.errors
+    }
+
+    /// How each coupling of the program set the table's phase, in order.
+    pub fn couplings(&self) -> &[CouplingPhase] {
+        &self.phases
     }
 
     /// The segments.
@@ -147,8 +196,13 @@ impl Timeline {
         &self.segments
     }
 
-    /// The pose at time `t` in segment `i`.
+    /// The pose at time `t` in segment `i`, with the timeline's errors.
     pub fn pose_in(&self, i: usize, t: f64) -> Pose {
+        self.errors.apply(self.nominal_pose_in(i, t))
+    }
+
+    /// The pose at time `t` in segment `i` on the ideal machine.
+    pub fn nominal_pose_in(&self, i: usize, t: f64) -> Pose {
         let s = &self.segments[i];
         let (b0, c0) = self.start_angles[i];
         let (db, dc) = s.turns(t);
@@ -230,24 +284,71 @@ fn state_at(trace: &Trace, model: &MachiningModel, line: u32) -> State {
     }
 }
 
+/// The timeline of a whole program on the ideal machine: [`from_trace_with`]
+/// with [`MachineErrors::default`].
+pub fn from_trace(
+    trace: &Trace,
+    model: &MachiningModel,
+    rates: MachineRates,
+) -> Result<Timeline, SimError> {
+    from_trace_with(trace, model, rates, MachineErrors::default())
+}
+
+/// Half a pitch of each gear unit's gear in table angle, π/z, radians.
+fn half_pitches(model: &MachiningModel) -> Vec<f64> {
+    let teeth: Vec<u32> = if model.model.units.is_empty() {
+        vec![model.plan.gear.teeth]
+    } else {
+        model.model.units.iter().map(|u| u.gear.teeth).collect()
+    };
+    teeth
+        .iter()
+        .map(|&z| std::f64::consts::PI / f64::from(z.max(1)))
+        .collect()
+}
+
+/// The gear unit of every coupling of the trace: the check's rule (a unit
+/// starts at the program's first coupling, after a new `EGDEF`, at a `G81`
+/// after a `G80`), the last unit kept when the model has no more.
+fn coupling_units(trace: &Trace, units: usize) -> Vec<usize> {
+    let mut n = 0usize;
+    trace
+        .couplings
+        .iter()
+        .map(|c| {
+            if c.unit_start {
+                n += 1;
+            }
+            n.saturating_sub(1).min(units.saturating_sub(1))
+        })
+        .collect()
+}
+
 /// The timeline of a whole program: every move of the trace, first to last,
-/// starting at the machine's home position (`home_x_mm`, `home_z_mm`, Y 0).
+/// starting at the machine's home position (`home_x_mm`, `home_z_mm`, Y 0),
+/// on a machine with `errors` (see [`MachineErrors::apply`]).
 ///
 /// Programmed values become neutral ones through the machine profile's
 /// settings: η = (A − swivel_offset)/swivel_sign, Y = shift_sign·Y_prog,
 /// B = hob_sign·B_prog (B_prog turning positive under M3, negative under M4),
 /// and the gearbox C_prog = (num/den)·B_prog + f_z·Z + f_y·Y_prog becomes
-/// C = table_sign·C_prog.
-pub fn from_trace(
+/// C = table_sign·C_prog. At the first move of every coupling the table
+/// takes the phase `sync` gives it: a unit coupled again after it cut keeps
+/// its first coupling's phase when both are synchronised (`EGONSYNE`), and is
+/// put half a pitch off it otherwise (the worst case of an unknown phase).
+pub fn from_trace_with(
     trace: &Trace,
     model: &MachiningModel,
     rates: MachineRates,
+    errors: MachineErrors,
 ) -> Result<Timeline, SimError> {
     if trace.moves.is_empty() {
         return Err(SimError::Empty);
     }
     let machine = &model.plan.machine;
     let st = &machine.settings;
+    let half = half_pitches(model);
+    let units = coupling_units(trace, half.len());
     let mut pos = Axes {
         x_mm: machine.home_x_mm,
         y_mm: 0.0,
@@ -255,6 +356,8 @@ pub fn from_trace(
     };
     let mut t = 0.0;
     let mut segments = Vec::with_capacity(trace.moves.len());
+    let mut starts = Vec::with_capacity(trace.moves.len());
+    let mut last_coupling: Option<u32> = None;
     for m in &trace.moves {
         let state = state_at(trace, model, m.line);
         let to = Axes {
@@ -275,23 +378,26 @@ pub fn from_trace(
                 _ => return Err(SimError::NoFeed(m.line)),
             },
         };
-        let gearbox = match (&state.coupling, m.coupled) {
-            (Some(c), true) => {
-                if c.den == 0 {
-                    return Err(SimError::BadRatio(c.line));
-                }
-                let ratio = c.num as f64 / c.den as f64;
-                Some(Gearbox {
-                    c_per_b: st.table_sign * st.hob_sign * ratio,
-                    c_per_z_rad_mm: st.table_sign
-                        * c.c_per_z_deg_per_mm.unwrap_or(0.0).to_radians(),
-                    c_per_y_rad_mm: st.table_sign
-                        * st.shift_sign
-                        * c.c_per_y_deg_per_mm.unwrap_or(0.0).to_radians(),
-                })
+        let coupling = state.coupling.as_ref().filter(|_| m.coupled);
+        let gearbox = coupling.map(|c| gearbox_of(c, st)).transpose()?;
+        let start = coupling.filter(|c| last_coupling != Some(c.line)).map(|c| {
+            let k = trace
+                .couplings
+                .iter()
+                .position(|d| d.line == c.line)
+                .unwrap_or(0);
+            let unit = units.get(k).copied().unwrap_or(0);
+            CouplingStart {
+                line: c.line,
+                synchronised: c.synchronised,
+                unit,
+                half_pitch_rad: half.get(unit).copied().unwrap_or(0.0),
             }
-            _ => None,
-        };
+        });
+        if let Some(c) = coupling {
+            last_coupling = Some(c.line);
+        }
+        starts.push(start);
         segments.push(Segment {
             line: m.line,
             t0_s: t,
@@ -307,7 +413,25 @@ pub fn from_trace(
         t += dt;
         pos = to;
     }
-    Timeline::from_segments(segments)
+    Ok(Timeline::build(segments, &starts)?.with_errors(errors))
+}
+
+/// A coupling of the trace as the neutral-frame gearbox.
+fn gearbox_of(
+    c: &gearcam_nc::TraceCoupling,
+    st: &gearcam_proto::MachineSettings,
+) -> Result<Gearbox, SimError> {
+    if c.den == 0 {
+        return Err(SimError::BadRatio(c.line));
+    }
+    let ratio = c.num as f64 / c.den as f64;
+    Ok(Gearbox {
+        c_per_b: st.table_sign * st.hob_sign * ratio,
+        c_per_z_rad_mm: st.table_sign * c.c_per_z_deg_per_mm.unwrap_or(0.0).to_radians(),
+        c_per_y_rad_mm: st.table_sign
+            * st.shift_sign
+            * c.c_per_y_deg_per_mm.unwrap_or(0.0).to_radians(),
+    })
 }
 
 #[cfg(test)]

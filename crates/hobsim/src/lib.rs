@@ -19,12 +19,15 @@
 //!   each gash.
 //! - [`cut`]: the blank as polar outlines on z planes and the material
 //!   removal.
+//! - [`safety`]: collisions, cutting without the gearbox, depth, face width,
+//!   shift compensation and synchronisation, from the same timeline.
 
 #![forbid(unsafe_code)]
 
 pub mod cut;
 pub mod hob;
 pub mod kinematics;
+pub mod safety;
 
 /// What stops a program from being simulated.
 #[derive(Debug, Clone, PartialEq)]

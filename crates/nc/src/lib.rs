@@ -375,6 +375,12 @@ pub struct TraceCoupling {
     /// True when this coupling starts a gear unit (the first of the program,
     /// one after a new `EGDEF`, or a `G81` after a `G80`).
     pub unit_start: bool,
+    /// True for an 840D `EGONSYNE`: the table is moved to synchronised
+    /// positions relative to the hob, so every coupling at the same positions
+    /// has the same phase. False for a plain `EGON` and a FANUC `G81` (no
+    /// phase synchronisation in the subset read): the phase is wherever the
+    /// axes stand.
+    pub synchronised: bool,
 }
 
 /// Parses and simulates `text` (the dialect is the model's machine's) against

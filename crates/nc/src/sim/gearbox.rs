@@ -142,6 +142,7 @@ impl<'m> Sim<'m> {
             c_per_z_deg_per_mm: active.z,
             c_per_y_deg_per_mm: active.y,
             unit_start,
+            synchronised: sync,
         });
         self.coupled = Some(active);
         self.check_table_speed(line);
@@ -271,6 +272,7 @@ impl<'m> Sim<'m> {
             c_per_z_deg_per_mm: implied,
             c_per_y_deg_per_mm: None,
             unit_start,
+            synchronised: false,
         });
         self.coupled = Some(active);
         self.check_table_speed(line);

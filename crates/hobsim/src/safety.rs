@@ -1,0 +1,256 @@
+//! Safety and completeness findings from the same run that cuts the gear.
+//!
+//! [`check`] walks the [`Timeline`] the cut used and reports, as typed
+//! [`SafetyFinding`]s with the program line:
+//!
+//! - the hob's tip cylinder entering the blank's envelope during a rapid
+//!   move ([`SafetyKind::RapidContact`]);
+//! - the hob turning inside the blank's envelope while no coupling is on
+//!   ([`SafetyKind::CutDecoupled`]), or coupled with a ratio other than the
+//!   gear's s_h·z0/z ([`SafetyKind::CutWrongRatio`]);
+//! - the hob meeting the table, the fixture or the tailstock on any move
+//!   ([`SafetyKind::FixtureContact`]);
+//! - the coupled feed not reaching the plunge depth X = r_f + r_a0
+//!   ([`SafetyKind::DepthNotReached`]) or not covering the face width and
+//!   the generating zone's run-out at full depth
+//!   ([`SafetyKind::FaceWidthNotCovered`]);
+//! - a shift Y during a coupled cut without the table turn it needs
+//!   ([`SafetyKind::UncompensatedShift`]);
+//! - a unit coupled again after it cut without synchronised positions
+//!   ([`SafetyKind::UnsynchronisedCoupling`]).
+//!
+//! The contact geometry is in `contact`, the process rules in `process`;
+//! `docs/simulation.md` §8 derives each rule.
+
+use gearcam_proto::MachiningModel;
+
+use crate::hob::Hob;
+use crate::kinematics::Timeline;
+
+mod contact;
+mod process;
+
+pub use contact::{Cylinder, SAMPLE_MM};
+pub use process::{DEPTH_TOL_MM, SHIFT_TOL_MM};
+
+/// What a finding is about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SafetyKind {
+    /// The hob enters the blank's envelope during a rapid move.
+    RapidContact,
+    /// The hob turns inside the blank's envelope with the gearbox off.
+    CutDecoupled,
+    /// The hob cuts coupled, but not in the gear's ratio s_h·z0/z.
+    CutWrongRatio,
+    /// The hob meets the table, the fixture or the tailstock.
+    FixtureContact,
+    /// The coupled feed does not reach the plunge depth.
+    DepthNotReached,
+    /// The coupled feed at full depth does not cover the face width.
+    FaceWidthNotCovered,
+    /// A shift during a coupled cut without its table turn.
+    UncompensatedShift,
+    /// A unit coupled again after it cut, with an unknown phase.
+    UnsynchronisedCoupling,
+}
+
+/// One finding: its kind, the program line (of the move, or the coupling),
+/// what happens and why it matters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SafetyFinding {
+    /// The kind.
+    pub kind: SafetyKind,
+    /// Program line (0 for a hand-built timeline).
+    pub line: u32,
+    /// What happens, with numbers.
+    pub what: String,
+    /// Why it matters.
+    pub why: String,
+}
+
+/// The blank as the safety check sees it: its envelope (a cylinder of the
+/// outer radius over the face width) and the gear the cut must make.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BlankGeometry {
+    /// Outer radius of the blank, mm.
+    pub outer_radius_mm: f64,
+    /// Lower face, mm above the table plane.
+    pub z_lo_mm: f64,
+    /// Upper face, mm.
+    pub z_hi_mm: f64,
+    /// Root radius the cut must reach, mm.
+    pub root_radius_mm: f64,
+    /// Number of teeth.
+    pub teeth: u32,
+}
+
+impl BlankGeometry {
+    /// The blank of a single-unit model: blank OD, fixture height and face
+    /// width of the gear, df/2.
+    pub fn of_model(model: &MachiningModel) -> BlankGeometry {
+        let g = &model.plan.gear;
+        BlankGeometry {
+            outer_radius_mm: model.model.blank_od_mm / 2.0,
+            z_lo_mm: g.fixture_height_mm,
+            z_hi_mm: g.fixture_height_mm + g.face_width_mm,
+            root_radius_mm: model.geometry.df_mm / 2.0,
+            teeth: g.teeth,
+        }
+    }
+
+    /// The envelope as a cylinder.
+    pub fn envelope(&self) -> Cylinder {
+        Cylinder {
+            radius_mm: self.outer_radius_mm,
+            z_lo_mm: self.z_lo_mm,
+            z_hi_mm: self.z_hi_mm,
+        }
+    }
+}
+
+/// The machine's obstacles: named solids of revolution about the table axis.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Fixtures {
+    /// Name and solid of each.
+    pub obstacles: Vec<(String, Cylinder)>,
+}
+
+impl Fixtures {
+    /// The table (radius `table_radius_mm`, below the table plane), the
+    /// fixture (the gear's fixture diameter or the machine's fixture radius,
+    /// from the table plane up to the blank) and the tailstock (from
+    /// `tailstock_gap_mm` above the blank up), from the model's machine
+    /// envelope; an obstacle of radius 0 is left out.
+    pub fn of_model(model: &MachiningModel, blank: &BlankGeometry) -> Fixtures {
+        let env = &model.plan.machine.envelope;
+        let fixture_r = model
+            .plan
+            .gear
+            .fixture_diameter_mm
+            .map_or(env.fixture_radius_mm, |d| d / 2.0);
+        let all = [
+            ("the table", env.table_radius_mm, f64::NEG_INFINITY, 0.0),
+            ("the fixture", fixture_r, 0.0, blank.z_lo_mm),
+            (
+                "the tailstock",
+                env.tailstock_radius_mm,
+                blank.z_hi_mm + env.tailstock_gap_mm,
+                f64::INFINITY,
+            ),
+        ];
+        Fixtures {
+            obstacles: all
+                .iter()
+                .filter(|(_, r, lo, hi)| *r > 0.0 && lo < hi)
+                .map(|&(n, r, lo, hi)| {
+                    (
+                        n.to_string(),
+                        Cylinder {
+                            radius_mm: r,
+                            z_lo_mm: lo,
+                            z_hi_mm: hi,
+                        },
+                    )
+                })
+                .collect(),
+        }
+    }
+}
+
+/// Penetration ignored, mm.
+pub const PEN_TOL_MM: f64 = 0.002;
+
+/// Every finding of the run, sorted by line.
+pub fn check(
+    timeline: &Timeline,
+    hob: &Hob,
+    blank: &BlankGeometry,
+    fixtures: &Fixtures,
+) -> Vec<SafetyFinding> {
+    let mut out = Vec::new();
+    contacts(timeline, hob, blank, fixtures, &mut out);
+    process::depth_and_face(timeline, hob, blank, &mut out);
+    process::shifts(timeline, hob, blank, &mut out);
+    process::couplings(timeline, &mut out);
+    out.sort_by_key(|f| f.line);
+    out
+}
+
+/// The hob as the contact walk samples it.
+fn solid(hob: &Hob) -> contact::HobSolid {
+    contact::HobSolid {
+        radius_mm: hob.tip_radius_mm,
+        length_mm: hob.length_mm,
+    }
+}
+
+/// Rapid contact, cutting decoupled or in a wrong ratio, fixtures.
+fn contacts(
+    tl: &Timeline,
+    hob: &Hob,
+    blank: &BlankGeometry,
+    fixtures: &Fixtures,
+    out: &mut Vec<SafetyFinding>,
+) {
+    let env = blank.envelope();
+    let want = hob.hand * f64::from(hob.starts) / f64::from(blank.teeth.max(1));
+    for (i, s) in tl.segments().iter().enumerate() {
+        let turning = s.hob_rev_s != 0.0 && s.t1_s > s.t0_s;
+        let wrong_ratio = s.gearbox.filter(|g| (g.c_per_b - want).abs() > 1e-9);
+        let blank_rule = if !s.feed && !dwell(s) {
+            Some(SafetyKind::RapidContact)
+        } else if turning && s.gearbox.is_none() {
+            Some(SafetyKind::CutDecoupled)
+        } else if turning && wrong_ratio.is_some() {
+            Some(SafetyKind::CutWrongRatio)
+        } else {
+            None
+        };
+        if let Some(kind) = blank_rule {
+            if let Some(c) = contact::along(tl, i, solid(hob), &env, PEN_TOL_MM) {
+                let (what, why) = match kind {
+                    SafetyKind::RapidContact => (
+                        format!("the hob's tip cylinder enters the blank {:.3} mm during a rapid move (X {:.3}, Z {:.3})", c.depth_mm, c.pose.axes.x_mm, c.pose.axes.z_mm),
+                        "a rapid move into the blank crashes the hob".to_string(),
+                    ),
+                    SafetyKind::CutDecoupled => (
+                        format!("the hob turns {:.3} mm inside the blank's envelope with the gearbox off (X {:.3}, Z {:.3})", c.depth_mm, c.pose.axes.x_mm, c.pose.axes.z_mm),
+                        "without the coupling the table does not follow the hob: the teeth are cut away".to_string(),
+                    ),
+                    _ => (
+                        format!(
+                            "the hob cuts {:.3} mm deep coupled at C/B {:.6}, the gear needs s_h·z0/z = {want:.6}",
+                            c.depth_mm,
+                            wrong_ratio.map_or(0.0, |g| g.c_per_b)
+                        ),
+                        "the table does not turn in the gear's ratio: the gaps do not index".to_string(),
+                    ),
+                };
+                out.push(SafetyFinding {
+                    kind,
+                    line: s.line,
+                    what,
+                    why,
+                });
+            }
+        }
+        for (name, ob) in &fixtures.obstacles {
+            if let Some(c) = contact::along(tl, i, solid(hob), ob, PEN_TOL_MM) {
+                out.push(SafetyFinding {
+                    kind: SafetyKind::FixtureContact,
+                    line: s.line,
+                    what: format!(
+                        "the hob enters {name} {:.3} mm (X {:.3}, Z {:.3})",
+                        c.depth_mm, c.pose.axes.x_mm, c.pose.axes.z_mm
+                    ),
+                    why: format!("the hob meets {name}: a collision"),
+                });
+            }
+        }
+    }
+}
+
+/// A dwell: no motion.
+fn dwell(s: &crate::kinematics::Segment) -> bool {
+    s.from == s.to
+}
