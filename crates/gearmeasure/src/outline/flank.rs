@@ -5,14 +5,15 @@
 //! An outline r(θ) is known at its samples only. Between two samples
 //! r₀ ≥ ρ > r₁ the crossing of the radius ρ is found on the cubic through
 //! the four samples around them (Lagrange, in the sample index s), by
-//! bisection on s ∈ [0, 1]: the cubic passes through r₀ and r₁, so the
-//! root is bracketed even where the outline has a kink. Linear
-//! interpolation, θ = θ₀ + (r₀ − ρ)/(r₀ − r₁)·Δθ, errs by r″·Δθ²/8 in r,
-//! which on a flank turns into a slope of the profile trace of some
-//! 0.07 µm at n = 16 384 (docs/measurement.md, section 6); the cubic's
-//! error is of order Δθ⁴. Material is where r ≥ ρ. Going counter-clockwise (+θ) the outline rises through ρ on the
-//! left flank of a tooth (facing −θ) and falls on its right flank (facing
-//! +θ).
+//! Newton's method kept inside s ∈ [0, 1] by bisection: the cubic passes
+//! through r₀ and r₁, so the root is bracketed. Linear interpolation,
+//! θ = θ₀ + (r₀ − ρ)/(r₀ − r₁)·Δθ, errs by r″·Δθ²/8 in r, which on a flank
+//! turns into a slope of the profile trace of some 0.07 µm at n = 16 384
+//! (docs/measurement.md, section 6); the cubic's error is of order Δθ⁴.
+//! Where the four samples straddle a kink or a step the chord is used.
+//! Material is where r ≥ ρ. Going counter-clockwise (+θ) the outline rises
+//! through ρ on the left flank of a tooth (facing −θ) and falls on its
+//! right flank (facing +θ).
 
 use crate::Error;
 use std::f64::consts::TAU;
@@ -71,17 +72,37 @@ impl<'a> Section<'a> {
         None
     }
 
+    /// The walk from the angle `from` in the direction `dir`, at most
+    /// `within` rad, for many radii ([`Walk::crossing`]).
+    pub(super) fn walk(&self, from: f64, dir: i64, within: f64) -> Walk<'a> {
+        let start = if dir > 0 {
+            self.index_at(from)
+        } else {
+            self.index_at(from) + 1
+        };
+        let steps = (within / self.step).ceil() as i64 + 1;
+        let mut low = f64::INFINITY;
+        let least = (0..=steps)
+            .map(|k| {
+                low = low.min(self.at(start + dir * k));
+                low
+            })
+            .collect();
+        Walk {
+            section: *self,
+            start,
+            dir,
+            least,
+        }
+    }
+
     /// Where between sample `i` (s = 0) and sample `i + dir` (s = 1) the
     /// cubic through samples i − dir … i + 2·dir equals `rho`, whose values
-    /// at s = 0 and 1 lie on either side of it: bisection on s.
+    /// at s = 0 and 1 lie on either side of it: Newton's method from the
+    /// chord's root, kept inside the bracket by bisection.
     fn root(&self, i: i64, dir: i64, rho: f64) -> f64 {
         let y = [-1, 0, 1, 2].map(|k| self.at(i + k * dir) - rho);
-        let cubic = |s: f64| {
-            y[0] * (-s * (s - 1.0) * (s - 2.0) / 6.0)
-                + y[1] * ((s + 1.0) * (s - 1.0) * (s - 2.0) / 2.0)
-                + y[2] * (-(s + 1.0) * s * (s - 2.0) / 2.0)
-                + y[3] * ((s + 1.0) * s * (s - 1.0) / 6.0)
-        };
+        let chord = y[1] / (y[1] - y[2]);
         let start_above = y[1] >= 0.0;
         // Across a kink or a step (a tip corner, the foot of a flank) the
         // cubic overshoots: there the samples are not monotone, or the
@@ -94,18 +115,37 @@ impl<'a> Section<'a> {
         };
         let bend = (y[1] + y[2] - y[0] - y[3]) / 16.0;
         if !monotone || bend.abs() > 0.1 * (y[1] - y[2]).abs() {
-            return y[1] / (y[1] - y[2]);
+            return chord;
         }
-        let (mut lo, mut hi) = (0.0, 1.0);
-        for _ in 0..52 {
-            let m = (lo + hi) / 2.0;
-            if (cubic(m) >= 0.0) == start_above {
-                lo = m;
-            } else {
-                hi = m;
+        // The Lagrange cubic through s = −1, 0, 1, 2 in powers of s.
+        let a = [
+            y[1],
+            -y[0] / 3.0 - y[1] / 2.0 + y[2] - y[3] / 6.0,
+            y[0] / 2.0 - y[1] + y[2] / 2.0,
+            (y[3] - y[0]) / 6.0 + (y[1] - y[2]) / 2.0,
+        ];
+        let (mut lo, mut hi, mut s) = (0.0, 1.0, chord);
+        for _ in 0..60 {
+            let f = a[0] + s * (a[1] + s * (a[2] + s * a[3]));
+            if f == 0.0 {
+                return s;
             }
+            if (f >= 0.0) == start_above {
+                lo = s;
+            } else {
+                hi = s;
+            }
+            let df = a[1] + s * (2.0 * a[2] + 3.0 * s * a[3]);
+            let mut next = s - f / df;
+            if !(next > lo && next < hi) {
+                next = (lo + hi) / 2.0;
+            }
+            if (next - s).abs() < 1e-15 {
+                return next;
+            }
+            s = next;
         }
-        (lo + hi) / 2.0
+        s
     }
 
     /// Every crossing of the circle `rho` round the outline, in order of
@@ -121,6 +161,34 @@ impl<'a> Section<'a> {
             }
         }
         out
+    }
+}
+
+/// A walk along an outline from one sample in one direction, holding the
+/// least radius met so far at every step: the first sample below ρ is the
+/// first step whose least radius is below ρ, and the least radius never
+/// grows, so it is found by bisection instead of a scan. A profile trace
+/// asks for some 240 radii on the same walk.
+#[derive(Debug, Clone)]
+pub(super) struct Walk<'a> {
+    section: Section<'a>,
+    start: i64,
+    dir: i64,
+    least: Vec<f64>,
+}
+
+impl Walk<'_> {
+    /// The same as [`Section::crossing`] from the walk's start: the angle
+    /// where the outline first drops below `rho`, `None` when it starts
+    /// below or does not drop within the walk.
+    pub(super) fn crossing(&self, rho: f64) -> Option<f64> {
+        let k = self.least.partition_point(|r| *r >= rho);
+        if k == 0 || k == self.least.len() {
+            return None;
+        }
+        let prev = self.start + self.dir * (k as i64 - 1);
+        let sec = &self.section;
+        Some(sec.theta(prev) + self.dir as f64 * sec.root(prev, self.dir, rho) * sec.step)
     }
 }
 
@@ -192,6 +260,7 @@ pub(super) fn tooth_near(sec: &Section<'_>, predicted: f64, rho: f64, pitch: f64
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     /// A square wave: teeth of radius 2 from 10° to 20° (and every 90°),
     /// spaces of radius 1, sampled every degree.
@@ -250,6 +319,21 @@ mod tests {
         let x0 = 0.4_f64;
         let t = s.crossing(0.0, 3.0 - x0.powi(3) - x0, 1, 7.0).unwrap();
         assert!((t / step / 64.0 - x0).abs() < 1e-12);
+    }
+
+    proptest! {
+        #[test]
+        fn a_walk_finds_what_a_scan_finds(
+            r in prop::collection::vec(1.0f64..2.0, 64..200),
+            from in 0.0f64..7.0,
+            rho in 1.0f64..2.0,
+            right in any::<bool>(),
+        ) {
+            let s = Section::new(&r, r.len());
+            let dir = if right { 1 } else { -1 };
+            let walk = s.walk(from, dir, 1.5);
+            prop_assert_eq!(walk.crossing(rho), s.crossing(from, rho, dir, 1.5));
+        }
     }
 
     #[test]

@@ -66,9 +66,10 @@ pub(super) fn profiles(
     let trace = |tooth: &Tooth, right: bool| {
         let n = flank_sign(right);
         let (mut xs, mut es) = (Vec::new(), Vec::new());
+        let walk = mid.walk(tooth.centre(), n as i64, reach);
         for &l in &rolls {
             let rho = rb.hypot(l);
-            if let Some(theta) = mid.crossing(tooth.centre(), rho, n as i64, reach) {
+            if let Some(theta) = walk.crossing(rho) {
                 let inv = l / rb - (l / rb).atan();
                 xs.push(l);
                 es.push(rb * (n * theta + inv));
