@@ -35,7 +35,7 @@
 //! form and tip form circles (roll lengths Wkt/2 ± rb·(ω − μ), μ the
 //! symmetric direction): near the form circle the outline's points are
 //! sparse along the flank, and a jaw resting there would read the chord
-//! between them, up to 0.7 µm thin at n = 16 384.
+//! between them, about 1 µm thin at n = 16 384.
 
 use super::flank::{Section, Tooth};
 use super::report::{Runout, SizeResult};
