@@ -10,7 +10,7 @@
 
 use gearcam_gearmeasure::helix::{helix_angle_sign, Flank, Hand};
 use gearcam_gearmeasure::iso1328::{Grade, Item};
-use gearcam_gearmeasure::outline::{measure, GearSpec, Measurement, PolarSections};
+use gearcam_gearmeasure::outline::{measure, Direction, GearSpec, Measurement, PolarSections};
 use gearcam_gearmeasure::profile::EvaluationRange;
 use gearcam_gearmeasure::size::Involute;
 use std::f64::consts::{PI, TAU};
@@ -492,6 +492,41 @@ fn a_steeper_lead_is_a_helix_slope_of_the_right_sign() {
         }
         assert!(value(&m, Item::ProfileTotal) < 0.05);
     }
+}
+
+#[test]
+fn normal_to_the_flank_the_deviations_are_cos_beta_b_of_the_transverse_ones() {
+    // The flank normal lies in the base tangent plane at βb to the
+    // transverse plane: a transverse deviation e along the base tangent is
+    // e·cos βb along the normal. A lead error and a base radius error on
+    // the helical gear, measured both ways.
+    let spec = helical(Hand::Right);
+    let mut g = Built::new(&spec);
+    let r = 31.0 * 2.5 / 15.0_f64.to_radians().cos() / 2.0;
+    g.twist += 2e-4 / r;
+    g.right.rb *= 1.0 + 1e-4;
+    let sec = g.sections(&faces(&spec), N);
+    let transverse = measure(&sec, &spec).unwrap();
+    let mut normal_spec = spec;
+    normal_spec.direction = Direction::Normal;
+    let normal = measure(&sec, &normal_spec).unwrap();
+    // sin βb = sin β·cos αn.
+    let cos_bb = (15.0_f64.to_radians().sin() * 20.0_f64.to_radians().cos())
+        .asin()
+        .cos();
+    for item in [Item::HelixSlope, Item::ProfileSlope, Item::ProfileTotal] {
+        let (t, n) = (value(&transverse, item), value(&normal, item));
+        assert!(t.abs() > 0.5, "{item:?} {t}");
+        assert!(
+            (n - t * cos_bb).abs() < 1e-9,
+            "{item:?}: {n} vs {t}·{cos_bb}"
+        );
+    }
+    // Pitch is an arc on the measuring circle either way.
+    assert_eq!(
+        value(&transverse, Item::SinglePitch),
+        value(&normal, Item::SinglePitch)
+    );
 }
 
 #[test]
