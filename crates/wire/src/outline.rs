@@ -223,6 +223,32 @@ pub fn outline(gear: &dyn ToothSpace, tol: &Tolerances) -> Result<Outline, Outli
     })
 }
 
+/// `x.rem_euclid(p)` (p > 0) to the bit, mostly without the remainder's
+/// long division.
+///
+/// `x % p` is exact: x − m·p for m = trunc(x/p) taken exactly, a number
+/// that is representable; so the fused multiply-add of −m, p and x (one
+/// rounding of the exact x − m·p) gives it exactly whenever the quotient
+/// rounded in floating point truncates to that same m. When it does not
+/// (x/p within a rounding of a whole number) the result is x − (m ± 1)·p,
+/// which lies outside (−p, p) or has the other sign than x: those, and a
+/// zero (whose sign `%` takes from x), take `%` itself. Then, as
+/// `rem_euclid` does, a negative remainder gains p.
+fn rem_euclid(x: f64, p: f64) -> f64 {
+    let m = (x / p).trunc();
+    let r = (-m).mul_add(p, x);
+    let r = if r != 0.0 && r.abs() < p && (r > 0.0) == (x > 0.0) {
+        r
+    } else {
+        x % p
+    };
+    if r < 0.0 {
+        r + p
+    } else {
+        r
+    }
+}
+
 /// Which part of the theoretical outline is nearest a point.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Piece {
@@ -265,7 +291,7 @@ impl Outline {
         // (−π/z, 0] by whole pitches and the mirror about that axis; the
         // point is then the fit frame's, the space's axis on +Y, on the
         // circle of its radius.
-        let d = (polar - FRAC_PI_2).rem_euclid(TAU / z) - PI / z;
+        let d = rem_euclid(polar - FRAC_PI_2, TAU / z) - PI / z;
         let a = FRAC_PI_2 - d.abs();
         let folded = std::cell::OnceCell::new();
         let q = || *folded.get_or_init(|| (r * a.cos(), r * a.sin()));
@@ -416,6 +442,40 @@ mod tests {
             }
         }
         assert!(n > 10_000, "{n} points nearest the flank");
+    }
+
+    /// The remainder by a fused multiply-add against `rem_euclid`: angles
+    /// of every size and sign (whole multiples, their neighbours a unit in
+    /// the last place away, zeros of both signs) by the pitches of 5 to
+    /// 1000 teeth, to the bit.
+    #[test]
+    fn the_remainder_is_rem_euclids() {
+        let mut seed: u64 = 11;
+        let mut rnd = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut n = 0;
+        for z in [5.0, 7.0, 20.0, 23.0, 40.0, 97.0, 1000.0] {
+            let p = TAU / z;
+            let mut xs = vec![0.0, -0.0, p, -p, 2.0 * p, -3.0 * p];
+            for k in -40..=40 {
+                let m = f64::from(k) * p;
+                xs.extend([m, m.next_up(), m.next_down(), m + 0.5 * p]);
+            }
+            for _ in 0..20_000 {
+                xs.push((rnd() - 0.5) * 20.0);
+                xs.push((rnd() - 0.5) * 1e-6);
+            }
+            for x in xs {
+                let (a, b) = (rem_euclid(x, p), x.rem_euclid(p));
+                assert_eq!(a.to_bits(), b.to_bits(), "{x} by {p}: {a} vs {b}");
+                n += 1;
+            }
+        }
+        assert!(n > 200_000);
     }
 
     /// The nearest piece as first taken: the folded point built, all four

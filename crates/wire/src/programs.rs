@@ -18,7 +18,7 @@ use crate::fourb;
 use crate::iso::{self, IsoProgram};
 use crate::offset::{offset, Side};
 use crate::verify::{measure, Measure, SAMPLES};
-use crate::winding::{lead_crossing, winding};
+use crate::winding::{lead_crossing, winds};
 use crate::{threeb, Segment};
 
 /// How far outside the tip circle a punch's start hole lies, mm.
@@ -274,8 +274,8 @@ pub fn run_blocks(
     order
         .into_iter()
         .map(|(i, quarters)| {
-            let turned = threeb::rotate_quarter(&blocks[i..=i], quarters);
-            let segment = threeb::replay(&turned, at)[0];
+            let turned = threeb::rotate_block(blocks[i], quarters);
+            let segment = threeb::replay_block(&turned, at);
             at = segment.to();
             Ran {
                 block: i + 1,
@@ -412,7 +412,7 @@ fn check_scrap_side(cut: &Cut, path: &[Segment], scrap_inside: bool) -> Result<(
         .iter()
         .step_by((path.len() / 16).max(1))
         .map(|s| s.arc().point_at(s.arc().length / 2.0))
-        .find(|&p| (winding(p, &cut.contour).abs() > 0.5) != scrap_inside)
+        .find(|&p| (winds(p, &cut.contour) != 0) != scrap_inside)
     {
         let (part, want) = if scrap_inside {
             ("a die", "inside the opening")

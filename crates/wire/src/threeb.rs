@@ -151,7 +151,7 @@ pub(crate) fn blocks_from(start: (f64, f64), segments: &[Segment]) -> Vec<Block>
         let (b, end) = match *s {
             Segment::Line { to, .. } => {
                 let b = line_block(um(to.0 - at.0), um(to.1 - at.1));
-                (b, replay(&[b], at)[0].to())
+                (b, replay_block(&b, at).to())
             }
             Segment::Arc {
                 from,
@@ -186,7 +186,7 @@ pub(crate) fn blocks_from(start: (f64, f64), segments: &[Segment]) -> Vec<Block>
                     let moved = ((a1 - a0) - (i1 - i0) + PI).rem_euclid(TAU) - PI;
                     let sweep = (ideal + if ccw { moved } else { -moved }).max(0.0);
                     let b = arc_block(rx, ry, (to.0 - c.0, to.1 - c.1), sweep, ccw);
-                    let seg = replay(&[b], at)[0];
+                    let seg = replay_block(&b, at);
                     let e = seg.to();
                     let mut miss = (e.0 - to.0).hypot(e.1 - to.1);
                     let r = (rx as f64 / UM).hypot(ry as f64 / UM);
@@ -274,24 +274,23 @@ fn arc_block(rx: i64, ry: i64, end: (f64, f64), sweep: f64, ccw: bool) -> Block 
 /// axis (GX ↔ GY; J, the travel along that axis, stays). A line whose X
 /// and Y tie keeps J and takes the swapped axis, which counts the same.
 pub fn rotate_quarter(blocks: &[Block], quarters: u8) -> Vec<Block> {
-    let k = quarters % 4;
-    blocks
-        .iter()
-        .map(|b| {
-            let mut b = *b;
-            for _ in 0..k {
-                b = Block {
-                    x: b.y,
-                    y: b.x,
-                    j: b.j,
-                    gx: !b.gx,
-                    kind: b.kind,
-                    quadrant: b.quadrant % 4 + 1,
-                };
-            }
-            b
-        })
-        .collect()
+    blocks.iter().map(|b| rotate_block(*b, quarters)).collect()
+}
+
+/// One block of [`rotate_quarter`].
+pub fn rotate_block(b: Block, quarters: u8) -> Block {
+    let mut b = b;
+    for _ in 0..quarters % 4 {
+        b = Block {
+            x: b.y,
+            y: b.x,
+            j: b.j,
+            gx: !b.gx,
+            kind: b.kind,
+            quadrant: b.quadrant % 4 + 1,
+        };
+    }
+    b
 }
 
 /// A block read back.
@@ -436,78 +435,83 @@ fn signs(q: u8) -> (f64, f64) {
 /// an arc until the travel along its counting axis reaches J.
 pub fn replay(blocks: &[Block], start: (f64, f64)) -> Vec<Segment> {
     let mut p = start;
-    let mut out = Vec::with_capacity(blocks.len());
-    for b in blocks {
-        let (x, y) = (b.x as f64 / UM, b.y as f64 / UM);
-        match b.kind {
-            Kind::Line => {
-                let (sx, sy) = signs(b.quadrant);
-                let to = (p.0 + sx * x, p.1 + sy * y);
-                out.push(Segment::Line { from: p, to });
-                p = to;
-            }
-            Kind::Clockwise | Kind::CounterClockwise => {
-                let ccw = b.kind == Kind::CounterClockwise;
-                // The start relative to the centre: its quadrant gives the
-                // signs (an axis point belongs to the quadrant it moves into).
-                let (sx, sy) = signs(b.quadrant);
-                let (rx, ry) = (sx * x, sy * y);
-                let centre = (p.0 - rx, p.1 - ry);
-                let r = (rx * rx + ry * ry).sqrt();
-                let a0 = ry.atan2(rx);
-                // An arc is at most a whole turn, 4 R along either axis; a
-                // larger count (or a zero radius) cannot loop for ever.
-                let goal = (b.j as f64 / UM).min(4.0 * r);
-                if r == 0.0 {
-                    out.push(Segment::Arc {
-                        from: p,
-                        to: p,
-                        centre,
-                        ccw,
-                    });
-                    continue;
-                }
-                // Walk quadrant by quadrant, then solve within the last.
-                let coord = |a: f64| if b.gx { r * a.cos() } else { r * a.sin() };
-                let mut a = a0;
-                let mut used = 0.0;
-                let end_angle = loop {
-                    let next = if ccw {
-                        ((a / FRAC_PI_2).floor() + 1.0) * FRAC_PI_2
-                    } else {
-                        ((a / FRAC_PI_2).ceil() - 1.0) * FRAC_PI_2
-                    };
-                    let piece = (coord(next) - coord(a)).abs();
-                    if used + piece >= goal - 1e-12 || piece == 0.0 && used >= goal {
-                        // Within this quadrant the coordinate is monotonic:
-                        // the angle that uses the rest, in closed form.
-                        break within_quadrant(r, a, next, goal - used, b.gx);
-                    }
-                    used += piece;
-                    a = next;
-                };
-                // A control moves in µm steps: it stops on the step nearest
-                // the circle where the count runs out (the counted axis
-                // exactly there), a whole number of µm from where it started.
-                let end = (
-                    centre.0 + r * end_angle.cos(),
-                    centre.1 + r * end_angle.sin(),
-                );
-                let to = (
-                    p.0 + ((end.0 - p.0) * UM).round() / UM,
-                    p.1 + ((end.1 - p.1) * UM).round() / UM,
-                );
-                out.push(Segment::Arc {
+    blocks
+        .iter()
+        .map(|b| {
+            let s = replay_block(b, p);
+            p = s.to();
+            s
+        })
+        .collect()
+}
+
+/// One block of [`replay`] from `p`.
+pub fn replay_block(b: &Block, p: (f64, f64)) -> Segment {
+    let (x, y) = (b.x as f64 / UM, b.y as f64 / UM);
+    match b.kind {
+        Kind::Line => {
+            let (sx, sy) = signs(b.quadrant);
+            let to = (p.0 + sx * x, p.1 + sy * y);
+            Segment::Line { from: p, to }
+        }
+        Kind::Clockwise | Kind::CounterClockwise => {
+            let ccw = b.kind == Kind::CounterClockwise;
+            // The start relative to the centre: its quadrant gives the
+            // signs (an axis point belongs to the quadrant it moves into).
+            let (sx, sy) = signs(b.quadrant);
+            let (rx, ry) = (sx * x, sy * y);
+            let centre = (p.0 - rx, p.1 - ry);
+            let r = (rx * rx + ry * ry).sqrt();
+            let a0 = ry.atan2(rx);
+            // An arc is at most a whole turn, 4 R along either axis; a
+            // larger count (or a zero radius) cannot loop for ever.
+            let goal = (b.j as f64 / UM).min(4.0 * r);
+            if r == 0.0 {
+                return Segment::Arc {
                     from: p,
-                    to,
+                    to: p,
                     centre,
                     ccw,
-                });
-                p = to;
+                };
+            }
+            // Walk quadrant by quadrant, then solve within the last.
+            let coord = |a: f64| if b.gx { r * a.cos() } else { r * a.sin() };
+            let mut a = a0;
+            let mut used = 0.0;
+            let end_angle = loop {
+                let next = if ccw {
+                    ((a / FRAC_PI_2).floor() + 1.0) * FRAC_PI_2
+                } else {
+                    ((a / FRAC_PI_2).ceil() - 1.0) * FRAC_PI_2
+                };
+                let piece = (coord(next) - coord(a)).abs();
+                if used + piece >= goal - 1e-12 || piece == 0.0 && used >= goal {
+                    // Within this quadrant the coordinate is monotonic:
+                    // the angle that uses the rest, in closed form.
+                    break within_quadrant(r, a, next, goal - used, b.gx);
+                }
+                used += piece;
+                a = next;
+            };
+            // A control moves in µm steps: it stops on the step nearest
+            // the circle where the count runs out (the counted axis
+            // exactly there), a whole number of µm from where it started.
+            let end = (
+                centre.0 + r * end_angle.cos(),
+                centre.1 + r * end_angle.sin(),
+            );
+            let to = (
+                p.0 + ((end.0 - p.0) * UM).round() / UM,
+                p.1 + ((end.1 - p.1) * UM).round() / UM,
+            );
+            Segment::Arc {
+                from: p,
+                to,
+                centre,
+                ccw,
             }
         }
     }
-    out
 }
 
 /// The angle between `a` and `next` (the next multiple of 90° from `a`,

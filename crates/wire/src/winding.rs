@@ -23,7 +23,7 @@ pub(crate) fn lead_crossing(
     } else {
         a
     };
-    let inside = winding(hole, contour).abs() > 0.5;
+    let inside = winds(hole, contour) != 0;
     if inside != scrap_inside {
         return Some(hole);
     }
@@ -73,6 +73,75 @@ pub(crate) fn winding(p: (f64, f64), path: &[Segment]) -> f64 {
         angle += turn;
     }
     angle / TAU
+}
+
+/// [`winding`]'s whole turns without an arctangent: the same integer
+/// (what [`winding`] is within rounding of) for a point not on the path.
+///
+/// [`winding`] sums each segment's turn: a line's principal angle from its
+/// start to its end as seen from `p`, and an arc's the principal angle of
+/// its chord, plus a whole turn (its sense's) when `p` lies inside its
+/// circle and that angle has the other sign (the arc goes round `p` the
+/// long way), or ±2π for a whole circle from inside. The principal angles
+/// of the chords sum to 2π times the winding number of the closed polygon
+/// of the segments' ends (each segment's start taken as the end of the one
+/// before: the same angles to within the joins' rounding, far below a
+/// turn), which the crossing rule counts (Sunday): an edge running up
+/// across the horizontal through `p` with `p` on its left counts +1, one
+/// running down with `p` on its right −1. The sign of the angle (a − p) × (b − p) is [`winding`]'s own
+/// arctangent's (its first argument): on which side `p` lies. So the sum
+/// is the chord polygon's count plus the arcs' whole turns, an integer.
+///
+/// Where that cross product is next to nothing (`p` on or within 10⁻⁹ of
+/// a segment's chord, relative to the chord's size, or an arc that ends
+/// where it starts) its sign is rounding: [`winding`] itself answers.
+pub(crate) fn winds(p: (f64, f64), path: &[Segment]) -> i64 {
+    let Some(last) = path.last() else {
+        return 0;
+    };
+    let norm = |v: (f64, f64)| v.0.abs() + v.1.abs();
+    let answer = || winding(p, path).round() as i64;
+    let mut turns = 0i64;
+    // The polygon's last corner: the path's end.
+    let mut prev = sub(last.to(), p);
+    for s in path {
+        let (a, b) = (sub(s.from(), p), sub(s.to(), p));
+        // A segment starts where the one before ended, to a rounding far
+        // below its distance from p, or the polygon's angles are not the
+        // chords'.
+        if norm(sub(a, prev)) > 1e-9 * norm(a) {
+            return answer();
+        }
+        let cross = a.0 * b.1 - a.1 * b.0;
+        let edge = prev.0 * b.1 - prev.1 * b.0;
+        let dot = a.0 * b.0 + a.1 * b.1;
+        let size = norm(a) * norm(b);
+        let arc = matches!(s, Segment::Arc { .. });
+        if (cross.abs() <= 1e-9 * size || edge.abs() <= 1e-9 * size) && (arc || dot <= 0.0) {
+            return answer();
+        }
+        // The crossing rule on the polygon's edge from the path's last
+        // point (the polygon closes exactly, whatever the rounding of the
+        // segments' joins).
+        if prev.1 <= 0.0 {
+            if b.1 > 0.0 && edge > 0.0 {
+                turns += 1;
+            }
+        } else if b.1 <= 0.0 && edge < 0.0 {
+            turns -= 1;
+        }
+        prev = b;
+        if let Segment::Arc { centre, ccw, .. } = *s {
+            let d2 = |v: (f64, f64)| v.0 * v.0 + v.1 * v.1;
+            let inside = d2(sub(p, centre)) < d2(sub(s.from(), centre));
+            if inside && ccw && cross < 0.0 {
+                turns += 1;
+            } else if inside && !ccw && cross > 0.0 {
+                turns -= 1;
+            }
+        }
+    }
+    turns
 }
 
 #[cfg(test)]
@@ -143,5 +212,77 @@ mod tests {
         let circle = [arc((2.0, 0.0), (2.0, 0.0), (0.0, 0.0), true)];
         assert_eq!(winding((0.5, 0.5), &circle), 1.0);
         assert_eq!(winding((3.0, 0.5), &circle), 0.0);
+        assert_eq!(winds((0.5, 0.5), &circle), 1);
+        assert_eq!(winds((3.0, 0.5), &circle), 0);
+    }
+
+    /// The whole turns by crossings against [`winding`], rounded: the
+    /// slot above both ways and a 40-tooth die's outline (arcs both ways,
+    /// inside and outside their circles), at points on a grid over them,
+    /// on the path's own ends and on its arcs' middles (where [`winding`]
+    /// answers), and a shape that winds twice.
+    #[test]
+    fn the_crossings_give_the_windings_whole_turns() {
+        use crate::gear::RackGear;
+        use crate::outline::{outline, Tolerances};
+        let gear = RackGear {
+            module_mm: 2.0,
+            teeth: 40,
+            pressure_angle_deg: 20.0,
+            profile_shift: 0.0,
+            addendum_coef: 1.0,
+            clearance_coef: 0.25,
+            tip_radius_coef: 0.38,
+        };
+        let tol = Tolerances {
+            flank_mm: 0.001,
+            fillet_mm: 0.005,
+            min_radius_mm: 0.005,
+        };
+        let die = outline(&gear, &tol).unwrap().segments();
+        let back: Vec<Segment> = die.iter().rev().map(Segment::reversed).collect();
+        // Twice round a circle, in two halves each time.
+        let arc = |from, to, ccw| Segment::Arc {
+            from,
+            to,
+            centre: (0.0, 0.0),
+            ccw,
+        };
+        let twice: Vec<Segment> = (0..2)
+            .flat_map(|_| {
+                [
+                    arc((3.0, 0.0), (-3.0, 0.0), true),
+                    arc((-3.0, 0.0), (3.0, 0.0), true),
+                ]
+            })
+            .collect();
+        let mut counts = [0usize; 3];
+        for path in [&die, &back, &twice] {
+            let mut points: Vec<(f64, f64)> = Vec::new();
+            for i in -45..=45 {
+                for j in -45..=45 {
+                    points.push((f64::from(i) + 0.0031, f64::from(j) - 0.0017));
+                }
+            }
+            // Near the teeth: a fine ring of points across the outline.
+            for i in 0..6_000 {
+                let a = std::f64::consts::TAU * f64::from(i) / 6_000.0;
+                let r = 37.0 + 6.0 * f64::from(i % 97) / 96.0;
+                points.push((r * a.cos(), r * a.sin()));
+            }
+            for s in path.iter() {
+                points.push(s.from());
+                let m = s.arc();
+                points.push(m.point_at(m.length / 2.0));
+            }
+            for &p in &points {
+                let w = winding(p, path);
+                let n = winds(p, path);
+                assert_eq!(n, w.round() as i64, "{p:?}: {w}");
+                counts[n.unsigned_abs().min(2) as usize] += 1;
+            }
+        }
+        // Outside, inside once and inside twice all met.
+        assert!(counts.iter().all(|&c| c > 20), "{counts:?}");
     }
 }
