@@ -522,6 +522,9 @@ catalogue! {
     PRESSURE_ANGLE_RANGE: "model",
         "The gear's normal pressure angle is not between 0° and 45°.",
         "Correct `gear.pressure_angle_deg` (usually 20°).";
+    PREDICTED_GRADE: "template (virtual hobbing, warning)",
+        "The gear the program's virtual run cuts grades worse than the drawing's ISO 1328-1 class; the warning names the deviation that sets the grade.",
+        "Check the deviation named: a finer feed, more hob gashes or a better-mounted hob; `gearcam check` shows every deviation.";
     PROGRAM_CHANGED_AT_MACHINE: "agent",
         "The program file at the machine was changed or created there since gearcam stored it; the agent kept the file, and the job waits.",
         "Review the edit, then `gearcam program resolve NAME --machine M --adopt` (the edit becomes the current version) or `--replace` (gearcam's version goes back, the edit is kept in the history). After --replace the waiting job is delivered; after --adopt it ends superseded (submit it again for gearcam's program).";
@@ -561,6 +564,12 @@ catalogue! {
     SHIFT_RANGE: "model",
         "A hob-shift setting is out of range: a step that is not positive, zero parts per step, or a start or end outside the usable hob length.",
         "Correct the `process.shift` field named, or leave it out.";
+    SIMULATED_GEAR_WRONG: "template (virtual hobbing)",
+        "The program's virtual run cuts a visibly wrong gear: it cannot be measured as the drawing's gear (a wrong tooth count, a gap not cut), its helix is beyond class 11 (a wrong hand or lead), or its pitch deviations are beyond the drawing's class.",
+        "The program was not sent; `gearcam check` shows the simulated gear's deviations: correct the template, the machine profile's senses or the gearbox data.";
+    SIMULATION_UNSAFE: "template (virtual hobbing)",
+        "The program's virtual run found a hazard: the hob in the blank during a rapid, cutting with the gearbox off or in a wrong ratio, the hob meeting the table, fixture or tailstock, depth or face width not reached, a shift or a coupling that lands a cut in other gaps.",
+        "The program was not sent; the error names the line and what happens there.";
     SPEED_LIMIT: "template (path check)",
         "Path check finding: a hob speed, or the table speed it gives, is above the machine's limit.",
         "The program was not sent; lower the cutting speed or correct the template.";

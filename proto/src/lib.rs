@@ -43,6 +43,7 @@ pub mod model;
 pub mod naming;
 pub mod plan;
 pub mod program;
+pub mod simulation;
 pub mod spiral;
 pub mod wire;
 
@@ -76,6 +77,7 @@ pub use plan::{
     MachineProfile, MachineSettings, ParameterBlock, ProcessData, ProcessPlan, Source, Sourced,
     WorkpieceRef,
 };
+pub use simulation::SimulationReport;
 pub use program::{
     now_ms, utc_text, DeliveryReceipt, EventKind, JobEvent, NcProgram, PathCheck, PathFinding,
     TemplateRef,

@@ -75,6 +75,10 @@ pub struct NcProgram {
     /// `fanuc-arcs`, `fanuc-chords`, `linuxcnc`); absent for hobbing.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub form: Option<crate::milling::SpiralProgram>,
+    /// The virtual run of a hobbing program: the gear it cuts, measured and
+    /// graded, and the run's safety findings; absent for the other families.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub simulation: Option<crate::simulation::SimulationReport>,
 }
 
 impl Message for NcProgram {

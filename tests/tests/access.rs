@@ -144,6 +144,7 @@ fn services_work_through_the_secure_router_and_planners_cannot_deliver_or_forge(
             generator: "-".into(),
             path_check: Default::default(),
             form: None,
+            simulation: None,
         };
         let replies = session
             .get("gearcam/v1/machines/H01/programs/EVIL-1")
@@ -522,6 +523,7 @@ fn every_role_machine_and_command_on_the_secure_deployment() {
             generator: "-".into(),
             path_check: Default::default(),
             form: None,
+            simulation: None,
         };
         let reversed = stored.replacen(" M3 ", " M4 ", 1);
         assert_ne!(reversed, stored);

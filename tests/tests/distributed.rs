@@ -467,6 +467,7 @@ fn program_named(job: &str, name: &str) -> gearcam_proto::NcProgram {
         generator: "-".into(),
         path_check: Default::default(),
         form: None,
+        simulation: None,
     }
 }
 

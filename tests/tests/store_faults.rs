@@ -178,6 +178,7 @@ fn a_repeated_delivery_checks_the_file() {
         generator: "-".into(),
         path_check: Default::default(),
         form: None,
+        simulation: None,
     };
     let rt = tokio::runtime::Runtime::new().unwrap();
     rt.block_on(async {

@@ -41,6 +41,7 @@ fn program(n: usize) -> NcProgram {
         generator: "bench".into(),
         path_check: Default::default(),
         form: None,
+        simulation: None,
     }
 }
 

@@ -603,6 +603,7 @@ mod tests {
             generator: "g".into(),
             path_check: Default::default(),
             form: None,
+            simulation: None,
         }
     }
 

@@ -163,6 +163,7 @@ pub fn instantiate(model: &SpiralModel) -> Result<NcProgram, Vec<JobError>> {
         generator: GENERATOR.to_string(),
         path_check,
         form: Some(form),
+        simulation: None,
     })
 }
 

@@ -159,5 +159,6 @@ pub fn render(model: &WireModel) -> Result<NcProgram, Vec<JobError>> {
         generator: GENERATOR.to_string(),
         path_check,
         form: None,
+        simulation: None,
     })
 }
