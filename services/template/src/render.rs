@@ -263,6 +263,7 @@ impl Templates {
             generator: GENERATOR.to_string(),
             path_check,
             form: None,
+            simulation: None,
         })
     }
 
