@@ -28,6 +28,7 @@ pub mod cut;
 pub mod hob;
 pub mod kinematics;
 pub mod safety;
+pub mod simulate;
 
 /// What stops a program from being simulated.
 #[derive(Debug, Clone, PartialEq)]

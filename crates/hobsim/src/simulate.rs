@@ -1,0 +1,244 @@
+//! Virtual hobbing end to end: a program's read-back trace run on the model
+//! of its machine ([`crate::kinematics`]), the blank cut by the hob's gash
+//! edges ([`crate::cut`]), the gear it cut measured as a gear-measuring
+//! machine measures and graded by ISO 1328-1:2013
+//! ([`gearcam_gearmeasure::outline`]), and the safety findings of the same
+//! run ([`crate::safety`]).
+//!
+//! The blank is the model's: its outer diameter, standing on the fixture at
+//! `fixture_height_mm`, `sections` transverse sections over the face width
+//! (inset from each face by the helix evaluation range's exclusion, the
+//! smaller of 5 % of b and one module, so every section is one a
+//! gear-measuring machine would trace). The drawing the cut gear is measured
+//! against is the model's gear: teeth, normal module and pressure angle,
+//! helix angle and hand, profile shift, tip and root diameters, the design
+//! tooth thickness.
+
+use gearcam_gearmeasure::helix::Hand as MeasureHand;
+use gearcam_gearmeasure::iso1328::{Grade, Item};
+use gearcam_gearmeasure::outline::{self, GearSpec, Measurement, PolarSections};
+use gearcam_nc::Trace;
+use gearcam_proto::simulation::{Deviation, SafetyIssue};
+use gearcam_proto::hobbing::Hand;
+use gearcam_proto::{MachiningModel, SimulationReport};
+
+use crate::cut::{self, Blank, Resolution};
+use crate::hob::{Hob, HobExtras};
+use crate::kinematics::{self, MachineErrors, MachineRates};
+use crate::safety::{self, BlankGeometry, Fixtures, SafetyFinding, SafetyKind};
+use crate::SimError;
+
+/// How finely to simulate, and on which machine.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    /// `fine` or `coarse`: the name the report carries.
+    pub mode: &'static str,
+    /// Transverse sections over the face width (at least 9).
+    pub sections: usize,
+    /// Outline tolerance the polar sampling is chosen for, µm.
+    pub outline_um: f64,
+    /// The removal's resolution.
+    pub resolution: Resolution,
+    /// What the trace does not say about the machine.
+    pub rates: MachineRates,
+    /// The what-if errors of the machine and the hob (zero: ideal).
+    pub errors: MachineErrors,
+    /// What the hob record does not say (gashes, tip radius).
+    pub hob: HobExtras,
+}
+
+impl Settings {
+    /// The proof a delivered program carries: 9 sections, the outline
+    /// within 1 µm, the fine removal.
+    pub fn fine() -> Settings {
+        Settings {
+            mode: "fine",
+            sections: 9,
+            outline_um: 1.0,
+            resolution: Resolution::fine(),
+            rates: MachineRates::default(),
+            errors: MachineErrors::default(),
+            hob: HobExtras::default(),
+        }
+    }
+
+    /// A quick look: 9 sections, the outline within about 10 µm, the coarse
+    /// removal.
+    pub fn coarse() -> Settings {
+        Settings {
+            mode: "coarse",
+            outline_um: 10.0,
+            resolution: Resolution::coarse(),
+            ..Settings::fine()
+        }
+    }
+}
+
+/// What the run left: the cut blank, the measured gear, the safety findings.
+#[derive(Debug, Clone)]
+pub struct Simulation {
+    /// The settings it ran with.
+    pub settings: Settings,
+    /// The cut blank.
+    pub blank: Blank,
+    /// Gash passes cut.
+    pub passes: u64,
+    /// The drawing the gear was measured against.
+    pub spec: GearSpec,
+    /// The measurement, or why the cut gear could not be measured (a wrong
+    /// tooth count, a gap not cut: the gear is visibly wrong).
+    pub measurement: Result<Measurement, String>,
+    /// The safety findings, by line.
+    pub safety: Vec<SafetyFinding>,
+    /// The class the drawing asks for.
+    pub required_grade: u8,
+}
+
+/// Runs `trace` (the program read back against `model`) on the machine
+/// model and measures the gear it cuts.
+pub fn simulate(
+    trace: &Trace,
+    model: &MachiningModel,
+    settings: &Settings,
+) -> Result<Simulation, SimError> {
+    if settings.sections < 9 {
+        return Err(SimError::Parameter("sections", "at least 9 across the face"));
+    }
+    let timeline = kinematics::from_trace_with(trace, model, settings.rates, settings.errors)?;
+    let hob = Hob::from_data(&model.plan.hob, settings.hob)?;
+    let spec = drawing(model);
+    let g = &model.plan.gear;
+    let inset = (0.05 * g.face_width_mm).min(g.module_mm);
+    let z = Blank::planes(
+        g.fixture_height_mm + inset,
+        g.fixture_height_mm + g.face_width_mm - inset,
+        settings.sections,
+    );
+    let outer = model.model.blank_od_mm / 2.0;
+    let mut blank = Blank::new(z, outer, cut::samples_for(outer, settings.outline_um))?;
+    let passes = cut::cut(&timeline, &hob, &mut blank, settings.resolution)?;
+    let geometry = BlankGeometry::of_model(model);
+    let fixtures = Fixtures::of_model(model, &geometry);
+    let safety = safety::check(&timeline, &hob, &geometry, &fixtures);
+    let sections = PolarSections {
+        z_mm: blank.z_mm.clone(),
+        r_mm: blank.r_mm.clone(),
+    };
+    let measurement = outline::measure(&sections, &spec).map_err(|e| e.to_string());
+    Ok(Simulation {
+        settings: *settings,
+        blank,
+        passes,
+        spec,
+        measurement,
+        safety,
+        required_grade: g.quality_grade,
+    })
+}
+
+/// The drawing of the model's gear, measured with the default choices.
+pub fn drawing(model: &MachiningModel) -> GearSpec {
+    let g = &model.plan.gear;
+    let geo = &model.geometry;
+    let hand = match (g.helix_angle_deg.abs() > 0.0, g.helix_hand) {
+        (false, _) => None,
+        (true, Some(Hand::Left)) => Some(MeasureHand::Left),
+        (true, _) => Some(MeasureHand::Right),
+    };
+    GearSpec {
+        normal_pressure_angle_deg: g.pressure_angle_deg,
+        profile_shift: g.profile_shift,
+        face_start_mm: g.fixture_height_mm,
+        tip_diameter_mm: geo.da_mm,
+        root_diameter_mm: geo.df_mm,
+        normal_thickness_mm: Some(geo.sn_mm),
+        ..GearSpec::standard(
+            g.teeth,
+            g.module_mm,
+            g.helix_angle_deg.abs(),
+            hand,
+            g.face_width_mm,
+        )
+    }
+}
+
+impl Simulation {
+    /// The report the program carries; `ms` is the run's wall time as the
+    /// caller measured it.
+    pub fn report(&self, ms: f64) -> SimulationReport {
+        let class = |g: Grade| match g {
+            Grade::Class(c) => Some(c.number()),
+            Grade::WorseThan11 => None,
+        };
+        let (grade, deviations, sizes, not_measured) = match &self.measurement {
+            Ok(m) => (
+                class(m.overall),
+                m.items
+                    .iter()
+                    .map(|i| Deviation {
+                        item: symbol(i.item).to_string(),
+                        value_um: i.value_um,
+                        tolerance_um: i.tolerance_um,
+                        class: class(i.grade),
+                    })
+                    .collect(),
+                Some(m.size),
+                None,
+            ),
+            Err(why) => (None, Vec::new(), None, Some(why.clone())),
+        };
+        SimulationReport {
+            mode: self.settings.mode.to_string(),
+            grade,
+            required_grade: self.required_grade,
+            deviations,
+            not_measured,
+            safety: self
+                .safety
+                .iter()
+                .map(|f| SafetyIssue {
+                    kind: kind_name(f.kind).to_string(),
+                    line: f.line,
+                    what: f.what.clone(),
+                    why: f.why.clone(),
+                })
+                .collect(),
+            sections: self.blank.z_mm.len() as u32,
+            samples_per_section: self.blank.r_mm.first().map_or(0, Vec::len) as u32,
+            passes: self.passes,
+            thickness_mm: sizes.map(|s| (s.thickness_mm, s.design_thickness_mm)),
+            span_mm: sizes.map(|s| (s.span_mm, s.span_design_mm)),
+            over_balls_mm: sizes.map(|s| (s.over_balls_mm, s.over_balls_design_mm)),
+            ms,
+        }
+    }
+}
+
+/// The symbol of an ISO 1328-1 item, as a gear-measuring machine prints it.
+fn symbol(item: Item) -> &'static str {
+    match item {
+        Item::SinglePitch => "fp",
+        Item::CumulativePitch => "Fp",
+        Item::ProfileSlope => "fHα",
+        Item::ProfileForm => "ffα",
+        Item::ProfileTotal => "Fα",
+        Item::HelixSlope => "fHβ",
+        Item::HelixForm => "ffβ",
+        Item::HelixTotal => "Fβ",
+        Item::Runout => "Fr",
+    }
+}
+
+/// The report's name of a finding's kind.
+fn kind_name(kind: SafetyKind) -> &'static str {
+    match kind {
+        SafetyKind::RapidContact => "rapid_contact",
+        SafetyKind::CutDecoupled => "cut_decoupled",
+        SafetyKind::CutWrongRatio => "cut_wrong_ratio",
+        SafetyKind::FixtureContact => "fixture_contact",
+        SafetyKind::DepthNotReached => "depth_not_reached",
+        SafetyKind::FaceWidthNotCovered => "face_width_not_covered",
+        SafetyKind::UncompensatedShift => "uncompensated_shift",
+        SafetyKind::UnsynchronisedCoupling => "unsynchronised_coupling",
+    }
+}
