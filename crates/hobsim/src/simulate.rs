@@ -23,6 +23,14 @@ use gearcam_proto::hobbing::Hand;
 use gearcam_proto::{MachiningModel, SimulationReport};
 
 use crate::cut::{self, Blank, Resolution};
+
+/// Polar samples per section for an outline within `tol_um` on a blank of
+/// radius `r_mm`: a curve of radius of curvature ≥ 1 mm crossing the rays
+/// at ≥ 10° leaves L²/8ρ between samples L apart along it.
+fn samples_for(r_mm: f64, tol_um: f64) -> usize {
+    let step = 10f64.to_radians().sin() * (8.0 * tol_um * 1e-3).sqrt() / r_mm;
+    ((std::f64::consts::TAU / step).ceil() as usize).max(8)
+}
 use crate::hob::{Hob, HobExtras};
 use crate::kinematics::{self, MachineErrors, MachineRates};
 use crate::safety::{self, BlankGeometry, Fixtures, SafetyFinding, SafetyKind};
@@ -55,7 +63,10 @@ impl Settings {
             mode: "fine",
             sections: 9,
             outline_um: 1.0,
-            resolution: Resolution::fine(),
+            resolution: Resolution {
+                axial_step_mm: 0.02,
+                sweep_steps: 8,
+            },
             rates: MachineRates::default(),
             errors: MachineErrors::default(),
             hob: HobExtras::default(),
@@ -68,7 +79,10 @@ impl Settings {
         Settings {
             mode: "coarse",
             outline_um: 10.0,
-            resolution: Resolution::coarse(),
+            resolution: Resolution {
+                axial_step_mm: 0.1,
+                sweep_steps: 2,
+            },
             ..Settings::fine()
         }
     }
@@ -115,7 +129,7 @@ pub fn simulate(
         settings.sections,
     );
     let outer = model.model.blank_od_mm / 2.0;
-    let mut blank = Blank::new(z, outer, cut::samples_for(outer, settings.outline_um))?;
+    let mut blank = Blank::new(z, outer, samples_for(outer, settings.outline_um))?;
     let passes = cut::cut(&timeline, &hob, &mut blank, settings.resolution)?;
     let geometry = BlankGeometry::of_model(model);
     let fixtures = Fixtures::of_model(model, &geometry);
