@@ -72,12 +72,52 @@ pub struct Resolution {
     pub sweep_steps: u32,
 }
 
-impl Default for Resolution {
-    fn default() -> Self {
+impl Resolution {
+    /// The fine resolution: chords 0.02 mm apart along the hob, pieces of
+    /// at most a quarter of the pass's hob-angle span. The strips between
+    /// chords are exact for straight flanks and leave Δa²/(8·r_c) on a
+    /// rounded tip corner of radius r_c (5·10⁻⁵ mm at r_c = 1 mm); the chord
+    /// pieces stay within 10⁻⁵ mm of the swept curve (`docs/simulation.md`
+    /// §3). With [`samples_for`] at 1 µm the outline is within 1 µm.
+    pub fn fine() -> Resolution {
         Resolution {
             axial_step_mm: 0.02,
             sweep_steps: 8,
         }
+    }
+
+    /// A coarse resolution for a quick look: chords 0.1 mm apart (1.3 µm
+    /// on a corner of radius 1 mm), with [`samples_for`] at about 10 µm.
+    pub fn coarse() -> Resolution {
+        Resolution {
+            axial_step_mm: 0.1,
+            sweep_steps: 2,
+        }
+    }
+}
+
+/// The number of polar samples per section for an outline within
+/// `tolerance_um` of the true one on a blank of radius `outer_radius_mm`.
+///
+/// The outline between two neighbouring rays is read as the straight line
+/// through their samples; a curve of radius of curvature ρ leaves
+/// L²/(8·ρ) between points L apart along it. Neighbouring samples at radius
+/// r are r·Δθ apart across the rays, L = r·Δθ/sin ψ along a curve crossing
+/// the rays at angle ψ. Taken here: ρ ≥ 1 mm (a hob tip radius of 0.38·mn
+/// for mn ≥ 2.6 mm; a finer module wants a smaller tolerance) and ψ ≥ 10°
+/// (an involute crosses its radius at 90° − α_r, the fillet of a gear with
+/// at least 10 teeth more steeply), at the outer radius (the largest r).
+/// So Δθ = sin 10°·√(8·ρ·tol)/R.
+pub fn samples_for(outer_radius_mm: f64, tolerance_um: f64) -> usize {
+    let rho_mm = 1.0;
+    let psi = 10f64.to_radians();
+    let step = psi.sin() * (8.0 * rho_mm * tolerance_um * 1e-3).sqrt() / outer_radius_mm;
+    ((TAU / step).ceil() as usize).max(8)
+}
+
+impl Default for Resolution {
+    fn default() -> Self {
+        Resolution::fine()
     }
 }
 
@@ -97,6 +137,14 @@ pub fn cut(
         .iter()
         .fold((f64::MAX, f64::MIN), |(a, b), &z| (a.min(z), b.max(z)));
     let reach = hob.tip_radius_mm + hob.length_mm / 2.0;
+    // The rays' directions (cos θ_i, sin θ_i), once.
+    let n_theta = blank.r_mm[0].len();
+    let dirs: Vec<(f64, f64)> = (0..n_theta)
+        .map(|i| {
+            let (sn, cs) = (TAU * i as f64 / n_theta as f64).sin_cos();
+            (cs, sn)
+        })
+        .collect();
     let mut passes = 0;
     for (i, s) in timeline.segments().iter().enumerate() {
         if s.hob_rev_s == 0.0 || s.t1_s <= s.t0_s {
@@ -117,7 +165,7 @@ pub fn cut(
             let b = n as f64 * step;
             let t = s.t0_s + (b - b0) / (TAU * s.hob_rev_s);
             let k = (-n).rem_euclid(i64::from(hob.gashes)) as u32;
-            pass(timeline, i, t, hob, k, blank, res);
+            pass(timeline, i, t, hob, k, blank, &dirs, res);
             passes += 1;
             n += 1;
         }
@@ -125,7 +173,19 @@ pub fn cut(
     Ok(passes)
 }
 
+/// Estimated chord error below which a chord piece is not split, mm, at
+/// least: the straight piece between two exactly posed points departs from
+/// the swept curve by about δ·L/4 (δ the table turn across the piece, L its
+/// length). A resolution's own bound is the strips' error across a rounded
+/// corner of 1 mm, Δa²/8 (5·10⁻⁵ mm at Δa 0.02 mm), when that is larger.
+const PIECE_TOL_MM: f64 = 1e-5;
+
+/// Margin outside the blank's radius to which chords are clipped, mm: the
+/// strip edges joining clipped ends stay outside the blank.
+const CLIP_MARGIN_MM: f64 = 1.0;
+
 /// One gash pass at time `t` (the gash pointing at the gear axis).
+#[allow(clippy::too_many_arguments)]
 fn pass(
     timeline: &Timeline,
     seg: usize,
@@ -133,6 +193,7 @@ fn pass(
     hob: &Hob,
     k: u32,
     blank: &mut Blank,
+    dirs: &[(f64, f64)],
     res: Resolution,
 ) {
     let s = &timeline.segments()[seg];
@@ -140,78 +201,272 @@ fn pass(
     // Half the hob angle over which a gash can be inside the blank.
     let cos_lim = ((p0.axes.x_mm - blank.outer_radius_mm) / hob.tip_radius_mm).clamp(-1.0, 1.0);
     let phi_max = (cos_lim.acos() + 0.02).min(std::f64::consts::PI);
-    let n = res.sweep_steps;
-    let w = 2.0 * phi_max / f64::from(n);
     let omega = TAU * s.hob_rev_s;
-    for m in 0..n {
-        let (pa, pb) = (-phi_max + w * f64::from(m), -phi_max + w * f64::from(m + 1));
-        let mid = if n == 1 { 0.0 } else { 0.5 * (pa + pb) };
-        let pose = timeline.pose_in(seg, t + mid / omega);
-        // The table keeps turning with the hob inside the segment; a pass
-        // reaching past the segment's end is posed at its end.
-        sector(&pose, hob, k, pa, pb, blank, res);
-    }
+    let sweep = Sweep {
+        timeline,
+        seg,
+        t,
+        omega,
+        phi_max,
+        max_piece_rad: 2.0 * phi_max / f64::from(res.sweep_steps),
+        piece_tol_mm: (res.axial_step_mm * res.axial_step_mm / 8.0).max(PIECE_TOL_MM),
+        // Table turn per radian of hob turn (ratio, differential, correction):
+        // C is linear in time within a move.
+        c_per_phi: (timeline.pose_in(seg, s.t1_s).c_rad - timeline.pose_in(seg, s.t0_s).c_rad)
+            / ((s.t1_s - s.t0_s) * omega),
+    };
+    sweep.cut(&p0, hob, k, blank, dirs, res);
 }
 
-/// The sector φ ∈ [pa, pb] of gash `k`'s solid of revolution at `pose`,
-/// cut from every section.
-fn sector(pose: &Pose, hob: &Hob, k: u32, pa: f64, pb: f64, blank: &mut Blank, res: Resolution) {
-    let (se, ce) = pose.eta_rad.sin_cos();
-    let u = [0.0, ce, -se];
-    let w = [0.0, se, ce];
-    let big_r = blank.outer_radius_mm;
-    let hx = pose.axes.x_mm;
-    let reach_y = ((big_r + hob.tip_radius_mm).powi(2) - hx * hx)
-        .max(0.0)
-        .sqrt();
-    let half = hob.length_mm / 2.0;
-    let (a_lo, a_hi) = if ce.abs() > 1e-9 {
-        let c0 = -pose.axes.y_mm;
-        let d = reach_y / ce.abs();
-        ((c0 - d).max(-half), (c0 + d).min(half))
-    } else {
-        (-half, half)
-    };
-    let (sc, cc) = pose.c_rad.sin_cos();
-    let na = ((a_hi - a_lo) / res.axial_step_mm).ceil().max(0.0) as usize;
-    // The last chord piece of each section: consecutive pieces bound a strip
-    // of the section, whose edges are cut too, so a ray nearly parallel to
-    // the chords still meets the strip where it enters it.
-    let mut prev: Vec<Option<([f64; 2], [f64; 2])>> = vec![None; blank.z_mm.len()];
-    for ia in 0..=na {
-        let a = a_lo + (a_hi - a_lo) * ia as f64 / na.max(1) as f64;
-        let rho = hob.outer_radius(k, a);
-        if rho <= 0.0 {
-            prev.iter_mut().for_each(|p| *p = None);
-            continue;
+/// A gash pass: the pose at hob angle φ is the timeline's at t + φ/ω.
+struct Sweep<'a> {
+    timeline: &'a Timeline,
+    seg: usize,
+    t: f64,
+    omega: f64,
+    phi_max: f64,
+    max_piece_rad: f64,
+    piece_tol_mm: f64,
+    c_per_phi: f64,
+}
+
+/// A point of a gash edge in a section: axial position `a` along the hob,
+/// chord parameter `s` along e1, or on the edge's outer profile when `rho`.
+#[derive(Clone, Copy)]
+struct EdgePoint {
+    a: f64,
+    s: f64,
+    rho: Option<f64>,
+}
+
+impl Sweep<'_> {
+    fn pose(&self, phi: f64) -> Pose {
+        self.timeline.pose_in(self.seg, self.t + phi / self.omega)
+    }
+
+    /// Where the edge point `e` crosses the section `zs` in the workpiece
+    /// frame, posed at its own instant. The hob angle of the point,
+    /// atan2(t, s), is found from the pose at `phi0` and once more from the
+    /// pose at that angle (the hob moves along Z by a few µm per radian at
+    /// most, so one correction leaves an error far below a nanometre).
+    fn place(&self, e: EdgePoint, zs: f64, phi0: f64) -> [f64; 2] {
+        let mut phi = phi0;
+        let mut out = [0.0; 2];
+        for _ in 0..2 {
+            let pose = self.pose(phi);
+            let (se, ce) = pose.eta_rad.sin_cos();
+            let along = pose.axes.y_mm + e.a;
+            let (cx, cy, cz) = (pose.axes.x_mm, along * ce, pose.axes.z_mm - along * se);
+            let tt = (zs - cz) / ce;
+            let s = match e.rho {
+                Some(r) => (r * r - tt * tt).max(0.0).sqrt(),
+                None => e.s,
+            };
+            phi = tt.atan2(s);
+            let (x, y) = (cx - s, cy + tt * se);
+            let (sc, cc) = pose.c_rad.sin_cos();
+            out = [x * cc - y * sc, x * sc + y * cc];
         }
-        let along = pose.axes.y_mm + a;
-        let c = [hx, along * u[1], pose.axes.z_mm + along * u[2]];
+        out
+    }
+
+    /// Cuts gash `k`'s edge over the whole pass from every section.
+    fn cut(
+        &self,
+        p0: &Pose,
+        hob: &Hob,
+        k: u32,
+        blank: &mut Blank,
+        dirs: &[(f64, f64)],
+        res: Resolution,
+    ) {
+        let (se, ce) = p0.eta_rad.sin_cos();
+        let big_r = blank.outer_radius_mm;
+        let clip_r = big_r + CLIP_MARGIN_MM;
+        let hx = p0.axes.x_mm;
+        let reach_y = ((big_r + hob.tip_radius_mm).powi(2) - hx * hx)
+            .max(0.0)
+            .sqrt();
+        let half = hob.length_mm / 2.0;
+        let (a_lo, a_hi) = if ce.abs() > 1e-9 {
+            let c0 = -p0.axes.y_mm;
+            let d = reach_y / ce.abs();
+            ((c0 - d).max(-half), (c0 + d).min(half))
+        } else {
+            (-half, half)
+        };
+        let na = ((a_hi - a_lo) / res.axial_step_mm).ceil().max(0.0) as usize;
+        // The ends of the last chord of each section: consecutive chords
+        // bound a strip of the section, whose edges are cut too, so a ray
+        // nearly parallel to the chords still meets the strip where it
+        // enters it.
+        let step = (a_hi - a_lo) / na.max(1) as f64;
+        let profile: Vec<f64> = (0..=na)
+            .map(|ia| hob.outer_radius(k, a_lo + step * ia as f64))
+            .collect();
+        let mut nodes = Vec::new();
         for (j, &zs) in blank.z_mm.iter().enumerate() {
-            let tt = (zs - c[2]) / w[2];
-            if tt.abs() >= rho {
-                prev[j] = None;
-                continue;
-            }
-            let big_s = (rho * rho - tt * tt).sqrt();
-            let Some((s_lo, s_hi)) = s_range(tt, pa, pb, big_s) else {
-                prev[j] = None;
+            // Only the axial samples whose chord can reach the blank.
+            let Some((a_min, a_max)) = self.reach(p0, hob.tip_radius_mm, clip_r, zs) else {
                 continue;
             };
-            // Points c + tt·w + s·e1, e1 = (−1, 0, 0); then into the
-            // workpiece frame: θ_w = θ_m + C.
-            let base = [c[0], c[1] + tt * w[1]];
-            let to_w = |s: f64| {
-                let (x, y) = (base[0] - s, base[1]);
-                [x * cc - y * sc, x * sc + y * cc]
-            };
-            let (inner, outer) = (to_w(s_hi), to_w(s_lo));
-            raster(&mut blank.r_mm[j], inner, outer, big_r);
-            if let Some((pi, po)) = prev[j] {
-                raster(&mut blank.r_mm[j], pi, inner, big_r);
-                raster(&mut blank.r_mm[j], po, outer, big_r);
+            let ia0 = ((a_min - a_lo) / step).floor().max(0.0) as usize;
+            let ia1 = (((a_max - a_lo) / step).ceil().max(0.0) as usize).min(na);
+            // The ends of the last chord: consecutive chords bound a strip
+            // of the section, whose edges are cut too, so a ray nearly
+            // parallel to the chords still meets the strip where it enters
+            // it.
+            let mut prev: Option<([f64; 2], [f64; 2])> = None;
+            for (ia, &rho) in profile.iter().enumerate().take(ia1 + 1).skip(ia0) {
+                let a = a_lo + (a_hi - a_lo) * ia as f64 / na.max(1) as f64;
+                let along = p0.axes.y_mm + a;
+                let c = [hx, along * ce, p0.axes.z_mm - along * se];
+                let tt = (zs - c[2]) / ce;
+                let chord = if rho > 0.0 {
+                    self.chord(tt, rho, c, se, clip_r)
+                } else {
+                    None
+                };
+                let Some((s_lo, s_hi)) = chord else {
+                    prev = None;
+                    continue;
+                };
+                let big_s = (rho * rho - tt * tt).sqrt();
+                self.nodes(a, tt, (s_lo, s_hi), big_s, rho, zs, &mut nodes);
+                let (inner, outer) = (nodes[0], nodes[nodes.len() - 1]);
+                let r = &mut blank.r_mm[j];
+                for w in nodes.windows(2) {
+                    raster(r, dirs, w[0], w[1], big_r);
+                }
+                if let Some((pi, po)) = prev {
+                    raster(r, dirs, pi, inner, big_r);
+                    raster(r, dirs, po, outer, big_r);
+                }
+                prev = Some((inner, outer));
             }
-            prev[j] = Some((inner, outer));
+        }
+    }
+
+    /// The axial positions a (from the hob's middle) whose disc of radius
+    /// `tip` can meet the disc of radius `clip_r` about the gear axis in
+    /// the section `zs`, as an interval (widened by 0.1 mm), or None.
+    ///
+    /// A section point (x, y, z_s) lies at a = y·cos η − (z_s − Z)·sin η − Y
+    /// along the hob and t = y·sin η + (z_s − Z)·cos η across it (along w),
+    /// at distance √((x − X)² + t²) from the hob axis. At a given y the
+    /// point within `tip` of the hob axis nearest the gear axis has
+    /// x = max(X − √(tip² − t²), 0), so the y that reach the blank are where
+    /// h(y) = y² + max(X − √(tip² − t²), 0)² − clip_r² ≤ 0 (h = ∞ where
+    /// |t| ≥ tip). h is convex (a nonnegative convex function squared plus
+    /// y²), so its minimum is found by a golden-section search and the
+    /// interval's ends by bisection on either side.
+    fn reach(&self, p0: &Pose, tip: f64, clip_r: f64, zs: f64) -> Option<(f64, f64)> {
+        let (se, ce) = p0.eta_rad.sin_cos();
+        let dz = zs - p0.axes.z_mm;
+        let big_x = p0.axes.x_mm;
+        let h = |y: f64| {
+            let t = y * se + dz * ce;
+            if t.abs() >= tip {
+                return f64::INFINITY;
+            }
+            let near_x = (big_x - (tip * tip - t * t).sqrt()).max(0.0);
+            y * y + near_x * near_x - clip_r * clip_r
+        };
+        // Where |t| < tip: y within (±tip − dz·cos η)/sin η, and |y| < clip_r.
+        let (mut lo, mut hi) = (-clip_r, clip_r);
+        if se.abs() > 1e-12 {
+            let (y1, y2) = ((-tip - dz * ce) / se, (tip - dz * ce) / se);
+            lo = lo.max(y1.min(y2));
+            hi = hi.min(y1.max(y2));
+        } else if (dz * ce).abs() >= tip {
+            return None;
+        }
+        if lo >= hi {
+            return None;
+        }
+        let g = (5f64.sqrt() - 1.0) / 2.0;
+        let (mut a, mut b) = (lo, hi);
+        for _ in 0..100 {
+            let (c, d) = (b - g * (b - a), a + g * (b - a));
+            if h(c) < h(d) {
+                b = d;
+            } else {
+                a = c;
+            }
+        }
+        let y_min = 0.5 * (a + b);
+        if h(y_min) > 0.0 {
+            return None;
+        }
+        let edge = |inside: f64, outside: f64| {
+            let (mut a, mut b) = (inside, outside);
+            for _ in 0..60 {
+                let m = 0.5 * (a + b);
+                if h(m) <= 0.0 {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            b
+        };
+        let (y_lo, y_hi) = (edge(y_min, lo), edge(y_min, hi));
+        let a = |y: f64| y * ce - dz * se - p0.axes.y_mm;
+        let (a0, a1) = (a(y_lo), a(y_hi));
+        Some((a0.min(a1) - 0.1, a0.max(a1) + 0.1))
+    }
+
+    /// The part of the chord at height `tt` of the disc of radius `rho`
+    /// centred at `c` (hob swivelled by η, `se` = sin η) that the pass sweeps (hob angles within ±φ_max) and
+    /// that lies within `clip_r` of the gear axis, as s_lo..s_hi.
+    fn chord(&self, tt: f64, rho: f64, c: [f64; 3], se: f64, clip_r: f64) -> Option<(f64, f64)> {
+        if tt.abs() >= rho {
+            return None;
+        }
+        let big_s = (rho * rho - tt * tt).sqrt();
+        let (s_lo, s_hi) = s_range(tt, -self.phi_max, self.phi_max, big_s)?;
+        // Machine points (c_x − s, c_y + tt·sin η): within clip_r of the axis.
+        let y = c[1] + tt * se;
+        let h2 = clip_r * clip_r - y * y;
+        if h2 <= 0.0 {
+            return None;
+        }
+        let h = h2.sqrt();
+        let (lo, hi) = (s_lo.max(c[0] - h), s_hi.min(c[0] + h));
+        (lo < hi).then_some((lo, hi))
+    }
+
+    /// The chord s_lo..s_hi as exactly posed points from s_hi (towards the
+    /// gear) to s_lo, split so that each piece turns the hob by at most the
+    /// resolution's sweep step and leaves a chord error below the piece
+    /// tolerance ([`PIECE_TOL_MM`] or the strips' own).
+    #[allow(clippy::too_many_arguments)]
+    fn nodes(
+        &self,
+        a: f64,
+        tt: f64,
+        (s_lo, s_hi): (f64, f64),
+        big_s: f64,
+        rho: f64,
+        zs: f64,
+        out: &mut Vec<[f64; 2]>,
+    ) {
+        out.clear();
+        let (f_hi, f_lo) = (tt.atan2(s_hi), tt.atan2(s_lo));
+        let dphi = (f_hi - f_lo).abs();
+        let err = (self.c_per_phi * dphi).abs() * (s_hi - s_lo) / 4.0;
+        let m = ((dphi / self.max_piece_rad).ceil())
+            .max((err / self.piece_tol_mm).sqrt().ceil())
+            .clamp(1.0, 4096.0) as usize;
+        for q in 0..=m {
+            let s = s_hi + (s_lo - s_hi) * q as f64 / m as f64;
+            let on_edge = q == 0 && s_hi >= big_s;
+            let e = EdgePoint {
+                a,
+                s,
+                rho: on_edge.then_some(rho),
+            };
+            out.push(self.place(e, zs, tt.atan2(s)));
         }
     }
 }
@@ -242,7 +497,8 @@ fn s_range(t: f64, pa: f64, pb: f64, big_s: f64) -> Option<(f64, f64)> {
 }
 
 /// Lowers r(θ_i) to where the segment p→q crosses each sample ray it spans.
-fn raster(r: &mut [f64], p: [f64; 2], q: [f64; 2], big_r: f64) {
+/// `dirs` holds (cos θ_i, sin θ_i) of every ray.
+fn raster(r: &mut [f64], dirs: &[(f64, f64)], p: [f64; 2], q: [f64; 2], big_r: f64) {
     let n = r.len();
     let d = [q[0] - p[0], q[1] - p[1]];
     let len2 = d[0] * d[0] + d[1] * d[1];
@@ -273,15 +529,14 @@ fn raster(r: &mut [f64], p: [f64; 2], q: [f64; 2], big_r: f64) {
     let i1 = (end * scale).floor() as i64;
     let cross_pd = p[0] * d[1] - p[1] * d[0];
     for i in i0..=i1 {
-        let th = i as f64 / scale;
-        let (sn, cs) = th.sin_cos();
+        let idx = i.rem_euclid(n as i64) as usize;
+        let (cs, sn) = dirs[idx];
         let den = cs * d[1] - sn * d[0];
         let rr = if den.abs() > 1e-15 {
             cross_pd / den
         } else {
             near
         };
-        let idx = i.rem_euclid(n as i64) as usize;
         if rr > 0.0 && rr < r[idx] {
             r[idx] = rr;
         }
@@ -295,8 +550,14 @@ mod tests {
     #[test]
     fn a_segment_lowers_the_rays_it_crosses_to_its_own_radius() {
         let mut r = vec![10.0; 360];
+        let dirs: Vec<(f64, f64)> = (0..360)
+            .map(|i| {
+                let (s, c) = (TAU * f64::from(i) / 360.0).sin_cos();
+                (c, s)
+            })
+            .collect();
         // The line x = 5 from y = −1 to y = 1.
-        raster(&mut r, [5.0, -1.0], [5.0, 1.0], 10.0);
+        raster(&mut r, &dirs, [5.0, -1.0], [5.0, 1.0], 10.0);
         assert!((r[0] - 5.0).abs() < 1e-12);
         let th = TAU * 5.0 / 360.0;
         assert!((r[5] - 5.0 / th.cos()).abs() < 1e-12);

@@ -4,7 +4,10 @@
 //! are the hob thread's axial section in that plane: straight-sided teeth of
 //! axial pitch p_x = π·mn0/cos γ0, axial pressure angle
 //! tan α_x = tan α0/cos γ0, thickness p_x/2 at the reference radius
-//! r0 = z0·mn0/(2·sin γ0), from the tip radius da0/2 down to r0 − h_f0.
+//! r0 = z0·mn0/(2·sin γ0), from the tip radius da0/2 down to r0 − h_f0,
+//! the tips' corners rounded with the radius r_c of the basic rack's root
+//! fillet (a circle of radius r_c in the thread's normal section, whose
+//! axial lengths are the normal ones over cos γ0).
 //! The thread is body-fixed: a point of the thread at body angle φ has the
 //! axial position a = p·φ + j·p_x (j integer), p = s_h·z0·p_x/2π, so a
 //! right-handed hob turn moves the thread by −p·dτ along u
@@ -21,6 +24,11 @@ pub struct HobExtras {
     pub gashes: u32,
     /// Tooth depth below the reference radius, in modules; default 1.25.
     pub dedendum_coef: f64,
+    /// Radius of the rounded corners at the tips of the hob's teeth, in
+    /// modules, in the thread's normal section; default 0.38, the root
+    /// fillet radius ρ_fP of the basic rack profile A of ISO 53:1998
+    /// (α 20°, h_aP 1·m, h_fP 1.25·m), which is the tool's tip radius.
+    pub tip_corner_coef: f64,
 }
 
 impl Default for HobExtras {
@@ -28,6 +36,7 @@ impl Default for HobExtras {
         HobExtras {
             gashes: 12,
             dedendum_coef: 1.25,
+            tip_corner_coef: 0.38,
         }
     }
 }
@@ -53,6 +62,11 @@ pub struct Hob {
     pub length_mm: f64,
     /// Number of gashes.
     pub gashes: u32,
+    /// Radius of the rounded tip corners in the normal section, mm (0:
+    /// sharp corners).
+    pub tip_corner_radius_mm: f64,
+    /// cos γ0: axial lengths are normal-section lengths over cos γ0.
+    pub cos_lead: f64,
 }
 
 impl Hob {
@@ -69,7 +83,11 @@ impl Hob {
         }
         let g0 = h.lead_angle_deg.to_radians();
         let r0 = f64::from(h.starts) * h.module_mm / (2.0 * g0.sin());
-        Ok(Hob {
+        let tip_corner_radius_mm = extras.tip_corner_coef * h.module_mm;
+        if tip_corner_radius_mm.is_nan() || tip_corner_radius_mm < 0.0 {
+            return Err(SimError::Parameter("tip_corner_coef", "must be ≥ 0"));
+        }
+        let hob = Hob {
             starts: h.starts,
             hand: match h.hand {
                 Hand::Right => 1.0,
@@ -82,7 +100,35 @@ impl Hob {
             tan_alpha_x: h.pressure_angle_deg.to_radians().tan() / g0.cos(),
             length_mm: h.length_mm,
             gashes: extras.gashes,
-        })
+            tip_corner_radius_mm,
+            cos_lead: g0.cos(),
+        };
+        if hob.corner().is_none() {
+            return Err(SimError::Parameter(
+                "tip_corner_coef",
+                "the corner radius is larger than the tooth tip allows",
+            ));
+        }
+        Ok(hob)
+    }
+
+    /// The tip corner's circle in the normal section, measured from the
+    /// tooth centre: (x_0, y_0), the distance of its centre along the pitch
+    /// line and above the reference radius. It touches the tip line
+    /// y = H (H = r_a0 − r0) from below, y_0 = H − r_c, and the flank line
+    /// x + y·tan α0 = p_n/4 from inside, so its centre stands r_c from the
+    /// flank: (p_n/4 − x_0 − y_0·tan α0)·cos α0 = r_c, x_0 = p_n/4 −
+    /// (H − r_c)·tan α0 − r_c/cos α0. None when the two corners of a tooth
+    /// would overlap (x_0 < 0) or the circle reaches below the root.
+    fn corner(&self) -> Option<(f64, f64)> {
+        let rc = self.tip_corner_radius_mm;
+        let tan_a = self.tan_alpha_x * self.cos_lead;
+        let cos_a = 1.0 / (1.0 + tan_a * tan_a).sqrt();
+        let pn = self.axial_pitch_mm * self.cos_lead;
+        let big_h = self.tip_radius_mm - self.ref_radius_mm;
+        let x0 = pn / 4.0 - (big_h - rc) * tan_a - rc / cos_a;
+        let y0 = big_h - rc;
+        (x0 >= 0.0 && self.ref_radius_mm + y0 - rc >= self.root_radius_mm).then_some((x0, y0))
     }
 
     /// Axial advance of the thread per radian of body angle, p, mm/rad.
@@ -107,6 +153,24 @@ impl Hob {
         let d = (a - centre).rem_euclid(px);
         let d = d.min(px - d);
         let rho = self.ref_radius_mm + (px / 4.0 - d) / self.tan_alpha_x;
+        if self.tip_corner_radius_mm > 0.0 {
+            if let Some((x0, y0)) = self.corner() {
+                // In the normal section (axial lengths times cos γ0): past
+                // the tip land, down the corner's arc to where it touches
+                // the flank, at x_0 + r_c·cos α0.
+                let rc = self.tip_corner_radius_mm;
+                let dn = d * self.cos_lead;
+                let tan_a = self.tan_alpha_x * self.cos_lead;
+                let cos_a = 1.0 / (1.0 + tan_a * tan_a).sqrt();
+                if dn <= x0 {
+                    return self.tip_radius_mm;
+                }
+                if dn <= x0 + rc * cos_a {
+                    let dx = dn - x0;
+                    return self.ref_radius_mm + y0 + (rc * rc - dx * dx).max(0.0).sqrt();
+                }
+            }
+        }
         rho.clamp(self.root_radius_mm, self.tip_radius_mm)
     }
 }
@@ -126,6 +190,8 @@ mod tests {
             tan_alpha_x: 20f64.to_radians().tan(),
             length_mm: 100.0,
             gashes: 12,
+            tip_corner_radius_mm: 0.0,
+            cos_lead: 1.0,
         }
     }
 
@@ -138,6 +204,55 @@ mod tests {
         assert_eq!(h.outer_radius(0, 0.0), h.tip_radius_mm);
         assert_eq!(h.outer_radius(0, h.axial_pitch_mm / 2.0), h.root_radius_mm);
         assert_eq!(h.outer_radius(0, 60.0), 0.0);
+    }
+
+    /// A hob of module 10 with the ISO 53 profile A corner (r_c 3.8 mm):
+    /// the rounded profile keeps r_c·(1/sin((90° + α)/2) − 1) away from the
+    /// sharp corner's vertex (the corner's interior angle is 90° + α0, and a
+    /// circle tangent to both sides of an angle 2β stands r_c/sin β from
+    /// its vertex), meets the tip land and the flank without a step, and is
+    /// the sharp profile away from the corner.
+    #[test]
+    fn the_tip_corner_is_rounded_with_the_basic_rack_radius() {
+        let alpha = 20f64.to_radians();
+        let sharp = Hob {
+            starts: 1,
+            hand: 1.0,
+            tip_radius_mm: 512.5,
+            ref_radius_mm: 500.0,
+            root_radius_mm: 487.5,
+            axial_pitch_mm: std::f64::consts::PI * 10.0,
+            tan_alpha_x: alpha.tan(),
+            length_mm: 100.0,
+            gashes: 12,
+            tip_corner_radius_mm: 0.0,
+            cos_lead: 1.0,
+        };
+        let round = Hob {
+            tip_corner_radius_mm: 3.8,
+            ..sharp
+        };
+        assert!(round.corner().is_some());
+        // The vertex: the flank meets the tip line at x = p/4 − H·tan α.
+        let h = 12.5;
+        let xv = sharp.axial_pitch_mm / 4.0 - h * alpha.tan();
+        let mut nearest = f64::MAX;
+        let n = 20_000;
+        for i in 0..=n {
+            let x = xv - 3.0 + 6.0 * f64::from(i) / f64::from(n);
+            let y = round.outer_radius(0, x) - 500.0;
+            nearest = nearest.min(((x - xv).powi(2) + (y - h).powi(2)).sqrt());
+            // No step anywhere: neighbouring samples 0.3 µm apart.
+            let y2 = round.outer_radius(0, x + 3e-4) - 500.0;
+            assert!((y2 - y).abs() < 1e-3, "step at {x}");
+        }
+        let want = 3.8 * (1.0 / ((std::f64::consts::FRAC_PI_2 + alpha) / 2.0).sin() - 1.0);
+        assert!((nearest - want).abs() < 1e-6, "{nearest} vs {want}");
+        for x in [0.0, 0.5, xv + 4.0, 7.0, sharp.axial_pitch_mm / 2.0] {
+            if (x - xv).abs() > 3.5 {
+                assert_eq!(round.outer_radius(0, x), sharp.outer_radius(0, x), "x {x}");
+            }
+        }
     }
 
     #[test]
