@@ -40,6 +40,10 @@ pub struct SafetyIssue {
 pub struct SimulationReport {
     /// `fine` (the delivery's proof) or `coarse` (interactive).
     pub mode: String,
+    /// The machine and hob errors the run was made with (a what-if run);
+    /// empty for the ideal machine.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub what_if: Vec<String>,
     /// The predicted ISO 1328-1:2013 class of the gear (the worst item's);
     /// `None` when worse than 11 or not measured.
     pub grade: Option<u8>,

@@ -201,8 +201,21 @@ impl Simulation {
             ),
             Err(why) => (None, Vec::new(), None, Some(why.clone())),
         };
+        let e = &self.settings.errors;
+        let what_if = [
+            ("centre-distance offset", e.centre_distance_mm, "mm"),
+            ("swivel offset", e.swivel_deg, "°"),
+            ("hob radial runout", e.hob_radial_mm, "mm"),
+            ("hob axial runout", e.hob_axial_mm, "mm"),
+            ("table runout", e.table_mm, "mm"),
+        ]
+        .iter()
+        .filter(|(_, v, _)| *v != 0.0)
+        .map(|(name, v, unit)| format!("{name} {v} {unit}"))
+        .collect();
         SimulationReport {
             mode: self.settings.mode.to_string(),
+            what_if,
             grade,
             required_grade: self.required_grade,
             deviations,
