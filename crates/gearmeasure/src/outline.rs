@@ -38,12 +38,14 @@
 //! ISO/TR 10064-1 discusses for lead and profile corrections) is reported
 //! beside it, not graded.
 
+mod chart_data;
 mod flank;
 mod gauge;
 mod report;
 mod spec;
 mod traces;
 
+pub use chart_data::{chart_data, ChartData, TracePoints};
 pub use report::{
     FlankValues, ItemResult, Measurement, Runout, SectionProfile, SizeResult, TeethTraces,
 };

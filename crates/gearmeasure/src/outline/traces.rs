@@ -53,32 +53,9 @@ pub(super) fn profiles(
     geo: &Geometry,
     spec: &GearSpec,
 ) -> Result<TeethTraces<ProfileDeviations>, Error> {
-    let rb = geo.rb();
     let range = geo.profile_range;
-    let reach = 0.75 * TAU / teeth.len() as f64;
-    let um = 1000.0 * direction_factor(geo, spec);
-    let rolls: Vec<f64> = (0..PROFILE_POINTS)
-        .map(|k| {
-            range.start_mm
-                + (range.end_mm - range.start_mm) * k as f64 / (PROFILE_POINTS - 1) as f64
-        })
-        .collect();
     let trace = |tooth: &Tooth, right: bool| {
-        let n = flank_sign(right);
-        let (mut xs, mut es) = (Vec::new(), Vec::new());
-        let walk = mid.walk(tooth.centre(), n as i64, reach);
-        for &l in &rolls {
-            let rho = rb.hypot(l);
-            if let Some(theta) = walk.crossing(rho) {
-                let inv = l / rb - (l / rb).atan();
-                xs.push(l);
-                es.push(rb * (n * theta + inv));
-            }
-        }
-        // Offsets change none of the deviations; taking the first keeps the
-        // numbers small before they are scaled to µm.
-        let e0 = es.first().copied().unwrap_or(0.0);
-        let es: Vec<f64> = es.iter().map(|e| (e - e0) * um).collect();
+        let (xs, es) = profile_points(mid, tooth, right, teeth.len(), geo, spec);
         evaluate_profile(&xs, &es, range)
     };
     let mut out = TeethTraces::default();
@@ -87,6 +64,44 @@ pub(super) fn profiles(
         out.right.push(trace(tooth, true)?);
     }
     Ok(out)
+}
+
+/// The points of one flank's profile trace in `mid`: roll lengths (mm,
+/// [`PROFILE_POINTS`] evenly spaced over the evaluation range, those where
+/// the outline crosses the radius) and the deviations there (µm,
+/// +material, in the spec's direction), offset so the first is 0. A tooth
+/// of `teeth` is walked from its centre towards the flank, at most ¾ of a
+/// pitch.
+pub(super) fn profile_points(
+    mid: &Section<'_>,
+    tooth: &Tooth,
+    right: bool,
+    teeth: usize,
+    geo: &Geometry,
+    spec: &GearSpec,
+) -> (Vec<f64>, Vec<f64>) {
+    let rb = geo.rb();
+    let range = geo.profile_range;
+    let reach = 0.75 * TAU / teeth as f64;
+    let um = 1000.0 * direction_factor(geo, spec);
+    let n = flank_sign(right);
+    let (mut xs, mut es) = (Vec::new(), Vec::new());
+    let walk = mid.walk(tooth.centre(), n as i64, reach);
+    for k in 0..PROFILE_POINTS {
+        let l = range.start_mm
+            + (range.end_mm - range.start_mm) * k as f64 / (PROFILE_POINTS - 1) as f64;
+        let rho = rb.hypot(l);
+        if let Some(theta) = walk.crossing(rho) {
+            let inv = l / rb - (l / rb).atan();
+            xs.push(l);
+            es.push(rb * (n * theta + inv));
+        }
+    }
+    // Offsets change none of the deviations; taking the first keeps the
+    // numbers small before they are scaled to µm.
+    let e0 = es.first().copied().unwrap_or(0.0);
+    let es: Vec<f64> = es.iter().map(|e| (e - e0) * um).collect();
+    (xs, es)
 }
 
 /// The teeth followed through the sections of the face.
@@ -178,26 +193,10 @@ pub(super) fn helices(
     spec: &GearSpec,
 ) -> Result<TeethTraces<HelixDeviations>, Error> {
     let range = geo.helix_range;
-    let (z, per_tooth) = (&followed.z_mm, &followed.teeth);
-    let rb = geo.rb();
-    let tan_bb = geo.base_helix_deg.to_radians().tan();
-    let h = hand_sign(spec.hand);
-    let um = 1000.0 * direction_factor(geo, spec);
-    let x: Vec<f64> = z.iter().map(|z| z - spec.face_start_mm).collect();
     let mut out = TeethTraces::default();
-    for flanks in per_tooth {
+    for flanks in &followed.teeth {
         for right in [false, true] {
-            let n = flank_sign(right);
-            let e: Vec<f64> = flanks
-                .iter()
-                .zip(&x)
-                .map(|(t, x)| {
-                    let theta = if right { t.right } else { t.left };
-                    n * (rb * theta - h * x * tan_bb)
-                })
-                .collect();
-            let e0 = e[0];
-            let e: Vec<f64> = e.iter().map(|v| (v - e0) * um).collect();
+            let (x, e) = helix_points(followed, flanks, right, geo, spec);
             let d = evaluate_helix(&x, &e, range)?;
             if right {
                 out.right.push(d);
@@ -207,6 +206,40 @@ pub(super) fn helices(
         }
     }
     Ok(out)
+}
+
+/// The points of one flank's helix trace: heights from the reference face
+/// (mm, one per section followed) and the deviations there (µm, +material,
+/// in the spec's direction), offset so the first is 0. `flanks` is the
+/// tooth's flanks in each section of `followed`.
+pub(super) fn helix_points(
+    followed: &Followed,
+    flanks: &[Tooth],
+    right: bool,
+    geo: &Geometry,
+    spec: &GearSpec,
+) -> (Vec<f64>, Vec<f64>) {
+    let rb = geo.rb();
+    let tan_bb = geo.base_helix_deg.to_radians().tan();
+    let h = hand_sign(spec.hand);
+    let um = 1000.0 * direction_factor(geo, spec);
+    let x: Vec<f64> = followed
+        .z_mm
+        .iter()
+        .map(|z| z - spec.face_start_mm)
+        .collect();
+    let n = flank_sign(right);
+    let e: Vec<f64> = flanks
+        .iter()
+        .zip(&x)
+        .map(|(t, x)| {
+            let theta = if right { t.right } else { t.left };
+            n * (rb * theta - h * x * tan_bb)
+        })
+        .collect();
+    let e0 = e.first().copied().unwrap_or(0.0);
+    let e: Vec<f64> = e.iter().map(|v| (v - e0) * um).collect();
+    (x, e)
 }
 
 /// The profile deviations in every section of the face, each tooth's
