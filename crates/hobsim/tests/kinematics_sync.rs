@@ -127,3 +127,16 @@ fn a_unit_coupled_again_with_a_plain_egon_cuts_double_teeth() {
         );
     }
 }
+
+/// Two gear units, each coupled once with `EGONSYNE` after its own `EGDEF`:
+/// each coupling starts its unit, none takes an unknown phase.
+#[test]
+fn two_units_each_set_their_own_reference() {
+    let (text, model) = common::program("two_units_five_cuts_840d");
+    let (tl, findings) = timeline(&text, &model);
+    assert!(findings.is_empty(), "{findings:?}");
+    let phases = tl.couplings();
+    let units: Vec<usize> = phases.iter().map(|p| p.unit).collect();
+    assert_eq!(units, vec![0, 1], "{phases:?}");
+    assert!(phases.iter().all(|p| !p.phase_unknown && p.jump_rad == 0.0));
+}
