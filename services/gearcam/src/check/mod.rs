@@ -24,6 +24,7 @@ use serde::Serialize;
 pub mod hobbing;
 pub mod human;
 pub mod picture_hobbing;
+pub mod picture_simulation;
 pub mod spiral;
 pub mod wire;
 
