@@ -499,3 +499,50 @@ fn the_scale_is_the_smallest_round_step_that_fits() {
     assert_eq!(um_per_division(300.0, 5.5), 100.0);
     assert_eq!(um_per_division(0.3, 5.5), 0.1);
 }
+
+/// A real program (the spur example for the 840D, its model beside it),
+/// simulated coarse: the picture has every chart, and each profile and
+/// helix trace spans the measured Fα or Fβ at its row's stated scale.
+#[test]
+fn a_real_program_charts_the_gear_it_cuts() {
+    let text = include_str!("../../../../crates/nc/tests/programs/spur_840d.nc");
+    let json = include_str!("../../../../crates/nc/tests/programs/spur_840d.model.json");
+    let model: gearcam_proto::MachiningModel = serde_json::from_str(json).unwrap();
+    let (check, trace) = gearcam_nc::check(text, &model);
+    assert!(check.ok, "{:?}", check.findings);
+    let sim = gearcam_hobsim::simulate::simulate(&trace, &model, &Settings::coarse()).unwrap();
+    let m = sim.measurement.as_ref().expect("the cut gear measures");
+    let svg = parse(&simulation_svg(&sim).expect("a picture"));
+    let picked = picked_teeth(sim.spec.teeth as usize);
+    let helix = m.helix.as_ref().expect("9 sections: a helix");
+    for (row, kind) in [
+        ("profile-row", "profile-chart"),
+        ("helix-row", "helix-chart"),
+    ] {
+        let px_per_um = DIV_PX / stated_um_per_division(svg.with_class(row)[0]);
+        let charts = svg.with_class(kind);
+        assert_eq!(charts.len(), 2 * picked.len(), "{kind}");
+        for (k, c) in charts.iter().enumerate() {
+            let (t, right) = (picked[k / 2], k % 2 == 1);
+            let total = match (kind, right) {
+                ("profile-chart", false) => m.profile.left[t].total_um,
+                ("profile-chart", true) => m.profile.right[t].total_um,
+                (_, false) => helix.left[t].total_um,
+                (_, true) => helix.right[t].total_um,
+            };
+            let xs: Vec<f64> = c.with_class("trace")[0]
+                .points()
+                .iter()
+                .map(|p| p.0)
+                .collect();
+            let width = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+                - xs.iter().copied().fold(f64::INFINITY, f64::min);
+            assert!(
+                (width - total * px_per_um).abs() < 1e-6,
+                "{kind} {k}: {width} px vs {total} µm"
+            );
+        }
+    }
+    assert_eq!(svg.with_class("pitch-chart").len(), 2);
+    assert_eq!(svg.with_class("tooth-sections").len(), 1);
+}
