@@ -1,0 +1,125 @@
+//! The hobbing simulation's speed: `cargo bench -p gearcam-hobsim --bench hobbing`.
+//!
+//! The program is real: the helical climb cut the 840D template writes
+//! (`crates/nc/tests/programs/helical_climb_840d`: z 31, β 20° left hand,
+//! face width 25 mm, one-start right-hand hob of 80 mm with 12 gashes, one
+//! cut at 1.6 mm per table turn), read back by `gearcam_nc::check` into a
+//! timeline once. What is timed is `cut::cut` on 9 sections over the face
+//! width, at `Resolution::fine()` with `samples_for(r, 1 µm)` rays a section
+//! (timed once and printed: it takes minutes today) and at
+//! `Resolution::coarse()` with `samples_for(r, 10 µm)` (printed, and timed by
+//! criterion). The printed lines also say how the coarse cost grows with
+//! sections, samples, axial step and face width. The figures are upper
+//! bounds on a shared machine.
+
+// A bench measures time itself for the printed figure.
+#![allow(clippy::disallowed_methods)]
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use gearcam_hobsim::cut::{self, samples_for, Blank, Resolution};
+use gearcam_hobsim::hob::{Hob, HobExtras};
+use gearcam_hobsim::kinematics::{self, MachineRates, Timeline};
+use gearcam_proto::MachiningModel;
+use std::hint::black_box;
+use std::time::Instant;
+
+/// The helical program's timeline, hob, blank radius and section heights
+/// (`sections` over the face width less 1 mm at either end).
+struct Setup {
+    timeline: Timeline,
+    hob: Hob,
+    radius_mm: f64,
+    z_lo: f64,
+    z_hi: f64,
+}
+
+fn setup() -> Setup {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../nc/tests/programs/");
+    let name = "helical_climb_840d";
+    let text = std::fs::read_to_string(format!("{dir}{name}.nc")).expect("program");
+    let json = std::fs::read_to_string(format!("{dir}{name}.model.json")).expect("model");
+    let model: MachiningModel = serde_json::from_str(&json).expect("model reads");
+    let (check, trace) = gearcam_nc::check(&text, &model);
+    assert!(check.ok, "{:?}", check.findings);
+    let timeline =
+        kinematics::from_trace(&trace, &model, MachineRates::default()).expect("timeline");
+    let hob = Hob::from_data(&model.plan.hob, HobExtras::default()).expect("hob");
+    let g = &model.plan.gear;
+    Setup {
+        timeline,
+        hob,
+        radius_mm: model.model.blank_od_mm / 2.0,
+        z_lo: g.fixture_height_mm + 1.0,
+        z_hi: g.fixture_height_mm + g.face_width_mm - 1.0,
+    }
+}
+
+fn run(s: &Setup, sections: usize, samples: usize, res: Resolution, width: f64) -> u64 {
+    let z_hi = s.z_lo + (s.z_hi - s.z_lo) * width;
+    let planes = Blank::planes(s.z_lo, z_hi, sections);
+    let mut blank = Blank::new(planes, s.radius_mm, samples).expect("blank");
+    cut::cut(&s.timeline, &s.hob, &mut blank, res).expect("cut")
+}
+
+/// Milliseconds of one run (the best of `reps`).
+fn time_ms(reps: u32, f: impl Fn() -> u64) -> f64 {
+    (0..reps)
+        .map(|_| {
+            let t = Instant::now();
+            black_box(f());
+            t.elapsed().as_secs_f64() * 1e3
+        })
+        .fold(f64::MAX, f64::min)
+}
+
+fn hobbing(c: &mut Criterion) {
+    let s = setup();
+    let fine_n = samples_for(s.radius_mm, 1.0);
+    let coarse_n = samples_for(s.radius_mm, 10.0);
+    let fine = Resolution::fine();
+    let coarse = Resolution::coarse();
+    println!(
+        "hobbing helical_climb_840d, 9 sections: fine ({fine_n} samples): {:.1} ms (target < 1000 ms); coarse ({coarse_n} samples): {:.1} ms (target < 100 ms)",
+        time_ms(1, || run(&s, 9, fine_n, fine, 1.0)),
+        time_ms(1, || run(&s, 9, coarse_n, coarse, 1.0)),
+    );
+    for sections in [3, 9, 18] {
+        println!(
+            "  coarse, {sections} sections: {:.1} ms",
+            time_ms(1, || run(&s, sections, coarse_n, coarse, 1.0))
+        );
+    }
+    for n in [coarse_n / 2, coarse_n, 2 * coarse_n] {
+        println!(
+            "  coarse, {n} samples: {:.1} ms",
+            time_ms(1, || run(&s, 9, n, coarse, 1.0))
+        );
+    }
+    for step in [0.2, 0.1] {
+        let res = Resolution {
+            axial_step_mm: step,
+            ..coarse
+        };
+        println!(
+            "  coarse, axial step {step} mm: {:.1} ms",
+            time_ms(1, || run(&s, 9, coarse_n, res, 1.0))
+        );
+    }
+    for width in [0.5, 1.0] {
+        println!(
+            "  coarse, {:.0} % of the face width (9 sections): {:.1} ms",
+            width * 100.0,
+            time_ms(1, || run(&s, 9, coarse_n, coarse, width))
+        );
+    }
+    let mut g = c.benchmark_group("hobbing");
+    // The fine run takes minutes today: it is timed once above, not here.
+    g.sample_size(10);
+    g.bench_function("helical_climb_840d coarse", |b| {
+        b.iter(|| run(&s, 9, coarse_n, coarse, 1.0))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, hobbing);
+criterion_main!(benches);
