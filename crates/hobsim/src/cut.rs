@@ -210,6 +210,7 @@ fn pass(
         phi_max,
         max_piece_rad: 2.0 * phi_max / f64::from(res.sweep_steps),
         piece_tol_mm: (res.axial_step_mm * res.axial_step_mm / 8.0).max(PIECE_TOL_MM),
+        eta_sin_cos: p0.eta_rad.sin_cos(),
         // Table turn per radian of hob turn (ratio, differential, correction):
         // C is linear in time within a move.
         c_per_phi: (timeline.pose_in(seg, s.t1_s).c_rad - timeline.pose_in(seg, s.t0_s).c_rad)
@@ -228,6 +229,7 @@ struct Sweep<'a> {
     max_piece_rad: f64,
     piece_tol_mm: f64,
     c_per_phi: f64,
+    eta_sin_cos: (f64, f64),
 }
 
 /// A point of a gash edge in a section: axial position `a` along the hob,
@@ -252,9 +254,10 @@ impl Sweep<'_> {
     fn place(&self, e: EdgePoint, zs: f64, phi0: f64) -> [f64; 2] {
         let mut phi = phi0;
         let mut out = [0.0; 2];
+        // η stands within a move: its sine and cosine are the pass's.
+        let (se, ce) = self.eta_sin_cos;
         for _ in 0..2 {
             let pose = self.pose(phi);
-            let (se, ce) = pose.eta_rad.sin_cos();
             let along = pose.axes.y_mm + e.a;
             let (cx, cy, cz) = (pose.axes.x_mm, along * ce, pose.axes.z_mm - along * se);
             let tt = (zs - cz) / ce;
