@@ -32,7 +32,10 @@ pub struct ChartData {
     /// Each tooth's centre angle at the measuring circle of that section,
     /// rad (the middle of its flanks' angles there).
     pub tooth_centre_rad: Vec<f64>,
-    /// Profile traces in the middle section: roll length, deviation.
+    /// Profile traces in the middle section: roll length, deviation, from
+    /// the form circle to the tip form circle at the spacing of the
+    /// measurement's points (those in the evaluation range are the ones
+    /// it evaluated).
     pub profile: TeethTraces<TracePoints>,
     /// Helix traces at the measuring diameter: height from the reference
     /// face, deviation (`None` when the helix is not measured).
@@ -47,11 +50,12 @@ pub fn chart_data(sections: &PolarSections, spec: &GearSpec) -> Result<ChartData
     let middle = geo.middle_section(&sections.z_mm, spec.face_start_mm);
     let mid = Section::new(&sections.r_mm[middle], n);
     let teeth = flank::find_teeth(&mid, spec.teeth, geo.measuring_diameter_mm / 2.0)?;
+    let steps = profile_steps(&geo)?;
     let mut profile = TeethTraces::default();
     for tooth in &teeth {
         for right in [false, true] {
             let (x_mm, deviation_um) =
-                traces::profile_points(&mid, tooth, right, teeth.len(), &geo, spec);
+                traces::profile_points(&mid, tooth, right, teeth.len(), steps, &geo, spec);
             let side = if right {
                 &mut profile.right
             } else {
@@ -77,4 +81,22 @@ pub fn chart_data(sections: &PolarSections, spec: &GearSpec) -> Result<ChartData
         profile,
         helix,
     })
+}
+
+/// The steps k of [`traces::profile_points`] from the form circle to the
+/// tip form circle: the evaluation range is k = 0..=P − 1 (P =
+/// [`traces::PROFILE_POINTS`]), a step its length / (P − 1), and the
+/// trace goes on by whole steps as far as both circles.
+fn profile_steps(geo: &super::Geometry) -> Result<(i64, i64), Error> {
+    let range = geo.profile_range;
+    let last = traces::PROFILE_POINTS as i64 - 1;
+    let step = (range.end_mm - range.start_mm) / last as f64;
+    let roll = |d: f64| crate::profile::roll_length_from_diameter(d, geo.base_diameter_mm);
+    let (form, tip) = (roll(geo.form_diameter_mm)?, roll(geo.tip_form_diameter_mm)?);
+    if step.abs() < 1e-12 {
+        return Ok((0, last));
+    }
+    let below = ((range.start_mm - form) / step).floor().max(0.0) as i64;
+    let above = ((tip - range.end_mm) / step).floor().max(0.0) as i64;
+    Ok((-below, last + above))
 }

@@ -55,7 +55,8 @@ pub(super) fn profiles(
 ) -> Result<TeethTraces<ProfileDeviations>, Error> {
     let range = geo.profile_range;
     let trace = |tooth: &Tooth, right: bool| {
-        let (xs, es) = profile_points(mid, tooth, right, teeth.len(), geo, spec);
+        let steps = (0, PROFILE_POINTS as i64 - 1);
+        let (xs, es) = profile_points(mid, tooth, right, teeth.len(), steps, geo, spec);
         evaluate_profile(&xs, &es, range)
     };
     let mut out = TeethTraces::default();
@@ -66,17 +67,20 @@ pub(super) fn profiles(
     Ok(out)
 }
 
-/// The points of one flank's profile trace in `mid`: roll lengths (mm,
-/// [`PROFILE_POINTS`] evenly spaced over the evaluation range, those where
-/// the outline crosses the radius) and the deviations there (µm,
-/// +material, in the spec's direction), offset so the first is 0. A tooth
-/// of `teeth` is walked from its centre towards the flank, at most ¾ of a
-/// pitch.
+/// The points of one flank's profile trace in `mid`: roll lengths (mm)
+/// and the deviations there (µm, +material, in the spec's direction). The
+/// roll lengths are those of `steps`, k = first..=last, at
+/// L = start + k·(end − start)/([`PROFILE_POINTS`] − 1) of the evaluation
+/// range (k = 0..[`PROFILE_POINTS`] − 1 spans it; a chart goes beyond),
+/// where the outline crosses the radius; the deviations are offset so the
+/// first point with k ≥ 0 is 0. A tooth of `teeth` is walked from its
+/// centre towards the flank, at most ¾ of a pitch.
 pub(super) fn profile_points(
     mid: &Section<'_>,
     tooth: &Tooth,
     right: bool,
     teeth: usize,
+    steps: (i64, i64),
     geo: &Geometry,
     spec: &GearSpec,
 ) -> (Vec<f64>, Vec<f64>) {
@@ -85,21 +89,24 @@ pub(super) fn profile_points(
     let reach = 0.75 * TAU / teeth as f64;
     let um = 1000.0 * direction_factor(geo, spec);
     let n = flank_sign(right);
-    let (mut xs, mut es) = (Vec::new(), Vec::new());
+    let (mut xs, mut es, mut first) = (Vec::new(), Vec::new(), None);
     let walk = mid.walk(tooth.centre(), n as i64, reach);
-    for k in 0..PROFILE_POINTS {
+    for k in steps.0..=steps.1 {
         let l = range.start_mm
             + (range.end_mm - range.start_mm) * k as f64 / (PROFILE_POINTS - 1) as f64;
         let rho = rb.hypot(l);
         if let Some(theta) = walk.crossing(rho) {
             let inv = l / rb - (l / rb).atan();
+            if k >= 0 && first.is_none() {
+                first = Some(es.len());
+            }
             xs.push(l);
             es.push(rb * (n * theta + inv));
         }
     }
-    // Offsets change none of the deviations; taking the first keeps the
-    // numbers small before they are scaled to µm.
-    let e0 = es.first().copied().unwrap_or(0.0);
+    // Offsets change none of the deviations; taking the first in the range
+    // keeps the numbers small before they are scaled to µm.
+    let e0 = es.get(first.unwrap_or(0)).copied().unwrap_or(0.0);
     let es: Vec<f64> = es.iter().map(|e| (e - e0) * um).collect();
     (xs, es)
 }

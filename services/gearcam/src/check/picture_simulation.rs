@@ -27,6 +27,10 @@
 //! is centred the same way against ±FpT/2; the single pitch bars are
 //! signed values against ±fpT.
 //!
+//! Trace points beyond the evaluation range (a profile trace runs on to
+//! the tip form circle) may leave the scale chosen for the range: they are
+//! drawn at the chart's edge, as a chart recorder's pen stops there.
+//!
 //! Every text goes through the `svg` crate's `Text` node (escaped);
 //! attributes hold numbers, colours and fixed class names only.
 
@@ -189,17 +193,20 @@ pub(crate) fn um_per_division(extent_um: f64, divisions: f64) -> f64 {
     }
 }
 
+/// The deviations of a trace at the abscissae within `range`, µm.
+fn in_range(t: &TracePoints, range: (f64, f64)) -> impl Iterator<Item = f64> + '_ {
+    let (lo, hi) = (range.0.min(range.1), range.0.max(range.1));
+    t.x_mm
+        .iter()
+        .zip(&t.deviation_um)
+        .filter(move |(x, _)| (lo - 1e-9..=hi + 1e-9).contains(*x))
+        .map(|(_, e)| *e)
+}
+
 /// The middle of a trace's range over `range` (the abscissae within it;
 /// all when none is), µm.
 pub(crate) fn mid_range(t: &TracePoints, range: (f64, f64)) -> f64 {
-    let (lo, hi) = (range.0.min(range.1), range.0.max(range.1));
-    let inside: Vec<f64> = t
-        .x_mm
-        .iter()
-        .zip(&t.deviation_um)
-        .filter(|(x, _)| (lo - 1e-9..=hi + 1e-9).contains(*x))
-        .map(|(_, e)| *e)
-        .collect();
+    let inside: Vec<f64> = in_range(t, range).collect();
     let v = if inside.is_empty() {
         &t.deviation_um
     } else {
@@ -253,8 +260,7 @@ impl TraceRow {
             .iter()
             .map(|(_, _, p)| {
                 let c = mid_range(p, self.range);
-                p.deviation_um
-                    .iter()
+                in_range(p, self.range)
                     .map(|e| (e - c).abs())
                     .fold(0.0, f64::max)
             })
@@ -370,7 +376,10 @@ impl TraceChart {
             .x_mm
             .iter()
             .zip(&p.deviation_um)
-            .map(|(x, e)| (zero + (e - c) * self.px_per_um, self.y_of(*x)))
+            .map(|(x, e)| {
+                let across = (zero + (e - c) * self.px_per_um).clamp(self.x0, self.x0 + TRACE_W);
+                (across, self.y_of(*x))
+            })
             .collect();
         g = g.add(
             Polyline::new()

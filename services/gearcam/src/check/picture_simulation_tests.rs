@@ -230,6 +230,20 @@ fn charted() -> (Simulation, Elem, ChartData) {
     (sim, parse(&svg), data)
 }
 
+/// The least and the largest x of the points between the heights `top`
+/// and `bottom` (the evaluation range's marks), px.
+fn span_between(points: &[(f64, f64)], top: f64, bottom: f64) -> (f64, f64) {
+    let xs: Vec<f64> = points
+        .iter()
+        .filter(|p| p.1 >= top - 1e-9 && p.1 <= bottom + 1e-9)
+        .map(|p| p.0)
+        .collect();
+    (
+        xs.iter().copied().fold(f64::INFINITY, f64::min),
+        xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    )
+}
+
 /// The µm per division a row's heading states.
 fn stated_um_per_division(row: &Elem) -> f64 {
     let heading = row.texts().into_iter().next().unwrap();
@@ -326,15 +340,22 @@ fn a_trace_point_lands_where_the_stated_scale_puts_it() {
         .collect();
     let (y_start, y_end) = (marks[0], marks[1]);
     assert!(y_end < y_start, "the tip is at the top");
+    let inside = |k: usize| (range.start_mm..=range.end_mm).contains(&p.x_mm[k]);
+    let first = (0..trace.len()).find(|&k| inside(k)).unwrap();
     for (k, (x, y)) in trace.iter().enumerate() {
-        let across = (p.deviation_um[k] - p.deviation_um[0]) * px_per_um;
-        assert!((x - trace[0].0 - across).abs() < 1e-6, "point {k}");
         let down = y_start
             + (y_end - y_start) * (p.x_mm[k] - range.start_mm) / (range.end_mm - range.start_mm);
         assert!((y - down).abs() < 1e-6, "point {k}: {y} vs {down}");
+        if inside(k) {
+            let across = (p.deviation_um[k] - p.deviation_um[first]) * px_per_um;
+            assert!((x - trace[first].0 - across).abs() < 1e-6, "point {k}");
+        }
     }
-    let max = trace.iter().map(|p| p.0).fold(f64::NEG_INFINITY, f64::max);
-    let min = trace.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
+    assert!(
+        trace.iter().any(|t| t.1 < y_end - 1.0),
+        "the trace runs on to the tip"
+    );
+    let (min, max) = span_between(&trace, y_end, y_start);
     assert!(((max + min) / 2.0 - zero).abs() < 1e-6);
     let fa = m.profile.right[0].total_um;
     assert!(fa > 2.0, "the built slope shows: Fα {fa}");
@@ -502,7 +523,8 @@ fn the_scale_is_the_smallest_round_step_that_fits() {
 
 /// A real program (the spur example for the 840D, its model beside it),
 /// simulated coarse: the picture has every chart, and each profile and
-/// helix trace spans the measured Fα or Fβ at its row's stated scale.
+/// helix trace spans the measured Fα or Fβ at its row's stated scale
+/// between the evaluation range's marks.
 #[test]
 fn a_real_program_charts_the_gear_it_cuts() {
     let text = include_str!("../../../../crates/nc/tests/programs/spur_840d.nc");
@@ -530,13 +552,9 @@ fn a_real_program_charts_the_gear_it_cuts() {
                 (_, false) => helix.left[t].total_um,
                 (_, true) => helix.right[t].total_um,
             };
-            let xs: Vec<f64> = c.with_class("trace")[0]
-                .points()
-                .iter()
-                .map(|p| p.0)
-                .collect();
-            let width = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max)
-                - xs.iter().copied().fold(f64::INFINITY, f64::min);
+            let marks: Vec<f64> = c.with_class("range").iter().map(|l| l.num("y1")).collect();
+            let (min, max) = span_between(&c.with_class("trace")[0].points(), marks[1], marks[0]);
+            let width = max - min;
             assert!(
                 (width - total * px_per_um).abs() < 1e-6,
                 "{kind} {k}: {width} px vs {total} µm"
