@@ -63,6 +63,29 @@ fn the_correct_programs_have_no_finding() {
     assert!(f.is_empty(), "helical_shift_fanuc: {f:#?}");
 }
 
+/// A what-if run of a correct program on a worn machine (a hob with radial
+/// and axial runout, an eccentric workpiece) changes the gear it cuts, not
+/// what the program commands: no depth or face-width finding.
+#[test]
+fn runouts_do_not_make_a_correct_program_unsafe() {
+    let errors = kinematics::MachineErrors {
+        hob_radial_mm: 0.02,
+        hob_axial_mm: 0.01,
+        table_mm: 0.01,
+        ..Default::default()
+    };
+    for name in ["spur_840d", "helical_climb_840d"] {
+        let (text, model) = common::program(name);
+        let (_, trace) = gearcam_nc::check(&text, &model);
+        let tl = kinematics::from_trace_with(&trace, &model, MachineRates::default(), errors)
+            .expect("timeline");
+        let hob = Hob::from_data(&model.plan.hob, HobExtras::default()).expect("hob");
+        let blank = BlankGeometry::of_model(&model);
+        let f = safety::check(&tl, &hob, &blank, &Fixtures::of_model(&model, &blank));
+        assert!(f.is_empty(), "{name}: {f:#?}");
+    }
+}
+
 /// The tangential worm-wheel program feeds along Y while coupled with the
 /// model's C per Y: the shift rule's −(C/B)·ΔY/p agrees with it.
 #[test]

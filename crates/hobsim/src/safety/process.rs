@@ -15,12 +15,14 @@ fn cutting(s: &Segment) -> bool {
     s.gearbox.is_some() && s.feed && s.hob_rev_s != 0.0 && s.t1_s > s.t0_s
 }
 
-/// X at both ends of segment `i`, with the timeline's errors (the
-/// centre-distance offset; the runouts at the ends' angles).
+/// The X a segment's end points command, on the ideal machine: depth and
+/// face width are what the program commands, whatever the what-if errors
+/// (a runout would move X with the hob's angle at each end point and make a
+/// full-depth move look shallow).
 fn x_range(tl: &Timeline, i: usize) -> (f64, f64) {
     let s = &tl.segments()[i];
-    let a = tl.pose_in(i, s.t0_s).axes.x_mm;
-    let b = tl.pose_in(i, s.t1_s).axes.x_mm;
+    let a = tl.nominal_pose_in(i, s.t0_s).axes.x_mm;
+    let b = tl.nominal_pose_in(i, s.t1_s).axes.x_mm;
     (a.min(b), a.max(b))
 }
 
