@@ -519,12 +519,12 @@ catalogue! {
     POSITION_TRAVEL_LIMIT: "model",
         "A computed position or move end lies outside the machine's X or Z travel.",
         "Check the blank and hob diameters, fixture height, face width and safety distance, as the message says.";
-    PRESSURE_ANGLE_RANGE: "model",
-        "The gear's normal pressure angle is not between 0° and 45°.",
-        "Correct `gear.pressure_angle_deg` (usually 20°).";
     PREDICTED_GRADE: "template (virtual hobbing, warning)",
         "The gear the program's virtual run cuts grades worse than the drawing's ISO 1328-1 class; the warning names the deviation that sets the grade.",
         "Check the deviation named: a finer feed, more hob gashes or a better-mounted hob; `gearcam check` shows every deviation.";
+    PRESSURE_ANGLE_RANGE: "model",
+        "The gear's normal pressure angle is not between 0° and 45°.",
+        "Correct `gear.pressure_angle_deg` (usually 20°).";
     PROGRAM_CHANGED_AT_MACHINE: "agent",
         "The program file at the machine was changed or created there since gearcam stored it; the agent kept the file, and the job waits.",
         "Review the edit, then `gearcam program resolve NAME --machine M --adopt` (the edit becomes the current version) or `--replace` (gearcam's version goes back, the edit is kept in the history). After --replace the waiting job is delivered; after --adopt it ends superseded (submit it again for gearcam's program).";
