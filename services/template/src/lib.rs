@@ -45,6 +45,7 @@ pub mod params;
 pub mod render;
 pub mod service;
 pub mod similarity;
+pub mod simulation;
 pub mod source;
 pub mod spiral;
 pub mod stdcode;

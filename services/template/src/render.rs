@@ -20,7 +20,9 @@ use sha2::{Digest, Sha256};
 use crate::engine::{Compiled, RunFailure};
 use crate::error::TemplateError;
 use crate::params::{PartInput, UnitInput};
+use crate::simulation::{simulation_errors, Simulations};
 use crate::stdcode::{self, TemplateFile};
+use gearcam_hobsim::simulate::Settings;
 
 /// The generator named in every program: this crate and its version.
 pub const GENERATOR: &str = concat!("gearcam-template ", env!("CARGO_PKG_VERSION"));
@@ -50,6 +52,12 @@ pub struct TemplateSource {
 pub struct Templates {
     compiled: BTreeMap<String, Compiled>,
     budget: u64,
+    simulations: Simulations,
+    /// How hobbing programs are run on the virtual machine before they
+    /// leave; `None` (the default): not run. The fine run takes minutes
+    /// today, too long for every delivery; `gearcam check --simulate` runs
+    /// it on demand.
+    simulation: Option<Settings>,
 }
 
 impl Templates {
@@ -57,6 +65,15 @@ impl Templates {
     pub fn builtin() -> Self {
         Self::new(Vec::new(), DEFAULT_FUEL)
             .expect("the shipped templates compile (checked by the unit tests)")
+    }
+
+    /// These templates with every hobbing program run on the virtual
+    /// machine with `settings` before it is returned (`None`: not run), the
+    /// report in the program and its blocking findings refused by
+    /// [`Templates::render`].
+    pub fn with_simulation(mut self, settings: Option<Settings>) -> Self {
+        self.simulation = settings;
+        self
     }
 
     /// The shipped templates plus `extra` (which replace shipped ones of the same
@@ -137,7 +154,12 @@ impl Templates {
             let c = Compiled::new(&f).map_err(TemplateError::Compile)?;
             compiled.insert(f.id.clone(), c);
         }
-        Ok(Templates { compiled, budget })
+        Ok(Templates {
+            compiled,
+            budget,
+            simulations: Simulations::default(),
+            simulation: None,
+        })
     }
 
     /// Every template in the library, by id.
@@ -174,10 +196,14 @@ impl Templates {
     /// field `program.line.N`, its `expected` the rule, its message the finding's.
     pub fn render(&self, model: &MachiningModel) -> Result<NcProgram, Vec<JobError>> {
         let program = self.instantiate(model)?;
-        if program.path_check.ok {
+        if !program.path_check.ok {
+            return Err(path_check_errors(&program));
+        }
+        let unsafe_or_wrong = simulation_errors(&program);
+        if unsafe_or_wrong.is_empty() {
             return Ok(program);
         }
-        Err(path_check_errors(&program))
+        Err(unsafe_or_wrong)
     }
 
     /// Renders the NC program of a machining model and attaches its path check,
@@ -242,7 +268,12 @@ impl Templates {
                 ),
             }]
         })?;
-        let (path_check, _) = gearcam_nc::check(&text, model);
+        let (path_check, trace) = gearcam_nc::check(&text, model);
+        // Only a program whose path holds is run on the virtual machine.
+        let simulation = match (&self.simulation, path_check.ok) {
+            (Some(settings), true) => self.simulations.report(&trace, model, settings),
+            _ => None,
+        };
         let sha256 = hex::encode(Sha256::digest(text.as_bytes()));
         tracing::debug!(job = %model.job_id, template = %template.id, %name, bytes = text.len(), "rendered");
         Ok(NcProgram {
@@ -263,7 +294,7 @@ impl Templates {
             generator: GENERATOR.to_string(),
             path_check,
             form: None,
-            simulation: None,
+            simulation,
         })
     }
 

@@ -1,0 +1,324 @@
+//! Virtual hobbing before a hobbing program leaves: the program as
+//! rendered, read back, run on the model of its machine, the gear it cuts
+//! measured and graded (`gearcam_hobsim::simulate`). The report travels
+//! with the program; a program whose run is unsafe, or whose gear is
+//! visibly wrong, is not sent ([`simulation_errors`]).
+//!
+//! The fine simulation takes a good part of a second. Its result depends
+//! only on the motion the program commands and on the gear, hob, blank and
+//! machine it runs with, so it is kept, by a hash of exactly those, for the
+//! next program that commands the same motion on the same set-up (a repeat
+//! order of a part, under another part number or job).
+
+use std::collections::{HashMap, VecDeque};
+use std::sync::{Arc, Mutex};
+
+use gearcam_hobsim::simulate::{simulate, Settings};
+use gearcam_nc::Trace;
+use gearcam_proto::{Code, JobError, MachiningModel, NcProgram, SimulationReport, Stage};
+use sha2::{Digest, Sha256};
+
+/// Reports kept.
+const KEPT: usize = 256;
+
+/// The reports kept, by key, and the order they came in.
+type Kept = (HashMap<[u8; 32], SimulationReport>, VecDeque<[u8; 32]>);
+
+/// The simulations run, by the hash of what decides them (clones share
+/// them).
+#[derive(Debug, Clone, Default)]
+pub struct Simulations {
+    kept: Arc<Mutex<Kept>>,
+}
+
+/// Why a hobbing model is not simulated, when it is not: the simulator cuts
+/// and measures one cylindrical involute gear.
+pub fn out_of_scope(model: &MachiningModel) -> Option<&'static str> {
+    let k = &model.model;
+    if !k.units.is_empty() {
+        Some("a part of several gears is not simulated yet")
+    } else if k.crowning.is_some() {
+        Some("a crowned gear is not simulated yet")
+    } else if k.cone.is_some() {
+        Some("a conical gear is not simulated yet")
+    } else if k.worm.is_some() {
+        Some("a worm wheel is not simulated yet")
+    } else {
+        None
+    }
+}
+
+impl Simulations {
+    /// The simulation of `trace` (the program read back against `model`)
+    /// with `settings`, run now or kept from an earlier run of the same motion on
+    /// the same set-up; `None` for a model out of the simulator's scope.
+    pub fn report(
+        &self,
+        trace: &Trace,
+        model: &MachiningModel,
+        settings: &Settings,
+    ) -> Option<SimulationReport> {
+        if out_of_scope(model).is_some() {
+            return None;
+        }
+        let key = key_of(trace, model, settings);
+        if let Some(kept) = self.kept.lock().ok().and_then(|k| k.0.get(&key).cloned()) {
+            return Some(kept);
+        }
+        let started = tokio::time::Instant::now();
+        let report = match simulate(trace, model, settings) {
+            Ok(sim) => sim.report(started.elapsed().as_secs_f64() * 1e3),
+            Err(e) => unsimulated(settings, &e.to_string()),
+        };
+        if let Ok(mut k) = self.kept.lock() {
+            let (map, order) = &mut *k;
+            if map.insert(key, report.clone()).is_none() {
+                order.push_back(key);
+            }
+            while order.len() > KEPT {
+                if let Some(old) = order.pop_front() {
+                    map.remove(&old);
+                }
+            }
+        }
+        Some(report)
+    }
+}
+
+/// The hash of what decides a simulation: every block the trace holds
+/// (with its line, which the safety findings name) and the gear, hob,
+/// blank and machine of the model, and the settings.
+fn key_of(trace: &Trace, model: &MachiningModel, settings: &Settings) -> [u8; 32] {
+    let mut h = Sha256::new();
+    h.update(format!("{settings:?}").as_bytes());
+    h.update(format!("{trace:?}").as_bytes());
+    let plan = &model.plan;
+    h.update(format!("{:?}", plan.gear).as_bytes());
+    h.update(format!("{:?}", plan.hob).as_bytes());
+    h.update(format!("{:?}", plan.machine).as_bytes());
+    h.update(format!("{:?}", model.model.blank_od_mm).as_bytes());
+    h.update(format!("{:?}", model.geometry).as_bytes());
+    h.finalize().into()
+}
+
+/// The report of a program the simulator could not run.
+pub fn unsimulated(settings: &Settings, why: &str) -> SimulationReport {
+    SimulationReport {
+        mode: settings.mode.to_string(),
+        what_if: Vec::new(),
+        grade: None,
+        required_grade: 0,
+        deviations: Vec::new(),
+        not_measured: Some(format!("the program could not be simulated: {why}")),
+        safety: Vec::new(),
+        sections: 0,
+        samples_per_section: 0,
+        passes: 0,
+        thickness_mm: None,
+        span_mm: None,
+        over_balls_mm: None,
+        ms: 0.0,
+    }
+}
+
+/// The errors that stop a simulated program: every safety finding
+/// (`SIMULATION_UNSAFE`), and a gear visibly wrong (`SIMULATED_GEAR_WRONG`):
+/// one that cannot be measured as the drawing's gear (a wrong tooth count,
+/// a gap not cut), a helix beyond class 11 (a wrong hand or lead), or pitch
+/// deviations beyond the drawing's class. A grade worse than the drawing's
+/// in the other items is a warning, not an error ([`grade_warning`]).
+pub fn simulation_errors(program: &NcProgram) -> Vec<JobError> {
+    match &program.simulation {
+        Some(sim) => errors_of(&program.name, sim),
+        None => Vec::new(),
+    }
+}
+
+/// The errors of the simulation `sim` of program `name`.
+fn errors_of(name: &str, sim: &SimulationReport) -> Vec<JobError> {
+    let mut errors: Vec<JobError> = sim
+        .safety
+        .iter()
+        .map(|f| {
+            Stage::Template.error(
+                Code::SIMULATION_UNSAFE,
+                &format!("program.line.{}", f.line),
+                "a program whose virtual run is safe",
+                f.kind.clone(),
+                format!(
+                    "program {} line {}: {}; {}; the program was not sent",
+                    name, f.line, f.what, f.why
+                ),
+            )
+        })
+        .collect();
+    if let Some(why) = &sim.not_measured {
+        errors.push(Stage::Template.error(
+            Code::SIMULATED_GEAR_WRONG,
+            "simulation",
+            "a gear that measures as the drawing's",
+            why.clone(),
+            format!(
+                "program {}: the gear its virtual run cuts cannot be measured as the drawing's gear ({why}); the program was not sent",
+                name
+            ),
+        ));
+    }
+    for d in &sim.deviations {
+        let helix = d.item == "fHβ" && d.class.is_none();
+        let pitch =
+            (d.item == "fp" || d.item == "Fp") && d.class.unwrap_or(12) > sim.required_grade;
+        if helix || pitch {
+            errors.push(Stage::Template.error(
+                Code::SIMULATED_GEAR_WRONG,
+                &format!("simulation.{}", d.item),
+                if helix {
+                    "a helix within class 11 (the drawing's hand and lead)".to_string()
+                } else {
+                    format!("{} within class {}", d.item, sim.required_grade)
+                },
+                format!("{:.1} µm ({})", d.value_um, class_text(d.class)),
+                format!(
+                    "program {}: the gear its virtual run cuts has {} {:.1} µm, {} against the drawing's class {}; the program was not sent",
+                    name,
+                    d.item,
+                    d.value_um,
+                    class_text(d.class),
+                    sim.required_grade
+                ),
+            ));
+        }
+    }
+    errors
+}
+
+/// The warning for a predicted grade worse than the drawing's, naming the
+/// deviation that sets it.
+pub fn grade_warning(sim: &SimulationReport) -> Option<String> {
+    let d = sim.limiting()?;
+    let worse = sim.grade.is_none_or(|g| g > sim.required_grade);
+    worse.then(|| {
+        format!(
+            "the predicted class ({}) is worse than the drawing's class {}: {} is {:.1} µm against {:.1} µm",
+            class_text(sim.grade),
+            sim.required_grade,
+            d.item,
+            d.value_um,
+            d.tolerance_um
+        )
+    })
+}
+
+fn class_text(class: Option<u8>) -> String {
+    match class {
+        Some(c) => format!("class {c}"),
+        None => "worse than class 11".to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gearcam_proto::simulation::{Deviation, SafetyIssue};
+
+    fn deviation(item: &str, class: Option<u8>) -> Deviation {
+        Deviation {
+            item: item.into(),
+            value_um: 3.0,
+            tolerance_um: 3.5,
+            class,
+        }
+    }
+
+    /// A measured gear of the drawing's class 7 with `deviations`.
+    fn report(deviations: Vec<Deviation>) -> SimulationReport {
+        let worst = deviations.iter().map(|d| d.class.unwrap_or(12)).max();
+        SimulationReport {
+            grade: worst.filter(|c| *c <= 11),
+            required_grade: 7,
+            deviations,
+            not_measured: None,
+            ..unsimulated(&Settings::coarse(), "-")
+        }
+    }
+
+    fn codes(errors: &[JobError]) -> Vec<(Code, String)> {
+        errors.iter().map(|e| (e.code, e.field.clone())).collect()
+    }
+
+    /// Within the drawing's class: no error, no warning.
+    #[test]
+    fn a_gear_within_its_class_passes_quietly() {
+        let r = report(vec![deviation("fp", Some(4)), deviation("fHα", Some(7))]);
+        assert!(errors_of("P", &r).is_empty());
+        assert_eq!(grade_warning(&r), None);
+    }
+
+    /// A profile worse than the drawing is a warning naming it; a pitch
+    /// worse than the drawing, a helix beyond class 11, a gear that does
+    /// not measure and every safety finding stop the program.
+    #[test]
+    fn what_stops_a_program_and_what_warns() {
+        let r = report(vec![deviation("fp", Some(4)), deviation("fHα", Some(9))]);
+        assert!(errors_of("P", &r).is_empty());
+        let w = grade_warning(&r).expect("a warning");
+        assert!(w.contains("fHα") && w.contains("class 9"), "{w}");
+
+        let r = report(vec![deviation("Fp", Some(8)), deviation("fHβ", None)]);
+        assert_eq!(
+            codes(&errors_of("P", &r)),
+            vec![
+                (Code::SIMULATED_GEAR_WRONG, "simulation.Fp".to_string()),
+                (Code::SIMULATED_GEAR_WRONG, "simulation.fHβ".to_string())
+            ]
+        );
+        // A helix worse than the drawing but within class 11 warns only.
+        let r = report(vec![deviation("fHβ", Some(10))]);
+        assert!(errors_of("P", &r).is_empty());
+        assert!(grade_warning(&r).is_some());
+
+        let mut r = report(vec![]);
+        r.not_measured = Some("21 gaps, not 25".into());
+        r.safety.push(SafetyIssue {
+            kind: "rapid_contact".into(),
+            line: 31,
+            what: "the hob enters the blank 2.0 mm".into(),
+            why: "a rapid through material breaks the hob".into(),
+        });
+        let errors = errors_of("P", &r);
+        assert_eq!(
+            codes(&errors),
+            vec![
+                (Code::SIMULATION_UNSAFE, "program.line.31".to_string()),
+                (Code::SIMULATED_GEAR_WRONG, "simulation".to_string())
+            ]
+        );
+        assert!(
+            errors[0].message.contains("line 31"),
+            "{}",
+            errors[0].message
+        );
+    }
+
+    /// The same motion on the same set-up is the same simulation; another
+    /// gear is another.
+    #[test]
+    fn the_key_is_the_motion_and_the_set_up() {
+        let trace = Trace::default();
+        let json = include_str!("../../../crates/nc/tests/programs/spur_840d.model.json");
+        let model: MachiningModel = serde_json::from_str(json).expect("model");
+        let mut other = model.clone();
+        let fine = Settings::fine();
+        let key = |t: &Trace, m: &MachiningModel| key_of(t, m, &fine);
+        assert_eq!(key(&trace, &model), key(&trace, &other));
+        other.plan.gear.teeth += 1;
+        assert_ne!(key(&trace, &model), key(&trace, &other));
+        let mut moved = Trace::default();
+        moved.spindle_rpm.push((12, 300.0));
+        assert_ne!(key(&trace, &model), key(&moved, &model));
+        assert_ne!(
+            key(&trace, &model),
+            key_of(&trace, &model, &Settings::coarse())
+        );
+    }
+}
