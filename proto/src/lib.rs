@@ -77,11 +77,11 @@ pub use plan::{
     MachineProfile, MachineSettings, ParameterBlock, ProcessData, ProcessPlan, Source, Sourced,
     WorkpieceRef,
 };
-pub use simulation::SimulationReport;
 pub use program::{
     now_ms, utc_text, DeliveryReceipt, EventKind, JobEvent, NcProgram, PathCheck, PathFinding,
     TemplateRef,
 };
+pub use simulation::SimulationReport;
 pub use spiral::{
     CoverageCheck, GrooveFigures, MillData, MillProfile, MillingProcess, SpiralCut, SpiralFigures,
     SpiralModel, SpiralPart, SpiralPlan,

@@ -239,3 +239,72 @@ fn an_unknown_key_is_an_error_naming_the_key() {
     assert_eq!(v["errors"][0]["code"], "JOB_FILE_UNKNOWN_KEY");
     assert_eq!(v["errors"][0]["field"], "gear.tooth_count");
 }
+
+/// `gearcam check --simulate` runs the program on the virtual machine:
+/// `simulation` carries the predicted class of every ISO 1328-1 item with
+/// its tolerance, the size, no safety finding for the example, and the
+/// charts are written; a what-if runout of the workpiece shows in runout.
+#[test]
+fn check_json_simulates_a_hobbing_program_on_request() {
+    let dir = tempfile::tempdir().unwrap();
+    let example = gearcam_testkit::examples::example("spur_840d.toml");
+    let path = dir.path().join("spur.toml");
+    std::fs::write(&path, &example).unwrap();
+    let run = |extra: &[&str]| -> serde_json::Value {
+        let mut args = vec![
+            "check".to_string(),
+            path.display().to_string(),
+            "--json".into(),
+            "--simulate".into(),
+            "--coarse".into(),
+            "--data".into(),
+            dir.path().join("data").display().to_string(),
+        ];
+        args.extend(extra.iter().map(|s| s.to_string()));
+        let out = Command::new(bin("gearcam")).args(&args).output().unwrap();
+        serde_json::from_slice(&out.stdout)
+            .unwrap_or_else(|e| panic!("no JSON ({e}): {}", String::from_utf8_lossy(&out.stderr)))
+    };
+    let v = run(&[]);
+    let sim = &v["simulation"];
+    assert_eq!(sim["mode"], "coarse", "{v:#}");
+    assert_eq!(sim["sections"], 9);
+    assert_eq!(sim["safety"].as_array().unwrap().len(), 0, "{sim:#}");
+    let items: Vec<&str> = sim["deviations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["item"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        items,
+        ["fp", "Fp", "fHα", "ffα", "Fα", "fHβ", "ffβ", "Fβ", "Fr"]
+    );
+    for d in sim["deviations"].as_array().unwrap() {
+        assert!(d["tolerance_um"].as_f64().unwrap() > 0.0, "{d}");
+    }
+    assert!(sim["grade"].as_u64().is_some(), "{sim:#}");
+    assert!(sim["ms"].as_f64().unwrap() > 0.0);
+    let (got, design) = (&sim["thickness_mm"][0], &sim["thickness_mm"][1]);
+    assert_abs_diff_eq!(
+        got.as_f64().unwrap(),
+        design.as_f64().unwrap(),
+        epsilon = 0.01
+    );
+    let charts = v["simulation_picture"].as_str().expect("charts written");
+    assert!(std::fs::read_to_string(charts).unwrap().starts_with("<svg"));
+    // An eccentric workpiece of 20 µm cuts a runout of about twice that.
+    let worn = run(&["--table-runout", "0.02"]);
+    let fr = |v: &serde_json::Value| {
+        v["simulation"]["deviations"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|d| d["item"] == "Fr")
+            .unwrap()["value_um"]
+            .as_f64()
+            .unwrap()
+    };
+    assert_eq!(worn["simulation"]["what_if"][0], "table runout 0.02 mm");
+    assert!(fr(&worn) > fr(&v) + 20.0, "Fr {} → {}", fr(&v), fr(&worn));
+}

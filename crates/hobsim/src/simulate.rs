@@ -18,8 +18,8 @@ use gearcam_gearmeasure::helix::Hand as MeasureHand;
 use gearcam_gearmeasure::iso1328::{Grade, Item};
 use gearcam_gearmeasure::outline::{self, GearSpec, Measurement, PolarSections};
 use gearcam_nc::Trace;
-use gearcam_proto::simulation::{Deviation, SafetyIssue};
 use gearcam_proto::hobbing::Hand;
+use gearcam_proto::simulation::{Deviation, SafetyIssue};
 use gearcam_proto::{MachiningModel, SimulationReport};
 
 use crate::cut::{self, Blank, Resolution};
@@ -116,7 +116,10 @@ pub fn simulate(
     settings: &Settings,
 ) -> Result<Simulation, SimError> {
     if settings.sections < 9 {
-        return Err(SimError::Parameter("sections", "at least 9 across the face"));
+        return Err(SimError::Parameter(
+            "sections",
+            "at least 9 across the face",
+        ));
     }
     let timeline = kinematics::from_trace_with(trace, model, settings.rates, settings.errors)?;
     let hob = Hob::from_data(&model.plan.hob, settings.hob)?;

@@ -92,6 +92,8 @@ pub enum Command {
         /// closed; default: the picture's path with `.dxf`).
         #[arg(long)]
         dxf: Option<PathBuf>,
+        #[command(flatten)]
+        what_if: WhatIf,
     },
     /// Run the planning station service on its own (job journal, re-drives).
     Station {
@@ -209,10 +211,12 @@ pub async fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             data,
             svg,
             dxf,
+            what_if,
         } => Ok(cmd::check::check(
             &job,
             json,
             &data,
+            what_if.settings().as_ref(),
             svg.as_deref(),
             dxf.as_deref(),
         )),
@@ -296,5 +300,56 @@ impl Cli {
             (2, _) => "info",
             _ => "debug",
         }
+    }
+}
+
+/// How `gearcam check` runs a hobbing program on the virtual machine: the
+/// errors a shop knows of its machine and hob (all zero: the ideal
+/// machine), and how finely.
+#[derive(Debug, Clone, clap::Args)]
+pub struct WhatIf {
+    /// Centre-distance offset of the machine, mm (added to X).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub centre_distance_offset: f64,
+    /// Swivel offset of the hob head, degrees.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub swivel_offset: f64,
+    /// Radial runout of the mounted hob, mm.
+    #[arg(long, default_value_t = 0.0)]
+    pub hob_radial_runout: f64,
+    /// Axial runout of the mounted hob, mm.
+    #[arg(long, default_value_t = 0.0)]
+    pub hob_axial_runout: f64,
+    /// Runout of the workpiece on the table, mm.
+    #[arg(long, default_value_t = 0.0)]
+    pub table_runout: f64,
+    /// Run a hobbing program on the virtual machine: the gear it cuts,
+    /// measured and graded by ISO 1328-1:2013, and the run's safety findings
+    /// (the fine run takes minutes today; `--coarse` seconds).
+    #[arg(long)]
+    pub simulate: bool,
+    /// A quick look (outline within about 10 µm) instead of the fine run.
+    #[arg(long, requires = "simulate")]
+    pub coarse: bool,
+}
+
+impl WhatIf {
+    /// The simulation settings, when asked to simulate.
+    pub fn settings(&self) -> Option<gearcam_hobsim::simulate::Settings> {
+        use gearcam_hobsim::simulate::Settings;
+        if !self.simulate {
+            return None;
+        }
+        let mut s = if self.coarse {
+            Settings::coarse()
+        } else {
+            Settings::fine()
+        };
+        s.errors.centre_distance_mm = self.centre_distance_offset;
+        s.errors.swivel_deg = self.swivel_offset;
+        s.errors.hob_radial_mm = self.hob_radial_runout;
+        s.errors.hob_axial_mm = self.hob_axial_runout;
+        s.errors.table_mm = self.table_runout;
+        Some(s)
     }
 }

@@ -2,6 +2,7 @@
 //! NC path check, with the gear's figures; the model comes back for the
 //! picture of the set-up and the path ([`super::picture_hobbing`]).
 
+use gearcam_hobsim::simulate::{Settings, Simulation};
 use gearcam_proto::{Geometry, JobRequest, MachiningModel};
 use gearcam_template::Templates;
 use rusqlite::Connection;
@@ -27,7 +28,8 @@ pub fn check_hobbing(
     templates: &Templates,
     req: &JobRequest,
     mut report: CheckReport,
-) -> (CheckReport, Option<MachiningModel>) {
+    simulation: Option<&Settings>,
+) -> (CheckReport, Option<MachiningModel>, Option<Simulation>) {
     let spec = &req.spec;
     // Before the model has validated the gear, its figures are shown only
     // when they describe a gear (a module of -3 gives d -75 mm: no figures).
@@ -38,7 +40,7 @@ pub fn check_hobbing(
         Ok(p) => p,
         Err(errors) => {
             report.errors = errors;
-            return (report, None);
+            return (report, None, None);
         }
     };
     // The plan's gear: the job's, or the workpiece library's for a job that
@@ -61,16 +63,39 @@ pub fn check_hobbing(
         Ok(m) => m,
         Err(errors) => {
             report.errors = errors;
-            return (report, None);
+            return (report, None, None);
         }
     };
     report.geometry = Some(model.geometry.clone());
     report.model = Some(ModelReport::Hobbing(Box::new(model.model.clone())));
     report.warnings = model.warnings.clone();
+    let mut sim = None;
     match templates.instantiate(&model) {
-        Ok(p) => {
+        Ok(mut p) => {
             report.errors = gearcam_template::render::path_check_errors(&p);
+            // Only a program whose path holds is run on the virtual machine.
+            if let (Some(settings), true) = (simulation, p.path_check.ok) {
+                match gearcam_template::simulation::out_of_scope(&model) {
+                    Some(why) => report.not_simulated = Some(why.to_string()),
+                    None => sim = run(&model, settings, &mut p),
+                }
+            }
+            report
+                .errors
+                .extend(gearcam_template::simulation::simulation_errors(&p));
             report.ok = report.errors.is_empty();
+            if let Some(w) = p
+                .simulation
+                .as_ref()
+                .and_then(gearcam_template::simulation::grade_warning)
+            {
+                report.warnings.push(gearcam_proto::model::Warning {
+                    code: gearcam_proto::Code::PREDICTED_GRADE,
+                    field: "simulation.grade".into(),
+                    message: w,
+                });
+            }
+            report.simulation = p.simulation;
             report.program = Some(ProgramSummary {
                 name: p.name,
                 dialect: p.dialect.as_str().into(),
@@ -82,5 +107,29 @@ pub fn check_hobbing(
         }
         Err(errors) => report.errors = errors,
     }
-    (report, Some(model))
+    (report, Some(model), sim)
+}
+
+/// The program run on the virtual machine: its report goes into
+/// `program`, the run comes back (for the charts).
+fn run(
+    model: &MachiningModel,
+    settings: &Settings,
+    program: &mut gearcam_proto::NcProgram,
+) -> Option<Simulation> {
+    let started = tokio::time::Instant::now();
+    let (_, trace) = gearcam_nc::check(&program.text, model);
+    match gearcam_hobsim::simulate::simulate(&trace, model, settings) {
+        Ok(sim) => {
+            program.simulation = Some(sim.report(started.elapsed().as_secs_f64() * 1e3));
+            Some(sim)
+        }
+        Err(e) => {
+            program.simulation = Some(gearcam_template::simulation::unsimulated(
+                settings,
+                &e.to_string(),
+            ));
+            None
+        }
+    }
 }

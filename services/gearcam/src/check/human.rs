@@ -133,6 +133,15 @@ pub fn format_human(r: &CheckReport) -> String {
     if let Some(ModelReport::Hobbing(m)) = &r.model {
         hobbing(&mut out, m);
     }
+    if let Some(s) = &r.simulation {
+        simulation(&mut out, s);
+    }
+    if let Some(p) = &r.simulation_picture {
+        let _ = writeln!(out, "simulation charts: {p}");
+    }
+    if let Some(why) = &r.not_simulated {
+        let _ = writeln!(out, "virtual hobbing: not simulated ({why})");
+    }
     for w in &r.warnings {
         let _ = writeln!(out, "  ! {} {}: {}", w.code, w.field, w.message);
     }
@@ -329,6 +338,63 @@ fn hobbing(out: &mut String, m: &Kinematics) {
             out,
             "    {:<34} {:>12.4} {:<6} from {:?}: {}",
             e.name, e.value, e.unit, e.origin, e.note
+        );
+    }
+}
+
+/// The virtual run: the predicted class per item and overall, the size,
+/// the safety findings.
+fn simulation(out: &mut String, s: &gearcam_proto::SimulationReport) {
+    let class = |c: Option<u8>| c.map_or("worse than 11".to_string(), |c| c.to_string());
+    let _ = writeln!(
+        out,
+        "virtual hobbing ({}, {} sections × {} samples, {} gash passes, {:.0} ms): predicted ISO 1328-1 class {} (drawing {})",
+        s.mode,
+        s.sections,
+        s.samples_per_section,
+        s.passes,
+        s.ms,
+        class(s.grade),
+        s.required_grade
+    );
+    if !s.what_if.is_empty() {
+        let _ = writeln!(out, "  what if: {}", s.what_if.join(", "));
+    }
+    if let Some(why) = &s.not_measured {
+        let _ = writeln!(out, "  the cut gear cannot be measured: {why}");
+    }
+    for d in &s.deviations {
+        let _ = writeln!(
+            out,
+            "  {:<4} {:>8.2} µm  class {:<13} (tolerance {:.1} µm)",
+            d.item,
+            d.value_um,
+            class(d.class),
+            d.tolerance_um
+        );
+    }
+    let pairs = [
+        ("tooth thickness", s.thickness_mm),
+        ("span", s.span_mm),
+        ("over balls", s.over_balls_mm),
+    ];
+    for (name, v) in pairs {
+        if let Some((got, design)) = v {
+            let _ = writeln!(
+                out,
+                "  {name} {got:.4} mm (drawing {design:.4} mm, {:+.1} µm)",
+                (got - design) * 1e3
+            );
+        }
+    }
+    if s.safety.is_empty() {
+        let _ = writeln!(out, "  safety: no finding");
+    }
+    for f in &s.safety {
+        let _ = writeln!(
+            out,
+            "  safety: line {} [{}] {}; {}",
+            f.line, f.kind, f.what, f.why
         );
     }
 }

@@ -268,6 +268,17 @@ pub struct CheckReport {
     /// The NC program.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub program: Option<ProgramSummary>,
+    /// The hobbing program's virtual run: the gear it cuts, measured and
+    /// graded (`grade`, `deviations`), the run's `safety` findings,
+    /// `sections`, `ms`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub simulation: Option<gearcam_proto::SimulationReport>,
+    /// Why a hobbing program was not simulated, when it was not.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_simulated: Option<String>,
+    /// Where the simulated gear's measuring charts (SVG) were written.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub simulation_picture: Option<String>,
 }
 
 impl CheckReport {
@@ -286,6 +297,9 @@ impl CheckReport {
             picture: None,
             drawing: None,
             program: None,
+            simulation: None,
+            not_simulated: None,
+            simulation_picture: None,
         }
     }
 }
@@ -305,8 +319,11 @@ pub(crate) fn job_summary(req: &JobRequest) -> CheckReport {
 /// The model of a job that has a picture.
 #[derive(Debug, Clone)]
 pub enum Drawing {
-    /// A hobbing job's.
-    Hobbing(Box<gearcam_proto::MachiningModel>),
+    /// A hobbing job's, with its virtual run when there was one.
+    Hobbing(
+        Box<gearcam_proto::MachiningModel>,
+        Option<Box<gearcam_hobsim::simulate::Simulation>>,
+    ),
     /// A spiral job's.
     Spiral(Box<SpiralModel>),
     /// A wire job's, with its die as made (outline, path, program).
@@ -314,17 +331,22 @@ pub enum Drawing {
 }
 
 /// Runs knowledge → model → program locally for one request of any
-/// family; the job's model comes back too (for its picture).
+/// family; the job's model comes back too (for its picture). A hobbing
+/// program is run on the virtual machine with `simulation`, when given.
 pub fn check(
     conn: &Connection,
     templates: &Templates,
     req: &JobRequest,
+    simulation: Option<&gearcam_hobsim::simulate::Settings>,
 ) -> (CheckReport, Option<Drawing>) {
     let report = job_summary(req);
     match req.spec.family() {
         Family::Hobbing => {
-            let (r, m) = hobbing::check_hobbing(conn, templates, req, report);
-            (r, m.map(|m| Drawing::Hobbing(Box::new(m))))
+            let (r, m, sim) = hobbing::check_hobbing(conn, templates, req, report, simulation);
+            (
+                r,
+                m.map(|m| Drawing::Hobbing(Box::new(m), sim.map(Box::new))),
+            )
         }
         Family::SpiralFace => {
             let (r, m) = spiral::check_spiral(conn, req, report);
@@ -366,7 +388,13 @@ mod tests {
         let path = gearcam_testkit::examples::dir().join(name);
         let spec = crate::jobfile::load(&path).unwrap();
         let conn = gearcam_knowledge::db::open_in_memory().unwrap();
-        check(&conn, &Templates::builtin(), &crate::jobfile::request(spec)).0
+        check(
+            &conn,
+            &Templates::builtin(),
+            &crate::jobfile::request(spec),
+            None,
+        )
+        .0
     }
 
     #[test]
@@ -442,7 +470,13 @@ mod tests {
             "t.toml",
         )
         .unwrap();
-        let report = check(&conn, &Templates::builtin(), &crate::jobfile::request(spec)).0;
+        let report = check(
+            &conn,
+            &Templates::builtin(),
+            &crate::jobfile::request(spec),
+            None,
+        )
+        .0;
         assert!(!report.ok);
         assert!(report.geometry.is_none() && report.plan.is_none());
         let e = &report.errors[0];
@@ -469,7 +503,7 @@ mod tests {
         assert!(spiral.len() >= 10, "{} spiral examples", spiral.len());
         for (name, text) in spiral {
             let spec = crate::jobfile::parse(&text, &name).unwrap();
-            let (report, model) = check(&conn, &templates, &crate::jobfile::request(spec));
+            let (report, model) = check(&conn, &templates, &crate::jobfile::request(spec), None);
             match gearcam_testkit::examples::expected_code(&text) {
                 Some(code) => assert!(
                     report.errors.iter().any(|e| e.code == code),
@@ -551,7 +585,7 @@ mod tests {
         assert!(all.len() >= 10, "{} examples", all.len());
         for (name, text) in all {
             let spec = crate::jobfile::parse(&text, &name).unwrap();
-            let report = check(&conn, &templates, &crate::jobfile::request(spec)).0;
+            let report = check(&conn, &templates, &crate::jobfile::request(spec), None).0;
             let plan = report
                 .plan
                 .as_ref()

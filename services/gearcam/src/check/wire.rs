@@ -114,7 +114,8 @@ mod tests {
         let mut seen = std::collections::BTreeSet::new();
         for (name, text) in wire {
             let spec = crate::jobfile::parse(&text, &name).unwrap();
-            let (report, model) = check_any(&conn, &templates, &crate::jobfile::request(spec));
+            let (report, model) =
+                check_any(&conn, &templates, &crate::jobfile::request(spec), None);
             match gearcam_testkit::examples::expected_code(&text) {
                 Some(code) => assert!(
                     report.errors.iter().any(|e| e.code == code),
@@ -166,7 +167,12 @@ mod tests {
         let conn = gearcam_knowledge::db::open_in_memory().unwrap();
         let text = gearcam_testkit::examples::example("die_m1z40_iso.toml");
         let spec = crate::jobfile::parse(&text, "die_m1z40_iso.toml").unwrap();
-        let (report, _) = check_any(&conn, &Templates::builtin(), &crate::jobfile::request(spec));
+        let (report, _) = check_any(
+            &conn,
+            &Templates::builtin(),
+            &crate::jobfile::request(spec),
+            None,
+        );
         let v = serde_json::to_value(&report).unwrap();
         let die = &v["model"]["die"];
         for key in [

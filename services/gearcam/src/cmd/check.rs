@@ -40,8 +40,20 @@ fn write_file(path: &Path, bytes: &[u8]) -> Result<String, String> {
 /// Writes the picture of a hobbing, spiral or wire model to `svg`, and a
 /// wire job's outline as DXF to `dxf`.
 fn write_drawings(model: &crate::check::Drawing, report: &mut CheckReport, svg: &Path, dxf: &Path) {
+    if let crate::check::Drawing::Hobbing(_, Some(sim)) = model {
+        let stem = svg
+            .file_stem()
+            .map_or("job".into(), |s| s.to_string_lossy());
+        let charts = svg.with_file_name(format!("{stem}-simulation.svg"));
+        if let Some(doc) = check::picture_simulation::simulation_svg(sim) {
+            match write_file(&charts, doc.as_bytes()) {
+                Ok(p) => report.simulation_picture = Some(p),
+                Err(e) => eprintln!("gearcam: cannot write the simulation's charts {e}"),
+            }
+        }
+    }
     let files = match model {
-        crate::check::Drawing::Hobbing(m) => Ok((check::hobbing_svg(m), None)),
+        crate::check::Drawing::Hobbing(m, _) => Ok((check::hobbing_svg(m), None)),
         crate::check::Drawing::Spiral(m) => Ok((check::spiral_picture(m), None)),
         crate::check::Drawing::Wire(m, made) => {
             crate::check::die_drawings(m, made).map(|(svg, dxf)| (svg, Some(dxf)))
@@ -68,6 +80,7 @@ pub fn check(
     job: &Path,
     json: bool,
     data: &Path,
+    simulation: Option<&gearcam_hobsim::simulate::Settings>,
     svg: Option<&Path>,
     dxf: Option<&Path>,
 ) -> ExitCode {
@@ -85,7 +98,8 @@ pub fn check(
             match gearcam_knowledge::db::open(&data.join("knowledge.db")) {
                 Ok(conn) => match template_library(data) {
                     Ok(templates) => {
-                        let (mut report, model) = crate::check::check(&conn, &templates, &req);
+                        let (mut report, model) =
+                            crate::check::check(&conn, &templates, &req, simulation);
                         if let Some(model) = model {
                             let svg =
                                 svg.map_or_else(|| default_picture(job, data), Path::to_path_buf);
@@ -157,7 +171,7 @@ mod tests {
         let spec = jobfile::parse(&text, "spur_840d.toml").unwrap();
         let conn = gearcam_knowledge::db::open_in_memory().unwrap();
         let (mut report, drawing) =
-            crate::check::check(&conn, &Templates::builtin(), &jobfile::request(spec));
+            crate::check::check(&conn, &Templates::builtin(), &jobfile::request(spec), None);
         let dir = tempfile::tempdir().unwrap();
         let svg = dir.path().join("pictures").join("spur_840d.svg");
         let dxf = svg.with_extension("dxf");

@@ -54,7 +54,7 @@ impl LocalCheck {
             return CheckReport::failed(vec![e]);
         }
         match gearcam_knowledge::db::open(&self.data.join("knowledge.db")) {
-            Ok(conn) => crate::check::check(&conn, &self.templates, req).0,
+            Ok(conn) => crate::check::check(&conn, &self.templates, req, None).0,
             Err(e) => CheckReport::failed(vec![Stage::Knowledge.error(
                 Code::DATA_DIR_NOT_WRITABLE,
                 "data",

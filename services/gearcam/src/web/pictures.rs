@@ -413,9 +413,14 @@ mod tests {
         let mut spec = crate::jobfile::parse(&text, example).unwrap();
         spec.job.part_number = part.into();
         let conn = gearcam_knowledge::db::open_in_memory().unwrap();
-        let (report, drawing) = check(&conn, &Templates::builtin(), &crate::jobfile::request(spec));
+        let (report, drawing) = check(
+            &conn,
+            &Templates::builtin(),
+            &crate::jobfile::request(spec),
+            None,
+        );
         match drawing {
-            Some(Drawing::Hobbing(m)) => AnyModel::Hobbing(m),
+            Some(Drawing::Hobbing(m, _)) => AnyModel::Hobbing(m),
             Some(Drawing::Spiral(m)) => AnyModel::Spiral(m),
             Some(Drawing::Wire(m, _)) => AnyModel::Wire(m),
             None => panic!("{example}: no model: {:?}", report.errors),
