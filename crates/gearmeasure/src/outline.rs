@@ -47,7 +47,7 @@ mod traces;
 
 pub use chart_data::{chart_data, ChartData, TracePoints};
 pub use report::{
-    FlankValues, ItemResult, Measurement, Runout, SectionProfile, SizeResult, TeethTraces,
+    symbol, FlankValues, ItemResult, Measurement, Runout, SectionProfile, SizeResult, TeethTraces,
 };
 pub use spec::{Direction, GearSpec, Geometry};
 

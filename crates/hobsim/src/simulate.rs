@@ -15,7 +15,7 @@
 //! tooth thickness.
 
 use gearcam_gearmeasure::helix::Hand as MeasureHand;
-use gearcam_gearmeasure::iso1328::{Grade, Item};
+use gearcam_gearmeasure::iso1328::Grade;
 use gearcam_gearmeasure::outline::{self, GearSpec, Measurement, PolarSections};
 use gearcam_nc::Trace;
 use gearcam_proto::hobbing::Hand;
@@ -193,7 +193,7 @@ impl Simulation {
                 m.items
                     .iter()
                     .map(|i| Deviation {
-                        item: symbol(i.item).to_string(),
+                        item: outline::symbol(i.item).to_string(),
                         value_um: i.value_um,
                         tolerance_um: i.tolerance_um,
                         class: class(i.grade),
@@ -241,21 +241,6 @@ impl Simulation {
             over_balls_mm: sizes.map(|s| (s.over_balls_mm, s.over_balls_design_mm)),
             ms,
         }
-    }
-}
-
-/// The symbol of an ISO 1328-1 item, as a gear-measuring machine prints it.
-fn symbol(item: Item) -> &'static str {
-    match item {
-        Item::SinglePitch => "fp",
-        Item::CumulativePitch => "Fp",
-        Item::ProfileSlope => "fHα",
-        Item::ProfileForm => "ffα",
-        Item::ProfileTotal => "Fα",
-        Item::HelixSlope => "fHβ",
-        Item::HelixForm => "ffβ",
-        Item::HelixTotal => "Fβ",
-        Item::Runout => "Fr",
     }
 }
 

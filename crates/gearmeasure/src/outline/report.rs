@@ -173,7 +173,9 @@ impl Measurement {
     }
 }
 
-fn symbol(item: Item) -> &'static str {
+/// The symbol of an item as a gear-measuring machine prints it (fp, Fp,
+/// fHα, ...).
+pub fn symbol(item: Item) -> &'static str {
     match item {
         Item::SinglePitch => "fp",
         Item::CumulativePitch => "Fp",
