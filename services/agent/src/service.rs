@@ -4,7 +4,7 @@
 //! with a typed refusal), and publishes the same as a job event. The store is
 //! also queryable for lost receipts, history, versions and rollback.
 
-use gearcam_bus::query::{next_batch, Answer};
+use gearcam_bus::query::{run_queryable_batched, Answer};
 use gearcam_bus::stage::codec_error;
 use gearcam_bus::{Bus, CancellationToken};
 use gearcam_proto::keys::AgentKey;
@@ -13,14 +13,10 @@ use gearcam_proto::{
     decode, keys, DeliveryReply, EventKind, JobError, JobId, NcProgram, ProgramHistory, Stage,
     StoreReply, StoreRequest,
 };
-use tokio::sync::mpsc;
 
-use crate::guard::Models;
+use crate::guard::{self, Models};
 use crate::store::{Resolution, Store, StoreConfig};
-
-mod deliver;
 use crate::AgentError;
-use deliver::Group;
 
 /// Runs the agent for one machine until `shutdown` is cancelled.
 pub async fn run(
@@ -38,40 +34,87 @@ pub async fn run(
         return Err(AgentError::Duplicate(duplicate_message(&machine, &earlier)));
     }
     let models = Models::follow(&bus, machine.clone(), serving.clone()).await?;
-    let queryable = bus
-        .session()
-        .declare_queryable(keys::agent_any(&machine))
-        .await
-        .map_err(|e| {
-            AgentError::Bus(gearcam_bus::BusError::Zenoh {
-                op: "declare queryable",
-                detail: e.to_string(),
-            })
-        })?;
-    let _token = bus.alive_token(&keys::agent_service(&machine)).await?;
-    tracing::info!(%machine, "serving deliveries and the store's queries");
-    // The store, on a thread of its own, commits a group while the next
-    // one is checked (module `deliver`).
-    let config = store.config().clone();
-    let (groups, mut taken) = mpsc::channel::<Group>(STORE_QUEUE);
-    let storing = {
-        let (bus, runtime) = (bus.clone(), tokio::runtime::Handle::current());
-        tokio::task::spawn_blocking(move || {
-            deliver::store_groups(&mut store, &mut taken, &bus, &runtime);
-        })
-    };
-    while let Some(queries) = next_batch(&queryable, &serving, MAX_BATCH).await {
-        let group = deliver::check_group(&bus, &machine, &config, &models, queries).await;
-        if groups.send(group).await.is_err() {
-            break;
-        }
-    }
-    // The groups already taken are stored and answered before the agent
-    // stops.
-    drop(groups);
-    if storing.await.is_err() {
-        tracing::error!(%machine, "the program store's thread stopped unexpectedly");
-    }
+    let guard_bus = bus.clone();
+    let runtime = tokio::runtime::Handle::current();
+    let pattern = keys::agent_any(&machine);
+    run_queryable_batched(
+        &bus,
+        &pattern,
+        Some(&keys::agent_service(&machine)),
+        Stage::Agent,
+        serving,
+        MAX_BATCH,
+        |batch| {
+            // Deliveries are stored together (one group commit); every other
+            // query is answered on its own, after them.
+            let mut answers: Vec<Option<Answer>> = batch.iter().map(|_| None).collect();
+            let mut deliveries = Vec::new();
+            for (i, (key, payload)) in batch.iter().enumerate() {
+                if let Some(AgentKey::Delivery(job)) = keys::agent_key_of(&machine, key) {
+                    match decode_delivery(job, payload) {
+                        Ok(program) => deliveries.push((i, program)),
+                        Err(answer) => answers[i] = Some(answer),
+                    }
+                }
+            }
+            // Defence in depth: a journaled job of this machine, and a
+            // program that passes the path check against its model.
+            let deliveries: Vec<(usize, NcProgram)> = deliveries
+                .into_iter()
+                .filter_map(|(i, program)| match store.check_program(&program) {
+                    Ok(_) => Some((i, program)),
+                    Err(error) => {
+                        answers[i] = Some(refused(Some(program.job_id), error));
+                        None
+                    }
+                })
+                .collect();
+            // The station is asked while the programs are checked: the
+            // question's round trip overlaps the path checks.
+            let jobs: Vec<JobId> = deliveries.iter().map(|(_, p)| p.job_id.clone()).collect();
+            let jobs_asked = jobs.clone();
+            let asked = (!jobs.is_empty()).then(|| {
+                let (bus, machine) = (guard_bus.clone(), machine.clone());
+                runtime.spawn(async move { guard::journaled(&bus, &machine, &jobs).await })
+            });
+            if !jobs_asked.is_empty() {
+                tokio::task::block_in_place(|| {
+                    runtime.block_on(models.wait_for(&jobs_asked, guard::MODEL_WAIT))
+                });
+            }
+            let checks: Vec<Result<(), JobError>> =
+                deliveries.iter().map(|(_, p)| models.check(p)).collect();
+            let verdicts = match asked {
+                None => Vec::new(),
+                Some(task) => tokio::task::block_in_place(|| runtime.block_on(task))
+                    .unwrap_or_else(|e| vec![Err(guard::unasked(&e.to_string())); deliveries.len()]),
+            };
+            let mut checked = Vec::with_capacity(deliveries.len());
+            for (((i, program), verdict), check) in deliveries.into_iter().zip(verdicts).zip(checks) {
+                match verdict.and(check) {
+                    Ok(()) => checked.push((i, program)),
+                    Err(error) => {
+                        tracing::warn!(job = %program.job_id, code = error.code.as_str(), "program refused before storing");
+                        answers[i] = Some(refused(Some(program.job_id), error));
+                    }
+                }
+            }
+            let programs: Vec<NcProgram> = checked.iter().map(|(_, p)| p.clone()).collect();
+            for ((i, program), result) in checked.into_iter().zip(store.store_batch(&programs)) {
+                answers[i] = Some(delivered(&store, program, result));
+            }
+            for (i, (key, payload)) in batch.iter().enumerate() {
+                if answers[i].is_none() {
+                    answers[i] = Some(answer_store_query(&mut store, key, payload));
+                }
+            }
+            answers
+                .into_iter()
+                .map(|a| a.expect("every query answered"))
+                .collect()
+        },
+    )
+    .await?;
     if let Some(earlier) = single.refused() {
         return Err(AgentError::Duplicate(duplicate_message(&machine, &earlier)));
     }
@@ -164,13 +207,8 @@ async fn single_agent(
     })
 }
 
-/// Largest group of queries taken together (the station is asked about a
-/// group's jobs in one question).
+/// Largest group of deliveries committed together.
 const MAX_BATCH: usize = gearcam_proto::JobIds::MAX;
-
-/// Groups checked and waiting for the store: one being stored, the next
-/// ready; the queries after them wait in the queryable.
-const STORE_QUEUE: usize = 2;
 
 /// Answers a store query (lost receipts, history, versions, changes), always
 /// with a typed reply.
