@@ -5,7 +5,8 @@ use gearcam_hobsim::cut::{self, Blank, Resolution};
 use gearcam_hobsim::hob::Hob;
 use gearcam_hobsim::kinematics::{Axes, Gearbox, Segment, Timeline};
 
-const PI: f64 = std::f64::consts::PI;
+mod common;
+
 const TAU: f64 = std::f64::consts::TAU;
 
 /// A spur gear of module 10 and `Z` teeth and a right-hand hob of
@@ -18,24 +19,6 @@ const MN: f64 = 10.0;
 const R0: f64 = 500.0;
 const Z: u32 = 20;
 const ALPHA: f64 = 20.0;
-
-fn hob(starts: u32, gashes: u32) -> Hob {
-    let r0 = R0;
-    let g0 = (f64::from(starts) * MN / (2.0 * r0)).asin();
-    Hob {
-        starts,
-        hand: 1.0,
-        tip_radius_mm: r0 + 1.25 * MN,
-        ref_radius_mm: r0,
-        root_radius_mm: r0 - 1.25 * MN,
-        axial_pitch_mm: PI * MN / g0.cos(),
-        tan_alpha_x: ALPHA.to_radians().tan() / g0.cos(),
-        length_mm: 100.0,
-        gashes,
-        tip_corner_radius_mm: 0.0,
-        cos_lead: g0.cos(),
-    }
-}
 
 fn centre_distance() -> f64 {
     MN * f64::from(Z) / 2.0 + R0
@@ -175,7 +158,7 @@ fn sawtooth(samples: &[(f64, f64)], period: f64) -> Vec<(f64, f64)> {
 fn generating_flats_are_as_deep_as_the_tangents_of_the_involute_leave() {
     let rb = MN * f64::from(Z) / 2.0 * ALPHA.to_radians().cos();
     for (starts, gashes) in [(1, 3), (1, 4), (1, 6), (2, 6)] {
-        let h = hob(starts, gashes);
+        let h = common::rack_hob(R0, starts, gashes, 0.0);
         let blank = one_section(&h);
         let d_eps = TAU * f64::from(starts) / (f64::from(Z) * f64::from(gashes));
         let f = flank(&blank.r_mm[0], rb, 96.0, 107.0);
@@ -224,7 +207,7 @@ fn generating_flats_are_as_deep_as_the_tangents_of_the_involute_leave() {
 #[test]
 fn feed_marks_in_the_root_are_as_deep_as_the_tip_circles_leave() {
     for f in [4.0, 8.0, 12.0] {
-        let mut h = hob(1, 12);
+        let mut h = common::rack_hob(R0, 1, 12, 0.0);
         h.length_mm = 20.0;
         let tl = run(&h, 50.0 + 3.0 * f, 50.0 - f, 4.0);
         let z = Blank::planes(50.0, 50.0 + 2.0 * f, 13);
@@ -264,7 +247,7 @@ fn feed_marks_in_the_root_are_as_deep_as_the_tip_circles_leave() {
 #[ignore = "about 40 s in release: cargo test --release -p gearcam-hobsim -- --ignored"]
 fn many_gashes_cut_the_involute() {
     let rb = MN * f64::from(Z) / 2.0 * ALPHA.to_radians().cos();
-    let h = hob(1, 32);
+    let h = common::rack_hob(R0, 1, 32, 0.0);
     let blank = one_section(&h);
     // The flank half a turn from where the plunge starts and ends (the gap
     // at θ 0 is also cut by the first and last passes, whose hob turns

@@ -15,62 +15,9 @@ use sweep::reference_radius;
 
 use gearcam_hobsim::cut::{self, Blank, Resolution};
 use gearcam_hobsim::hob::{Hob, HobExtras};
-use gearcam_hobsim::kinematics::{Axes, Gearbox, Segment, Timeline};
+use gearcam_hobsim::kinematics::Timeline;
 
-const PI: f64 = std::f64::consts::PI;
 const TAU: f64 = std::f64::consts::TAU;
-
-const MN: f64 = 10.0;
-const Z: u32 = 20;
-const ALPHA: f64 = 20.0;
-
-/// A right-hand hob of module 10, reference radius `r0` (addendum 1.25·mn).
-fn hob(r0: f64, starts: u32, gashes: u32) -> Hob {
-    let g0 = (f64::from(starts) * MN / (2.0 * r0)).asin();
-    Hob {
-        starts,
-        hand: 1.0,
-        tip_radius_mm: r0 + 1.25 * MN,
-        ref_radius_mm: r0,
-        root_radius_mm: r0 - 1.25 * MN,
-        axial_pitch_mm: PI * MN / g0.cos(),
-        tan_alpha_x: ALPHA.to_radians().tan() / g0.cos(),
-        length_mm: 100.0,
-        gashes,
-        tip_corner_radius_mm: 0.0,
-        cos_lead: g0.cos(),
-    }
-}
-
-/// The spur plunge: the hob at X = r + r0, Z 50, for `turns` table turns,
-/// η = −s_h·γ0, C/B = s_h·z0/z, the hob at 1 turn/s.
-fn plunge(h: &Hob, turns: f64) -> Timeline {
-    let g0 = (f64::from(h.starts) * MN / (2.0 * h.ref_radius_mm)).asin();
-    let ratio = h.hand * f64::from(h.starts) / f64::from(Z);
-    let x = MN * f64::from(Z) / 2.0 + h.ref_radius_mm;
-    let at = Axes {
-        x_mm: x,
-        y_mm: 0.0,
-        z_mm: 50.0,
-    };
-    Timeline::from_segments(vec![Segment {
-        line: 0,
-        t0_s: 0.0,
-        t1_s: turns / ratio.abs(),
-        from: at,
-        to: at,
-        eta_rad: -h.hand * g0,
-        hob_rev_s: 1.0,
-        gearbox: Some(Gearbox {
-            c_per_b: ratio,
-            c_per_z_rad_mm: 0.0,
-            c_per_y_rad_mm: 0.0,
-        }),
-        c_extra_rad: 0.0,
-        feed: true,
-    }])
-    .expect("timeline")
-}
 
 /// The sample indices of the flank of the first tooth space rising
 /// counter-clockwise from the root, between radii `r_lo` and `r_hi`.
@@ -129,8 +76,8 @@ fn worst_on_flank(
 #[test]
 #[ignore = "about 20 s in release: cargo test --release -p gearcam-hobsim -- --ignored"]
 fn the_spur_cut_is_the_exact_sweep_of_its_gashes() {
-    let h = hob(125.0, 1, 32);
-    let tl = plunge(&h, 1.05);
+    let h = common::rack_hob(125.0, 1, 32, 0.0);
+    let tl = common::spur_plunge(&h, 1.05);
     let mut blank = Blank::new(vec![50.0, 56.0], 110.0, 1 << 16).expect("blank");
     let res = Resolution {
         axial_step_mm: 0.02,

@@ -4,7 +4,7 @@
 
 use gearcam_hobsim::cut::{self, Blank, Resolution};
 use gearcam_hobsim::hob::{Hob, HobExtras};
-use gearcam_hobsim::kinematics::{self, MachineRates, Timeline};
+use gearcam_hobsim::kinematics::{self, Axes, Gearbox, MachineRates, Segment, Timeline};
 use gearcam_proto::MachiningModel;
 
 /// A real program and its model from `crates/nc/tests/programs`.
@@ -84,4 +84,60 @@ pub(crate) fn gap_phase(outline: &[f64], r_mm: f64, teeth: u32) -> f64 {
         s += (f64::from(teeth) * mid).sin();
     }
     s.atan2(c)
+}
+
+/// The closed-form set-ups' gear: module 10, α 20°, 20 teeth.
+pub(crate) const SET_UP_MN: f64 = 10.0;
+/// Its teeth.
+pub(crate) const SET_UP_Z: u32 = 20;
+
+/// A right-hand hob of the set-ups' module and pressure angle, reference
+/// radius `r0`, addendum and dedendum 1.25·mn, 100 mm long, `gashes`
+/// straight gashes, tip corners of radius `corner_mm`.
+pub(crate) fn rack_hob(r0: f64, starts: u32, gashes: u32, corner_mm: f64) -> Hob {
+    let mn = SET_UP_MN;
+    let g0 = (f64::from(starts) * mn / (2.0 * r0)).asin();
+    Hob {
+        starts,
+        hand: 1.0,
+        tip_radius_mm: r0 + 1.25 * mn,
+        ref_radius_mm: r0,
+        root_radius_mm: r0 - 1.25 * mn,
+        axial_pitch_mm: std::f64::consts::PI * mn / g0.cos(),
+        tan_alpha_x: 20f64.to_radians().tan() / g0.cos(),
+        length_mm: 100.0,
+        gashes,
+        tip_corner_radius_mm: corner_mm,
+        cos_lead: g0.cos(),
+    }
+}
+
+/// The set-ups' spur plunge: the hob at X = r + r0 (no profile shift),
+/// Z 50, for `turns` table turns, η = −s_h·γ0, C/B = s_h·z0/z, the hob at
+/// 1 turn/s.
+pub(crate) fn spur_plunge(h: &Hob, turns: f64) -> Timeline {
+    let g0 = (f64::from(h.starts) * SET_UP_MN / (2.0 * h.ref_radius_mm)).asin();
+    let ratio = h.hand * f64::from(h.starts) / f64::from(SET_UP_Z);
+    let at = Axes {
+        x_mm: SET_UP_MN * f64::from(SET_UP_Z) / 2.0 + h.ref_radius_mm,
+        y_mm: 0.0,
+        z_mm: 50.0,
+    };
+    Timeline::from_segments(vec![Segment {
+        line: 0,
+        t0_s: 0.0,
+        t1_s: turns / ratio.abs(),
+        from: at,
+        to: at,
+        eta_rad: -h.hand * g0,
+        hob_rev_s: 1.0,
+        gearbox: Some(Gearbox {
+            c_per_b: ratio,
+            c_per_z_rad_mm: 0.0,
+            c_per_y_rad_mm: 0.0,
+        }),
+        c_extra_rad: 0.0,
+        feed: true,
+    }])
+    .expect("timeline")
 }
