@@ -13,7 +13,7 @@
 use std::collections::{HashMap, VecDeque};
 use std::sync::{Arc, Mutex};
 
-use gearcam_hobsim::simulate::{simulate, Settings};
+use gearcam_hobsim::simulate::{simulate, Settings, Simulation};
 use gearcam_nc::Trace;
 use gearcam_proto::{Code, JobError, MachiningModel, NcProgram, SimulationReport, Stage};
 use sha2::{Digest, Sha256};
@@ -65,11 +65,7 @@ impl Simulations {
         if let Some(kept) = self.kept.lock().ok().and_then(|k| k.0.get(&key).cloned()) {
             return Some(kept);
         }
-        let started = tokio::time::Instant::now();
-        let report = match simulate(trace, model, settings) {
-            Ok(sim) => sim.report(started.elapsed().as_secs_f64() * 1e3),
-            Err(e) => unsimulated(settings, &e.to_string()),
-        };
+        let (report, _) = run(trace, model, settings);
         if let Ok(mut k) = self.kept.lock() {
             let (map, order) = &mut *k;
             if map.insert(key, report.clone()).is_none() {
@@ -101,8 +97,23 @@ fn key_of(trace: &Trace, model: &MachiningModel, settings: &Settings) -> [u8; 32
     h.finalize().into()
 }
 
+/// One timed run of `trace` on the virtual machine: its report (with the
+/// wall time), and the run itself for its charts; a program the simulator
+/// cannot run gets a report that says why, and no run.
+pub fn run(
+    trace: &Trace,
+    model: &MachiningModel,
+    settings: &Settings,
+) -> (SimulationReport, Option<Simulation>) {
+    let started = tokio::time::Instant::now();
+    match simulate(trace, model, settings) {
+        Ok(sim) => (sim.report(started.elapsed().as_secs_f64() * 1e3), Some(sim)),
+        Err(e) => (unsimulated(settings, &e.to_string()), None),
+    }
+}
+
 /// The report of a program the simulator could not run.
-pub fn unsimulated(settings: &Settings, why: &str) -> SimulationReport {
+fn unsimulated(settings: &Settings, why: &str) -> SimulationReport {
     SimulationReport {
         mode: settings.mode.to_string(),
         what_if: Vec::new(),

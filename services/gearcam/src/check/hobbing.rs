@@ -117,19 +117,8 @@ fn run(
     settings: &Settings,
     program: &mut gearcam_proto::NcProgram,
 ) -> Option<Simulation> {
-    let started = tokio::time::Instant::now();
     let (_, trace) = gearcam_nc::check(&program.text, model);
-    match gearcam_hobsim::simulate::simulate(&trace, model, settings) {
-        Ok(sim) => {
-            program.simulation = Some(sim.report(started.elapsed().as_secs_f64() * 1e3));
-            Some(sim)
-        }
-        Err(e) => {
-            program.simulation = Some(gearcam_template::simulation::unsimulated(
-                settings,
-                &e.to_string(),
-            ));
-            None
-        }
-    }
+    let (report, sim) = gearcam_template::simulation::run(&trace, model, settings);
+    program.simulation = Some(report);
+    sim
 }
