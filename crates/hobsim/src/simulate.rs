@@ -63,10 +63,7 @@ impl Settings {
             mode: "fine",
             sections: 9,
             outline_um: 1.0,
-            resolution: Resolution {
-                axial_step_mm: 0.02,
-                sweep_steps: 8,
-            },
+            resolution: Resolution::fine(),
             rates: MachineRates::default(),
             errors: MachineErrors::default(),
             hob: HobExtras::default(),
@@ -79,10 +76,7 @@ impl Settings {
         Settings {
             mode: "coarse",
             outline_um: 10.0,
-            resolution: Resolution {
-                axial_step_mm: 0.1,
-                sweep_steps: 2,
-            },
+            resolution: Resolution::coarse(),
             ..Settings::fine()
         }
     }

@@ -59,22 +59,17 @@ fn run(h: &Hob, z0: f64, z1: f64, turns: f64) -> Timeline {
     .expect("timeline")
 }
 
-/// Cuts `blank` along `tl` with `h`: discs 0.02 mm apart along the hob,
-/// each gash's pass in `sweep_steps` steps of hob angle.
-fn cut_blank(tl: &Timeline, h: &Hob, blank: &mut Blank, sweep_steps: u32) {
-    let resolution = Resolution {
-        axial_step_mm: 0.02,
-        sweep_steps,
-    };
-    cut::cut(tl, h, blank, resolution).expect("cut");
+/// Cuts `blank` along `tl` with `h` at the fine resolution.
+fn cut_blank(tl: &Timeline, h: &Hob, blank: &mut Blank) {
+    cut::cut(tl, h, blank, Resolution::fine()).expect("cut");
 }
 
 /// One transverse section at z 50 mm, 2¹⁶ samples round, cut by `h` in
-/// one pass at that height (1.05 table turns), three steps per gash pass.
+/// one pass at that height (1.05 table turns).
 fn one_section(h: &Hob) -> Blank {
     let tl = run(h, 50.0, 50.0, 1.05);
     let mut blank = Blank::new(vec![50.0], 110.0, 1 << 16).expect("blank");
-    cut_blank(&tl, h, &mut blank, 3);
+    cut_blank(&tl, h, &mut blank);
     blank
 }
 
@@ -212,7 +207,7 @@ fn feed_marks_in_the_root_are_as_deep_as_the_tip_circles_leave() {
         let tl = run(&h, 50.0 + 3.0 * f, 50.0 - f, 4.0);
         let z = Blank::planes(50.0, 50.0 + 2.0 * f, 13);
         let mut blank = Blank::new(z, 110.0, 20 * 64).expect("blank");
-        cut_blank(&tl, &h, &mut blank, 1);
+        cut_blank(&tl, &h, &mut blank);
         let root: Vec<f64> = blank.r_mm.iter().map(|o| o[0]).collect();
         let lo = root.iter().cloned().fold(f64::MAX, f64::min);
         let hi = root.iter().cloned().fold(f64::MIN, f64::max);

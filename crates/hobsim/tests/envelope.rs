@@ -79,10 +79,7 @@ fn the_spur_cut_is_the_exact_sweep_of_its_gashes() {
     let h = common::rack_hob(125.0, 1, 32, 0.0);
     let tl = common::spur_plunge(&h, 1.05);
     let mut blank = Blank::new(vec![50.0, 56.0], 110.0, 1 << 16).expect("blank");
-    let res = Resolution {
-        axial_step_mm: 0.02,
-        sweep_steps: 3,
-    };
+    let res = Resolution::fine();
     cut::cut(&tl, &h, &mut blank, res).expect("cut");
     for j in 0..2 {
         let worst = worst_on_flank(&tl, &h, &blank, j, (97.0, 107.0), 12);
@@ -119,10 +116,7 @@ fn the_helical_cut_is_the_exact_sweep_and_follows_the_helix() {
     let dz = v * f64::from(z) / f64::from(model.plan.hob.starts) / feed.hob_rev_s.abs();
     let zs: Vec<f64> = (0..3).map(|j| 110.0 + dz * f64::from(j)).collect();
     let mut blank = Blank::new(zs, model.model.blank_od_mm / 2.0, 1 << 16).expect("blank");
-    let res = Resolution {
-        axial_step_mm: 0.02,
-        sweep_steps: 8,
-    };
+    let res = Resolution::fine();
     cut::cut(&tl, &h, &mut blank, res).expect("cut");
     let r = geo.d_mm / 2.0;
     let flank = (r - 2.5, r + 2.5);

@@ -27,8 +27,8 @@ fn the_root_fillet_is_the_sweep_of_the_rounded_tip_corners() {
     let n = 1usize << 16;
     let mut blank = Blank::new(vec![50.0], 110.0, n).expect("blank");
     let res = Resolution {
-        axial_step_mm: 0.01,
-        sweep_steps: 3,
+        axial_step_mm: 0.1,
+        tolerance_mm: 1e-6,
     };
     cut::cut(&tl, &h, &mut blank, res).expect("cut");
     let outline = &blank.r_mm[0];

@@ -203,10 +203,7 @@ fn a_table_runout_cuts_a_radial_runout_of_twice_its_size() {
     let g = &model.plan.gear;
     let z = Blank::planes(g.fixture_height_mm + 15.0, g.fixture_height_mm + 15.0, 1);
     let mut blank = Blank::new(z, model.model.blank_od_mm / 2.0, 25 * 24).expect("blank");
-    let res = Resolution {
-        axial_step_mm: 0.1,
-        sweep_steps: 4,
-    };
+    let res = Resolution::coarse();
     cut::cut(&tl, &hob, &mut blank, res).expect("cut");
     let o = &blank.r_mm[0];
     let gaps = common::gaps(o, model.geometry.d_mm / 2.0);

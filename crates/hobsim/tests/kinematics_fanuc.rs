@@ -7,8 +7,8 @@ use gearcam_hobsim::cut::Resolution;
 use gearcam_proto::MachiningModel;
 
 const COARSE: Resolution = Resolution {
-    axial_step_mm: 0.1,
-    sweep_steps: 4,
+    axial_step_mm: 1.0,
+    tolerance_mm: 1e-3,
 };
 
 /// A FANUC program and its model from `crates/hobsim/tests/programs`.

@@ -11,8 +11,8 @@ use gearcam_hobsim::kinematics::{self, MachineRates, Timeline};
 use gearcam_proto::{Code, MachiningModel};
 
 const COARSE: Resolution = Resolution {
-    axial_step_mm: 0.1,
-    sweep_steps: 4,
+    axial_step_mm: 1.0,
+    tolerance_mm: 1e-3,
 };
 
 /// The spur program cut twice: after the first cut's retract the gearbox is

@@ -6,8 +6,8 @@ mod common;
 use gearcam_hobsim::cut::Resolution;
 
 const COARSE: Resolution = Resolution {
-    axial_step_mm: 0.1,
-    sweep_steps: 4,
+    axial_step_mm: 1.0,
+    tolerance_mm: 1e-3,
 };
 
 #[test]
