@@ -186,33 +186,96 @@ impl Hob {
     /// hob's middle, along u): the tip radius on a tooth, down the flank,
     /// the root radius in a gap, and 0 beyond the hob's length.
     pub fn outer_radius(&self, k: u32, a: f64) -> f64 {
-        if a.abs() > self.length_mm / 2.0 {
-            return 0.0;
-        }
+        self.edge(k).radius(a)
+    }
+
+    /// Gash `k`'s edge profile, with what every evaluation needs worked out
+    /// once.
+    pub fn edge(&self, k: u32) -> Edge {
         let px = self.axial_pitch_mm;
-        let centre = self.lead_per_rad() * self.gash_angle(k);
-        let d = (a - centre).rem_euclid(px);
-        let d = d.min(px - d);
-        let rho = self.ref_radius_mm + (px / 4.0 - d) / self.tan_alpha_x;
-        if self.tip_corner_radius_mm > 0.0 {
-            if let Some((x0, y0)) = self.corner() {
-                // In the normal section (axial lengths times cos γ0): past
-                // the tip land, down the corner's arc to where it touches
-                // the flank, at x_0 + r_c·cos α0.
+        let corner = match (self.tip_corner_radius_mm > 0.0, self.corner()) {
+            (true, Some((x0, y0))) => {
                 let rc = self.tip_corner_radius_mm;
-                let dn = d * self.cos_lead;
                 let tan_a = self.tan_alpha_x * self.cos_lead;
                 let cos_a = 1.0 / (1.0 + tan_a * tan_a).sqrt();
-                if dn <= x0 {
-                    return self.tip_radius_mm;
-                }
-                if dn <= x0 + rc * cos_a {
-                    let dx = dn - x0;
-                    return self.ref_radius_mm + y0 + (rc * rc - dx * dx).max(0.0).sqrt();
-                }
+                Some(Corner {
+                    land_end: x0 / self.cos_lead,
+                    arc_end: (x0 + rc * cos_a) / self.cos_lead,
+                    x0,
+                    centre_radius: self.ref_radius_mm + y0,
+                    rc,
+                })
+            }
+            _ => None,
+        };
+        Edge {
+            half_length: self.length_mm / 2.0,
+            pitch: px,
+            inv_pitch: 1.0 / px,
+            centre: self.lead_per_rad() * self.gash_angle(k),
+            ref_radius: self.ref_radius_mm,
+            inv_tan_alpha: 1.0 / self.tan_alpha_x,
+            tip: self.tip_radius_mm,
+            root: self.root_radius_mm,
+            cos_lead: self.cos_lead,
+            corner,
+        }
+    }
+}
+
+/// One gash's edge profile ([`Hob::edge`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Edge {
+    half_length: f64,
+    pitch: f64,
+    inv_pitch: f64,
+    /// Axial position of a tooth's centre, mm.
+    centre: f64,
+    ref_radius: f64,
+    inv_tan_alpha: f64,
+    tip: f64,
+    root: f64,
+    cos_lead: f64,
+    corner: Option<Corner>,
+}
+
+/// A rounded tip corner: where the tip land and the arc end (axial
+/// distances from the tooth's centre), and the arc in the normal section.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Corner {
+    land_end: f64,
+    arc_end: f64,
+    /// The arc centre's distance from the tooth's centre in the normal
+    /// section, and its radius from the hob axis.
+    x0: f64,
+    centre_radius: f64,
+    rc: f64,
+}
+
+impl Edge {
+    /// Outer radius at axial position `a`: [`Hob::outer_radius`].
+    #[inline]
+    pub fn radius(&self, a: f64) -> f64 {
+        if a.abs() > self.half_length {
+            return 0.0;
+        }
+        // The distance from the nearest tooth centre, 0..pitch/2.
+        let u = (a - self.centre) * self.inv_pitch;
+        let frac = u - u.floor();
+        let d = self.pitch * frac.min(1.0 - frac);
+        if let Some(c) = &self.corner {
+            // In the normal section (axial lengths times cos γ0): past the
+            // tip land, down the corner's arc to where it touches the flank.
+            if d <= c.land_end {
+                return self.tip;
+            }
+            if d <= c.arc_end {
+                let dx = d * self.cos_lead - c.x0;
+                return c.centre_radius + (c.rc * c.rc - dx * dx).max(0.0).sqrt();
             }
         }
-        rho.clamp(self.root_radius_mm, self.tip_radius_mm)
+        let rho = self.ref_radius + (self.pitch / 4.0 - d) * self.inv_tan_alpha;
+        rho.clamp(self.root, self.tip)
     }
 }
 

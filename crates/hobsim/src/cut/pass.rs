@@ -13,9 +13,12 @@
 //! inside the blank (the hob's end faces). `docs/simulation.md` §3 derives
 //! this.
 
-use super::{raster, raster_between, Blank, Resolution, CLIP_MARGIN_MM};
-use crate::hob::Hob;
+use super::{clear_of, raster, Blank, Resolution, CLIP_MARGIN_MM};
+use crate::hob::{Edge, Hob};
 use crate::kinematics::{Axes, MachineErrors, Pose, Timeline};
+
+/// 1/6, a multiplication where a division would be slower.
+const SIX: f64 = 1.0 / 6.0;
 
 /// Deepest halving of a step of the initial grid along the hob.
 const MAX_DEPTH: u32 = 18;
@@ -30,19 +33,30 @@ pub(super) struct Pass<'a> {
     d: [f64; 4],
     /// The hob angles at the move's start and end, in order.
     phi_range: (f64, f64),
-    errors: MachineErrors,
+    /// The what-if errors, when there are any.
+    errors: Option<MachineErrors>,
+    /// The pose at φ = 0 (errors applied).
+    q0: Pose,
+    /// dt/dφ of the nominal pose: how the section's distance from a disc's
+    /// centre moves as the hob turns.
+    dt: f64,
     /// Half the hob angle over which the gash can be inside the blank.
     phi_max: f64,
+    /// sin and cos of the table angle at φ = 0.
+    sc0: (f64, f64),
     /// sin and cos of the pass's swivel (with the what-if offset).
     se: f64,
     ce: f64,
     hob: &'a Hob,
     k: u32,
+    edge: Edge,
+    /// 1/cos η.
+    inv_ce: f64,
     res: Resolution,
 }
 
-/// A pierce point: the workpiece point and the hob angle it was posed at.
-type Point = [f64; 2];
+/// A point of a section in the workpiece frame: x, y and its polar angle.
+pub(super) type Point = [f64; 3];
 
 impl<'a> Pass<'a> {
     /// The pass of gash `k` at time `t` of segment `seg`.
@@ -71,6 +85,7 @@ impl<'a> Pass<'a> {
         let (f0, f1) = (omega * (s.t0_s - t), omega * (s.t1_s - t));
         let errors = timeline.errors();
         let posed = errors.apply(p0);
+        let errors = (!errors.is_zero()).then_some(errors);
         let cos_lim = ((posed.axes.x_mm - outer_radius_mm) / hob.tip_radius_mm).clamp(-1.0, 1.0);
         let (se, ce) = posed.eta_rad.sin_cos();
         Pass {
@@ -78,16 +93,22 @@ impl<'a> Pass<'a> {
             d,
             phi_range: (f0.min(f1), f0.max(f1)),
             errors,
+            q0: posed,
+            sc0: posed.c_rad.sin_cos(),
+            dt: (d[1] * se - d[2]) / ce,
             phi_max: (cos_lim.acos() + 0.02).min(std::f64::consts::PI),
             se,
             ce,
             hob,
             k,
+            edge: hob.edge(k),
+            inv_ce: 1.0 / ce,
             res,
         }
     }
 
     /// The pose at hob angle `phi`.
+    #[inline]
     fn pose(&self, phi: f64) -> Pose {
         let f = phi.clamp(self.phi_range.0, self.phi_range.1);
         let p = &self.p0;
@@ -101,21 +122,52 @@ impl<'a> Pass<'a> {
             b_rad: p.b_rad + f,
             c_rad: p.c_rad + self.d[3] * f,
         };
-        self.errors.apply(nominal)
+        match &self.errors {
+            Some(e) => e.apply(nominal),
+            None => nominal,
+        }
     }
 
     /// t: the distance along w of the section `zs` from the centre of the
     /// hob's disc at axial position `a`, with the hob at pose `q`.
     fn across(&self, q: &Pose, a: f64, zs: f64) -> f64 {
-        (zs - q.axes.z_mm + (q.axes.y_mm + a) * self.se) / self.ce
+        (zs - q.axes.z_mm + (q.axes.y_mm + a) * self.se) * self.inv_ce
     }
 
     /// The machine point at chord parameter `s` (along e1, towards the gear
     /// axis) and height `tt` of the disc at `a`, turned into the workpiece.
     fn to_workpiece(&self, q: &Pose, a: f64, s: f64, tt: f64) -> Point {
         let (x, y) = (q.axes.x_mm - s, (q.axes.y_mm + a) * self.ce + tt * self.se);
-        let (sc, cc) = q.c_rad.sin_cos();
-        [x * cc - y * sc, x * sc + y * cc]
+        let (sc, cc) = self.table_sin_cos(q.c_rad);
+        let (u, v) = (x * cc - y * sc, x * sc + y * cc);
+        [u, v, v.atan2(u)]
+    }
+
+    /// sin and cos of the table angle `c`: the angle at φ = 0 turned on by
+    /// the small difference (Taylor's series to the ninth power leaves
+    /// below 10⁻¹³ rad within 0.3 rad), or directly beyond.
+    #[inline]
+    fn table_sin_cos(&self, c: f64) -> (f64, f64) {
+        let d = c - self.q0.c_rad;
+        if d.abs() > 0.3 {
+            return c.sin_cos();
+        }
+        let d2 = d * d;
+        let sd = d
+            * (1.0
+                - d2 * SIX
+                    * (1.0
+                        - d2 * (1.0 / 20.0)
+                            * (1.0 - d2 * (1.0 / 42.0) * (1.0 - d2 * (1.0 / 72.0)))));
+        let cd = 1.0
+            - d2 * 0.5
+                * (1.0
+                    - d2 * (1.0 / 12.0)
+                        * (1.0
+                            - d2 * (1.0 / 30.0)
+                                * (1.0 - d2 * (1.0 / 56.0) * (1.0 - d2 * (1.0 / 90.0)))));
+        let (s0, c0) = self.sc0;
+        (s0 * cd + c0 * sd, c0 * cd - s0 * sd)
     }
 
     /// Where the profile point (a, ρ) pierces the section `zs` on the
@@ -128,21 +180,35 @@ impl<'a> Pass<'a> {
         if rho <= 0.0 {
             return None;
         }
-        let dt = (self.d[1] * self.se - self.d[2]) / self.ce;
-        let tt0 = self.across(&self.pose(0.0), a, zs);
+        let tt0 = self.across(&self.q0, a, zs);
         if tt0.abs() >= rho {
             return None;
         }
-        let mut phi = (tt0 / rho).asin();
+        let mut sn = tt0 / rho;
+        let mut cs = (1.0 - sn * sn).sqrt();
+        let mut phi = sn.asin();
         for _ in 0..3 {
             let tt = self.across(&self.pose(phi), a, zs);
-            let (sn, cs) = phi.sin_cos();
-            let step = (rho * sn - tt) / (rho * cs - dt);
+            let step = (rho * sn - tt) / (rho * cs - self.dt);
             if !step.is_finite() {
                 return None;
             }
             phi -= step;
-            if step.abs() < 1e-13 {
+            // sin and cos of φ − step, by a rotation (Taylor's series for
+            // the small steps Newton takes here).
+            let (sd, cd) = if step.abs() < 1e-3 {
+                let s2 = step * step;
+                (
+                    step * (1.0 - s2 * SIX),
+                    1.0 - s2 * 0.5 + s2 * s2 * (1.0 / 24.0),
+                )
+            } else {
+                step.sin_cos()
+            };
+            (sn, cs) = (sn * cd - cs * sd, cs * cd + sn * sd);
+            // Newton's error squares each step (times tan φ/2): after a
+            // step below 10⁻⁷ rad the next would be below 10⁻¹⁴.
+            if step.abs() < 1e-7 {
                 break;
             }
         }
@@ -168,116 +234,101 @@ impl<'a> Pass<'a> {
     }
 
     /// Cuts every section of `blank` the pass can reach.
-    pub(super) fn cut(&self, blank: &mut Blank, dirs: &[(f64, f64)], buf: &mut Vec<Point>) {
-        let big_r = blank.outer_radius_mm;
-        let clip_r = big_r + CLIP_MARGIN_MM;
+    /// `skip_clear`: leave out the pieces that stand clear of the outline
+    /// ([`Pass::refine`]).
+    pub(super) fn cut(&self, blank: &mut Blank, dirs: &[(f64, f64)], skip_clear: bool) {
+        let clip_r = blank.outer_radius_mm + CLIP_MARGIN_MM;
         for j in 0..blank.z_mm.len() {
             let zs = blank.z_mm[j];
             let Some((a_min, a_max)) = self.reach(clip_r, zs) else {
                 continue;
             };
             let knots = self.hob.knots(self.k, a_min, a_max);
-            let r = &mut blank.r_mm[j];
             let mut grid = Vec::with_capacity(64);
             for w in knots.windows(2) {
                 let n = ((w[1] - w[0]) / self.res.axial_step_mm).ceil().max(1.0) as usize;
                 grid.extend((0..n).map(|q| w[0] + (w[1] - w[0]) * q as f64 / n as f64));
             }
             grid.extend(knots.last());
-            let mut run = false;
-            let mut last = (0.0, [0.0; 2]);
-            buf.clear();
-            for a in grid {
-                let rho = self.hob.outer_radius(self.k, a);
-                match (self.pierce(a, rho, zs), run) {
-                    (Some(p), false) => {
-                        self.end_chord(a, rho, zs, clip_r, r, dirs, big_r);
-                        buf.push(p);
-                        run = true;
-                        last = (a, p);
-                    }
-                    (Some(p), true) => {
-                        self.refine(last, (a, p), zs, big_r, MAX_DEPTH, buf);
-                        last = (a, p);
-                    }
-                    (None, true) => {
-                        self.close(last.0, zs, clip_r, r, dirs, big_r, buf);
-                        run = false;
-                    }
-                    (None, false) => {}
-                }
-            }
-            if run {
-                self.close(last.0, zs, clip_r, r, dirs, big_r, buf);
-            }
+            let section = Section {
+                zs,
+                clip_r,
+                r: &mut blank.r_mm[j],
+                dirs,
+                skip_clear,
+            };
+            self.trace(&grid, section);
         }
     }
 
-    /// Ends a run of pierce points at `a`: cuts the curve and the chord of
-    /// the run's last disc.
-    #[allow(clippy::too_many_arguments)]
-    fn close(
-        &self,
-        a: f64,
-        zs: f64,
-        clip_r: f64,
-        r: &mut [f64],
-        dirs: &[(f64, f64)],
-        big_r: f64,
-        buf: &mut Vec<Point>,
-    ) {
-        raster_polyline(r, dirs, buf, big_r);
-        buf.clear();
-        let rho = self.hob.outer_radius(self.k, a);
-        self.end_chord(a, rho, zs, clip_r, r, dirs, big_r);
+    /// The pass's curve in one section from the pierce points of the
+    /// profile points at `grid` (refined between them), in runs where the
+    /// plane meets the profile; each run's first and last discs also cut
+    /// their chords (the hob's end faces where it ends inside the blank).
+    fn trace(&self, grid: &[f64], mut sec: Section) {
+        let mut last: Option<(f64, Point)> = None;
+        for &a in grid {
+            let rho = self.edge.radius(a);
+            match (self.pierce(a, rho, sec.zs), last) {
+                (Some(p), None) => {
+                    self.end_chord(a, rho, &mut sec);
+                    last = Some((a, p));
+                }
+                (Some(p), Some(from)) => {
+                    self.refine(from, (a, p), &mut sec, MAX_DEPTH, None);
+                    last = Some((a, p));
+                }
+                (None, Some((a_end, _))) => {
+                    self.end_chord(a_end, self.edge.radius(a_end), &mut sec);
+                    last = None;
+                }
+                (None, None) => {}
+            }
+        }
+        if let Some((a_end, _)) = last {
+            self.end_chord(a_end, self.edge.radius(a_end), &mut sec);
+        }
     }
 
-    /// Adds the pierce points between `from` and `to` (which is added) to
-    /// `out`, halving each step until the curve's midpoint lies within four
-    /// times the tolerance of the straight piece (the two halves then stay
-    /// within about the tolerance), or the piece stays outside the blank by
-    /// more than that.
+    /// Cuts the curve between the pierce points `from` and `to`: halves the
+    /// step until the curve's midpoint lies within four times the tolerance
+    /// of the straight piece (the two halves, which are cut, then stay
+    /// within about the tolerance). A half is left out when it stands
+    /// further out than the outline, on every ray it crosses, by more than
+    /// its parent's midpoint offset `margin` (its own curve stands off it by
+    /// about a quarter of that): the pass cannot cut there.
     fn refine(
         &self,
         (a0, p0): (f64, Point),
         (a1, p1): (f64, Point),
-        zs: f64,
-        big_r: f64,
+        sec: &mut Section,
         depth: u32,
-        out: &mut Vec<Point>,
+        margin: Option<f64>,
     ) {
+        if sec.skip_clear && margin.is_some_and(|m| clear_of(sec.r, sec.dirs, p0, p1, m)) {
+            return;
+        }
         let am = 0.5 * (a0 + a1);
-        let Some(pm) = self.pierce(am, self.hob.outer_radius(self.k, am), zs) else {
-            out.push(p1);
+        let Some(pm) = self.pierce(am, self.edge.radius(am), sec.zs) else {
+            raster(sec.r, sec.dirs, p0, p1);
             return;
         };
         let dev = off_line(p0, p1, pm);
-        let outside = near(p0, pm).min(near(pm, p1)) >= big_r + dev;
-        if depth == 0 || outside || dev <= 4.0 * self.res.tolerance_mm {
-            out.push(pm);
-            out.push(p1);
+        if depth == 0 || dev <= 4.0 * self.res.tolerance_mm {
+            raster(sec.r, sec.dirs, p0, pm);
+            raster(sec.r, sec.dirs, pm, p1);
             return;
         }
-        self.refine((a0, p0), (am, pm), zs, big_r, depth - 1, out);
-        self.refine((am, pm), (a1, p1), zs, big_r, depth - 1, out);
+        self.refine((a0, p0), (am, pm), sec, depth - 1, Some(dev));
+        self.refine((am, pm), (a1, p1), sec, depth - 1, Some(dev));
     }
 
-    /// Cuts the chord of the disc at `a` (radius `rho`) in the section `zs`
-    /// over the hob angles the pass sweeps inside the blank, as points posed
-    /// at their own instants, pieces within the tolerance of the swept curve.
-    #[allow(clippy::too_many_arguments)]
-    fn end_chord(
-        &self,
-        a: f64,
-        rho: f64,
-        zs: f64,
-        clip_r: f64,
-        r: &mut [f64],
-        dirs: &[(f64, f64)],
-        big_r: f64,
-    ) {
-        let q = self.pose(0.0);
-        let tt = self.across(&q, a, zs);
+    /// Cuts the chord of the disc at `a` (radius `rho`) in the section over
+    /// the hob angles the pass sweeps inside the blank, as points posed at
+    /// their own instants, pieces within the tolerance of the swept curve.
+    fn end_chord(&self, a: f64, rho: f64, sec: &mut Section) {
+        let q = &self.q0;
+        let tt = self.across(q, a, sec.zs);
         if rho <= 0.0 || tt.abs() >= rho {
             return;
         }
@@ -287,7 +338,7 @@ impl<'a> Pass<'a> {
         };
         // Machine points (X − s, y): within clip_r of the gear axis.
         let y = (q.axes.y_mm + a) * self.ce + tt * self.se;
-        let h2 = clip_r * clip_r - y * y;
+        let h2 = sec.clip_r * sec.clip_r - y * y;
         if h2 <= 0.0 {
             return;
         }
@@ -304,11 +355,11 @@ impl<'a> Pass<'a> {
         let m = ((dphi / (self.phi_max / 4.0)).ceil())
             .max((err / self.res.tolerance_mm).sqrt().ceil())
             .clamp(1.0, 4096.0) as usize;
-        let mut prev = self.chord_point(a, s_hi, zs);
+        let mut prev = self.chord_point(a, s_hi, sec.zs);
         for i in 1..=m {
             let s = s_hi + (s_lo - s_hi) * i as f64 / m as f64;
-            let p = self.chord_point(a, s, zs);
-            raster(r, dirs, prev, p, big_r);
+            let p = self.chord_point(a, s, sec.zs);
+            raster(sec.r, sec.dirs, prev, p);
             prev = p;
         }
     }
@@ -356,8 +407,8 @@ impl<'a> Pass<'a> {
         }
         let g = (5f64.sqrt() - 1.0) / 2.0;
         let (mut a, mut b) = (lo, hi);
-        // 0.618⁴⁰ of a few hundred mm: below 10⁻⁶ mm.
-        for _ in 0..40 {
+        // 0.618³⁰ of a few hundred mm: below 10⁻³ mm, within the widening.
+        for _ in 0..30 {
             let (c, d) = (b - g * (b - a), a + g * (b - a));
             if h(c) < h(d) {
                 b = d;
@@ -371,8 +422,8 @@ impl<'a> Pass<'a> {
         }
         let edge = |inside: f64, outside: f64| {
             let (mut a, mut b) = (inside, outside);
-            // 2⁻³⁰ of a few hundred mm: below 10⁻⁶ mm.
-            for _ in 0..30 {
+            // 2⁻²⁰ of a few hundred mm: below 10⁻³ mm.
+            for _ in 0..20 {
                 let m = 0.5 * (a + b);
                 if h(m) <= 0.0 {
                     a = m;
@@ -400,29 +451,13 @@ fn off_line(p: Point, q: Point, m: Point) -> f64 {
     (v[0] * d[1] - v[1] * d[0]).abs() / len
 }
 
-/// Distance from the gear axis of the segment's nearest point.
-fn near(p: Point, q: Point) -> f64 {
-    let d = [q[0] - p[0], q[1] - p[1]];
-    let len2 = d[0] * d[0] + d[1] * d[1];
-    let tc = if len2 > 0.0 {
-        (-(p[0] * d[0] + p[1] * d[1]) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p[0] + tc * d[0]).hypot(p[1] + tc * d[1])
-}
-
-/// Lowers the outline to the polyline `pts`, each point's polar angle
-/// computed once.
-fn raster_polyline(r: &mut [f64], dirs: &[(f64, f64)], pts: &[Point], big_r: f64) {
-    let mut prev: Option<(Point, f64)> = None;
-    for &p in pts {
-        let ta = p[1].atan2(p[0]);
-        if let Some((q, tq)) = prev {
-            raster_between(r, dirs, (q, tq), (p, ta), big_r);
-        }
-        prev = Some((p, ta));
-    }
+/// One section as a pass cuts it.
+struct Section<'r> {
+    zs: f64,
+    clip_r: f64,
+    r: &'r mut [f64],
+    dirs: &'r [(f64, f64)],
+    skip_clear: bool,
 }
 
 /// The chord parameters s (along e1) whose hob angle atan2(t, s) lies in
