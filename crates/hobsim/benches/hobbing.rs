@@ -4,13 +4,12 @@
 //! (`crates/nc/tests/programs/helical_climb_840d`: z 31, β 20° left hand,
 //! face width 25 mm, one-start right-hand hob of 80 mm with 12 gashes, one
 //! cut at 1.6 mm per table turn), read back by `gearcam_nc::check` into a
-//! timeline once. What is timed is `cut::cut` on 9 sections over the face
-//! width, at `Resolution::fine()` with `samples_for(r, 1 µm)` rays a section
-//! (timed once and printed: it takes minutes today) and at
-//! `Resolution::coarse()` with `samples_for(r, 10 µm)` (printed, and timed by
-//! criterion). The printed lines also say how the coarse cost grows with
-//! sections, samples, axial step and face width. The figures are upper
-//! bounds on a shared machine.
+//! trace once. Printed first: the whole `simulate::simulate` (timeline, cut
+//! on 9 sections, measurement and grading) at `Settings::fine()` (1 µm
+//! outline, `Resolution::fine()`) and `Settings::coarse()`, each the best of
+//! three runs; then `cut::cut` alone and how its coarse cost grows with
+//! sections, samples, tolerance and face width. Criterion times the coarse
+//! cut. The figures are upper bounds on a shared machine.
 
 // A bench measures time itself for the printed figure.
 #![allow(clippy::disallowed_methods)]
@@ -19,6 +18,8 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use gearcam_hobsim::cut::{self, samples_for, Blank, Resolution};
 use gearcam_hobsim::hob::{Hob, HobExtras};
 use gearcam_hobsim::kinematics::{self, MachineRates, Timeline};
+use gearcam_hobsim::simulate::{simulate, Settings};
+use gearcam_nc::Trace;
 use gearcam_proto::MachiningModel;
 use std::hint::black_box;
 use std::time::Instant;
@@ -26,6 +27,8 @@ use std::time::Instant;
 /// The helical program's timeline, hob, blank radius and section heights
 /// (`sections` over the face width less 1 mm at either end).
 struct Setup {
+    trace: Trace,
+    model: MachiningModel,
     timeline: Timeline,
     hob: Hob,
     radius_mm: f64,
@@ -46,6 +49,8 @@ fn setup() -> Setup {
     let hob = Hob::from_data(&model.plan.hob, HobExtras::default()).expect("hob");
     let g = &model.plan.gear;
     Setup {
+        trace,
+        model: model.clone(),
         timeline,
         hob,
         radius_mm: model.model.blank_od_mm / 2.0,
@@ -62,7 +67,7 @@ fn run(s: &Setup, sections: usize, samples: usize, res: Resolution, width: f64) 
 }
 
 /// Milliseconds of one run (the best of `reps`).
-fn time_ms(reps: u32, f: impl Fn() -> u64) -> f64 {
+fn time_ms(reps: u32, mut f: impl FnMut() -> u64) -> f64 {
     (0..reps)
         .map(|_| {
             let t = Instant::now();
@@ -74,12 +79,26 @@ fn time_ms(reps: u32, f: impl Fn() -> u64) -> f64 {
 
 fn hobbing(c: &mut Criterion) {
     let s = setup();
+    for (name, settings, target) in [
+        ("fine", Settings::fine(), 1000.0),
+        ("coarse", Settings::coarse(), 100.0),
+    ] {
+        let mut grade = String::new();
+        let ms = time_ms(3, || {
+            let sim = simulate(&s.trace, &s.model, &settings).expect("simulates");
+            grade = format!("{:?}", sim.report(0.0).grade);
+            sim.passes
+        });
+        println!(
+            "simulate helical_climb_840d, {name}, 9 sections, cut + measure + grade: {ms:.0} ms (target < {target:.0} ms), grade {grade}"
+        );
+    }
     let fine_n = samples_for(s.radius_mm, 1.0);
     let coarse_n = samples_for(s.radius_mm, 10.0);
     let fine = Resolution::fine();
     let coarse = Resolution::coarse();
     println!(
-        "hobbing helical_climb_840d, 9 sections: fine ({fine_n} samples): {:.1} ms (target < 1000 ms); coarse ({coarse_n} samples): {:.1} ms (target < 100 ms)",
+        "cut alone, 9 sections: fine ({fine_n} samples): {:.1} ms; coarse ({coarse_n} samples): {:.1} ms",
         time_ms(1, || run(&s, 9, fine_n, fine, 1.0)),
         time_ms(1, || run(&s, 9, coarse_n, coarse, 1.0)),
     );
@@ -89,19 +108,19 @@ fn hobbing(c: &mut Criterion) {
             time_ms(1, || run(&s, sections, coarse_n, coarse, 1.0))
         );
     }
-    for n in [coarse_n / 2, coarse_n, 2 * coarse_n] {
+    for n in [coarse_n / 2, coarse_n, 2 * coarse_n, fine_n] {
         println!(
             "  coarse, {n} samples: {:.1} ms",
             time_ms(1, || run(&s, 9, n, coarse, 1.0))
         );
     }
-    for step in [0.2, 0.1] {
+    for tol in [1e-3, 1e-4, 1e-5] {
         let res = Resolution {
-            axial_step_mm: step,
+            tolerance_mm: tol,
             ..coarse
         };
         println!(
-            "  coarse, axial step {step} mm: {:.1} ms",
+            "  coarse samples, tolerance {tol:e} mm: {:.1} ms",
             time_ms(1, || run(&s, 9, coarse_n, res, 1.0))
         );
     }
@@ -113,9 +132,8 @@ fn hobbing(c: &mut Criterion) {
         );
     }
     let mut g = c.benchmark_group("hobbing");
-    // The fine run takes minutes today: it is timed once above, not here.
     g.sample_size(10);
-    g.bench_function("helical_climb_840d coarse", |b| {
+    g.bench_function("helical_climb_840d coarse cut", |b| {
         b.iter(|| run(&s, 9, coarse_n, coarse, 1.0))
     });
     g.finish();
