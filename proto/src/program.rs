@@ -139,6 +139,15 @@ pub enum EventKind {
         name: String,
         /// Its hash.
         sha256: String,
+        /// The ISO 1328-1 class the virtual machine predicts for the gear
+        /// the program cuts (hobbing programs run before delivery; absent
+        /// when not run or no class fits).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        predicted_grade: Option<u8>,
+        /// What the planner should look at: a predicted class worse than
+        /// the drawing's (`PREDICTED_GRADE`), naming the deviation.
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        warnings: Vec<crate::model::Warning>,
     },
     /// The agent stored the program.
     Delivered {

@@ -325,7 +325,7 @@ pub struct WhatIf {
     pub table_runout: f64,
     /// Run a hobbing program on the virtual machine: the gear it cuts,
     /// measured and graded by ISO 1328-1:2013, and the run's safety findings
-    /// (the fine run takes minutes today; `--coarse` seconds).
+    /// (the fine run takes seconds; `--coarse` about half as long).
     #[arg(long)]
     pub simulate: bool,
     /// A quick look (outline within about 10 µm) instead of the fine run.

@@ -70,7 +70,10 @@ pub struct Embedded {
 }
 
 impl Embedded {
-    /// Opens the session and starts every service; returns once all are alive.
+    /// Opens the session and starts every service; returns once all are
+    /// alive. The template service runs every hobbing program on the
+    /// virtual machine before it is delivered
+    /// ([`gearcam_template::simulation::before_delivery`]).
     pub async fn start(
         bus_config: &BusConfig,
         data: &Path,
@@ -117,6 +120,8 @@ impl Embedded {
             )
         });
         let (b, s) = (bus.clone(), shutdown.clone());
+        let templates =
+            templates.with_simulation(Some(gearcam_template::simulation::before_delivery()));
         tasks.spawn(async move {
             (
                 "template",

@@ -257,11 +257,23 @@ pub fn describe(ev: &JobEvent) -> String {
             line.push_str(&format_warnings(warnings));
             line
         }
-        EventKind::Programmed { name, sha256 } => {
-            format!(
+        EventKind::Programmed {
+            name,
+            sha256,
+            predicted_grade,
+            warnings,
+        } => {
+            let mut line = format!(
                 "template: program {name} generated (sha256 {})",
                 &sha256[..12.min(sha256.len())]
-            )
+            );
+            if let Some(g) = predicted_grade {
+                line.push_str(&format!(
+                    "; virtual hobbing predicts ISO 1328-1 class {g}"
+                ));
+            }
+            line.push_str(&format_warnings(warnings));
+            line
         }
         EventKind::Delivered { receipt } => format!(
             "agent {}: stored {} ({} bytes){}",

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use clap::Parser;
 use gearcam_bus::{cancel_on_signal, init_tracing, Bus, BusArgs};
+use gearcam_template::simulation::Mode;
 use gearcam_template::{source, Templates, DEFAULT_FUEL};
 
 /// The gearcam template service.
@@ -21,6 +22,10 @@ struct Args {
     /// template before importing it).
     #[arg(long)]
     templates: Option<PathBuf>,
+    /// How every hobbing program is run on the virtual machine before it
+    /// is delivered: fine (9 sections, 1 µm), coarse (about 10 µm) or off.
+    #[arg(long, value_enum, default_value = "fine")]
+    simulation: Mode,
 }
 
 #[tokio::main(flavor = "multi_thread")]
@@ -31,7 +36,8 @@ async fn main() -> anyhow::Result<()> {
     let templates = match &args.templates {
         Some(dir) => library.with(source::read_dir(dir)?)?,
         None => library,
-    };
+    }
+    .with_simulation(args.simulation.settings());
     for t in templates.list() {
         tracing::info!(template = %t.id, version = t.version, "compiled");
     }

@@ -54,9 +54,9 @@ pub struct Templates {
     budget: u64,
     simulations: Simulations,
     /// How hobbing programs are run on the virtual machine before they
-    /// leave; `None` (the default): not run. The fine run takes minutes
-    /// today, too long for every delivery; `gearcam check --simulate` runs
-    /// it on demand.
+    /// leave; `None` (the default of a library built here): not run. The
+    /// services turn it on ([`crate::simulation::before_delivery`]);
+    /// `gearcam check --simulate` runs it on demand.
     simulation: Option<Settings>,
 }
 

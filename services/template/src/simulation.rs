@@ -4,7 +4,7 @@
 //! with the program; a program whose run is unsafe, or whose gear is
 //! visibly wrong, is not sent ([`simulation_errors`]).
 //!
-//! The fine simulation takes a good part of a second. Its result depends
+//! The fine simulation takes seconds. Its result depends
 //! only on the motion the program commands and on the gear, hob, blank and
 //! machine it runs with, so it is kept, by a hash of exactly those, for the
 //! next program that commands the same motion on the same set-up (a repeat
@@ -29,6 +29,36 @@ type Kept = (HashMap<[u8; 32], SimulationReport>, VecDeque<[u8; 32]>);
 #[derive(Debug, Clone, Default)]
 pub struct Simulations {
     kept: Arc<Mutex<Kept>>,
+}
+
+/// The run every hobbing program gets before the services deliver it: the
+/// fine one (9 sections, the outline within 1 µm), whose classes and
+/// findings the program carries to the machine.
+pub fn before_delivery() -> Settings {
+    Settings::fine()
+}
+
+/// How a service runs hobbing programs before delivery, as chosen on its
+/// command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Mode {
+    /// [`before_delivery`]: the fine run.
+    Fine,
+    /// The coarse run (the outline within about 10 µm), for a slow host.
+    Coarse,
+    /// Not run: the program leaves with its other checks only.
+    Off,
+}
+
+impl Mode {
+    /// The settings of this mode (`None` for [`Mode::Off`]).
+    pub fn settings(self) -> Option<Settings> {
+        match self {
+            Mode::Fine => Some(before_delivery()),
+            Mode::Coarse => Some(Settings::coarse()),
+            Mode::Off => None,
+        }
+    }
 }
 
 /// Why a hobbing model is not simulated, when it is not: the simulator cuts
@@ -201,6 +231,22 @@ fn errors_of(name: &str, sim: &SimulationReport) -> Vec<JobError> {
         }
     }
     errors
+}
+
+/// The warnings of a program's virtual run for the planner: a predicted
+/// grade worse than the drawing's ([`grade_warning`]).
+pub fn warnings(program: &NcProgram) -> Vec<gearcam_proto::model::Warning> {
+    program
+        .simulation
+        .as_ref()
+        .and_then(grade_warning)
+        .map(|message| gearcam_proto::model::Warning {
+            code: Code::PREDICTED_GRADE,
+            field: "simulation.grade".into(),
+            message,
+        })
+        .into_iter()
+        .collect()
 }
 
 /// The warning for a predicted grade worse than the drawing's, naming the

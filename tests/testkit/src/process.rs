@@ -333,13 +333,23 @@ impl Cluster {
     /// template services and the agent of machine H01, each a separate
     /// process, as clients of the router.
     pub fn start() -> Cluster {
-        let mut c = Cluster::start_without_agent();
+        Cluster::start_simulating("fine")
+    }
+
+    /// [`Cluster::start`] with the template service's `--simulation` mode
+    /// (`fine`, its default, `coarse` or `off`).
+    pub fn start_simulating(simulation: &str) -> Cluster {
+        let mut c = Cluster::start_without_agent_simulating(simulation);
         c.start_agent();
         c
     }
 
     /// Like [`Cluster::start`] but the agent of H01 is not started (offline).
     pub fn start_without_agent() -> Cluster {
+        Cluster::start_without_agent_simulating("fine")
+    }
+
+    fn start_without_agent_simulating(simulation: &str) -> Cluster {
         let dir = tempfile::tempdir().expect("temp dir");
         let d = dir.path();
         let mut router = Proc::start(
@@ -394,7 +404,7 @@ impl Cluster {
             d,
             "template",
             "gearcam-template",
-            &client(&["--library", &library]),
+            &client(&["--library", &library, "--simulation", simulation]),
         ));
         Cluster {
             dir,

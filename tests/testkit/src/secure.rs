@@ -72,16 +72,22 @@ impl Secure {
     /// Makes the certificates, starts the router and waits for its port,
     /// then starts every service and the agents of H01, H02 and W01.
     pub fn start() -> Secure {
-        Secure::start_with("info")
+        Secure::start_with("info", "fine")
+    }
+
+    /// [`Secure::start`] with the template service's `--simulation` mode
+    /// (`fine`, its default, `coarse` or `off`).
+    pub fn start_simulating(simulation: &str) -> Secure {
+        Secure::start_with("info", simulation)
     }
 
     /// [`Secure::start`] with the router logging every decision of its
     /// access control, so that [`Secure::denials`] lists what it refused.
     pub fn start_auditing() -> Secure {
-        Secure::start_with(&format!("info,{ACL_LOG}=trace"))
+        Secure::start_with(&format!("info,{ACL_LOG}=trace"), "fine")
     }
 
-    fn start_with(router_log: &str) -> Secure {
+    fn start_with(router_log: &str, simulation: &str) -> Secure {
         let tmp = tempfile::tempdir().expect("temp dir");
         let dir = tmp.path();
         let made = Command::new("bash")
@@ -120,7 +126,11 @@ impl Secure {
         secure.start_service("station", "gearcam", &["station", "--journal", &journal]);
         secure.start_service("knowledge", "gearcam-knowledge", &["--db", &db]);
         secure.start_service("model", "gearcam-model", &[]);
-        secure.start_service("template", "gearcam-template", &["--library", &templates]);
+        secure.start_service(
+            "template",
+            "gearcam-template",
+            &["--library", &templates, "--simulation", simulation],
+        );
         secure.start_agent("H01", "sinumerik840d");
         secure.start_agent("H02", "fanuc");
         secure.start_agent("W01", "wire3b");

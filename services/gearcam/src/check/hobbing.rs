@@ -84,17 +84,9 @@ pub fn check_hobbing(
                 .errors
                 .extend(gearcam_template::simulation::simulation_errors(&p));
             report.ok = report.errors.is_empty();
-            if let Some(w) = p
-                .simulation
-                .as_ref()
-                .and_then(gearcam_template::simulation::grade_warning)
-            {
-                report.warnings.push(gearcam_proto::model::Warning {
-                    code: gearcam_proto::Code::PREDICTED_GRADE,
-                    field: "simulation.grade".into(),
-                    message: w,
-                });
-            }
+            report
+                .warnings
+                .extend(gearcam_template::simulation::warnings(&p));
             report.simulation = p.simulation;
             report.program = Some(ProgramSummary {
                 name: p.name,
