@@ -179,6 +179,33 @@ fn a_spur_job_is_delivered_through_every_service_process() {
     cluster.assert_all_running();
 }
 
+/// Every hobbing program runs on the virtual machine before it is
+/// delivered: the spur job's drawing asking for class 2 (the run predicts a
+/// coarser class) is delivered with the `PREDICTED_GRADE` warning, which
+/// names the deviation that sets the class.
+#[test]
+fn a_hobbing_program_is_simulated_before_delivery_and_warns_of_its_grade() {
+    let mut cluster = Cluster::start();
+    let strict = SPUR_JOB.replace("quality_grade = 7", "quality_grade = 2");
+    let job = cluster.job_file("strict.toml", &strict);
+    let (out, v) = cluster.submit_wait(&job);
+    assert!(
+        out.status.success(),
+        "submit failed: {v}\n{}",
+        cluster.logs()
+    );
+    assert_eq!(v["state"], "delivered", "{v}");
+    let warnings = v["warnings"].as_array().expect("warnings");
+    let grade = warnings
+        .iter()
+        .find(|w| w["code"] == "PREDICTED_GRADE")
+        .unwrap_or_else(|| panic!("no PREDICTED_GRADE warning: {v}"));
+    assert_eq!(grade["field"], "simulation.grade", "{v}");
+    let message = grade["message"].as_str().unwrap_or_default();
+    assert!(message.contains("class"), "{message}");
+    cluster.assert_all_running();
+}
+
 #[test]
 fn a_hob_with_the_wrong_base_pitch_is_refused_naming_the_check() {
     let mut cluster = Cluster::start();

@@ -195,6 +195,35 @@ impl Journal {
         self.conn.prepare_cached(sql)?.execute(params)
     }
 
+    /// Adds `new` to the job's warnings (the model's, kept for status),
+    /// each once: a program produced again repeats its warnings.
+    fn add_warnings(&self, job: &str, new: &[Warning]) -> rusqlite::Result<()> {
+        if new.is_empty() {
+            return Ok(());
+        }
+        let kept: Option<String> = self
+            .row(
+                "SELECT warnings_json FROM jobs WHERE job = ?1",
+                [job],
+                |r| r.get(0),
+            )
+            .optional()?
+            .flatten();
+        let mut all: Vec<Warning> = kept
+            .and_then(|j| serde_json::from_str(&j).ok())
+            .unwrap_or_default();
+        for w in new {
+            if !all.contains(w) {
+                all.push(w.clone());
+            }
+        }
+        self.exec(
+            "UPDATE jobs SET warnings_json = ?2 WHERE job = ?1",
+            params![job, serde_json::to_string(&all).unwrap_or_default()],
+        )?;
+        Ok(())
+    }
+
     /// `query_row` on a cached statement.
     fn row<T, P: rusqlite::Params>(
         &self,
@@ -338,7 +367,10 @@ impl Journal {
                 )?;
                 self.set_state(job, JobState::Modelled, now, next)?
             }
-            EventKind::Programmed { .. } => self.set_state(job, JobState::Programmed, now, next)?,
+            EventKind::Programmed { warnings, .. } => {
+                self.add_warnings(job, warnings)?;
+                self.set_state(job, JobState::Programmed, now, next)?
+            }
             EventKind::Waiting { reason } => self.exec(
                 "UPDATE jobs SET state = 'waiting', waiting_for = ?2, updated_at_ms = ?3, next_attempt_ms = ?4 WHERE job = ?1",
                 params![job, reason, now as i64, next],

@@ -235,3 +235,59 @@ fn a_reader_sees_what_is_committed_and_only_that() {
         JobState::Cancelled
     );
 }
+
+/// The program's warnings (a predicted class worse than the drawing's) are
+/// kept beside the model's, for status, each once however often the
+/// program is produced.
+#[test]
+fn the_programs_warnings_join_the_models_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let journal = Journal::open(&dir.path().join("station.db")).unwrap();
+    let spec: gearcam_proto::JobSpec =
+        serde_json::from_str(r#"{"job": {"machine": "H01", "part_number": "SP-1"}}"#).unwrap();
+    let job = JobId::new("J-1").unwrap();
+    let req = JobRequest {
+        job_id: job.clone(),
+        submitted_at_ms: 1,
+        submitted_by: "planner".into(),
+        spec,
+    };
+    journal.submit(&req, 1).unwrap();
+    let warning = |code, field: &str| Warning {
+        code,
+        field: field.into(),
+        message: "look".into(),
+    };
+    let model = warning(
+        gearcam_proto::Code::AXIAL_FEED_LIMIT,
+        "process.feed_mm_per_rev",
+    );
+    let grade = warning(gearcam_proto::Code::PREDICTED_GRADE, "simulation.grade");
+    let event = |stage, event| JobEvent {
+        job_id: job.clone(),
+        stage,
+        at_ms: 2,
+        event,
+    };
+    let modelled = event(
+        Stage::Model,
+        EventKind::Modelled {
+            warnings: vec![model.clone()],
+        },
+    );
+    assert!(journal.apply("model", &modelled, 2, 1000).unwrap());
+    let programmed = event(
+        Stage::Template,
+        EventKind::Programmed {
+            name: "SP_1".into(),
+            sha256: "00".into(),
+            predicted_grade: Some(9),
+            warnings: vec![grade.clone()],
+        },
+    );
+    for _ in 0..2 {
+        journal.apply("template", &programmed, 3, 1000).unwrap();
+    }
+    let status = journal.status(&job).unwrap().unwrap();
+    assert_eq!(status.warnings, vec![model, grade]);
+}
