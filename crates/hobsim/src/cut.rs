@@ -8,7 +8,7 @@
 //! φ/(2π·n_hob), when the table has turned on. Each point of the edge's
 //! outer profile pierces a section plane once on the gear's side; those
 //! points, each posed at its own instant, bound what the pass removes from
-//! the section, and the outline r(θ) is lowered to them ([`pass`],
+//! the section, and the outline r(θ) is lowered to them (`pass`,
 //! `docs/simulation.md` §3).
 
 mod pass;
@@ -257,7 +257,8 @@ fn raster(r: &mut [f64], dirs: &[(f64, f64)], p: Point, q: Point) {
 /// segment spans: such a curve cannot lower the outline. Along a ray at
 /// angle ψ to the segment the margin is margin/sin ψ, and sin ψ = |dir × d|/|d|.
 fn clear_of(r: &[f64], dirs: &[(f64, f64)], p: Point, q: Point, margin: f64) -> bool {
-    let len = (q[0] - p[0]).hypot(q[1] - p[1]);
+    let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+    let len = (dx * dx + dy * dy).sqrt();
     crossings(dirs, p, q)
         .all(|(i, num, den)| num * den < 0.0 || num.abs() > r[i] * den.abs() + margin * len)
 }

@@ -136,11 +136,13 @@ impl<'a> Pass<'a> {
 
     /// The machine point at chord parameter `s` (along e1, towards the gear
     /// axis) and height `tt` of the disc at `a`, turned into the workpiece.
-    fn to_workpiece(&self, q: &Pose, a: f64, s: f64, tt: f64) -> Point {
+    /// Its polar angle is found from `near`'s, a point close by, when
+    /// there is one ([`polar_angle`]).
+    fn to_workpiece(&self, q: &Pose, a: f64, s: f64, tt: f64, near: Option<&Point>) -> Point {
         let (x, y) = (q.axes.x_mm - s, (q.axes.y_mm + a) * self.ce + tt * self.se);
         let (sc, cc) = self.table_sin_cos(q.c_rad);
         let (u, v) = (x * cc - y * sc, x * sc + y * cc);
-        [u, v, v.atan2(u)]
+        [u, v, polar_angle(u, v, near)]
     }
 
     /// sin and cos of the table angle `c`: the angle at φ = 0 turned on by
@@ -176,7 +178,7 @@ impl<'a> Pass<'a> {
     /// with Z and Y by micrometres per radian, so two steps leave far less
     /// than 10⁻¹² rad); the point is then placed exactly on the plane and on
     /// the profile with the pose at that angle.
-    fn pierce(&self, a: f64, rho: f64, zs: f64) -> Option<Point> {
+    fn pierce(&self, a: f64, rho: f64, zs: f64, near: Option<&Point>) -> Option<Point> {
         if rho <= 0.0 {
             return None;
         }
@@ -218,7 +220,7 @@ impl<'a> Pass<'a> {
             return None;
         }
         let s = (rho * rho - tt * tt).sqrt();
-        Some(self.to_workpiece(&q, a, s, tt))
+        Some(self.to_workpiece(&q, a, s, tt, near))
     }
 
     /// The point at chord parameter `s` of the disc at `a` in the section
@@ -230,7 +232,7 @@ impl<'a> Pass<'a> {
         }
         let q = self.pose(phi);
         let tt = self.across(&q, a, zs);
-        self.to_workpiece(&q, a, s, tt)
+        self.to_workpiece(&q, a, s, tt, None)
     }
 
     /// Cuts every section of `blank` the pass can reach.
@@ -269,7 +271,10 @@ impl<'a> Pass<'a> {
         let mut last: Option<(f64, Point)> = None;
         for &a in grid {
             let rho = self.edge.radius(a);
-            match (self.pierce(a, rho, sec.zs), last) {
+            match (
+                self.pierce(a, rho, sec.zs, last.as_ref().map(|l| &l.1)),
+                last,
+            ) {
                 (Some(p), None) => {
                     self.end_chord(a, rho, &mut sec);
                     last = Some((a, p));
@@ -309,7 +314,7 @@ impl<'a> Pass<'a> {
             return;
         }
         let am = 0.5 * (a0 + a1);
-        let Some(pm) = self.pierce(am, self.edge.radius(am), sec.zs) else {
+        let Some(pm) = self.pierce(am, self.edge.radius(am), sec.zs, Some(&p0)) else {
             raster(sec.r, sec.dirs, p0, p1);
             return;
         };
@@ -438,6 +443,24 @@ impl<'a> Pass<'a> {
         let (a0, a1) = (a(y_lo), a(y_hi));
         Some((a0.min(a1) - 0.1, a0.max(a1) + 0.1))
     }
+}
+
+/// The polar angle of (x, y): from `near`'s angle and the small turn
+/// between them when `near` is within a tenth of a radian (atan of
+/// t = cross/dot by its series to t⁹, below 10⁻¹² rad), else atan2. Two
+/// pieces that share a point share its angle, so the rays they span meet
+/// without a gap whatever the angle's last digits.
+fn polar_angle(x: f64, y: f64, near: Option<&Point>) -> f64 {
+    if let Some(n) = near {
+        let (cross, dot) = (n[0] * y - n[1] * x, n[0] * x + n[1] * y);
+        if dot > 0.0 && cross.abs() < 0.1 * dot {
+            let t = cross / dot;
+            let t2 = t * t;
+            let series = 1.0 - t2 * (1.0 / 3.0 - t2 * (0.2 - t2 * (1.0 / 7.0 - t2 * (1.0 / 9.0))));
+            return n[2] + t * series;
+        }
+    }
+    y.atan2(x)
 }
 
 /// Distance of `m` from the line through `p` and `q`.
