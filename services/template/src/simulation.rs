@@ -113,17 +113,58 @@ impl Simulations {
 
 /// The hash of what decides a simulation: every block the trace holds
 /// (with its line, which the safety findings name) and the gear, hob,
-/// blank and machine of the model, and the settings.
+/// blank and machine of the model, and the settings. The numbers go in as
+/// their bits and the model's records in their MessagePack form: the key is
+/// asked for every hobbing program, so it is not spelled out as text.
 fn key_of(trace: &Trace, model: &MachiningModel, settings: &Settings) -> [u8; 32] {
     let mut h = Sha256::new();
     h.update(format!("{settings:?}").as_bytes());
-    h.update(format!("{trace:?}").as_bytes());
+    let opt = |h: &mut Sha256, v: Option<f64>| match v {
+        Some(x) => h.update([&[1u8][..], &x.to_bits().to_le_bytes()].concat()),
+        None => h.update([0u8]),
+    };
+    h.update((trace.moves.len() as u64).to_le_bytes());
+    for m in &trace.moves {
+        h.update(m.line.to_le_bytes());
+        h.update([m.kind as u8, u8::from(m.coupled)]);
+        for x in [m.x_mm, m.z_mm, m.y_mm] {
+            h.update(x.to_bits().to_le_bytes());
+        }
+        opt(&mut h, m.feed_mm_min);
+        opt(&mut h, m.dwell_s);
+        opt(&mut h, m.c_correction_deg);
+    }
+    h.update((trace.couplings.len() as u64).to_le_bytes());
+    for c in &trace.couplings {
+        h.update(c.line.to_le_bytes());
+        h.update(c.num.to_le_bytes());
+        h.update(c.den.to_le_bytes());
+        opt(&mut h, c.c_per_z_deg_per_mm);
+        opt(&mut h, c.c_per_y_deg_per_mm);
+        h.update([u8::from(c.unit_start), u8::from(c.synchronised)]);
+    }
+    for list in [&trace.spindle_rpm, &trace.swivel_deg] {
+        h.update((list.len() as u64).to_le_bytes());
+        for (line, x) in list {
+            h.update(line.to_le_bytes());
+            h.update(x.to_bits().to_le_bytes());
+        }
+    }
+    h.update((trace.mcodes.len() as u64).to_le_bytes());
+    for (line, m) in &trace.mcodes {
+        h.update(line.to_le_bytes());
+        h.update(m.to_le_bytes());
+    }
     let plan = &model.plan;
-    h.update(format!("{:?}", plan.gear).as_bytes());
-    h.update(format!("{:?}", plan.hob).as_bytes());
-    h.update(format!("{:?}", plan.machine).as_bytes());
-    h.update(format!("{:?}", model.model.blank_od_mm).as_bytes());
-    h.update(format!("{:?}", model.geometry).as_bytes());
+    let setup = (
+        &plan.gear,
+        &plan.hob,
+        &plan.machine,
+        model.model.blank_od_mm,
+        &model.geometry,
+    );
+    // Plain data always encodes; an empty slice would still key the rest.
+    h.update(rmp_serde::to_vec(&setup).unwrap_or_default());
     h.finalize().into()
 }
 
@@ -373,6 +414,17 @@ mod tests {
         let mut moved = Trace::default();
         moved.spindle_rpm.push((12, 300.0));
         assert_ne!(key(&trace, &model), key(&moved, &model));
+        // Every number of a move counts, down to its last bit.
+        let (_, real) = gearcam_nc::check(
+            include_str!("../../../crates/nc/tests/programs/spur_840d.nc"),
+            &model,
+        );
+        assert!(!real.moves.is_empty());
+        let mut nudged = real.clone();
+        let last = nudged.moves.last_mut().expect("a move");
+        last.z_mm = f64::from_bits(last.z_mm.to_bits() + 1);
+        assert_ne!(key(&real, &model), key(&nudged, &model));
+        assert_eq!(key(&real, &model), key(&real.clone(), &model));
         assert_ne!(
             key(&trace, &model),
             key_of(&trace, &model, &Settings::coarse())
