@@ -253,19 +253,35 @@ struct Corner {
 }
 
 impl Edge {
+    /// True when `a` lies on a rounded tip corner's arc (which cuts only the
+    /// root fillet of the gear).
+    #[inline]
+    pub fn on_corner(&self, a: f64) -> bool {
+        let Some(c) = &self.corner else {
+            return false;
+        };
+        let d = self.from_centre(a);
+        d > c.land_end && d < c.arc_end
+    }
+
+    /// The distance of `a` from the nearest tooth centre, 0..pitch/2.
+    #[inline]
+    fn from_centre(&self, a: f64) -> f64 {
+        let u = (a - self.centre) * self.inv_pitch;
+        // floor(u) by truncation (a call to floor is slower on a baseline
+        // x86-64 target); |u| is a few hundred pitches at most.
+        let t = u as i64 as f64;
+        let frac = u - if t > u { t - 1.0 } else { t };
+        self.pitch * frac.min(1.0 - frac)
+    }
+
     /// Outer radius at axial position `a`: [`Hob::outer_radius`].
     #[inline]
     pub fn radius(&self, a: f64) -> f64 {
         if a.abs() > self.half_length {
             return 0.0;
         }
-        // The distance from the nearest tooth centre, 0..pitch/2.
-        let u = (a - self.centre) * self.inv_pitch;
-        // floor(u) by truncation (a call to floor is slower on a baseline
-        // x86-64 target); |u| is a few hundred pitches at most.
-        let t = u as i64 as f64;
-        let frac = u - if t > u { t - 1.0 } else { t };
-        let d = self.pitch * frac.min(1.0 - frac);
+        let d = self.from_centre(a);
         if let Some(c) = &self.corner {
             // In the normal section (axial lengths times cos γ0): past the
             // tip land, down the corner's arc to where it touches the flank.

@@ -20,6 +20,11 @@ use crate::kinematics::{Axes, MachineErrors, Pose, Timeline};
 /// 1/6, a multiplication where a division would be slower.
 const SIX: f64 = 1.0 / 6.0;
 
+/// The tolerance on the rounded tip corners, in times the resolution's:
+/// they cut only the root fillet, below the range over which the profile is
+/// evaluated, and most of a fine run's points were spent on them.
+const CORNER_TOLERANCE: f64 = 10.0;
+
 /// Deepest halving of a step of the initial grid along the hob.
 const MAX_DEPTH: u32 = 18;
 
@@ -319,7 +324,12 @@ impl<'a> Pass<'a> {
             return;
         };
         let dev = off_line(p0, p1, pm);
-        if depth == 0 || dev <= 4.0 * self.res.tolerance_mm {
+        let tol = if self.edge.on_corner(am) {
+            CORNER_TOLERANCE * self.res.tolerance_mm
+        } else {
+            self.res.tolerance_mm
+        };
+        if depth == 0 || dev <= 4.0 * tol {
             raster(sec.r, sec.dirs, p0, pm);
             raster(sec.r, sec.dirs, pm, p1);
             return;
