@@ -207,17 +207,9 @@ fn cut_with(
 const CLIP_MARGIN_MM: f64 = 1.0;
 
 /// The sample rays the segment p→q spans (p and q hold x, y and their
-/// polar angle), each with the two cross products whose quotient is the
-/// radius at which the segment crosses it: (index, p × d, dir × d), d = q − p.
-/// The quotient is positive on the segment's side of the axis. `dirs` holds
-/// (cos θ_i, sin θ_i) of every ray.
-fn crossings<'d>(
-    dirs: &'d [(f64, f64)],
-    p: Point,
-    q: Point,
-) -> impl Iterator<Item = (usize, f64, f64)> + 'd {
-    let n = dirs.len();
-    let d = [q[0] - p[0], q[1] - p[1]];
+/// polar angle): the first ray's index and how many, counting on past the
+/// last ray to the first (the span may wrap round θ = 2π).
+fn ray_span(n: usize, p: Point, q: Point) -> (usize, usize) {
     let (ta, tb) = (p[2], q[2]);
     let mut span = tb - ta;
     if span > std::f64::consts::PI {
@@ -230,24 +222,35 @@ fn crossings<'d>(
     let i0 = (start * scale).ceil() as i64;
     let i1 = ((start + span.abs()) * scale).floor() as i64;
     let first = i0.rem_euclid(n as i64) as usize;
-    let count = (i1 - i0 + 1).max(0) as usize;
-    let cross_pd = p[0] * d[1] - p[1] * d[0];
-    // The rays first..n, then 0.. when the span wraps past θ = 2π.
-    (first..n).chain(0..first).take(count.min(n)).map(move |i| {
-        let (cs, sn) = dirs[i];
-        (i, cross_pd, cs * d[1] - sn * d[0])
-    })
+    (first, ((i1 - i0 + 1).max(0) as usize).min(n))
+}
+
+/// The rays of [`ray_span`] as two index ranges (the second empty unless
+/// the span wraps).
+fn ray_ranges(n: usize, p: Point, q: Point) -> [std::ops::Range<usize>; 2] {
+    let (first, count) = ray_span(n, p, q);
+    let end = first + count;
+    [first..end.min(n), 0..end.saturating_sub(n)]
 }
 
 /// Lowers r(θ_i) to where the segment p→q crosses each sample ray it spans.
+/// `dirs` holds (cos θ_i, sin θ_i) of every ray. The crossing radius is
+/// (p × d)/(dir × d), d = q − p, positive on the segment's side of the
+/// axis.
 fn raster(r: &mut [f64], dirs: &[(f64, f64)], p: Point, q: Point) {
-    for (i, num, den) in crossings(dirs, p, q) {
-        // num/den in (0, r_i), without dividing where it is not.
-        if num * den > 0.0 && num.abs() < r[i] * den.abs() {
-            r[i] = num / den;
-        } else if den == 0.0 && num == 0.0 {
-            // Along the ray: its nearer end.
-            r[i] = r[i].min(p[0].hypot(p[1]).min(q[0].hypot(q[1])));
+    let d = [q[0] - p[0], q[1] - p[1]];
+    let num = p[0] * d[1] - p[1] * d[0];
+    for range in ray_ranges(dirs.len(), p, q) {
+        for i in range {
+            let (cs, sn) = dirs[i];
+            let den = cs * d[1] - sn * d[0];
+            // num/den in (0, r_i), without dividing where it is not.
+            if num * den > 0.0 && num.abs() < r[i] * den.abs() {
+                r[i] = num / den;
+            } else if den == 0.0 && num == 0.0 {
+                // Along the ray: its nearer end.
+                r[i] = r[i].min(p[0].hypot(p[1]).min(q[0].hypot(q[1])));
+            }
         }
     }
 }
@@ -257,10 +260,18 @@ fn raster(r: &mut [f64], dirs: &[(f64, f64)], p: Point, q: Point) {
 /// segment spans: such a curve cannot lower the outline. Along a ray at
 /// angle ψ to the segment the margin is margin/sin ψ, and sin ψ = |dir × d|/|d|.
 fn clear_of(r: &[f64], dirs: &[(f64, f64)], p: Point, q: Point, margin: f64) -> bool {
-    let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
-    let len = (dx * dx + dy * dy).sqrt();
-    crossings(dirs, p, q)
-        .all(|(i, num, den)| num * den < 0.0 || num.abs() > r[i] * den.abs() + margin * len)
+    let d = [q[0] - p[0], q[1] - p[1]];
+    let num = p[0] * d[1] - p[1] * d[0];
+    let (size, sign) = (num.abs(), num.signum());
+    let slack = margin * (d[0] * d[0] + d[1] * d[1]).sqrt();
+    ray_ranges(dirs.len(), p, q).into_iter().all(|range| {
+        range.into_iter().all(|i| {
+            let (cs, sn) = dirs[i];
+            // den with num's sign: negative, the crossing is behind the axis.
+            let den = sign * (cs * d[1] - sn * d[0]);
+            den < 0.0 || size > r[i] * den + slack
+        })
+    })
 }
 
 #[cfg(test)]
