@@ -260,13 +260,13 @@ impl Edge {
         let Some(c) = &self.corner else {
             return false;
         };
-        let d = self.from_centre(a);
+        let d = self.off_centre(a);
         d > c.land_end && d < c.arc_end
     }
 
     /// The distance of `a` from the nearest tooth centre, 0..pitch/2.
     #[inline]
-    fn from_centre(&self, a: f64) -> f64 {
+    fn off_centre(&self, a: f64) -> f64 {
         let u = (a - self.centre) * self.inv_pitch;
         // floor(u) by truncation (a call to floor is slower on a baseline
         // x86-64 target); |u| is a few hundred pitches at most.
@@ -281,7 +281,7 @@ impl Edge {
         if a.abs() > self.half_length {
             return 0.0;
         }
-        let d = self.from_centre(a);
+        let d = self.off_centre(a);
         if let Some(c) = &self.corner {
             // In the normal section (axial lengths times cos γ0): past the
             // tip land, down the corner's arc to where it touches the flank.
