@@ -202,9 +202,10 @@ fn cut_with(
     Ok(passes)
 }
 
-/// Margin outside the blank's radius to which chords are clipped, mm: the
-/// strip edges joining clipped ends stay outside the blank.
-const CLIP_MARGIN_MM: f64 = 1.0;
+/// Margin outside the blank's radius within which a pass is traced, mm:
+/// what lies further out cannot lower an outline that starts at the blank's
+/// radius.
+const CLIP_MARGIN_MM: f64 = 0.05;
 
 /// The sample rays the segment p→q spans (p and q hold x, y and their
 /// polar angle): the first ray's index and how many, counting on past the
