@@ -114,10 +114,10 @@ fn word(line: &str, word: &str) -> Option<f64> {
         .and_then(|v| v.parse().ok())
 }
 
-#[test]
-fn a_spur_job_is_delivered_through_every_service_process() {
-    let mut cluster = Cluster::start();
-    let job = cluster.job_file("spur.toml", SPUR_JOB);
+/// Submits `text` as the job file `name` and waits: it must be delivered.
+/// Returns what `gearcam submit --wait --json` printed.
+fn delivered(cluster: &Cluster, name: &str, text: &str) -> serde_json::Value {
+    let job = cluster.job_file(name, text);
     let (out, v) = cluster.submit_wait(&job);
     assert!(
         out.status.success(),
@@ -125,6 +125,13 @@ fn a_spur_job_is_delivered_through_every_service_process() {
         cluster.logs()
     );
     assert_eq!(v["state"], "delivered", "{v}");
+    v
+}
+
+#[test]
+fn a_spur_job_is_delivered_through_every_service_process() {
+    let mut cluster = Cluster::start();
+    let v = delivered(&cluster, "spur.toml", SPUR_JOB);
     let receipt_hash = v["program"]["sha256"].as_str().expect("sha256").to_string();
     let job_id = v["job"].as_str().expect("job id").to_string();
 
@@ -187,14 +194,7 @@ fn a_spur_job_is_delivered_through_every_service_process() {
 fn a_hobbing_program_is_simulated_before_delivery_and_warns_of_its_grade() {
     let mut cluster = Cluster::start();
     let strict = SPUR_JOB.replace("quality_grade = 7", "quality_grade = 2");
-    let job = cluster.job_file("strict.toml", &strict);
-    let (out, v) = cluster.submit_wait(&job);
-    assert!(
-        out.status.success(),
-        "submit failed: {v}\n{}",
-        cluster.logs()
-    );
-    assert_eq!(v["state"], "delivered", "{v}");
+    let v = delivered(&cluster, "strict.toml", &strict);
     let warnings = v["warnings"].as_array().expect("warnings");
     let grade = warnings
         .iter()

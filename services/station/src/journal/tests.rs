@@ -138,11 +138,9 @@ fn every_job_says_its_quantity_an_old_journal_too() {
     );
 }
 
-/// A model is kept while its job runs; once the job has ended, a model
-/// arriving later does not replace the one it has; an unknown job has
-/// no model and a job without one says so.
-#[test]
-fn an_ended_job_keeps_its_model() {
+/// A new journal holding job J-1 for H01 (the directory lives as long as
+/// the first value).
+fn journal_with_a_job() -> (tempfile::TempDir, Journal, JobId) {
     let dir = tempfile::tempdir().unwrap();
     let journal = Journal::open(&dir.path().join("station.db")).unwrap();
     let spec: gearcam_proto::JobSpec =
@@ -155,6 +153,15 @@ fn an_ended_job_keeps_its_model() {
         spec,
     };
     journal.submit(&req, 1).unwrap();
+    (dir, journal, job)
+}
+
+/// A model is kept while its job runs; once the job has ended, a model
+/// arriving later does not replace the one it has; an unknown job has
+/// no model and a job without one says so.
+#[test]
+fn an_ended_job_keeps_its_model() {
+    let (_dir, journal, job) = journal_with_a_job();
     assert_eq!(journal.model(&job).unwrap(), Some(None));
     assert!(journal.set_model(&job, b"first").unwrap());
     assert!(journal.set_model(&job, b"again").unwrap());
@@ -241,18 +248,7 @@ fn a_reader_sees_what_is_committed_and_only_that() {
 /// program is produced.
 #[test]
 fn the_programs_warnings_join_the_models_once() {
-    let dir = tempfile::tempdir().unwrap();
-    let journal = Journal::open(&dir.path().join("station.db")).unwrap();
-    let spec: gearcam_proto::JobSpec =
-        serde_json::from_str(r#"{"job": {"machine": "H01", "part_number": "SP-1"}}"#).unwrap();
-    let job = JobId::new("J-1").unwrap();
-    let req = JobRequest {
-        job_id: job.clone(),
-        submitted_at_ms: 1,
-        submitted_by: "planner".into(),
-        spec,
-    };
-    journal.submit(&req, 1).unwrap();
+    let (_dir, journal, job) = journal_with_a_job();
     let warning = |code, field: &str| Warning {
         code,
         field: field.into(),
