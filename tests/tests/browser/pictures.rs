@@ -144,6 +144,22 @@ async fn a_planner_sees_each_jobs_picture_zooms_it_and_reads_its_program() {
         "picture-hobbing",
     )
     .await;
+    // The gear the hobbing job's program cuts on the virtual machine: its
+    // measuring charts, drawn when the planner opens them.
+    b.client
+        .find(Locator::Css("details#simulation summary"))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .unwrap();
+    let width = wait_for_js(
+        &b,
+        "const i = document.querySelector('#simulation img'); return i && i.complete ? i.naturalWidth : 0",
+    )
+    .await;
+    assert!(width.as_f64().unwrap() > 100.0, "charts: {width}");
+    b.screenshot("simulation-charts").await;
     // The spiral face: its radii and the coverage found.
     sees_picture(
         &b,

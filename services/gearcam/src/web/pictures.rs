@@ -11,6 +11,11 @@
 //!   model's plan as `gearcam check` makes it). Served as
 //!   `image/svg+xml` under a policy that lets nothing in it run; every
 //!   text in it is a number or escaped by the `svg` crate.
+//! - `GET /jobs/{job}/simulation.svg`: the measuring charts of the gear a
+//!   delivered hobbing program cuts on the virtual machine (the stored
+//!   program read back against the journaled model and run as the template
+//!   service runs it before delivery; seconds), drawn as `gearcam check
+//!   --simulate` draws them; shown when the planner opens them on the page.
 //! - `GET /jobs/{job}/program`: the program as the machine's agent stored
 //!   it for the job (its store's version with the job's id and the
 //!   receipt's SHA-256, as `gearcam program show` reads it), header and
@@ -42,6 +47,7 @@ use crate::station;
 pub(super) fn routes() -> Router<Web> {
     Router::new()
         .route("/jobs/{job}/picture.svg", get(picture))
+        .route("/jobs/{job}/simulation.svg", get(simulation_picture))
         .route("/jobs/{job}/program", get(program_page))
         .route("/jobs/{job}/program.txt", get(program_file))
 }
@@ -61,7 +67,8 @@ const ZOOM_SCRIPT: &str = include_str!("zoom.js");
 const PICTURE_STYLE: &str =
     ".zoomable{border:1px solid #ccc;overflow:auto;max-width:100%;max-height:80vh;background:#fff}\
 .zoomable img{display:block;max-width:100%;height:auto}\
-.zoom-tools{margin:.3rem 0}.zoom-tools button{margin-right:.3rem}";
+.zoom-tools{margin:.3rem 0}.zoom-tools button{margin-right:.3rem}\
+.charts{overflow:auto;max-width:100%;background:#fff}.charts img{display:block;max-width:100%;height:auto}";
 
 /// The job page's picture and the links to its program: the picture for
 /// every job that may have a model (one not yet planned has none), and the
@@ -78,6 +85,15 @@ pub(super) fn section(s: &JobStatus) -> Markup {
             }
         } @else {
             p.no-picture { "The picture is drawn from the job's model, once the model service has computed it (reload the page then)." }
+        }
+        @if s.program.is_some() {
+            details #simulation {
+                summary { "Virtual hobbing: the measuring charts of the gear the program cuts" }
+                div.charts {
+                    img loading="lazy" src=(format!("/jobs/{}/simulation.svg", s.job))
+                        alt=(format!("The charts of job {}: only a hobbing program of one cylindrical gear is run on the virtual machine.", s.job));
+                }
+            }
         }
         @if let Some(p) = &s.program {
             h2 { "Program" }
@@ -202,6 +218,11 @@ async fn picture(
                 .into_response()
         }
     };
+    svg_response(svg)
+}
+
+/// An SVG picture as the page serves it.
+fn svg_response(svg: String) -> Response {
     let mut response = svg.into_response();
     let headers = response.headers_mut();
     headers.insert(
@@ -219,6 +240,66 @@ async fn picture(
         HeaderValue::from_static("nosniff"),
     );
     response
+}
+
+/// The measuring charts of the gear a hobbing program cuts on the virtual
+/// machine: the program's text read back against the job's model and run
+/// as the template service runs it before delivery, drawn as `gearcam
+/// check --simulate` draws them.
+fn simulation_svg_of(model: &AnyModel, text: &str) -> Result<String, String> {
+    let AnyModel::Hobbing(m) = model else {
+        return Err("only hobbing programs are run on the virtual machine".into());
+    };
+    if let Some(why) = gearcam_template::simulation::out_of_scope(m) {
+        return Err(why.into());
+    }
+    let (_, trace) = gearcam_nc::check(text, m);
+    let settings = gearcam_template::simulation::before_delivery();
+    let (report, run) = gearcam_template::simulation::run(&trace, m, &settings);
+    let run = run.ok_or_else(|| {
+        format!(
+            "the program cannot be run on the virtual machine: {}",
+            report.not_measured.unwrap_or_default()
+        )
+    })?;
+    crate::check::picture_simulation::simulation_svg(&run)
+        .ok_or_else(|| "the cut gear could not be measured, so there are no charts".into())
+}
+
+/// `GET /jobs/{job}/simulation.svg`: the measuring charts of the gear the
+/// job's delivered program cuts on the virtual machine ([`simulation_svg_of`]
+/// on the program as the machine's agent stored it). A run takes seconds.
+async fn simulation_picture(
+    State(web): State<Web>,
+    Extension(session): Extension<Session>,
+    Path(job): Path<String>,
+) -> Response {
+    let id = match job_id(&job, Some(&session)) {
+        Ok(id) => id,
+        Err(page) => return page.into_response(),
+    };
+    let model = match model(&web, &id).await {
+        Ok(m) => m,
+        Err(page) => return page.into_response(),
+    };
+    let text = match delivered(&web, &id).await {
+        Ok((_, program)) => program.text,
+        Err(page) => return page.into_response(),
+    };
+    let drawn = tokio::task::spawn_blocking(move || simulation_svg_of(&model, &text)).await;
+    match drawn {
+        Ok(Ok(svg)) => svg_response(svg),
+        Ok(Err(why)) => (
+            StatusCode::NOT_FOUND,
+            format!("no virtual hobbing charts for job {id}: {why}"),
+        )
+            .into_response(),
+        Err(e) => (
+            StatusCode::INTERNAL_SERVER_ERROR,
+            format!("the charts of job {id} cannot be drawn: {e}"),
+        )
+            .into_response(),
+    }
 }
 
 /// The program the machine's agent stored for the job: its status and
@@ -425,6 +506,30 @@ mod tests {
             Some(Drawing::Wire(m, _)) => AnyModel::Wire(m),
             None => panic!("{example}: no model: {:?}", report.errors),
         }
+    }
+
+    /// The charts of the gear a hobbing program cuts are drawn from the
+    /// program's text and the job's model; a spiral job, and a program cut
+    /// short before its cutting moves, have none and say why.
+    #[test]
+    fn a_hobbing_programs_charts_are_drawn_from_its_text() {
+        let model = model_of("spur_840d.toml", "SP-1");
+        let AnyModel::Hobbing(m) = &model else {
+            panic!("spur_840d is a hobbing job")
+        };
+        let program = Templates::builtin().render(m).expect("renders");
+        let svg = simulation_svg_of(&model, &program.text).expect("charts");
+        assert!(svg.starts_with("<svg"), "{svg}");
+        assert!(svg.contains("Profile, middle section"), "{svg}");
+        let spiral = model_of("face_annulus_fanuc.toml", "F-1");
+        let why = simulation_svg_of(&spiral, "").unwrap_err();
+        assert!(why.contains("only hobbing"), "{why}");
+        let short: Vec<&str> = program.text.lines().take(8).collect();
+        let why = simulation_svg_of(&model, &short.join("\n")).unwrap_err();
+        assert!(
+            why.contains("cannot be run") || why.contains("no charts"),
+            "{why}"
+        );
     }
 
     /// The page draws each family's model as `gearcam check` does, and a
