@@ -185,18 +185,21 @@ fn svg_of(model: &AnyModel) -> Result<String, String> {
     }
 }
 
+/// The job named in the path and its model, or the page that says why not.
+async fn job_and_model(web: &Web, session: &Session, job: &str) -> Result<(JobId, AnyModel), Page> {
+    let id = job_id(job, Some(session))?;
+    let model = model(web, &id).await?;
+    Ok((id, model))
+}
+
 /// `GET /jobs/{job}/picture.svg`: the job's picture, drawn from its model.
 async fn picture(
     State(web): State<Web>,
     Extension(session): Extension<Session>,
     Path(job): Path<String>,
 ) -> Response {
-    let id = match job_id(&job, Some(&session)) {
-        Ok(id) => id,
-        Err(page) => return page.into_response(),
-    };
-    let model = match model(&web, &id).await {
-        Ok(m) => m,
+    let (id, model) = match job_and_model(&web, &session, &job).await {
+        Ok(found) => found,
         Err(page) => return page.into_response(),
     };
     // Drawing a die fits its arcs again: off the page's threads.
@@ -274,12 +277,8 @@ async fn simulation_picture(
     Extension(session): Extension<Session>,
     Path(job): Path<String>,
 ) -> Response {
-    let id = match job_id(&job, Some(&session)) {
-        Ok(id) => id,
-        Err(page) => return page.into_response(),
-    };
-    let model = match model(&web, &id).await {
-        Ok(m) => m,
+    let (id, model) = match job_and_model(&web, &session, &job).await {
+        Ok(found) => found,
         Err(page) => return page.into_response(),
     };
     let text = match delivered(&web, &id).await {
