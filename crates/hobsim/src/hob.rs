@@ -142,44 +142,9 @@ impl Hob {
     }
 
     /// The axial positions within `a_lo..=a_hi` where gash `k`'s edge
-    /// profile changes from one smooth piece to the next (tip land, corner
-    /// arc, flank, root; the hob's ends), sorted, with `a_lo` and `a_hi`.
-    /// Between two neighbours [`Hob::outer_radius`] is a line or one arc.
+    /// profile changes from one smooth piece to the next: [`Edge::knots`].
     pub fn knots(&self, k: u32, a_lo: f64, a_hi: f64) -> Vec<f64> {
-        let half = self.length_mm / 2.0;
-        let (a_lo, a_hi) = (a_lo.max(-half), a_hi.min(half));
-        if a_lo > a_hi {
-            return vec![];
-        }
-        let px = self.axial_pitch_mm;
-        // Distances from a tooth's centre where a piece ends.
-        let mut ends = vec![];
-        if let (true, Some((x0, _))) = (self.tip_corner_radius_mm > 0.0, self.corner()) {
-            let tan_a = self.tan_alpha_x * self.cos_lead;
-            let cos_a = 1.0 / (1.0 + tan_a * tan_a).sqrt();
-            ends.push(x0 / self.cos_lead);
-            ends.push((x0 + self.tip_corner_radius_mm * cos_a) / self.cos_lead);
-        } else {
-            ends.push(px / 4.0 - (self.tip_radius_mm - self.ref_radius_mm) * self.tan_alpha_x);
-        }
-        ends.push(px / 4.0 + (self.ref_radius_mm - self.root_radius_mm) * self.tan_alpha_x);
-        let centre = self.lead_per_rad() * self.gash_angle(k);
-        let n0 = ((a_lo - centre) / px).floor() as i64 - 1;
-        let n1 = ((a_hi - centre) / px).ceil() as i64 + 1;
-        let mut out = vec![a_lo, a_hi];
-        for n in n0..=n1 {
-            let c = centre + px * n as f64;
-            for &d in ends.iter().filter(|&&d| d > 0.0 && d < px / 2.0) {
-                out.extend(
-                    [c - d, c + d]
-                        .into_iter()
-                        .filter(|a| *a > a_lo && *a < a_hi),
-                );
-            }
-        }
-        out.sort_by(f64::total_cmp);
-        out.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
-        out
+        self.edge(k).knots(a_lo, a_hi)
     }
 
     /// Outer radius of gash `k`'s edge at axial position `a` (from the
@@ -253,6 +218,43 @@ struct Corner {
 }
 
 impl Edge {
+    /// The axial positions within `a_lo..=a_hi` where the profile changes
+    /// from one smooth piece to the next (tip land, corner arc, flank, root;
+    /// the hob's ends), sorted, with `a_lo` and `a_hi`. Between two
+    /// neighbours [`Edge::radius`] is a line or one arc.
+    pub fn knots(&self, a_lo: f64, a_hi: f64) -> Vec<f64> {
+        let half = self.half_length;
+        let (a_lo, a_hi) = (a_lo.max(-half), a_hi.min(half));
+        if a_lo > a_hi {
+            return vec![];
+        }
+        let px = self.pitch;
+        let tan_a = 1.0 / self.inv_tan_alpha;
+        // Distances from a tooth's centre where a piece ends: the tip land
+        // and the corner arc (or the sharp tip), then the flank at the root.
+        let mut ends = match &self.corner {
+            Some(c) => vec![c.land_end, c.arc_end],
+            None => vec![px / 4.0 - (self.tip - self.ref_radius) * tan_a],
+        };
+        ends.push(px / 4.0 + (self.ref_radius - self.root) * tan_a);
+        let n0 = ((a_lo - self.centre) / px).floor() as i64 - 1;
+        let n1 = ((a_hi - self.centre) / px).ceil() as i64 + 1;
+        let mut out = vec![a_lo, a_hi];
+        for n in n0..=n1 {
+            let c = self.centre + px * n as f64;
+            for &d in ends.iter().filter(|&&d| d > 0.0 && d < px / 2.0) {
+                out.extend(
+                    [c - d, c + d]
+                        .into_iter()
+                        .filter(|a| *a > a_lo && *a < a_hi),
+                );
+            }
+        }
+        out.sort_by(f64::total_cmp);
+        out.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+        out
+    }
+
     /// True when `a` lies on a rounded tip corner's arc (which cuts only the
     /// root fillet of the gear).
     #[inline]

@@ -3,7 +3,7 @@
 
 use gearcam_hobsim::cut::{self, Blank, Resolution};
 use gearcam_hobsim::hob::Hob;
-use gearcam_hobsim::kinematics::{Axes, Gearbox, Segment, Timeline};
+use gearcam_hobsim::kinematics::Timeline;
 
 mod common;
 
@@ -24,41 +24,6 @@ fn centre_distance() -> f64 {
     MN * f64::from(Z) / 2.0 + R0
 }
 
-/// One coupled move of the hob at X from `z0` to `z1` over `turns` table
-/// turns (hob at 1 turn/s), the spur set-up's swivel η = −s_h·γ0 and
-/// ratio C/B = s_h·z0/z (`docs/hobbing.md` §2).
-fn run(h: &Hob, z0: f64, z1: f64, turns: f64) -> Timeline {
-    let g0 = (f64::from(h.starts) * MN / (2.0 * h.ref_radius_mm)).asin();
-    let ratio = h.hand * f64::from(h.starts) / f64::from(Z);
-    let x = centre_distance();
-    let hob_turns = turns / ratio.abs();
-    Timeline::from_segments(vec![Segment {
-        line: 0,
-        t0_s: 0.0,
-        t1_s: hob_turns,
-        from: Axes {
-            x_mm: x,
-            y_mm: 0.0,
-            z_mm: z0,
-        },
-        to: Axes {
-            x_mm: x,
-            y_mm: 0.0,
-            z_mm: z1,
-        },
-        eta_rad: -h.hand * g0,
-        hob_rev_s: 1.0,
-        gearbox: Some(Gearbox {
-            c_per_b: ratio,
-            c_per_z_rad_mm: 0.0,
-            c_per_y_rad_mm: 0.0,
-        }),
-        c_extra_rad: 0.0,
-        feed: true,
-    }])
-    .expect("timeline")
-}
-
 /// Cuts `blank` along `tl` with `h` at the fine resolution.
 fn cut_blank(tl: &Timeline, h: &Hob, blank: &mut Blank) {
     cut::cut(tl, h, blank, Resolution::fine()).expect("cut");
@@ -67,7 +32,7 @@ fn cut_blank(tl: &Timeline, h: &Hob, blank: &mut Blank) {
 /// One transverse section at z 50 mm, 2¹⁶ samples round, cut by `h` in
 /// one pass at that height (1.05 table turns).
 fn one_section(h: &Hob) -> Blank {
-    let tl = run(h, 50.0, 50.0, 1.05);
+    let tl = common::spur_feed(h, 50.0, 50.0, 1.05);
     let mut blank = Blank::new(vec![50.0], 110.0, 1 << 16).expect("blank");
     cut_blank(&tl, h, &mut blank);
     blank
@@ -204,7 +169,7 @@ fn feed_marks_in_the_root_are_as_deep_as_the_tip_circles_leave() {
     for f in [4.0, 8.0, 12.0] {
         let mut h = common::rack_hob(R0, 1, 12, 0.0);
         h.length_mm = 20.0;
-        let tl = run(&h, 50.0 + 3.0 * f, 50.0 - f, 4.0);
+        let tl = common::spur_feed(&h, 50.0 + 3.0 * f, 50.0 - f, 4.0);
         let z = Blank::planes(50.0, 50.0 + 2.0 * f, 13);
         let mut blank = Blank::new(z, 110.0, 20 * 64).expect("blank");
         cut_blank(&tl, &h, &mut blank);

@@ -31,7 +31,7 @@ const MAX_DEPTH: u32 = 18;
 /// A gash pass: the pose at hob angle φ is the move's at the pass time plus
 /// φ/ω. Within the move the nominal axes, B and C are linear in time, so in
 /// φ; outside it they stand (as [`Timeline::nominal_pose_in`] holds them).
-pub(super) struct Pass<'a> {
+pub(super) struct Pass {
     /// The nominal pose at φ = 0.
     p0: Pose,
     /// X, Y, Z and C per radian of hob turn, nominal.
@@ -52,8 +52,8 @@ pub(super) struct Pass<'a> {
     /// sin and cos of the pass's swivel (with the what-if offset).
     se: f64,
     ce: f64,
-    hob: &'a Hob,
-    k: u32,
+    /// The hob's tip radius, mm.
+    tip: f64,
     edge: Edge,
     /// 1/cos η.
     inv_ce: f64,
@@ -63,17 +63,17 @@ pub(super) struct Pass<'a> {
 /// A point of a section in the workpiece frame: x, y and its polar angle.
 pub(super) type Point = [f64; 3];
 
-impl<'a> Pass<'a> {
+impl Pass {
     /// The pass of gash `k` at time `t` of segment `seg`.
     pub(super) fn new(
         timeline: &Timeline,
         seg: usize,
         t: f64,
-        hob: &'a Hob,
+        hob: &Hob,
         k: u32,
         outer_radius_mm: f64,
         res: Resolution,
-    ) -> Pass<'a> {
+    ) -> Pass {
         let s = &timeline.segments()[seg];
         let omega = std::f64::consts::TAU * s.hob_rev_s;
         let p0 = timeline.nominal_pose_in(seg, t);
@@ -104,8 +104,7 @@ impl<'a> Pass<'a> {
             phi_max: (cos_lim.acos() + 0.02).min(std::f64::consts::PI),
             se,
             ce,
-            hob,
-            k,
+            tip: hob.tip_radius_mm,
             edge: hob.edge(k),
             inv_ce: 1.0 / ce,
             res,
@@ -250,7 +249,7 @@ impl<'a> Pass<'a> {
             let Some((a_min, a_max)) = self.reach(clip_r, zs) else {
                 continue;
             };
-            let knots = self.hob.knots(self.k, a_min, a_max);
+            let knots = self.edge.knots(a_min, a_max);
             let mut grid = Vec::with_capacity(64);
             for w in knots.windows(2) {
                 let n = ((w[1] - w[0]) / self.res.axial_step_mm).ceil().max(1.0) as usize;
@@ -396,7 +395,7 @@ impl<'a> Pass<'a> {
     /// than the widening while it sweeps.
     fn reach(&self, clip_r: f64, zs: f64) -> Option<(f64, f64)> {
         let p0 = self.pose(0.0);
-        let tip = self.hob.tip_radius_mm;
+        let tip = self.tip;
         let (se, ce) = (self.se, self.ce);
         let dz = zs - p0.axes.z_mm;
         let big_x = p0.axes.x_mm;

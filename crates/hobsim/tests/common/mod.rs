@@ -116,19 +116,26 @@ pub(crate) fn rack_hob(r0: f64, starts: u32, gashes: u32, corner_mm: f64) -> Hob
 /// Z 50, for `turns` table turns, η = −s_h·γ0, C/B = s_h·z0/z, the hob at
 /// 1 turn/s.
 pub(crate) fn spur_plunge(h: &Hob, turns: f64) -> Timeline {
+    spur_feed(h, 50.0, 50.0, turns)
+}
+
+/// One coupled move of the hob at the set-up's centre distance from `z0`
+/// to `z1` over `turns` table turns (hob at 1 turn/s), the spur set-up's
+/// swivel η = −s_h·γ0 and ratio C/B = s_h·z0/z (`docs/hobbing.md` §2).
+pub(crate) fn spur_feed(h: &Hob, z0: f64, z1: f64, turns: f64) -> Timeline {
     let g0 = (f64::from(h.starts) * SET_UP_MN / (2.0 * h.ref_radius_mm)).asin();
     let ratio = h.hand * f64::from(h.starts) / f64::from(SET_UP_Z);
-    let at = Axes {
+    let at = |z_mm| Axes {
         x_mm: SET_UP_MN * f64::from(SET_UP_Z) / 2.0 + h.ref_radius_mm,
         y_mm: 0.0,
-        z_mm: 50.0,
+        z_mm,
     };
     Timeline::from_segments(vec![Segment {
         line: 0,
         t0_s: 0.0,
         t1_s: turns / ratio.abs(),
-        from: at,
-        to: at,
+        from: at(z0),
+        to: at(z1),
         eta_rad: -h.hand * g0,
         hob_rev_s: 1.0,
         gearbox: Some(Gearbox {
