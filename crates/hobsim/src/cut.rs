@@ -173,7 +173,7 @@ fn cut_with(
             (cs, sn)
         })
         .collect();
-    let mut passes = 0;
+    let mut passes = Vec::new();
     for (i, s) in timeline.segments().iter().enumerate() {
         if s.hob_rev_s == 0.0 || s.t1_s <= s.t0_s {
             continue;
@@ -193,13 +193,32 @@ fn cut_with(
             let b = n as f64 * step;
             let t = s.t0_s + (b - b0) / (TAU * s.hob_rev_s);
             let k = (-n).rem_euclid(i64::from(hob.gashes)) as u32;
-            pass::Pass::new(timeline, i, t, hob, k, blank.outer_radius_mm, res)
-                .cut(blank, &dirs, skip_clear);
-            passes += 1;
+            passes.push(pass::Pass::new(
+                timeline,
+                i,
+                t,
+                hob,
+                k,
+                blank.outer_radius_mm,
+                res,
+            ));
             n += 1;
         }
     }
-    Ok(passes)
+    let clip_r = blank.outer_radius_mm + CLIP_MARGIN_MM;
+    let mut order: Vec<(f64, usize)> = Vec::with_capacity(passes.len());
+    for (j, r) in blank.r_mm.iter_mut().enumerate() {
+        let zs = blank.z_mm[j];
+        // The deepest passes first: the outline is then near its last shape
+        // early, and the shallower passes' pieces stand clear of it.
+        order.clear();
+        order.extend(passes.iter().enumerate().map(|(i, p)| (p.depth_in(zs), i)));
+        order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        for &(_, i) in &order {
+            passes[i].cut(zs, clip_r, r, &dirs, skip_clear);
+        }
+    }
+    Ok(passes.len() as u64)
 }
 
 /// Margin outside the blank's radius within which a pass is traced, mm:

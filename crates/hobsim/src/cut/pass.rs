@@ -13,7 +13,7 @@
 //! inside the blank (the hob's end faces). `docs/simulation.md` §3 derives
 //! this.
 
-use super::{clear_of, raster, Blank, Resolution, CLIP_MARGIN_MM};
+use super::{clear_of, raster, Resolution};
 use crate::hob::{Edge, Hob};
 use crate::kinematics::{Axes, MachineErrors, Pose, Timeline};
 
@@ -239,32 +239,49 @@ impl Pass {
         self.to_workpiece(&q, a, s, tt, None)
     }
 
-    /// Cuts every section of `blank` the pass can reach.
-    /// `skip_clear`: leave out the pieces that stand clear of the outline
-    /// ([`Pass::refine`]).
-    pub(super) fn cut(&self, blank: &mut Blank, dirs: &[(f64, f64)], skip_clear: bool) {
-        let clip_r = blank.outer_radius_mm + CLIP_MARGIN_MM;
-        for j in 0..blank.z_mm.len() {
-            let zs = blank.z_mm[j];
-            let Some((a_min, a_max)) = self.reach(clip_r, zs) else {
-                continue;
-            };
-            let knots = self.edge.knots(a_min, a_max);
-            let mut grid = Vec::with_capacity(64);
-            for w in knots.windows(2) {
-                let n = ((w[1] - w[0]) / self.res.axial_step_mm).ceil().max(1.0) as usize;
-                grid.extend((0..n).map(|q| w[0] + (w[1] - w[0]) * q as f64 / n as f64));
-            }
-            grid.extend(knots.last());
-            let section = Section {
-                zs,
-                clip_r,
-                r: &mut blank.r_mm[j],
-                dirs,
-                skip_clear,
-            };
-            self.trace(&grid, section);
+    /// How deep the hob's tip cylinder reaches towards the gear axis in the
+    /// section `zs` at φ = 0, along the machine's x axis: X less the half
+    /// chord of the tip circle whose plane (across the hob axis) meets the
+    /// section there, t = (z_s − Z)·cos η from the hob axis (infinite where
+    /// it misses). Only an order for the passes.
+    pub(super) fn depth_in(&self, zs: f64) -> f64 {
+        let t = (zs - self.q0.axes.z_mm) * self.ce;
+        let h2 = self.tip * self.tip - t * t;
+        if h2 <= 0.0 {
+            return f64::INFINITY;
         }
+        self.q0.axes.x_mm - h2.sqrt()
+    }
+
+    /// Cuts the outline `r` of the section `zs` where the pass can reach it
+    /// (within `clip_r` of the gear axis). `skip_clear`: leave out the
+    /// pieces that stand clear of the outline ([`Pass::refine`]).
+    pub(super) fn cut(
+        &self,
+        zs: f64,
+        clip_r: f64,
+        r: &mut [f64],
+        dirs: &[(f64, f64)],
+        skip_clear: bool,
+    ) {
+        let Some((a_min, a_max)) = self.reach(clip_r, zs) else {
+            return;
+        };
+        let knots = self.edge.knots(a_min, a_max);
+        let mut grid = Vec::with_capacity(64);
+        for w in knots.windows(2) {
+            let n = ((w[1] - w[0]) / self.res.axial_step_mm).ceil().max(1.0) as usize;
+            grid.extend((0..n).map(|q| w[0] + (w[1] - w[0]) * q as f64 / n as f64));
+        }
+        grid.extend(knots.last());
+        let section = Section {
+            zs,
+            clip_r,
+            r,
+            dirs,
+            skip_clear,
+        };
+        self.trace(&grid, section);
     }
 
     /// The pass's curve in one section from the pierce points of the
