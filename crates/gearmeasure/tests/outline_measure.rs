@@ -51,6 +51,9 @@ struct Built {
     ecc: [f64; 2],
     /// One tooth whose right flank differs: (tooth, its side).
     odd_tooth: Option<(usize, Side)>,
+    /// Crowning: every flank stands amount·(1 − (2·z/b − 1)²) further into
+    /// its space along the base tangent at height z: (amount mm, b mm).
+    crown: (f64, f64),
 }
 
 impl Built {
@@ -89,6 +92,7 @@ impl Built {
             shift: vec![0.0; z],
             ecc: [0.0, 0.0],
             odd_tooth: None,
+            crown: (0.0, spec.face_width_mm),
         }
     }
 
@@ -141,14 +145,17 @@ impl Built {
         let j = (t / pitch).round().rem_euclid(self.z as f64) as usize;
         let mut delta = t - j as f64 * pitch - self.shift[j];
         delta -= TAU * (delta / TAU).round();
+        // A flank moved out by c along the base tangent is turned by c/rb.
+        let (c, b) = self.crown;
+        let turn = c * (1.0 - (2.0 * height / b - 1.0).powi(2)) / self.rb;
         if delta >= 0.0 {
             let side = match self.odd_tooth {
                 Some((k, side)) if k == j => side,
                 _ => self.right,
             };
-            self.side_radius(&side, delta)
+            self.side_radius(&side, (delta - turn).max(0.0))
         } else {
-            self.side_radius(&self.left, -delta)
+            self.side_radius(&self.left, (-delta - turn).max(0.0))
         }
     }
 
@@ -492,6 +499,41 @@ fn a_steeper_lead_is_a_helix_slope_of_the_right_sign() {
         }
         assert!(value(&m, Item::ProfileTotal) < 0.05);
     }
+}
+
+#[test]
+fn a_crowned_helix_measures_clean_against_its_crowned_design_and_not_against_a_plain_one() {
+    // Flanks crowned by c = 10 µm (parabola over the face): against a spec
+    // with the same crowning the helix is clean; against a plain spec its
+    // form is the parabola over the evaluation range, c·(1 − (2·x/b − 1)²)
+    // less its best line: with the range x ∈ [x0, b − x0] symmetric, the
+    // best line is level and the trace runs from c·(1 − u²) at the range's
+    // ends (u = 2·x0/b − 1) to c in the middle: Fβ = ffβ = c·u².
+    let c = 0.010;
+    let plain = helical(Hand::Right);
+    let crowned = GearSpec {
+        helix_crowning_mm: c,
+        ..plain
+    };
+    let mut g = Built::new(&plain);
+    g.crown = (c, plain.face_width_mm);
+    let clean = measure(&g.sections(&faces(&plain), N), &crowned).unwrap();
+    assert!(value(&clean, Item::HelixTotal) < 0.05, "{:?}", clean.items);
+    assert!(value(&clean, Item::HelixForm) < 0.05);
+    let range = clean.geometry.helix_range;
+    let u = 2.0 * range.start_mm / plain.face_width_mm - 1.0;
+    let expected = c * u * u * 1000.0;
+    let against_plain = measure(&g.sections(&faces(&plain), N), &plain).unwrap();
+    assert!(
+        (value(&against_plain, Item::HelixTotal) - expected).abs() < 0.05 * expected,
+        "Fβ {} vs {expected}",
+        value(&against_plain, Item::HelixTotal)
+    );
+    assert!(value(&against_plain, Item::HelixSlope).abs() < 0.05);
+    // A plain gear against the crowned design misses the crowning as much.
+    let flat = Built::new(&plain);
+    let missing = measure(&flat.sections(&faces(&plain), N), &crowned).unwrap();
+    assert!((value(&missing, Item::HelixTotal) - expected).abs() < 0.05 * expected);
 }
 
 #[test]

@@ -216,11 +216,16 @@ impl Timeline {
 
     /// The pose at time `t` (clamped to the timeline).
     pub fn pose(&self, t: f64) -> Pose {
+        self.errors.apply(self.nominal_pose(t))
+    }
+
+    /// The pose at time `t` (clamped to the timeline) on the ideal machine.
+    pub fn nominal_pose(&self, t: f64) -> Pose {
         let i = self
             .segments
             .partition_point(|s| s.t1_s < t)
             .min(self.segments.len() - 1);
-        self.pose_in(i, t)
+        self.nominal_pose_in(i, t)
     }
 
     /// The timeline's end time, s.
@@ -365,10 +370,17 @@ pub fn from_trace_with(
             y_mm: st.shift_sign * m.y_mm,
             z_mm: m.z_mm,
         };
-        let dist = ((to.x_mm - pos.x_mm).powi(2)
-            + (to.y_mm - pos.y_mm).powi(2)
-            + (to.z_mm - pos.z_mm).powi(2))
-        .sqrt();
+        let pieces = arc_pieces(pos, to, m.arc.as_ref());
+        let dist = match &m.arc {
+            Some(a) => {
+                let r = (pos.z_mm - a.centre_z_mm).hypot(pos.x_mm - a.centre_x_mm);
+                (r * a.sweep_rad).hypot(to.y_mm - pos.y_mm)
+            }
+            None => ((to.x_mm - pos.x_mm).powi(2)
+                + (to.y_mm - pos.y_mm).powi(2)
+                + (to.z_mm - pos.z_mm).powi(2))
+            .sqrt(),
+        };
         let (dt, feed) = match m.kind {
             MoveKind::Rapid => (dist / rates.rapid_mm_min * 60.0, false),
             MoveKind::Dwell => (m.dwell_s.unwrap_or(0.0), false),
@@ -380,7 +392,7 @@ pub fn from_trace_with(
         };
         let coupling = state.coupling.as_ref().filter(|_| m.coupled);
         let gearbox = coupling.map(|c| gearbox_of(c, st)).transpose()?;
-        let start = coupling.filter(|c| last_coupling != Some(c.line)).map(|c| {
+        let mut start = coupling.filter(|c| last_coupling != Some(c.line)).map(|c| {
             let k = trace
                 .couplings
                 .iter()
@@ -397,23 +409,63 @@ pub fn from_trace_with(
         if let Some(c) = coupling {
             last_coupling = Some(c.line);
         }
-        starts.push(start);
-        segments.push(Segment {
-            line: m.line,
-            t0_s: t,
-            t1_s: t + dt,
-            from: pos,
-            to,
-            eta_rad: ((state.swivel_prog_deg - st.swivel_offset_deg) / st.swivel_sign).to_radians(),
-            hob_rev_s: st.hob_sign * state.dir * state.rpm / 60.0,
-            gearbox,
-            c_extra_rad: st.table_sign * m.c_correction_deg.unwrap_or(0.0).to_radians(),
-            feed,
-        });
-        t += dt;
-        pos = to;
+        let n = pieces.len() as f64;
+        for piece in pieces {
+            // A coupling starts at the move's first piece only.
+            starts.push(start.take());
+            segments.push(Segment {
+                line: m.line,
+                t0_s: t,
+                t1_s: t + dt / n,
+                from: pos,
+                to: piece,
+                eta_rad: ((state.swivel_prog_deg - st.swivel_offset_deg) / st.swivel_sign)
+                    .to_radians(),
+                hob_rev_s: st.hob_sign * state.dir * state.rpm / 60.0,
+                gearbox,
+                c_extra_rad: st.table_sign * m.c_correction_deg.unwrap_or(0.0).to_radians() / n,
+                feed,
+            });
+            t += dt / n;
+            pos = piece;
+        }
     }
     Ok(Timeline::build(segments, &starts)?.with_errors(errors))
+}
+
+/// How far the chords an arc is followed by may stand off it, mm.
+pub const ARC_SAGITTA_MM: f64 = 1e-5;
+
+/// The end points of the straight pieces a move from `from` to `to` is
+/// followed by: `to` alone for a line, and for an arc the points at equal
+/// steps of its angle, each chord within [`ARC_SAGITTA_MM`] of the circle
+/// (a chord over the angle δ of a circle of radius r stands r·(1 − cos δ/2)
+/// off it at its middle), Y moving linearly with the angle, the last point
+/// `to` exactly.
+fn arc_pieces(from: Axes, to: Axes, arc: Option<&gearcam_nc::TraceArc>) -> Vec<Axes> {
+    let Some(a) = arc else {
+        return vec![to];
+    };
+    let r = (from.z_mm - a.centre_z_mm).hypot(from.x_mm - a.centre_x_mm);
+    if r <= ARC_SAGITTA_MM || a.sweep_rad == 0.0 {
+        return vec![to];
+    }
+    let step = 2.0 * (1.0 - ARC_SAGITTA_MM / r).acos();
+    let n = (a.sweep_rad.abs() / step).ceil().clamp(1.0, 1e6) as usize;
+    let t0 = (from.x_mm - a.centre_x_mm).atan2(from.z_mm - a.centre_z_mm);
+    let mut out: Vec<Axes> = (1..n)
+        .map(|i| {
+            let f = i as f64 / n as f64;
+            let t = t0 + a.sweep_rad * f;
+            Axes {
+                x_mm: a.centre_x_mm + r * t.sin(),
+                y_mm: from.y_mm + (to.y_mm - from.y_mm) * f,
+                z_mm: a.centre_z_mm + r * t.cos(),
+            }
+        })
+        .collect();
+    out.push(to);
+    out
 }
 
 /// A coupling of the trace as the neutral-frame gearbox.

@@ -82,6 +82,10 @@ pub struct BlankGeometry {
     pub root_radius_mm: f64,
     /// Number of teeth.
     pub teeth: u32,
+    /// How much further out the hob stands in the middle of the face than
+    /// at the faces by design (a crowned gear's Cb), mm: a feed that high
+    /// is still at full depth.
+    pub crowning_mm: f64,
 }
 
 impl BlankGeometry {
@@ -95,6 +99,7 @@ impl BlankGeometry {
             z_hi_mm: g.fixture_height_mm + g.face_width_mm,
             root_radius_mm: model.geometry.df_mm / 2.0,
             teeth: g.teeth,
+            crowning_mm: model.model.crowning.as_ref().map_or(0.0, |c| c.amount_mm),
         }
     }
 

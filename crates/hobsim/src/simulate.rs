@@ -163,6 +163,7 @@ pub fn drawing(model: &MachiningModel) -> GearSpec {
         tip_diameter_mm: geo.da_mm,
         root_diameter_mm: geo.df_mm,
         normal_thickness_mm: Some(geo.sn_mm),
+        helix_crowning_mm: helix_crowning_mm(model),
         ..GearSpec::standard(
             g.teeth,
             g.module_mm,
@@ -171,6 +172,21 @@ pub fn drawing(model: &MachiningModel) -> GearSpec {
             g.face_width_mm,
         )
     }
+}
+
+/// The crowning of the model's flanks along the base tangent in the
+/// transverse plane, mm: the hob stands Cb further out (X) in the middle of
+/// the face than at the faces, and a rack moved out by ΔX leaves each flank
+/// ΔX·sin αn further into its space normal to the flank, ΔX·sin αn/cos βb =
+/// ΔX·sin αt along the transverse base tangent.
+fn helix_crowning_mm(model: &MachiningModel) -> f64 {
+    let Some(c) = &model.model.crowning else {
+        return 0.0;
+    };
+    let g = &model.plan.gear;
+    let alpha_t =
+        (g.pressure_angle_deg.to_radians().tan() / g.helix_angle_deg.to_radians().cos()).atan();
+    c.amount_mm * alpha_t.sin()
 }
 
 impl Simulation {

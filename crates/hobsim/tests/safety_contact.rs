@@ -24,6 +24,7 @@ fn blank() -> BlankGeometry {
         z_hi_mm: 130.0,
         root_radius_mm: 33.75,
         teeth: 25,
+        crowning_mm: 0.0,
     }
 }
 

@@ -356,6 +356,21 @@ pub struct TraceMove {
     pub coupled: bool,
     /// FANUC: the C correction superimposed on a shift move, degrees.
     pub c_correction_deg: Option<f64>,
+    /// The circle an arc move follows (`None` for the other kinds).
+    pub arc: Option<TraceArc>,
+}
+
+/// The circle of an arc move in the Z–X plane: the tool runs round `centre`
+/// from the move's start point through `sweep_rad` (positive from +Z
+/// towards +X) to its end point, Y moving linearly with the angle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TraceArc {
+    /// The centre's Z, mm.
+    pub centre_z_mm: f64,
+    /// The centre's X, mm.
+    pub centre_x_mm: f64,
+    /// The signed angle swept, radians.
+    pub sweep_rad: f64,
 }
 
 /// One gearbox-on block.

@@ -67,8 +67,6 @@ pub fn out_of_scope(model: &MachiningModel) -> Option<&'static str> {
     let k = &model.model;
     if !k.units.is_empty() {
         Some("a part of several gears is not simulated yet")
-    } else if k.crowning.is_some() {
-        Some("a crowned gear is not simulated yet")
     } else if k.cone.is_some() {
         Some("a conical gear is not simulated yet")
     } else if k.worm.is_some() {
@@ -133,6 +131,15 @@ fn key_of(trace: &Trace, model: &MachiningModel, settings: &Settings) -> [u8; 32
         opt(&mut h, m.feed_mm_min);
         opt(&mut h, m.dwell_s);
         opt(&mut h, m.c_correction_deg);
+        match &m.arc {
+            Some(a) => {
+                h.update([1u8]);
+                for x in [a.centre_z_mm, a.centre_x_mm, a.sweep_rad] {
+                    h.update(x.to_bits().to_le_bytes());
+                }
+            }
+            None => h.update([0u8]),
+        }
     }
     h.update((trace.couplings.len() as u64).to_le_bytes());
     for c in &trace.couplings {
@@ -424,6 +431,15 @@ mod tests {
         let last = nudged.moves.last_mut().expect("a move");
         last.z_mm = f64::from_bits(last.z_mm.to_bits() + 1);
         assert_ne!(key(&real, &model), key(&nudged, &model));
+        // An arc is not its chord.
+        let mut arced = real.clone();
+        let last = arced.moves.last_mut().expect("a move");
+        last.arc = Some(gearcam_nc::TraceArc {
+            centre_z_mm: last.z_mm,
+            centre_x_mm: last.x_mm - 1e4,
+            sweep_rad: 1e-3,
+        });
+        assert_ne!(key(&real, &model), key(&arced, &model));
         assert_eq!(key(&real, &model), key(&real.clone(), &model));
         assert_ne!(
             key(&trace, &model),

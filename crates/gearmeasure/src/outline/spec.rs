@@ -69,6 +69,13 @@ pub struct GearSpec {
     /// Helix evaluation range (from the reference face); `None`:
     /// [`helix::EvaluationRange::default_for`].
     pub helix_range: Option<helix::EvaluationRange>,
+    /// Design crowning of the helix Cβ, mm along the base tangent in the
+    /// transverse plane: the design flank stands Cβ·(1 − (2·x/b − 1)²)
+    /// further into the space at x from the reference face than at the
+    /// faces (a parabola; a circular crowning of radius R departs from it
+    /// by about (b/2)⁴/(8·R³), far below a micrometre for any real gear).
+    /// The helix deviations are taken from this design helix. 0: none.
+    pub helix_crowning_mm: f64,
     /// The direction of the flank deviations.
     pub direction: Direction,
 }
@@ -104,6 +111,7 @@ impl GearSpec {
             ball_diameter_mm: None,
             profile_range: None,
             helix_range: None,
+            helix_crowning_mm: 0.0,
             direction: Direction::Transverse,
         }
     }

@@ -18,8 +18,11 @@
 //! **Helix.** At the measuring radius the design flank is at
 //! θ(z) = θ₀ + h·z·tan βb / rb (h = +1 right hand, −1 left, 0 spur;
 //! tan βb / rb = tan β / r, one lead for every radius); a deviation e along
-//! the base tangent turns it by n·e/rb, so e(z) = n·(rb·θ(z) − h·z·tan βb)
-//! + const, the convention of [`crate::helix`].
+//! the base tangent turns it by n·e/rb, so
+//! e(z) = n·(rb·θ(z) − h·z·tan βb) + const, the convention of
+//! [`crate::helix`]. A crowned design flank stands Cβ·(1 − (2z/b − 1)²)
+//! further out ([`GearSpec::helix_crowning_mm`]), which is taken off: the
+//! deviations are from the crowned design.
 //!
 //! **Pitch.** Each flank's angle at the measuring circle, converted by
 //! [`crate::pitch::positions_from_angles`] to µm of arc from nominal.
@@ -236,12 +239,14 @@ pub(super) fn helix_points(
         .map(|z| z - spec.face_start_mm)
         .collect();
     let n = flank_sign(right);
+    let b = spec.face_width_mm;
+    let crowning = |x: f64| spec.helix_crowning_mm * (1.0 - (2.0 * x / b - 1.0).powi(2));
     let e: Vec<f64> = flanks
         .iter()
         .zip(&x)
-        .map(|(t, x)| {
+        .map(|(t, &x)| {
             let theta = if right { t.right } else { t.left };
-            n * (rb * theta - h * x * tan_bb)
+            n * (rb * theta - h * x * tan_bb) - crowning(x)
         })
         .collect();
     let e0 = e.first().copied().unwrap_or(0.0);

@@ -28,10 +28,16 @@ const CORNER_TOLERANCE: f64 = 10.0;
 /// Deepest halving of a step of the initial grid along the hob.
 const MAX_DEPTH: u32 = 18;
 
-/// A gash pass: the pose at hob angle φ is the move's at the pass time plus
-/// φ/ω. Within the move the nominal axes, B and C are linear in time, so in
-/// φ; outside it they stand (as [`Timeline::nominal_pose_in`] holds them).
-pub(super) struct Pass {
+/// A gash pass: the pose at hob angle φ is the timeline's at the pass time
+/// plus φ/ω. Within the move the nominal axes, B and C are linear in time,
+/// so in φ; beyond its ends the pose is the neighbouring move's (a pass
+/// near the end of a short move, such as a piece of an arc, sweeps the
+/// blank partly during the next), at the same hob speed.
+pub(super) struct Pass<'t> {
+    timeline: &'t Timeline,
+    /// The pass time, s, and the hob's angular speed, rad/s.
+    t: f64,
+    omega: f64,
     /// The nominal pose at φ = 0.
     p0: Pose,
     /// X, Y, Z and C per radian of hob turn, nominal.
@@ -63,17 +69,17 @@ pub(super) struct Pass {
 /// A point of a section in the workpiece frame: x, y and its polar angle.
 pub(super) type Point = [f64; 3];
 
-impl Pass {
+impl<'t> Pass<'t> {
     /// The pass of gash `k` at time `t` of segment `seg`.
     pub(super) fn new(
-        timeline: &Timeline,
+        timeline: &'t Timeline,
         seg: usize,
         t: f64,
         hob: &Hob,
         k: u32,
         outer_radius_mm: f64,
         res: Resolution,
-    ) -> Pass {
+    ) -> Pass<'t> {
         let s = &timeline.segments()[seg];
         let omega = std::f64::consts::TAU * s.hob_rev_s;
         let p0 = timeline.nominal_pose_in(seg, t);
@@ -94,6 +100,9 @@ impl Pass {
         let cos_lim = ((posed.axes.x_mm - outer_radius_mm) / hob.tip_radius_mm).clamp(-1.0, 1.0);
         let (se, ce) = posed.eta_rad.sin_cos();
         Pass {
+            timeline,
+            t,
+            omega,
             p0,
             d,
             phi_range: (f0.min(f1), f0.max(f1)),
@@ -114,7 +123,14 @@ impl Pass {
     /// The pose at hob angle `phi`.
     #[inline]
     fn pose(&self, phi: f64) -> Pose {
-        let f = phi.clamp(self.phi_range.0, self.phi_range.1);
+        if phi < self.phi_range.0 || phi > self.phi_range.1 {
+            let nominal = self.timeline.nominal_pose(self.t + phi / self.omega);
+            return match &self.errors {
+                Some(e) => e.apply(nominal),
+                None => nominal,
+            };
+        }
+        let f = phi;
         let p = &self.p0;
         let nominal = Pose {
             axes: Axes {

@@ -29,7 +29,8 @@ fn x_range(tl: &Timeline, i: usize) -> (f64, f64) {
 /// Depth: the deepest X of the coupled feed against the plunge depth
 /// X_p = r_f + r_a0 (the hob's tip circle touching the root circle). Face
 /// width: the Z range the hob centre covers at full depth (X within
-/// [`DEPTH_TOL_MM`] of the deepest) must hold the faces and the generating
+/// [`DEPTH_TOL_MM`] of the deepest, and the crowning higher on a crowned
+/// gear) must hold the faces and the generating
 /// zone's run-out beyond each, |sin η|·h/(2·tan α_x): the hob's deepest
 /// point stands at its centre's height (the tip cylinder is nearest the gear
 /// axis at a = 0 along u), and the flanks of a gap of depth h are generated
@@ -76,7 +77,7 @@ pub(super) fn depth_and_face(
     let mut run = 0.0f64;
     for &i in &cuts {
         let s = &tl.segments()[i];
-        if x_range(tl, i).1 > x_min + DEPTH_TOL_MM {
+        if x_range(tl, i).1 > x_min + DEPTH_TOL_MM + blank.crowning_mm {
             continue;
         }
         run = run.max(s.eta_rad.sin().abs() * depth / (2.0 * hob.tan_alpha_x));

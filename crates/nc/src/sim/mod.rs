@@ -36,7 +36,8 @@ use gearcam_proto::{
 
 use super::expr::{Cond, NcValue, Num, PARAMS};
 use super::{
-    finding, AxisName, Block, Distance, Interp, Lead, Motion, Op, Trace, TraceCoupling, TraceMove,
+    finding, AxisName, Block, Distance, Interp, Lead, Motion, Op, Trace, TraceArc, TraceCoupling,
+    TraceMove,
 };
 use crate::number::format_fixed;
 
@@ -284,6 +285,8 @@ struct Active {
 struct Path {
     points: [[f64; 3]; ARC_STEPS + 1],
     n: usize,
+    /// The circle, for an arc.
+    arc: Option<TraceArc>,
 }
 
 impl Path {
@@ -291,7 +294,11 @@ impl Path {
         let mut points = [[0.0; 3]; ARC_STEPS + 1];
         points[0] = from;
         points[1] = to;
-        Path { points, n: 2 }
+        Path {
+            points,
+            n: 2,
+            arc: None,
+        }
     }
 
     /// An arc in the Z–X plane around `centre` (Z, X), from angle `t0` through
@@ -313,6 +320,11 @@ impl Path {
         Path {
             points,
             n: ARC_STEPS + 1,
+            arc: Some(TraceArc {
+                centre_z_mm: centre.0,
+                centre_x_mm: centre.1,
+                sweep_rad: sweep,
+            }),
         }
     }
 
@@ -609,6 +621,7 @@ impl<'m> Sim<'m> {
                 dwell_s: Some(seconds.value),
                 coupled: self.coupled.is_some(),
                 c_correction_deg: None,
+                arc: None,
             }),
             Op::MCode { code, speed } => self.mcode(line, *code, *speed),
             Op::GearDefine { following, leading } => self.egdef(line, *following, leading),

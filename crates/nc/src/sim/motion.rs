@@ -84,6 +84,7 @@ impl<'m> Sim<'m> {
             dwell_s: None,
             coupled,
             c_correction_deg: t.c,
+            arc: path.arc,
         });
         (self.x, self.z, self.y) = (t.x, t.z, t.y);
         self.last_move = Some(line);
