@@ -75,9 +75,22 @@ pub struct SimulationReport {
     pub over_balls_mm: Option<(f64, f64)>,
     /// Wall time of the run, ms (taken by the caller, 0 when not timed).
     pub ms: f64,
+    /// The gear this report is about, on a part of several gears (the
+    /// first; `units` holds the others).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unit: Option<String>,
+    /// The reports of the part's other gears, each with its `unit` name
+    /// (the safety findings of the whole run are the first's).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub units: Vec<SimulationReport>,
 }
 
 impl SimulationReport {
+    /// This report and those of the part's other gears.
+    pub fn every_gear(&self) -> impl Iterator<Item = &SimulationReport> {
+        std::iter::once(self).chain(&self.units)
+    }
+
     /// The deviation that sets the grade: the first item of the worst
     /// class (none when nothing was graded).
     pub fn limiting(&self) -> Option<&Deviation> {

@@ -131,7 +131,20 @@ pub fn cut(
     blank: &mut Blank,
     res: Resolution,
 ) -> Result<u64, SimError> {
-    cut_with(timeline, hob, blank, res, true)
+    cut_with(timeline, hob, blank, res, true, None)
+}
+
+/// [`cut`] along the segments `i` of the timeline with `mine[i]` only: the
+/// moves `hob` makes on a machine that changes hobs between the gears of
+/// one part.
+pub fn cut_segments(
+    timeline: &Timeline,
+    hob: &Hob,
+    blank: &mut Blank,
+    res: Resolution,
+    mine: &[bool],
+) -> Result<u64, SimError> {
+    cut_with(timeline, hob, blank, res, true, Some(mine))
 }
 
 /// [`cut`] with every pass's curve refined to the tolerance everywhere,
@@ -144,7 +157,7 @@ pub fn cut_exhaustive(
     blank: &mut Blank,
     res: Resolution,
 ) -> Result<u64, SimError> {
-    cut_with(timeline, hob, blank, res, false)
+    cut_with(timeline, hob, blank, res, false, None)
 }
 
 fn cut_with(
@@ -153,6 +166,7 @@ fn cut_with(
     blank: &mut Blank,
     res: Resolution,
     skip_clear: bool,
+    mine: Option<&[bool]>,
 ) -> Result<u64, SimError> {
     if !(res.axial_step_mm > 0.0 && res.tolerance_mm > 0.0) {
         return Err(SimError::Parameter(
@@ -175,7 +189,7 @@ fn cut_with(
         .collect();
     let mut passes = Vec::new();
     for (i, s) in timeline.segments().iter().enumerate() {
-        if s.hob_rev_s == 0.0 || s.t1_s <= s.t0_s {
+        if s.hob_rev_s == 0.0 || s.t1_s <= s.t0_s || mine.is_some_and(|m| !m[i]) {
             continue;
         }
         let x_min = s.from.x_mm.min(s.to.x_mm);

@@ -89,7 +89,7 @@ pub struct BlankGeometry {
 }
 
 impl BlankGeometry {
-    /// The blank of a single-unit model: blank OD, fixture height and face
+    /// The blank of a model's (first) gear: blank OD, fixture height and face
     /// width of the gear, df/2.
     pub fn of_model(model: &MachiningModel) -> BlankGeometry {
         let g = &model.plan.gear;
@@ -172,12 +172,49 @@ pub fn check(
     blank: &BlankGeometry,
     fixtures: &Fixtures,
 ) -> Vec<SafetyFinding> {
+    let mounted = vec![0; timeline.segments().len()];
+    check_part(timeline, &[(None, *hob, *blank)], &mounted, fixtures)
+}
+
+/// A gear of the part as the safety rules see it: its name on a part of
+/// several gears, its hob and its blank.
+pub type UnitSetup = (Option<String>, Hob, BlankGeometry);
+
+/// Every finding of the run of a part of several gears, sorted by line:
+/// `units` holds each gear's name, hob and blank, `mounted[i]` the unit
+/// whose hob segment `i` is made with. Every blank is checked against the
+/// hob mounted at each move (a rapid into any gear is a crash; a turning
+/// hob in a blank must be coupled in that gear's ratio); depth, face width
+/// and shifts of each gear against the moves of its own hob, named by the
+/// gear; the fixtures against every move. A move followed in pieces (an
+/// arc) gives each finding once.
+pub fn check_part(
+    timeline: &Timeline,
+    units: &[UnitSetup],
+    mounted: &[usize],
+    fixtures: &Fixtures,
+) -> Vec<SafetyFinding> {
     let mut out = Vec::new();
-    contacts(timeline, hob, blank, fixtures, &mut out);
-    process::depth_and_face(timeline, hob, blank, &mut out);
-    process::shifts(timeline, hob, blank, &mut out);
+    for (u, (name, hob, blank)) in units.iter().enumerate() {
+        let blank_name = name
+            .as_ref()
+            .map_or("the blank".to_string(), |n| format!("the blank of \"{n}\""));
+        blank_contacts(timeline, units, mounted, (blank, &blank_name), &mut out);
+        let mine: Vec<bool> = mounted.iter().map(|&m| m == u).collect();
+        let before = out.len();
+        process::depth_and_face(timeline, hob, blank, &mine, &mut out);
+        process::shifts(timeline, hob, blank, &mine, &mut out);
+        if let Some(n) = name {
+            for f in &mut out[before..] {
+                f.what = format!("gear \"{n}\": {}", f.what);
+            }
+        }
+    }
+    fixture_contacts(timeline, units, mounted, fixtures, &mut out);
     process::couplings(timeline, &mut out);
     out.sort_by_key(|f| f.line);
+    let mut seen = std::collections::HashSet::new();
+    out.retain(|f| seen.insert((f.kind, f.line, f.why.clone())));
     out
 }
 
@@ -189,56 +226,70 @@ fn solid(hob: &Hob) -> contact::HobSolid {
     }
 }
 
-/// Rapid contact, cutting decoupled or in a wrong ratio, fixtures.
-fn contacts(
+/// Rapid contact, cutting decoupled or in a wrong ratio, with the blank
+/// `name`d, by the hob mounted at each move.
+fn blank_contacts(
     tl: &Timeline,
-    hob: &Hob,
-    blank: &BlankGeometry,
-    fixtures: &Fixtures,
+    units: &[UnitSetup],
+    mounted: &[usize],
+    (blank, name): (&BlankGeometry, &str),
     out: &mut Vec<SafetyFinding>,
 ) {
     let env = blank.envelope();
-    let want = hob.hand * f64::from(hob.starts) / f64::from(blank.teeth.max(1));
     for (i, s) in tl.segments().iter().enumerate() {
+        let hob = &units[mounted[i]].1;
+        let want = hob.hand * f64::from(hob.starts) / f64::from(blank.teeth.max(1));
         let turning = s.hob_rev_s != 0.0 && s.t1_s > s.t0_s;
         let wrong_ratio = s.gearbox.filter(|g| (g.c_per_b - want).abs() > 1e-9);
-        let blank_rule = if !s.feed && !dwell(s) {
-            Some(SafetyKind::RapidContact)
+        let kind = if !s.feed && !dwell(s) {
+            SafetyKind::RapidContact
         } else if turning && s.gearbox.is_none() {
-            Some(SafetyKind::CutDecoupled)
+            SafetyKind::CutDecoupled
         } else if turning && wrong_ratio.is_some() {
-            Some(SafetyKind::CutWrongRatio)
+            SafetyKind::CutWrongRatio
         } else {
-            None
+            continue;
         };
-        if let Some(kind) = blank_rule {
-            if let Some(c) = contact::along(tl, i, solid(hob), &env, PEN_TOL_MM) {
-                let (what, why) = match kind {
-                    SafetyKind::RapidContact => (
-                        format!("the hob's tip cylinder enters the blank {:.3} mm during a rapid move (X {:.3}, Z {:.3})", c.depth_mm, c.pose.axes.x_mm, c.pose.axes.z_mm),
-                        "a rapid move into the blank crashes the hob".to_string(),
-                    ),
-                    SafetyKind::CutDecoupled => (
-                        format!("the hob turns {:.3} mm inside the blank's envelope with the gearbox off (X {:.3}, Z {:.3})", c.depth_mm, c.pose.axes.x_mm, c.pose.axes.z_mm),
-                        "without the coupling the table does not follow the hob: the teeth are cut away".to_string(),
-                    ),
-                    _ => (
-                        format!(
-                            "the hob cuts {:.3} mm deep coupled at C/B {:.6}, the gear needs s_h·z0/z = {want:.6}",
-                            c.depth_mm,
-                            wrong_ratio.map_or(0.0, |g| g.c_per_b)
-                        ),
-                        "the table does not turn in the gear's ratio: the gaps do not index".to_string(),
-                    ),
-                };
-                out.push(SafetyFinding {
-                    kind,
-                    line: s.line,
-                    what,
-                    why,
-                });
-            }
-        }
+        let Some(c) = contact::along(tl, i, solid(hob), &env, PEN_TOL_MM) else {
+            continue;
+        };
+        let (what, why) = match kind {
+            SafetyKind::RapidContact => (
+                format!("the hob's tip cylinder enters {name} {:.3} mm during a rapid move (X {:.3}, Z {:.3})", c.depth_mm, c.pose.axes.x_mm, c.pose.axes.z_mm),
+                format!("a rapid move into {name} crashes the hob"),
+            ),
+            SafetyKind::CutDecoupled => (
+                format!("the hob turns {:.3} mm inside the envelope of {name} with the gearbox off (X {:.3}, Z {:.3})", c.depth_mm, c.pose.axes.x_mm, c.pose.axes.z_mm),
+                "without the coupling the table does not follow the hob: the teeth are cut away".to_string(),
+            ),
+            _ => (
+                format!(
+                    "the hob cuts {name} {:.3} mm deep coupled at C/B {:.6}, the gear needs s_h·z0/z = {want:.6}",
+                    c.depth_mm,
+                    wrong_ratio.map_or(0.0, |g| g.c_per_b)
+                ),
+                "the table does not turn in the gear's ratio: the gaps do not index".to_string(),
+            ),
+        };
+        out.push(SafetyFinding {
+            kind,
+            line: s.line,
+            what,
+            why,
+        });
+    }
+}
+
+/// The hob mounted at each move against the table, fixture and tailstock.
+fn fixture_contacts(
+    tl: &Timeline,
+    units: &[UnitSetup],
+    mounted: &[usize],
+    fixtures: &Fixtures,
+    out: &mut Vec<SafetyFinding>,
+) {
+    for (i, s) in tl.segments().iter().enumerate() {
+        let hob = &units[mounted[i]].1;
         for (name, ob) in &fixtures.obstacles {
             if let Some(c) = contact::along(tl, i, solid(hob), ob, PEN_TOL_MM) {
                 out.push(SafetyFinding {

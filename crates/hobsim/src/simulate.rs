@@ -100,15 +100,33 @@ pub struct Simulation {
     pub safety: Vec<SafetyFinding>,
     /// The class the drawing asks for.
     pub required_grade: u8,
+    /// The gear's name on a part of several gears (`None` for a single
+    /// gear).
+    pub unit: Option<String>,
 }
 
 /// Runs `trace` (the program read back against `model`) on the machine
-/// model and measures the gear it cuts.
+/// model and measures the gear it cuts: on a part of several gears, the
+/// first ([`simulate_part`] gives them all).
 pub fn simulate(
     trace: &Trace,
     model: &MachiningModel,
     settings: &Settings,
 ) -> Result<Simulation, SimError> {
+    let mut all = simulate_part(trace, model, settings)?;
+    Ok(all.swap_remove(0))
+}
+
+/// Runs `trace` on the machine model and measures every gear of the part
+/// it cuts, in the model's order. Each gear's blank is cut by every hob of
+/// the program along the moves made with it (the hob of the gear whose
+/// coupling started last, as the path check mounts them); the safety
+/// findings of the whole run go with the first gear.
+pub fn simulate_part(
+    trace: &Trace,
+    model: &MachiningModel,
+    settings: &Settings,
+) -> Result<Vec<Simulation>, SimError> {
     if settings.sections < 9 {
         return Err(SimError::Parameter(
             "sections",
@@ -116,8 +134,96 @@ pub fn simulate(
         ));
     }
     let timeline = kinematics::from_trace_with(trace, model, settings.rates, settings.errors)?;
-    let hob = Hob::from_data(&model.plan.hob, settings.hob)?;
-    let spec = drawing(model);
+    let units = unit_models(model);
+    let setups = units
+        .iter()
+        .map(|(name, m)| {
+            let hob = Hob::from_data(&m.plan.hob, settings.hob)?;
+            Ok((name.clone(), hob, BlankGeometry::of_model(m)))
+        })
+        .collect::<Result<Vec<safety::UnitSetup>, SimError>>()?;
+    let mounted = mounted_units(&timeline, units.len());
+    let span = setups
+        .iter()
+        .skip(1)
+        .fold(setups[0].2, |a, (_, _, b)| BlankGeometry {
+            z_lo_mm: a.z_lo_mm.min(b.z_lo_mm),
+            z_hi_mm: a.z_hi_mm.max(b.z_hi_mm),
+            ..a
+        });
+    let fixtures = Fixtures::of_model(model, &span);
+    let mut safety = safety::check_part(&timeline, &setups, &mounted, &fixtures);
+    let mut out = Vec::with_capacity(units.len());
+    for (name, m) in &units {
+        let mut blank = unit_blank(m, settings)?;
+        let mut passes = 0;
+        for (j, (_, hob, _)) in setups.iter().enumerate() {
+            let mine: Vec<bool> = mounted.iter().map(|&k| k == j).collect();
+            passes += cut::cut_segments(&timeline, hob, &mut blank, settings.resolution, &mine)?;
+        }
+        let spec = drawing(m);
+        let sections = PolarSections {
+            z_mm: blank.z_mm.clone(),
+            r_mm: blank.r_mm.clone(),
+        };
+        let measurement = outline::measure(&sections, &spec).map_err(|e| e.to_string());
+        out.push(Simulation {
+            settings: *settings,
+            blank,
+            passes,
+            spec,
+            measurement,
+            safety: std::mem::take(&mut safety),
+            required_grade: m.plan.gear.quality_grade,
+            unit: name.clone(),
+        });
+    }
+    Ok(out)
+}
+
+/// Each gear of the part as a model of its own (its gear, hob, geometry
+/// and kinematics in place of the first's), named when there are several.
+fn unit_models(model: &MachiningModel) -> Vec<(Option<String>, MachiningModel)> {
+    if model.model.units.is_empty() {
+        return vec![(None, model.clone())];
+    }
+    model
+        .model
+        .units
+        .iter()
+        .map(|u| {
+            let mut m = model.clone();
+            m.plan.gear = u.gear.clone();
+            m.plan.hob = u.hob.clone();
+            m.geometry = u.geometry.clone();
+            m.model = u.model.clone();
+            m.model.units.clear();
+            (Some(u.name.clone()), m)
+        })
+        .collect()
+}
+
+/// The unit whose hob is mounted during each segment: that of the last
+/// coupling started at or before it (the first unit's before any).
+fn mounted_units(timeline: &kinematics::Timeline, units: usize) -> Vec<usize> {
+    let phases = timeline.couplings();
+    let mut k = 0;
+    let mut unit = 0;
+    (0..timeline.segments().len())
+        .map(|i| {
+            while k < phases.len() && phases[k].segment <= i {
+                unit = phases[k].unit.min(units.saturating_sub(1));
+                k += 1;
+            }
+            unit
+        })
+        .collect()
+}
+
+/// The uncut blank of a gear: its outer diameter, `settings.sections`
+/// sections over its face width inset by the helix evaluation range's
+/// exclusion.
+fn unit_blank(model: &MachiningModel, settings: &Settings) -> Result<Blank, SimError> {
     let g = &model.plan.gear;
     let inset = (0.05 * g.face_width_mm).min(g.module_mm);
     let z = Blank::planes(
@@ -126,25 +232,7 @@ pub fn simulate(
         settings.sections,
     );
     let outer = model.model.blank_od_mm / 2.0;
-    let mut blank = Blank::new(z, outer, samples_for(outer, settings.outline_um))?;
-    let passes = cut::cut(&timeline, &hob, &mut blank, settings.resolution)?;
-    let geometry = BlankGeometry::of_model(model);
-    let fixtures = Fixtures::of_model(model, &geometry);
-    let safety = safety::check(&timeline, &hob, &geometry, &fixtures);
-    let sections = PolarSections {
-        z_mm: blank.z_mm.clone(),
-        r_mm: blank.r_mm.clone(),
-    };
-    let measurement = outline::measure(&sections, &spec).map_err(|e| e.to_string());
-    Ok(Simulation {
-        settings: *settings,
-        blank,
-        passes,
-        spec,
-        measurement,
-        safety,
-        required_grade: g.quality_grade,
-    })
+    Blank::new(z, outer, samples_for(outer, settings.outline_um))
 }
 
 /// The drawing of the model's gear, measured with the default choices.
@@ -250,8 +338,18 @@ impl Simulation {
             span_mm: sizes.map(|s| (s.span_mm, s.span_design_mm)),
             over_balls_mm: sizes.map(|s| (s.over_balls_mm, s.over_balls_design_mm)),
             ms,
+            unit: self.unit.clone(),
+            units: Vec::new(),
         }
     }
+}
+
+/// The report of a whole part ([`simulate_part`]'s gears, at least one):
+/// the first gear's, with the others' in `units`.
+pub fn part_report(gears: &[Simulation], ms: f64) -> SimulationReport {
+    let mut first = gears[0].report(ms);
+    first.units = gears[1..].iter().map(|g| g.report(ms)).collect();
+    first
 }
 
 /// The report's name of a finding's kind.

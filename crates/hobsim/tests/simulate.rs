@@ -5,7 +5,8 @@ mod common;
 
 use gearcam_gearmeasure::iso1328::Item;
 use gearcam_gearmeasure::outline::{self, GearSpec, PolarSections};
-use gearcam_hobsim::simulate::{drawing, simulate, Settings};
+use gearcam_hobsim::safety::SafetyKind;
+use gearcam_hobsim::simulate::{drawing, simulate, simulate_part, Settings};
 
 fn run(name: &str, settings: &Settings) -> gearcam_proto::SimulationReport {
     let (text, model) = common::program(name);
@@ -145,5 +146,45 @@ fn a_crowned_program_cuts_its_crowning() {
     assert!(
         chord_plain + 3.0 < chord_crowned,
         "the chord: ffβ against the crowned design {chord_crowned} µm, the plain {chord_plain} µm"
+    );
+}
+
+/// A part of two gears (a module-3 spur gear of 25 teeth in four cuts, a
+/// module-2 helical gear of 18 above it in five, a hob change between):
+/// each gear's blank is cut by the hob mounted at each move and measured
+/// against its own drawing, and the run is safe. Unit 2 coupled in unit
+/// 1's ratio (1/25 for 1/18) is a wrong-ratio cut of unit 2's blank, named
+/// by its gear.
+#[test]
+#[ignore = "seconds in release: cargo test --release -p gearcam-hobsim -- --ignored"]
+fn a_part_of_two_gears_is_cut_and_measured_gear_by_gear() {
+    let (text, model) = common::program("two_units_five_cuts_840d");
+    let (check, trace) = gearcam_nc::check(&text, &model);
+    assert!(check.ok, "{:?}", check.findings);
+    let gears = simulate_part(&trace, &model, &Settings::coarse()).expect("simulates");
+    assert_eq!(gears.len(), 2);
+    for (g, teeth) in gears.iter().zip([25, 18]) {
+        assert_eq!(g.spec.teeth, teeth);
+        let m = g.measurement.as_ref().expect("measures");
+        eprintln!("{:?}: {m}", g.unit);
+        assert!(
+            matches!(m.overall, gearcam_gearmeasure::iso1328::Grade::Class(_)),
+            "{:?}: {:?}",
+            g.unit,
+            m.overall
+        );
+    }
+    assert!(gears[0].safety.is_empty(), "{:?}", gears[0].safety);
+    let wrong = text.replace("B,0,1,18,Z", "B,0,1,25,Z");
+    assert_ne!(wrong, text);
+    let (_, trace) = gearcam_nc::check(&wrong, &model);
+    let gears = simulate_part(&trace, &model, &Settings::coarse()).expect("simulates");
+    assert!(
+        gears[0]
+            .safety
+            .iter()
+            .any(|f| f.kind == SafetyKind::CutWrongRatio && f.what.contains("upper helical gear")),
+        "{:?}",
+        gears[0].safety
     );
 }

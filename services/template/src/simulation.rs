@@ -13,7 +13,7 @@
 use std::collections::{HashMap, VecDeque};
 use std::sync::{Arc, Mutex};
 
-use gearcam_hobsim::simulate::{simulate, Settings, Simulation};
+use gearcam_hobsim::simulate::{part_report, simulate_part, Settings, Simulation};
 use gearcam_nc::Trace;
 use gearcam_proto::{Code, JobError, MachiningModel, NcProgram, SimulationReport, Stage};
 use sha2::{Digest, Sha256};
@@ -62,14 +62,14 @@ impl Mode {
 }
 
 /// Why a hobbing model is not simulated, when it is not: the simulator cuts
-/// and measures one cylindrical involute gear.
+/// and measures cylindrical involute gears (crowned or not, one or several
+/// on a part).
 pub fn out_of_scope(model: &MachiningModel) -> Option<&'static str> {
     let k = &model.model;
-    if !k.units.is_empty() {
-        Some("a part of several gears is not simulated yet")
-    } else if k.cone.is_some() {
+    let units = || k.units.iter().map(|u| &u.model);
+    if k.cone.is_some() || units().any(|u| u.cone.is_some()) {
         Some("a conical gear is not simulated yet")
-    } else if k.worm.is_some() {
+    } else if k.worm.is_some() || units().any(|u| u.worm.is_some()) {
         Some("a worm wheel is not simulated yet")
     } else {
         None
@@ -169,6 +169,8 @@ fn key_of(trace: &Trace, model: &MachiningModel, settings: &Settings) -> [u8; 32
         &plan.machine,
         model.model.blank_od_mm,
         &model.geometry,
+        &model.model.crowning,
+        &model.model.units,
     );
     // Plain data always encodes; an empty slice would still key the rest.
     h.update(rmp_serde::to_vec(&setup).unwrap_or_default());
@@ -184,8 +186,11 @@ pub fn run(
     settings: &Settings,
 ) -> (SimulationReport, Option<Simulation>) {
     let started = tokio::time::Instant::now();
-    match simulate(trace, model, settings) {
-        Ok(sim) => (sim.report(started.elapsed().as_secs_f64() * 1e3), Some(sim)),
+    match simulate_part(trace, model, settings) {
+        Ok(mut gears) => {
+            let report = part_report(&gears, started.elapsed().as_secs_f64() * 1e3);
+            (report, Some(gears.swap_remove(0)))
+        }
         Err(e) => (unsimulated(settings, &e.to_string()), None),
     }
 }
@@ -207,6 +212,8 @@ fn unsimulated(settings: &Settings, why: &str) -> SimulationReport {
         span_mm: None,
         over_balls_mm: None,
         ms: 0.0,
+        unit: None,
+        units: Vec::new(),
     }
 }
 
@@ -241,6 +248,25 @@ fn errors_of(name: &str, sim: &SimulationReport) -> Vec<JobError> {
             )
         })
         .collect();
+    for gear in sim.every_gear() {
+        errors.extend(gear_errors(name, gear));
+    }
+    errors
+}
+
+/// How a gear of the part is named in a message: "the gear", or its unit.
+fn gear_name(gear: &SimulationReport) -> String {
+    match &gear.unit {
+        Some(u) => format!("the gear \"{u}\""),
+        None => "the gear".to_string(),
+    }
+}
+
+/// The errors of one gear of the simulation of program `name`: it cannot
+/// be measured, its helix is beyond class 11, its pitch beyond its class.
+fn gear_errors(name: &str, sim: &SimulationReport) -> Vec<JobError> {
+    let mut errors = Vec::new();
+    let gear = gear_name(sim);
     if let Some(why) = &sim.not_measured {
         errors.push(Stage::Template.error(
             Code::SIMULATED_GEAR_WRONG,
@@ -248,7 +274,7 @@ fn errors_of(name: &str, sim: &SimulationReport) -> Vec<JobError> {
             "a gear that measures as the drawing's",
             why.clone(),
             format!(
-                "program {}: the gear its virtual run cuts cannot be measured as the drawing's gear ({why}); the program was not sent",
+                "program {}: {gear} its virtual run cuts cannot be measured as the drawing's gear ({why}); the program was not sent",
                 name
             ),
         ));
@@ -268,7 +294,7 @@ fn errors_of(name: &str, sim: &SimulationReport) -> Vec<JobError> {
                 },
                 format!("{:.1} µm ({})", d.value_um, class_text(d.class)),
                 format!(
-                    "program {}: the gear its virtual run cuts has {} {:.1} µm, {} against the drawing's class {}; the program was not sent",
+                    "program {}: {gear} its virtual run cuts has {} {:.1} µm, {} against the drawing's class {}; the program was not sent",
                     name,
                     d.item,
                     d.value_um,
@@ -282,29 +308,34 @@ fn errors_of(name: &str, sim: &SimulationReport) -> Vec<JobError> {
 }
 
 /// The warnings of a program's virtual run for the planner: a predicted
-/// grade worse than the drawing's ([`grade_warning`]).
+/// grade worse than the drawing's ([`grade_warning`]), for each gear of the
+/// part.
 pub fn warnings(program: &NcProgram) -> Vec<gearcam_proto::model::Warning> {
-    program
-        .simulation
-        .as_ref()
-        .and_then(grade_warning)
+    let Some(sim) = &program.simulation else {
+        return Vec::new();
+    };
+    sim.every_gear()
+        .filter_map(grade_warning)
         .map(|message| gearcam_proto::model::Warning {
             code: Code::PREDICTED_GRADE,
             field: "simulation.grade".into(),
             message,
         })
-        .into_iter()
         .collect()
 }
 
-/// The warning for a predicted grade worse than the drawing's, naming the
-/// deviation that sets it.
+/// The warning for a predicted grade of one gear worse than its drawing's,
+/// naming the deviation that sets it (and the gear, on a part of several).
 pub fn grade_warning(sim: &SimulationReport) -> Option<String> {
     let d = sim.limiting()?;
     let worse = sim.grade.is_none_or(|g| g > sim.required_grade);
+    let of = sim
+        .unit
+        .as_ref()
+        .map_or(String::new(), |u| format!(" of the gear \"{u}\""));
     worse.then(|| {
         format!(
-            "the predicted class ({}) is worse than the drawing's class {}: {} is {:.1} µm against {:.1} µm",
+            "the predicted class{of} ({}) is worse than the drawing's class {}: {} is {:.1} µm against {:.1} µm",
             class_text(sim.grade),
             sim.required_grade,
             d.item,
@@ -349,6 +380,26 @@ mod tests {
 
     fn codes(errors: &[JobError]) -> Vec<(Code, String)> {
         errors.iter().map(|e| (e.code, e.field.clone())).collect()
+    }
+
+    /// On a part of several gears every gear is held to its drawing, and
+    /// the messages name the gear.
+    #[test]
+    fn every_gear_of_a_part_is_held_to_its_class() {
+        let mut part = report(vec![deviation("fp", Some(4))]);
+        part.unit = Some("unit 1".into());
+        let mut upper = report(vec![deviation("fp", Some(9)), deviation("ffα", Some(8))]);
+        upper.unit = Some("upper gear".into());
+        part.units.push(upper);
+        let errors = errors_of("P", &part);
+        assert_eq!(
+            codes(&errors),
+            vec![(Code::SIMULATED_GEAR_WRONG, "simulation.fp".to_string())]
+        );
+        assert!(errors[0].message.contains("\"upper gear\""), "{errors:?}");
+        let w: Vec<String> = part.every_gear().filter_map(grade_warning).collect();
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(w[0].contains("\"upper gear\""), "{w:?}");
     }
 
     /// Within the drawing's class: no error, no warning.
@@ -418,6 +469,17 @@ mod tests {
         assert_eq!(key(&trace, &model), key(&trace, &other));
         other.plan.gear.teeth += 1;
         assert_ne!(key(&trace, &model), key(&trace, &other));
+        // The crowning and the other gears of the part are the set-up too.
+        let mut crowned = model.clone();
+        crowned.model.crowning = Some(gearcam_proto::model::CrowningModel {
+            shape: Default::default(),
+            amount_mm: 0.02,
+            radius_mm: None,
+            chords: 1,
+            tolerance_mm: 0.001,
+            max_deviation_mm: 0.0,
+        });
+        assert_ne!(key(&trace, &model), key(&trace, &crowned));
         let mut moved = Trace::default();
         moved.spindle_rpm.push((12, 300.0));
         assert_ne!(key(&trace, &model), key(&moved, &model));

@@ -32,7 +32,8 @@ const MAX_DEPTH: u32 = 18;
 /// plus φ/ω. Within the move the nominal axes, B and C are linear in time,
 /// so in φ; beyond its ends the pose is the neighbouring move's (a pass
 /// near the end of a short move, such as a piece of an arc, sweeps the
-/// blank partly during the next), at the same hob speed.
+/// blank partly during the next), found at the pass time plus φ/ω: right
+/// while the hob's speed does not change between the moves.
 pub(super) struct Pass<'t> {
     timeline: &'t Timeline,
     /// The pass time, s, and the hob's angular speed, rad/s.

@@ -37,14 +37,17 @@ fn x_range(tl: &Timeline, i: usize) -> (f64, f64) {
 /// over h/tan α_x along u (the path of contact of the rack, projected on
 /// its pitch line), half on either side of the centre, which the tilt η
 /// turns out of the transverse plane by sin η.
+/// Only the segments `i` with `mine[i]` count: the moves made with the
+/// gear's own hob.
 pub(super) fn depth_and_face(
     tl: &Timeline,
     hob: &Hob,
     blank: &BlankGeometry,
+    mine: &[bool],
     out: &mut Vec<SafetyFinding>,
 ) {
     let cuts: Vec<usize> = (0..tl.segments().len())
-        .filter(|&i| cutting(&tl.segments()[i]))
+        .filter(|&i| mine[i] && cutting(&tl.segments()[i]))
         .collect();
     let plunge = blank.root_radius_mm + hob.tip_radius_mm;
     let Some(&deepest) = cuts
@@ -115,17 +118,22 @@ pub(super) fn depth_and_face(
 /// which the table must follow by ΔC = −(C/B)·ΔY/p. A coupled cutting move
 /// whose table turn for its shift (C per Y·ΔY plus a FANUC correction)
 /// differs from it by more than [`SHIFT_TOL_MM`] at the blank's radius,
-/// while the hob is in the blank, puts the cut in other gaps.
+/// while the hob is in the blank, puts the cut in other gaps. Only the
+/// segments `i` with `mine[i]` count.
 pub(super) fn shifts(
     tl: &Timeline,
     hob: &Hob,
     blank: &BlankGeometry,
+    mine: &[bool],
     out: &mut Vec<SafetyFinding>,
 ) {
     let p = hob.hand * f64::from(hob.starts) * hob.axial_pitch_mm / std::f64::consts::TAU;
     for (i, s) in tl.segments().iter().enumerate() {
         let dy = s.to.y_mm - s.from.y_mm;
-        let Some(g) = s.gearbox.filter(|_| cutting(s) && dy.abs() > 1e-6) else {
+        let Some(g) = s
+            .gearbox
+            .filter(|_| mine[i] && cutting(s) && dy.abs() > 1e-6)
+        else {
             continue;
         };
         let turned = g.c_per_y_rad_mm * dy + s.c_extra_rad;

@@ -342,21 +342,50 @@ fn hobbing(out: &mut String, m: &Kinematics) {
     }
 }
 
-/// The virtual run: the predicted class per item and overall, the size,
-/// the safety findings.
+/// The virtual run: for each gear of the part the predicted class per item
+/// and overall and the size; the safety findings.
 fn simulation(out: &mut String, s: &gearcam_proto::SimulationReport) {
     let class = |c: Option<u8>| c.map_or("worse than 11".to_string(), |c| c.to_string());
     let _ = writeln!(
         out,
-        "virtual hobbing ({}, {} sections × {} samples, {} gash passes, {:.0} ms): predicted ISO 1328-1 class {} (drawing {})",
+        "virtual hobbing ({}, {} sections × {} samples, {} gash passes, {:.0} ms){}: predicted ISO 1328-1 class {} (drawing {})",
         s.mode,
         s.sections,
         s.samples_per_section,
         s.passes,
         s.ms,
+        s.unit.as_ref().map_or(String::new(), |u| format!(", gear \"{u}\"")),
         class(s.grade),
         s.required_grade
     );
+    gear_simulation(out, s);
+    for g in &s.units {
+        let _ = writeln!(
+            out,
+            "  gear \"{}\" ({} gash passes): predicted ISO 1328-1 class {} (drawing {})",
+            g.unit.as_deref().unwrap_or("?"),
+            g.passes,
+            class(g.grade),
+            g.required_grade
+        );
+        gear_simulation(out, g);
+    }
+    if s.safety.is_empty() {
+        let _ = writeln!(out, "  safety: no finding");
+    }
+    for f in &s.safety {
+        let _ = writeln!(
+            out,
+            "  safety: line {} [{}] {}; {}",
+            f.line, f.kind, f.what, f.why
+        );
+    }
+}
+
+/// One gear's measurement: what-if errors, why it cannot be measured, the
+/// items and the size.
+fn gear_simulation(out: &mut String, s: &gearcam_proto::SimulationReport) {
+    let class = |c: Option<u8>| c.map_or("worse than 11".to_string(), |c| c.to_string());
     if !s.what_if.is_empty() {
         let _ = writeln!(out, "  what if: {}", s.what_if.join(", "));
     }
@@ -386,16 +415,6 @@ fn simulation(out: &mut String, s: &gearcam_proto::SimulationReport) {
                 (got - design) * 1e3
             );
         }
-    }
-    if s.safety.is_empty() {
-        let _ = writeln!(out, "  safety: no finding");
-    }
-    for f in &s.safety {
-        let _ = writeln!(
-            out,
-            "  safety: line {} [{}] {}; {}",
-            f.line, f.kind, f.what, f.why
-        );
     }
 }
 

@@ -130,6 +130,7 @@ impl Built {
             measurement,
             safety: Vec::new(),
             required_grade,
+            unit: None,
         }
     }
 }
