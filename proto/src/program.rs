@@ -140,8 +140,9 @@ pub enum EventKind {
         /// Its hash.
         sha256: String,
         /// The ISO 1328-1 class the virtual machine predicts for the gear
-        /// the program cuts (hobbing programs run before delivery; absent
-        /// when not run or no class fits).
+        /// the program cuts, the worst gear's on a part of several
+        /// (hobbing programs run before delivery; absent when not run or
+        /// no class fits).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         predicted_grade: Option<u8>,
         /// What the planner should look at: a predicted class worse than

@@ -91,6 +91,14 @@ impl SimulationReport {
         std::iter::once(self).chain(&self.units)
     }
 
+    /// The predicted class of the whole part: the worst gear's (`None`
+    /// when one is worse than 11 or not measured).
+    pub fn part_grade(&self) -> Option<u8> {
+        self.every_gear()
+            .map(|g| g.grade)
+            .try_fold(0, |worst, g| g.map(|g| worst.max(g)))
+    }
+
     /// The deviation that sets the grade: the first item of the worst
     /// class (none when nothing was graded).
     pub fn limiting(&self) -> Option<&Deviation> {

@@ -67,7 +67,7 @@ pub async fn run(
             let event = EventKind::Programmed {
                 name: program.name.clone(),
                 sha256: program.sha256.clone(),
-                predicted_grade: program.simulation.as_ref().and_then(|s| s.grade),
+                predicted_grade: program.simulation.as_ref().and_then(|s| s.part_grade()),
                 warnings: crate::simulation::warnings(&program),
             };
             // The receiver lives until shutdown; a send after it is gone is moot.

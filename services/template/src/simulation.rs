@@ -391,6 +391,7 @@ mod tests {
         let mut upper = report(vec![deviation("fp", Some(9)), deviation("ffα", Some(8))]);
         upper.unit = Some("upper gear".into());
         part.units.push(upper);
+        assert_eq!(part.part_grade(), Some(9));
         let errors = errors_of("P", &part);
         assert_eq!(
             codes(&errors),
