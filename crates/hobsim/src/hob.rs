@@ -277,6 +277,40 @@ impl Edge {
         self.pitch * frac.min(1.0 - frac)
     }
 
+    /// dρ/da of [`Edge::radius`] at `a` on the side `dir` (+1: towards
+    /// larger a, −1: smaller), taken just inside the piece there, so at a
+    /// knot it is the slope of the piece on that side.
+    pub fn slope(&self, a: f64, dir: f64) -> f64 {
+        let a = a + dir * 1e-9;
+        if a.abs() > self.half_length {
+            return 0.0;
+        }
+        let u = (a - self.centre) * self.inv_pitch;
+        let frac = u - u.floor();
+        // d grows away from the nearest tooth centre.
+        let (d, dd) = if frac <= 0.5 {
+            (self.pitch * frac, 1.0)
+        } else {
+            (self.pitch * (1.0 - frac), -1.0)
+        };
+        if let Some(c) = &self.corner {
+            if d <= c.land_end {
+                return 0.0;
+            }
+            if d <= c.arc_end {
+                let dx = d * self.cos_lead - c.x0;
+                let root = (c.rc * c.rc - dx * dx).max(1e-30).sqrt();
+                return -dx * self.cos_lead / root * dd;
+            }
+        }
+        let rho = self.ref_radius + (self.pitch / 4.0 - d) * self.inv_tan_alpha;
+        if rho >= self.tip || rho <= self.root {
+            0.0
+        } else {
+            -self.inv_tan_alpha * dd
+        }
+    }
+
     /// Outer radius at axial position `a`: [`Hob::outer_radius`].
     #[inline]
     pub fn radius(&self, a: f64) -> f64 {
@@ -317,6 +351,38 @@ mod tests {
             gashes: 12,
             tip_corner_radius_mm: 0.0,
             cos_lead: 1.0,
+        }
+    }
+
+    /// The slope is the radius's derivative on every piece (a central
+    /// difference away from the knots), with a rounded and a sharp tip.
+    #[test]
+    fn the_slope_is_the_derivative_of_the_radius() {
+        for corner in [0.0, 1.0] {
+            let h = Hob {
+                tip_corner_radius_mm: corner,
+                ..hob()
+            };
+            let e = h.edge(0);
+            let knots = e.knots(-20.0, 20.0);
+            let mut checked = 0;
+            for i in 0..4000 {
+                let a = -20.0 + 40.0 * f64::from(i) / 4000.0 + 1e-3;
+                if knots.iter().any(|k| (k - a).abs() < 1e-3) {
+                    continue;
+                }
+                let d = 1e-6;
+                let fd = (e.radius(a + d) - e.radius(a - d)) / (2.0 * d);
+                for dir in [1.0, -1.0] {
+                    assert!(
+                        (e.slope(a, dir) - fd).abs() < 1e-4,
+                        "a {a}: {} vs {fd}",
+                        e.slope(a, dir)
+                    );
+                }
+                checked += 1;
+            }
+            assert!(checked > 3000);
         }
     }
 

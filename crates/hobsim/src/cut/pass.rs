@@ -70,6 +70,25 @@ pub(super) struct Pass<'t> {
 /// A point of a section in the workpiece frame: x, y and its polar angle.
 pub(super) type Point = [f64; 3];
 
+/// What a pierce point was solved from: the profile point (a, ρ), the hob
+/// angle φ, the distance t of the section from the disc's centre and the
+/// chord parameter s = √(ρ² − t²), the table angle, and the point.
+#[derive(Clone, Copy)]
+struct Pierced {
+    a: f64,
+    rho: f64,
+    phi: f64,
+    tt: f64,
+    s: f64,
+    c: f64,
+    point: Point,
+}
+
+/// Added to the tangent bound of a step before it is left out, mm: the
+/// rounding of the tangents and the pose's second-order terms, far below
+/// any tolerance.
+const BULGE_SLACK_MM: f64 = 1e-7;
+
 impl<'t> Pass<'t> {
     /// The pass of gash `k` at time `t` of segment `seg`.
     pub(super) fn new(
@@ -200,6 +219,11 @@ impl<'t> Pass<'t> {
     /// than 10⁻¹² rad); the point is then placed exactly on the plane and on
     /// the profile with the pose at that angle.
     fn pierce(&self, a: f64, rho: f64, zs: f64, near: Option<&Point>) -> Option<Point> {
+        self.pierce_at(a, rho, zs, near).map(|p| p.point)
+    }
+
+    /// [`Pass::pierce`] with the geometry of the solution, for its tangent.
+    fn pierce_at(&self, a: f64, rho: f64, zs: f64, near: Option<&Point>) -> Option<Pierced> {
         if rho <= 0.0 {
             return None;
         }
@@ -241,7 +265,71 @@ impl<'t> Pass<'t> {
             return None;
         }
         let s = (rho * rho - tt * tt).sqrt();
-        Some(self.to_workpiece(&q, a, s, tt, near))
+        Some(Pierced {
+            a,
+            rho,
+            phi,
+            tt,
+            s,
+            c: q.c_rad,
+            point: self.to_workpiece(&q, a, s, tt, near),
+        })
+    }
+
+    /// The direction d(u, v)/da in which the pierce point `p` moves as the
+    /// profile point moves along the hob on the side `dir` (+1 or −1; the
+    /// profile's slope is that side's), by differentiating ρ(a)·sin φ =
+    /// t(a, φ) (dφ/da = (∂t/∂a − ρ′·sin φ)/(ρ·cos φ − ∂t/∂φ)), the chord
+    /// parameter s = √(ρ² − t²), the machine point (X − s, (Y + a)·cos η +
+    /// t·sin η) and the table's turn. None where the pose is not linear in
+    /// φ (what-if errors, beyond the move) or the point grazes its disc.
+    fn tangent(&self, p: &Pierced, dir: f64) -> Option<[f64; 2]> {
+        if self.errors.is_some()
+            || p.phi < self.phi_range.0
+            || p.phi > self.phi_range.1
+            || p.s <= 1e-6 * p.rho
+        {
+            return None;
+        }
+        let drho = self.edge.slope(p.a, dir);
+        let (sn, cs) = (p.tt / p.rho, p.s / p.rho);
+        let t_a = self.se * self.inv_ce;
+        let dphi = (t_a - drho * sn) / (p.rho * cs - self.dt);
+        let dt = t_a + self.dt * dphi;
+        let ds = (p.rho * drho - p.tt * dt) / p.s;
+        let dx = self.d[0] * dphi - ds;
+        let dy = (self.d[1] * dphi + 1.0) * self.ce + self.se * dt;
+        let dc = self.d[3] * dphi;
+        let (sc, cc) = self.table_sin_cos(p.c);
+        let [u, v, _] = p.point;
+        let out = [dx * cc - dy * sc - dc * v, dx * sc + dy * cc + dc * u];
+        out.iter().all(|x| x.is_finite()).then_some(out)
+    }
+
+    /// How far the curve between the pierce points `p0` and `p1` can stand
+    /// off their chord, from the tangents at both ends: a curve that turns
+    /// one way by less than half a turn lies in the triangle of its chord
+    /// and its end tangents, within the triangle's height of the chord.
+    /// None when the tangents do not make such a triangle (the curve may
+    /// turn both ways, or the pose is not linear): then only a midpoint
+    /// tells.
+    fn bulge(&self, p0: &Pierced, p1: &Pierced) -> Option<f64> {
+        let t0 = self.tangent(p0, 1.0)?;
+        let t1 = self.tangent(p1, -1.0)?;
+        let chord = [p1.point[0] - p0.point[0], p1.point[1] - p0.point[1]];
+        let cross = |a: [f64; 2], b: [f64; 2]| a[0] * b[1] - a[1] * b[0];
+        let den = cross(t0, t1);
+        let len = chord[0].hypot(chord[1]);
+        if den == 0.0 || len == 0.0 {
+            return None;
+        }
+        // Where the tangents meet: p0 + λ·t0 = p1 − μ·t1.
+        let lambda = cross(chord, t1) / den;
+        let mu = cross(t0, chord) / den;
+        if !(lambda > 0.0 && mu > 0.0) {
+            return None;
+        }
+        Some(lambda * cross(chord, t0).abs() / len)
     }
 
     /// The point at chord parameter `s` of the disc at `a` in the section
@@ -305,31 +393,46 @@ impl<'t> Pass<'t> {
     /// profile points at `grid` (refined between them), in runs where the
     /// plane meets the profile; each run's first and last discs also cut
     /// their chords (the hob's end faces where it ends inside the blank).
+    /// A step between two grid points is left out, without its midpoint,
+    /// when the curve stands clear of the outline by its chord and the
+    /// bound [`Pass::bulge`] gives.
     fn trace(&self, grid: &[f64], mut sec: Section) {
-        let mut last: Option<(f64, Point)> = None;
+        let mut last: Option<Pierced> = None;
         for &a in grid {
             let rho = self.edge.radius(a);
             match (
-                self.pierce(a, rho, sec.zs, last.as_ref().map(|l| &l.1)),
+                self.pierce_at(a, rho, sec.zs, last.as_ref().map(|l| &l.point)),
                 last,
             ) {
                 (Some(p), None) => {
                     self.end_chord(a, rho, &mut sec);
-                    last = Some((a, p));
+                    last = Some(p);
                 }
                 (Some(p), Some(from)) => {
-                    self.refine(from, (a, p), &mut sec, MAX_DEPTH, None);
-                    last = Some((a, p));
+                    let clear = sec.skip_clear
+                        && self.bulge(&from, &p).is_some_and(|b| {
+                            clear_of(sec.r, sec.dirs, from.point, p.point, b + BULGE_SLACK_MM)
+                        });
+                    if !clear {
+                        self.refine(
+                            (from.a, from.point),
+                            (a, p.point),
+                            &mut sec,
+                            MAX_DEPTH,
+                            None,
+                        );
+                    }
+                    last = Some(p);
                 }
-                (None, Some((a_end, _))) => {
-                    self.end_chord(a_end, self.edge.radius(a_end), &mut sec);
+                (None, Some(from)) => {
+                    self.end_chord(from.a, from.rho, &mut sec);
                     last = None;
                 }
                 (None, None) => {}
             }
         }
-        if let Some((a_end, _)) = last {
-            self.end_chord(a_end, self.edge.radius(a_end), &mut sec);
+        if let Some(from) = last {
+            self.end_chord(from.a, from.rho, &mut sec);
         }
     }
 
@@ -549,4 +652,98 @@ pub(super) fn s_range(t: f64, pa: f64, pb: f64, big_s: f64) -> Option<(f64, f64)
     };
     let (lo, hi) = (lo.max(-big_s), hi.min(big_s));
     (lo < hi).then_some((lo, hi))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kinematics::{Gearbox, Segment};
+
+    /// A helical cut: the hob tilted, feeding down in Z and in by X, the
+    /// table coupled with a differential.
+    fn pass<'t>(timeline: &'t Timeline, hob: &Hob) -> Pass<'t> {
+        let s = &timeline.segments()[0];
+        Pass::new(
+            timeline,
+            0,
+            0.5 * (s.t0_s + s.t1_s),
+            hob,
+            0,
+            45.0,
+            Resolution::fine(),
+        )
+    }
+
+    /// The tangent of the pierce curve is its derivative: a central
+    /// difference of pierce points away from the profile's knots, on the
+    /// tip land, the corner arcs, the flanks and the root.
+    #[test]
+    fn the_tangent_is_the_derivative_of_the_pierce_curve() {
+        let hob = Hob {
+            starts: 1,
+            hand: 1.0,
+            tip_radius_mm: 40.0,
+            ref_radius_mm: 36.25,
+            root_radius_mm: 32.5,
+            axial_pitch_mm: 9.43,
+            tan_alpha_x: 20f64.to_radians().tan(),
+            length_mm: 100.0,
+            gashes: 12,
+            tip_corner_radius_mm: 1.0,
+            cos_lead: 1.0,
+        };
+        let axes = |x: f64, z: f64| Axes {
+            x_mm: x,
+            y_mm: 0.0,
+            z_mm: z,
+        };
+        let timeline = Timeline::from_segments(vec![Segment {
+            line: 0,
+            t0_s: 0.0,
+            t1_s: 60.0,
+            from: axes(82.0, 130.0),
+            to: axes(81.5, 100.0),
+            eta_rad: 0.35,
+            hob_rev_s: 2.0,
+            gearbox: Some(Gearbox {
+                c_per_b: 1.0 / 25.0,
+                c_per_z_rad_mm: 0.004,
+                c_per_y_rad_mm: 0.0,
+            }),
+            c_extra_rad: 0.0,
+            feed: true,
+        }])
+        .expect("timeline");
+        let p = pass(&timeline, &hob);
+        let zs = p.q0.axes.z_mm + 3.0;
+        let knots = p.edge.knots(-30.0, 30.0);
+        let mut checked = 0;
+        for i in 0..600 {
+            let a = -30.0 + 60.0 * f64::from(i) / 600.0 + 1.3e-3;
+            if knots.iter().any(|k| (k - a).abs() < 1e-3) {
+                continue;
+            }
+            let h = 1e-5;
+            let at = |a: f64| p.pierce_at(a, p.edge.radius(a), zs, None);
+            let (Some(mid), Some(lo), Some(hi)) = (at(a), at(a - h), at(a + h)) else {
+                continue;
+            };
+            let fd = [
+                (hi.point[0] - lo.point[0]) / (2.0 * h),
+                (hi.point[1] - lo.point[1]) / (2.0 * h),
+            ];
+            for dir in [1.0, -1.0] {
+                let Some(t) = p.tangent(&mid, dir) else {
+                    continue;
+                };
+                let err = (t[0] - fd[0]).hypot(t[1] - fd[1]);
+                assert!(
+                    err < 1e-5 * (1.0 + fd[0].hypot(fd[1])),
+                    "a {a}: tangent {t:?}, difference {fd:?}"
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 200, "{checked} tangents checked");
+    }
 }
