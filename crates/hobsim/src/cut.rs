@@ -83,7 +83,7 @@ impl Resolution {
     /// With [`samples_for`] at 1 µm the outline is within 1 µm.
     pub fn fine() -> Resolution {
         Resolution {
-            axial_step_mm: 2.0,
+            axial_step_mm: 10.0,
             tolerance_mm: 1e-5,
         }
     }
@@ -92,7 +92,7 @@ impl Resolution {
     /// with [`samples_for`] at about 10 µm.
     pub fn coarse() -> Resolution {
         Resolution {
-            axial_step_mm: 2.0,
+            axial_step_mm: 10.0,
             tolerance_mm: 1e-3,
         }
     }

@@ -1,0 +1,120 @@
+//! The pierce solution and its tangent against their definitions.
+
+use super::*;
+use crate::kinematics::{Gearbox, Segment};
+
+/// A helical cut: the hob tilted, feeding down in Z and in by X, the
+/// table coupled with a differential.
+fn pass<'t>(timeline: &'t Timeline, hob: &Hob) -> Pass<'t> {
+    let s = &timeline.segments()[0];
+    Pass::new(
+        timeline,
+        0,
+        0.5 * (s.t0_s + s.t1_s),
+        hob,
+        0,
+        45.0,
+        Resolution::fine(),
+    )
+}
+
+/// The test hob (module 3-ish, a rounded tip) and helical cut.
+fn setup() -> (Hob, Timeline) {
+    let hob = Hob {
+        starts: 1,
+        hand: 1.0,
+        tip_radius_mm: 40.0,
+        ref_radius_mm: 36.25,
+        root_radius_mm: 32.5,
+        axial_pitch_mm: 9.43,
+        tan_alpha_x: 20f64.to_radians().tan(),
+        length_mm: 100.0,
+        gashes: 12,
+        tip_corner_radius_mm: 1.0,
+        cos_lead: 1.0,
+    };
+    let axes = |x: f64, z: f64| Axes {
+        x_mm: x,
+        y_mm: 0.0,
+        z_mm: z,
+    };
+    let timeline = Timeline::from_segments(vec![Segment {
+        line: 0,
+        t0_s: 0.0,
+        t1_s: 60.0,
+        from: axes(82.0, 130.0),
+        to: axes(81.5, 100.0),
+        eta_rad: 0.35,
+        hob_rev_s: 2.0,
+        gearbox: Some(Gearbox {
+            c_per_b: 1.0 / 25.0,
+            c_per_z_rad_mm: 0.004,
+            c_per_y_rad_mm: 0.0,
+        }),
+        c_extra_rad: 0.0,
+        feed: true,
+    }])
+    .expect("timeline");
+    (hob, timeline)
+}
+
+/// Every pierce point is where its disc meets the section at the hob
+/// angle it was posed at: atan2(t, s) = φ within the 10⁻⁸ rad one
+/// Newton step is held to (a step the wrong way is 10⁻⁴ rad off).
+#[test]
+fn a_pierce_point_is_posed_at_its_own_hob_angle() {
+    let (hob, timeline) = setup();
+    let p = pass(&timeline, &hob);
+    let mut checked = 0;
+    for dz in [-20.0, -5.0, 0.0, 3.0, 12.0] {
+        let zs = p.q0.axes.z_mm + dz;
+        for i in 0..400 {
+            let a = -40.0 + 80.0 * f64::from(i) / 400.0;
+            if let Some(q) = p.pierce_at(a, p.edge.radius(a), zs, None) {
+                let err = (q.tt.atan2(q.s) - q.phi).abs();
+                assert!(err < 1e-8, "a {a}, z {zs}: φ off by {err} rad");
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 500, "{checked} points");
+}
+
+/// The tangent of the pierce curve is its derivative: a central
+/// difference of pierce points away from the profile's knots, on the
+/// tip land, the corner arcs, the flanks and the root.
+#[test]
+fn the_tangent_is_the_derivative_of_the_pierce_curve() {
+    let (hob, timeline) = setup();
+    let p = pass(&timeline, &hob);
+    let zs = p.q0.axes.z_mm + 3.0;
+    let knots = p.edge.knots(-30.0, 30.0);
+    let mut checked = 0;
+    for i in 0..600 {
+        let a = -30.0 + 60.0 * f64::from(i) / 600.0 + 1.3e-3;
+        if knots.iter().any(|k| (k - a).abs() < 1e-3) {
+            continue;
+        }
+        let h = 1e-5;
+        let at = |a: f64| p.pierce_at(a, p.edge.radius(a), zs, None);
+        let (Some(mid), Some(lo), Some(hi)) = (at(a), at(a - h), at(a + h)) else {
+            continue;
+        };
+        let fd = [
+            (hi.point[0] - lo.point[0]) / (2.0 * h),
+            (hi.point[1] - lo.point[1]) / (2.0 * h),
+        ];
+        for dir in [1.0, -1.0] {
+            let Some(t) = p.tangent(&mid, dir) else {
+                continue;
+            };
+            let err = (t[0] - fd[0]).hypot(t[1] - fd[1]);
+            assert!(
+                err < 1e-5 * (1.0 + fd[0].hypot(fd[1])),
+                "a {a}: tangent {t:?}, difference {fd:?}"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 200, "{checked} tangents checked");
+}
