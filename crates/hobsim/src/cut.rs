@@ -228,8 +228,15 @@ fn cut_with(
         order.clear();
         order.extend(passes.iter().enumerate().map(|(i, p)| (p.depth_in(zs), i)));
         order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-        for &(_, i) in &order {
-            passes[i].cut(zs, clip_r, r, &dirs, skip_clear);
+        let mut blocks = Vec::new();
+        for (k, &(_, i)) in order.iter().enumerate() {
+            // The blocks' maxima only fall as the outline is cut, so a
+            // stale one is still an upper bound: refreshed as the outline
+            // takes its shape (after 16, 32, … passes), then every 512.
+            if k == 0 || (k >= 16 && (k.is_power_of_two() || k % 512 == 0)) {
+                block_maxima(r, &mut blocks);
+            }
+            passes[i].cut(zs, clip_r, (r, &blocks), &dirs, skip_clear);
         }
     }
     Ok(passes.len() as u64)
@@ -289,22 +296,72 @@ fn raster(r: &mut [f64], dirs: &[(f64, f64)], p: Point, q: Point) {
     }
 }
 
+/// Rays per block of [`block_maxima`].
+const BLOCK: usize = 32;
+
+/// The largest r(θ_i) of every block of [`BLOCK`] rays into `out`.
+fn block_maxima(r: &[f64], out: &mut Vec<f64>) {
+    out.clear();
+    out.extend(
+        r.chunks(BLOCK)
+            .map(|c| c.iter().fold(0.0, |m: f64, &x| m.max(x))),
+    );
+}
+
 /// True when every curve within `margin` of the segment p→q (measured
 /// across it) stands further out than r(θ_i) on every sample ray the
 /// segment spans: such a curve cannot lower the outline. Along a ray at
 /// angle ψ to the segment the margin is margin/sin ψ, and sin ψ = |dir × d|/|d|.
-fn clear_of(r: &[f64], dirs: &[(f64, f64)], p: Point, q: Point, margin: f64) -> bool {
+///
+/// `r` comes with upper bounds of its blocks of [`BLOCK`] rays; a block
+/// the segment spans whole is cleared at once when its bound, times the
+/// largest `den` of its rays, is clear: `den` = dir × d is |d|·sin of the
+/// angle from d to the ray, which over the block's Δθ stands at most
+/// |d|·Δθ²/8 above the larger of its two ends.
+fn clear_of(
+    (r, blocks): (&[f64], &[f64]),
+    dirs: &[(f64, f64)],
+    p: Point,
+    q: Point,
+    margin: f64,
+) -> bool {
     let d = [q[0] - p[0], q[1] - p[1]];
     let num = p[0] * d[1] - p[1] * d[0];
     let (size, sign) = (num.abs(), num.signum());
-    let slack = margin * (d[0] * d[0] + d[1] * d[1]).sqrt();
+    let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
+    let slack = margin * len;
+    let den = |i: usize| {
+        let (cs, sn) = dirs[i];
+        // With num's sign: negative, the crossing is behind the axis.
+        sign * (cs * d[1] - sn * d[0])
+    };
+    let ray_clear = |i: usize| {
+        let den = den(i);
+        den < 0.0 || size > r[i] * den + slack
+    };
+    let step = TAU / dirs.len() as f64 * (BLOCK - 1) as f64;
+    let bow = len * step * step / 8.0;
     ray_ranges(dirs.len(), p, q).into_iter().all(|range| {
-        range.into_iter().all(|i| {
-            let (cs, sn) = dirs[i];
-            // den with num's sign: negative, the crossing is behind the axis.
-            let den = sign * (cs * d[1] - sn * d[0]);
-            den < 0.0 || size > r[i] * den + slack
-        })
+        let mut i = range.start;
+        while i < range.end {
+            if i % BLOCK == 0 && i + BLOCK <= range.end {
+                let top = den(i).max(den(i + BLOCK - 1)) + bow;
+                if top < 0.0 || size > blocks[i / BLOCK] * top + slack {
+                    i += BLOCK;
+                    continue;
+                }
+                if !(i..i + BLOCK).all(ray_clear) {
+                    return false;
+                }
+                i += BLOCK;
+            } else {
+                if !ray_clear(i) {
+                    return false;
+                }
+                i += 1;
+            }
+        }
+        true
     })
 }
 
