@@ -79,6 +79,11 @@ pub struct SimulationReport {
     /// first; `units` holds the others).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub unit: Option<String>,
+    /// How far the measurement goes where it does not go all the way (a
+    /// worm wheel is measured in its throat plane, and ISO 1328-1 does not
+    /// cover it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
     /// The reports of the part's other gears, each with its `unit` name
     /// (the safety findings of the whole run are the first's).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]

@@ -86,6 +86,9 @@ pub struct BlankGeometry {
     /// at the faces by design (a crowned gear's Cb), mm: a feed that high
     /// is still at full depth.
     pub crowning_mm: f64,
+    /// A worm wheel's throat plane (the hob centre's Z at full depth), mm:
+    /// the wheel is cut there, not along the face width.
+    pub throat_z_mm: Option<f64>,
 }
 
 impl BlankGeometry {
@@ -100,6 +103,7 @@ impl BlankGeometry {
             root_radius_mm: model.geometry.df_mm / 2.0,
             teeth: g.teeth,
             crowning_mm: model.model.crowning.as_ref().map_or(0.0, |c| c.amount_mm),
+            throat_z_mm: model.model.worm.as_ref().map(|w| w.throat_z_mm),
         }
     }
 
@@ -242,6 +246,9 @@ fn blank_contacts(
         let turning = s.hob_rev_s != 0.0 && s.t1_s > s.t0_s;
         let wrong_ratio = s.gearbox.filter(|g| (g.c_per_b - want).abs() > 1e-9);
         let kind = if !s.feed && !dwell(s) {
+            if retraces_its_feed(tl, i) {
+                continue;
+            }
             SafetyKind::RapidContact
         } else if turning && s.gearbox.is_none() {
             SafetyKind::CutDecoupled
@@ -309,4 +316,34 @@ fn fixture_contacts(
 /// A dwell: no motion.
 fn dwell(s: &crate::kinematics::Segment) -> bool {
     s.from == s.to
+}
+
+/// True when rapid segment `i` runs straight back along the coupled feed
+/// before it (dwells between them aside), no further than that feed came,
+/// in the same coupling with the hob turning: a worm wheel's radial retract
+/// out of the gaps it has just cut. At every point of the way back the
+/// hob stands where the feed passed it, and with the table following the
+/// hob in the same gearbox the hob–wheel geometry there depends on the hob
+/// angle alone, all of which the feed swept at that depth (many turns per
+/// millimetre): the way back removes nothing but what the feed left
+/// between its turns.
+fn retraces_its_feed(tl: &Timeline, i: usize) -> bool {
+    let segs = tl.segments();
+    let s = &segs[i];
+    let Some(feed) = segs[..i].iter().rev().find(|p| !dwell(p)) else {
+        return false;
+    };
+    let coupled = s.gearbox.is_some() && s.gearbox == feed.gearbox && s.hob_rev_s != 0.0;
+    if !(coupled && feed.feed && feed.to == s.from) {
+        return false;
+    }
+    let d = |a: &crate::kinematics::Axes, b: &crate::kinematics::Axes| {
+        [b.x_mm - a.x_mm, b.y_mm - a.y_mm, b.z_mm - a.z_mm]
+    };
+    let (back, fed) = (d(&s.from, &s.to), d(&feed.from, &feed.to));
+    let dot: f64 = back.iter().zip(&fed).map(|(a, b)| a * b).sum();
+    let norm = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let (nb, nf) = (norm(&back), norm(&fed));
+    // Opposite directions within 10⁻⁹ rad², no longer than the feed.
+    nb > 0.0 && nf > 0.0 && dot < 0.0 && 1.0 + dot / (nb * nf) < 1e-9 && nb <= nf + 1e-9
 }

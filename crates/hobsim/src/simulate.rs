@@ -103,6 +103,42 @@ pub struct Simulation {
     /// The gear's name on a part of several gears (`None` for a single
     /// gear).
     pub unit: Option<String>,
+    /// How far the measurement goes, where it does not go all the way (a
+    /// worm wheel's).
+    pub note: Option<String>,
+}
+
+/// The sections the gear is measured in, and a note when that is not all
+/// of them: a worm wheel is measured in its throat plane alone. Its teeth
+/// are throated (each section away from the throat is cut by another part
+/// of the hob, so no helix runs across them), while in the throat plane
+/// the straight-sided axial section of the hob (its gashes are axial
+/// planes) generates the involute of a cylindrical gear of the wheel's
+/// transverse data, which is measured there: profile, pitch, runout and
+/// size, no helix.
+fn measured_sections(blank: &Blank, model: &MachiningModel) -> (PolarSections, Option<String>) {
+    let Some(worm) = &model.model.worm else {
+        let all = PolarSections {
+            z_mm: blank.z_mm.clone(),
+            r_mm: blank.r_mm.clone(),
+        };
+        return (all, None);
+    };
+    let throat = (0..blank.z_mm.len())
+        .min_by(|&a, &b| {
+            let d = |j: usize| (blank.z_mm[j] - worm.throat_z_mm).abs();
+            d(a).total_cmp(&d(b))
+        })
+        .unwrap_or(0);
+    let one = PolarSections {
+        z_mm: vec![blank.z_mm[throat]],
+        r_mm: vec![blank.r_mm[throat].clone()],
+    };
+    let note = format!(
+        "a worm wheel: measured in its throat plane (Z {:.3}) as the cylindrical gear of its transverse data, no helix; ISO 1328-1 does not cover worm wheels, so its classes are an indication",
+        blank.z_mm[throat]
+    );
+    (one, Some(note))
 }
 
 /// Runs `trace` (the program read back against `model`) on the machine
@@ -162,10 +198,7 @@ pub fn simulate_part(
             passes += cut::cut_segments(&timeline, hob, &mut blank, settings.resolution, &mine)?;
         }
         let spec = drawing(m);
-        let sections = PolarSections {
-            z_mm: blank.z_mm.clone(),
-            r_mm: blank.r_mm.clone(),
-        };
+        let (sections, note) = measured_sections(&blank, m);
         let measurement = outline::measure(&sections, &spec).map_err(|e| e.to_string());
         out.push(Simulation {
             settings: *settings,
@@ -176,6 +209,7 @@ pub fn simulate_part(
             safety: std::mem::take(&mut safety),
             required_grade: m.plan.gear.quality_grade,
             unit: name.clone(),
+            note,
         });
     }
     Ok(out)
@@ -339,6 +373,7 @@ impl Simulation {
             over_balls_mm: sizes.map(|s| (s.over_balls_mm, s.over_balls_design_mm)),
             ms,
             unit: self.unit.clone(),
+            note: self.note.clone(),
             units: Vec::new(),
         }
     }

@@ -25,6 +25,7 @@ fn blank() -> BlankGeometry {
         root_radius_mm: 33.75,
         teeth: 25,
         crowning_mm: 0.0,
+        throat_z_mm: None,
     }
 }
 
@@ -90,4 +91,58 @@ fn a_pass_over_the_blank_is_found_when_deeper_than_the_bound() {
         let found = rapid_contacts(&tl);
         assert_eq!(!found.is_empty(), gap < 0.0, "gap {gap}: {found:?}");
     }
+}
+
+/// A worm wheel's radial cut: a coupled feed from X 90 in to X 70 at the
+/// middle of the face (the tip cylinder, radius 40, reaches 10.5 mm into
+/// the blank of radius 40.5), a dwell, then a rapid. A rapid straight back
+/// along the feed, coupled, retraces space the feed has cut: no contact.
+/// The same rapid ending 1 mm higher, the way back with the gearbox off,
+/// or the way back after a rapid (not a feed) in, are contacts of the
+/// rapid's own line.
+#[test]
+fn a_rapid_back_along_its_coupled_feed_is_no_contact_and_any_other_is() {
+    let gearbox = Some(gearcam_hobsim::kinematics::Gearbox {
+        c_per_b: 1.0 / 25.0,
+        c_per_z_rad_mm: 0.0,
+        c_per_y_rad_mm: 0.0,
+    });
+    let at = |x: f64, z: f64| Axes {
+        x_mm: x,
+        y_mm: 0.0,
+        z_mm: z,
+    };
+    let seg = |t0: f64, from: Axes, to: Axes, feed: bool, gearbox| Segment {
+        line: t0 as u32,
+        t0_s: t0,
+        t1_s: t0 + 1.0,
+        from,
+        to,
+        eta_rad: 0.0,
+        hob_rev_s: 5.0,
+        gearbox,
+        c_extra_rad: 0.0,
+        feed,
+    };
+    let run = |back: Segment, first_feed: bool| {
+        let tl = Timeline::from_segments(vec![
+            seg(0.0, at(90.0, 115.0), at(70.0, 115.0), first_feed, gearbox),
+            seg(1.0, at(70.0, 115.0), at(70.0, 115.0), false, gearbox),
+            back,
+        ])
+        .expect("timeline");
+        safety::check(&tl, &hob(), &blank(), &Fixtures::default())
+            .into_iter()
+            .filter(|f| f.kind == SafetyKind::RapidContact && f.line == 2)
+            .map(|f| f.what)
+            .collect::<Vec<_>>()
+    };
+    let back = seg(2.0, at(70.0, 115.0), at(90.0, 115.0), false, gearbox);
+    assert!(run(back, true).is_empty(), "{:?}", run(back, true));
+    let higher = seg(2.0, at(70.0, 115.0), at(90.0, 116.0), false, gearbox);
+    assert!(!run(higher, true).is_empty());
+    let decoupled = seg(2.0, at(70.0, 115.0), at(90.0, 115.0), false, None);
+    assert!(!run(decoupled, true).is_empty());
+    // After a rapid in there is no feed to retrace.
+    assert!(!run(back, false).is_empty());
 }

@@ -188,3 +188,33 @@ fn a_part_of_two_gears_is_cut_and_measured_gear_by_gear() {
         gears[0].safety
     );
 }
+
+/// The tangential worm-wheel program: the wheel is measured in its throat
+/// plane alone (profile, pitch, runout, size; no helix across throated
+/// teeth), said so in a note, and the run is safe. The hob 2 mm off the
+/// throat plane is found: the teeth are not enveloped where the worm runs.
+#[test]
+#[ignore = "seconds in release: cargo test --release -p gearcam-hobsim -- --ignored"]
+fn a_worm_wheel_is_measured_in_its_throat_plane() {
+    let (text, model) = common::program("worm_wheel_tangential_840d");
+    let sim = simulate_text(&text, &model);
+    assert!(sim.safety.is_empty(), "{:?}", sim.safety);
+    assert!(sim.note.as_deref().is_some_and(|n| n.contains("throat")));
+    let m = sim.measurement.as_ref().expect("measures");
+    assert!(m.item(Item::SinglePitch).is_some() && m.item(Item::ProfileTotal).is_some());
+    assert!(m.item(Item::HelixTotal).is_none(), "{:?}", m.items);
+    assert!(matches!(
+        m.overall,
+        gearcam_gearmeasure::iso1328::Grade::Class(_)
+    ));
+    let off = text.replace("N60 G0 G90 Z=82.5", "N60 G0 G90 Z=84.5");
+    assert_ne!(off, text);
+    let sim = simulate_text(&off, &model);
+    assert!(
+        sim.safety
+            .iter()
+            .any(|f| f.kind == SafetyKind::FaceWidthNotCovered && f.what.contains("throat")),
+        "{:?}",
+        sim.safety
+    );
+}

@@ -63,14 +63,12 @@ impl Mode {
 
 /// Why a hobbing model is not simulated, when it is not: the simulator cuts
 /// and measures cylindrical involute gears (crowned or not, one or several
-/// on a part).
+/// on a part) and worm wheels (in their throat plane).
 pub fn out_of_scope(model: &MachiningModel) -> Option<&'static str> {
     let k = &model.model;
     let units = || k.units.iter().map(|u| &u.model);
     if k.cone.is_some() || units().any(|u| u.cone.is_some()) {
         Some("a conical gear is not simulated yet")
-    } else if k.worm.is_some() || units().any(|u| u.worm.is_some()) {
-        Some("a worm wheel is not simulated yet")
     } else {
         None
     }
@@ -213,6 +211,7 @@ fn unsimulated(settings: &Settings, why: &str) -> SimulationReport {
         over_balls_mm: None,
         ms: 0.0,
         unit: None,
+        note: None,
         units: Vec::new(),
     }
 }

@@ -87,6 +87,29 @@ pub(super) fn depth_and_face(
         spans.push((s.from.z_mm.min(s.to.z_mm), s.from.z_mm.max(s.to.z_mm)));
     }
     spans.sort_by(|a, b| a.0.total_cmp(&b.0));
+    if let Some(throat) = blank.throat_z_mm {
+        // A worm wheel: its teeth are enveloped by the hob standing in the
+        // throat plane at full depth, which a radial feed reaches at its
+        // end (and a tangential one holds).
+        let in_throat = cuts.iter().any(|&i| {
+            let s = &tl.segments()[i];
+            let (a, b) = (s.from.z_mm.min(s.to.z_mm), s.from.z_mm.max(s.to.z_mm));
+            x_range(tl, i).0 <= x_min + DEPTH_TOL_MM
+                && a <= throat + DEPTH_TOL_MM
+                && b >= throat - DEPTH_TOL_MM
+        });
+        if !in_throat {
+            out.push(SafetyFinding {
+                kind: SafetyKind::FaceWidthNotCovered,
+                line,
+                what: format!(
+                    "at full depth the hob centre never stands in the throat plane Z {throat:.3}"
+                ),
+                why: "the worm wheel's teeth are not enveloped where the worm will run".into(),
+            });
+        }
+        return;
+    }
     let (lo, hi) = (blank.z_lo_mm - run, blank.z_hi_mm + run);
     let mut covered = false;
     let mut cur: Option<(f64, f64)> = None;

@@ -386,6 +386,9 @@ fn simulation(out: &mut String, s: &gearcam_proto::SimulationReport) {
 /// items and the size.
 fn gear_simulation(out: &mut String, s: &gearcam_proto::SimulationReport) {
     let class = |c: Option<u8>| c.map_or("worse than 11".to_string(), |c| c.to_string());
+    if let Some(note) = &s.note {
+        let _ = writeln!(out, "  note: {note}");
+    }
     if !s.what_if.is_empty() {
         let _ = writeln!(out, "  what if: {}", s.what_if.join(", "));
     }

@@ -131,6 +131,7 @@ impl Built {
             safety: Vec::new(),
             required_grade,
             unit: None,
+            note: None,
         }
     }
 }
