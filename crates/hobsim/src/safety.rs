@@ -246,7 +246,7 @@ fn blank_contacts(
         let turning = s.hob_rev_s != 0.0 && s.t1_s > s.t0_s;
         let wrong_ratio = s.gearbox.filter(|g| (g.c_per_b - want).abs() > 1e-9);
         let kind = if !s.feed && !dwell(s) {
-            if retraces_its_feed(tl, i) {
+            if blank.throat_z_mm.is_some() && retraces_its_feed(tl, i) {
                 continue;
             }
             SafetyKind::RapidContact
@@ -318,23 +318,37 @@ fn dwell(s: &crate::kinematics::Segment) -> bool {
     s.from == s.to
 }
 
+/// Hob turns per millimetre of feed below which a feed is not taken to
+/// have swept every hob angle at each depth.
+const RETRACE_TURNS_PER_MM: f64 = 10.0;
+
 /// True when rapid segment `i` runs straight back along the coupled feed
-/// before it (dwells between them aside), no further than that feed came,
-/// in the same coupling with the hob turning: a worm wheel's radial retract
-/// out of the gaps it has just cut. At every point of the way back the
-/// hob stands where the feed passed it, and with the table following the
-/// hob in the same gearbox the hob–wheel geometry there depends on the hob
-/// angle alone, all of which the feed swept at that depth (many turns per
-/// millimetre): the way back removes nothing but what the feed left
-/// between its turns.
+/// before it (dwells between them aside), no further than that feed came:
+/// a worm wheel's radial retract out of the gaps it has just cut. At every
+/// point of the way back the hob stands where the feed passed it, and with
+/// the table following the hob in the same gearbox, at the same swivel and
+/// with no extra table turn between, the hob–wheel geometry there depends
+/// on the hob angle alone, all of which the feed swept at that depth (at
+/// least [`RETRACE_TURNS_PER_MM`] turns per millimetre): the way back
+/// removes nothing but what the feed left between its turns.
 fn retraces_its_feed(tl: &Timeline, i: usize) -> bool {
     let segs = tl.segments();
     let s = &segs[i];
-    let Some(feed) = segs[..i].iter().rev().find(|p| !dwell(p)) else {
+    let same = |p: &crate::kinematics::Segment| {
+        p.gearbox.is_some()
+            && p.gearbox == s.gearbox
+            && p.eta_rad == s.eta_rad
+            && p.hob_rev_s == s.hob_rev_s
+            && p.c_extra_rad == 0.0
+    };
+    if s.hob_rev_s == 0.0 || s.c_extra_rad != 0.0 {
+        return false;
+    }
+    let mut before = segs[..i].iter().rev();
+    let Some(feed) = before.by_ref().find(|p| !dwell(p) || !same(p)) else {
         return false;
     };
-    let coupled = s.gearbox.is_some() && s.gearbox == feed.gearbox && s.hob_rev_s != 0.0;
-    if !(coupled && feed.feed && feed.to == s.from) {
+    if !(same(feed) && feed.feed && feed.to == s.from) {
         return false;
     }
     let d = |a: &crate::kinematics::Axes, b: &crate::kinematics::Axes| {
@@ -344,6 +358,12 @@ fn retraces_its_feed(tl: &Timeline, i: usize) -> bool {
     let dot: f64 = back.iter().zip(&fed).map(|(a, b)| a * b).sum();
     let norm = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
     let (nb, nf) = (norm(&back), norm(&fed));
+    let turns_per_mm = feed.hob_rev_s.abs() * (feed.t1_s - feed.t0_s) / nf.max(1e-12);
     // Opposite directions within 10⁻⁹ rad², no longer than the feed.
-    nb > 0.0 && nf > 0.0 && dot < 0.0 && 1.0 + dot / (nb * nf) < 1e-9 && nb <= nf + 1e-9
+    nb > 0.0
+        && nf > 0.0
+        && dot < 0.0
+        && 1.0 + dot / (nb * nf) < 1e-9
+        && nb <= nf + 1e-9
+        && turns_per_mm >= RETRACE_TURNS_PER_MM
 }

@@ -106,23 +106,36 @@ pub struct Simulation {
     /// How far the measurement goes, where it does not go all the way (a
     /// worm wheel's).
     pub note: Option<String>,
+    /// The sections of `blank` the gear was measured in (all but a worm
+    /// wheel's), by index.
+    pub measured: Vec<usize>,
 }
 
-/// The sections the gear is measured in, and a note when that is not all
-/// of them: a worm wheel is measured in its throat plane alone. Its teeth
+impl Simulation {
+    /// The outlines of the sections the gear was measured in.
+    pub fn measured_sections(&self) -> PolarSections {
+        PolarSections {
+            z_mm: self.measured.iter().map(|&j| self.blank.z_mm[j]).collect(),
+            r_mm: self
+                .measured
+                .iter()
+                .map(|&j| self.blank.r_mm[j].clone())
+                .collect(),
+        }
+    }
+}
+
+/// The sections the gear is measured in (indices into the blank's), and a
+/// note when that is not all of them: a worm wheel is measured in its throat plane alone. Its teeth
 /// are throated (each section away from the throat is cut by another part
 /// of the hob, so no helix runs across them), while in the throat plane
 /// the straight-sided axial section of the hob (its gashes are axial
 /// planes) generates the involute of a cylindrical gear of the wheel's
 /// transverse data, which is measured there: profile, pitch, runout and
 /// size, no helix.
-fn measured_sections(blank: &Blank, model: &MachiningModel) -> (PolarSections, Option<String>) {
+fn measured_sections(blank: &Blank, model: &MachiningModel) -> (Vec<usize>, Option<String>) {
     let Some(worm) = &model.model.worm else {
-        let all = PolarSections {
-            z_mm: blank.z_mm.clone(),
-            r_mm: blank.r_mm.clone(),
-        };
-        return (all, None);
+        return ((0..blank.z_mm.len()).collect(), None);
     };
     let throat = (0..blank.z_mm.len())
         .min_by(|&a, &b| {
@@ -130,15 +143,11 @@ fn measured_sections(blank: &Blank, model: &MachiningModel) -> (PolarSections, O
             d(a).total_cmp(&d(b))
         })
         .unwrap_or(0);
-    let one = PolarSections {
-        z_mm: vec![blank.z_mm[throat]],
-        r_mm: vec![blank.r_mm[throat].clone()],
-    };
     let note = format!(
         "a worm wheel: measured in its throat plane (Z {:.3}) as the cylindrical gear of its transverse data, no helix; ISO 1328-1 does not cover worm wheels, so its classes are an indication",
         blank.z_mm[throat]
     );
-    (one, Some(note))
+    (vec![throat], Some(note))
 }
 
 /// Runs `trace` (the program read back against `model`) on the machine
@@ -198,7 +207,11 @@ pub fn simulate_part(
             passes += cut::cut_segments(&timeline, hob, &mut blank, settings.resolution, &mine)?;
         }
         let spec = drawing(m);
-        let (sections, note) = measured_sections(&blank, m);
+        let (measured, note) = measured_sections(&blank, m);
+        let sections = PolarSections {
+            z_mm: measured.iter().map(|&j| blank.z_mm[j]).collect(),
+            r_mm: measured.iter().map(|&j| blank.r_mm[j].clone()).collect(),
+        };
         let measurement = outline::measure(&sections, &spec).map_err(|e| e.to_string());
         out.push(Simulation {
             settings: *settings,
@@ -210,6 +223,7 @@ pub fn simulate_part(
             required_grade: m.plan.gear.quality_grade,
             unit: name.clone(),
             note,
+            measured,
         });
     }
     Ok(out)

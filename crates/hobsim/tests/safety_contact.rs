@@ -98,8 +98,9 @@ fn a_pass_over_the_blank_is_found_when_deeper_than_the_bound() {
 /// the blank of radius 40.5), a dwell, then a rapid. A rapid straight back
 /// along the feed, coupled, retraces space the feed has cut: no contact.
 /// The same rapid ending 1 mm higher, the way back with the gearbox off,
-/// or the way back after a rapid (not a feed) in, are contacts of the
-/// rapid's own line.
+/// at another swivel, after a feed too fast to sweep every hob angle, or
+/// after a rapid (not a feed) in, are contacts of the rapid's own line; so
+/// is the way back on a blank that is not a worm wheel's.
 #[test]
 fn a_rapid_back_along_its_coupled_feed_is_no_contact_and_any_other_is() {
     let gearbox = Some(gearcam_hobsim::kinematics::Gearbox {
@@ -112,37 +113,64 @@ fn a_rapid_back_along_its_coupled_feed_is_no_contact_and_any_other_is() {
         y_mm: 0.0,
         z_mm: z,
     };
+    // 20 mm in 10 s at 50 turns a second: 25 turns per millimetre.
     let seg = |t0: f64, from: Axes, to: Axes, feed: bool, gearbox| Segment {
         line: t0 as u32,
         t0_s: t0,
-        t1_s: t0 + 1.0,
+        t1_s: t0 + 10.0,
         from,
         to,
         eta_rad: 0.0,
-        hob_rev_s: 5.0,
+        hob_rev_s: 50.0,
         gearbox,
         c_extra_rad: 0.0,
         feed,
     };
-    let run = |back: Segment, first_feed: bool| {
+    let worm = BlankGeometry {
+        throat_z_mm: Some(115.0),
+        ..blank()
+    };
+    let run_on = |blank: BlankGeometry, first: Segment, back: Segment| {
         let tl = Timeline::from_segments(vec![
-            seg(0.0, at(90.0, 115.0), at(70.0, 115.0), first_feed, gearbox),
-            seg(1.0, at(70.0, 115.0), at(70.0, 115.0), false, gearbox),
-            back,
+            first,
+            seg(10.0, at(70.0, 115.0), at(70.0, 115.0), false, gearbox),
+            Segment {
+                line: 2,
+                t0_s: 20.0,
+                t1_s: 20.1,
+                ..back
+            },
         ])
         .expect("timeline");
-        safety::check(&tl, &hob(), &blank(), &Fixtures::default())
+        safety::check(&tl, &hob(), &blank, &Fixtures::default())
             .into_iter()
             .filter(|f| f.kind == SafetyKind::RapidContact && f.line == 2)
             .map(|f| f.what)
             .collect::<Vec<_>>()
     };
-    let back = seg(2.0, at(70.0, 115.0), at(90.0, 115.0), false, gearbox);
-    assert!(run(back, true).is_empty(), "{:?}", run(back, true));
-    let higher = seg(2.0, at(70.0, 115.0), at(90.0, 116.0), false, gearbox);
-    assert!(!run(higher, true).is_empty());
-    let decoupled = seg(2.0, at(70.0, 115.0), at(90.0, 115.0), false, None);
-    assert!(!run(decoupled, true).is_empty());
-    // After a rapid in there is no feed to retrace.
-    assert!(!run(back, false).is_empty());
+    let feed_in = seg(0.0, at(90.0, 115.0), at(70.0, 115.0), true, gearbox);
+    let run = |back: Segment| run_on(worm, feed_in, back);
+    let back = seg(20.0, at(70.0, 115.0), at(90.0, 115.0), false, gearbox);
+    assert!(run(back).is_empty(), "{:?}", run(back));
+    let higher = seg(20.0, at(70.0, 115.0), at(90.0, 116.0), false, gearbox);
+    assert!(!run(higher).is_empty());
+    let decoupled = seg(20.0, at(70.0, 115.0), at(90.0, 115.0), false, None);
+    assert!(!run(decoupled).is_empty());
+    let swivelled = Segment {
+        eta_rad: 0.01,
+        ..back
+    };
+    assert!(!run(swivelled).is_empty());
+    let fast = Segment {
+        t1_s: 0.1,
+        ..feed_in
+    };
+    assert!(!run_on(worm, fast, back).is_empty());
+    let rapid_in = Segment {
+        feed: false,
+        ..feed_in
+    };
+    assert!(!run_on(worm, rapid_in, back).is_empty());
+    // Not a worm wheel: the rule does not apply.
+    assert!(!run_on(blank(), feed_in, back).is_empty());
 }

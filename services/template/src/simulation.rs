@@ -278,7 +278,10 @@ fn gear_errors(name: &str, sim: &SimulationReport) -> Vec<JobError> {
             ),
         ));
     }
-    for d in &sim.deviations {
+    // A gear graded as an indication only (its note says why: a worm
+    // wheel) is not stopped by its classes.
+    let graded = sim.note.is_none();
+    for d in sim.deviations.iter().filter(|_| graded) {
         let helix = d.item == "fHβ" && d.class.is_none();
         let pitch =
             (d.item == "fp" || d.item == "Fp") && d.class.unwrap_or(12) > sim.required_grade;
@@ -400,6 +403,17 @@ mod tests {
         let w: Vec<String> = part.every_gear().filter_map(grade_warning).collect();
         assert_eq!(w.len(), 1, "{w:?}");
         assert!(w[0].contains("\"upper gear\""), "{w:?}");
+    }
+
+    /// A gear graded only as an indication (a worm wheel, whose note says
+    /// so) is not stopped by its pitch, but its class still warns.
+    #[test]
+    fn an_indicative_grade_warns_and_does_not_stop() {
+        let mut wheel = report(vec![deviation("fp", Some(9))]);
+        assert_eq!(codes(&errors_of("P", &wheel)).len(), 1);
+        wheel.note = Some("a worm wheel: an indication".into());
+        assert!(errors_of("P", &wheel).is_empty());
+        assert!(grade_warning(&wheel).is_some());
     }
 
     /// Within the drawing's class: no error, no warning.

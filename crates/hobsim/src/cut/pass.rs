@@ -594,11 +594,11 @@ impl<'t> Pass<'t> {
         }
         let g = (5f64.sqrt() - 1.0) / 2.0;
         let (mut a, mut b) = (lo, hi);
-        // 0.618¹⁷ of a few hundred mm: below 0.05 mm, within the
+        // 0.618¹⁹ of a few hundred mm: below 0.05 mm, within the
         // widening (h is flat at its minimum: a pass that reaches the
         // blank by less than that error's square cuts only air within the
         // clip margin).
-        for _ in 0..17 {
+        for _ in 0..19 {
             let (c, d) = (b - g * (b - a), a + g * (b - a));
             if h(c) < h(d) {
                 b = d;

@@ -35,7 +35,7 @@
 //! attributes hold numbers, colours and fixed class names only.
 
 use gearcam_gearmeasure::iso1328::{self, Class, GearData, Grade, Item};
-use gearcam_gearmeasure::outline::{chart_data, Measurement, PolarSections, TracePoints};
+use gearcam_gearmeasure::outline::{chart_data, Measurement, TracePoints};
 use gearcam_gearmeasure::pitch::PitchDeviations;
 use gearcam_hobsim::simulate::Simulation;
 use svg::node::element::{Group, Line, Polyline, Rectangle, Text};
@@ -63,10 +63,7 @@ const TOOTH_PX: f64 = 480.0;
 pub fn simulation_svg(sim: &Simulation) -> Option<String> {
     let m = sim.measurement.as_ref().ok()?;
     let spec = &sim.spec;
-    let sections = PolarSections {
-        z_mm: sim.blank.z_mm.clone(),
-        r_mm: sim.blank.r_mm.clone(),
-    };
+    let sections = sim.measured_sections();
     let data = chart_data(&sections, spec).ok()?;
     let gear = GearData::new(
         spec.teeth,

@@ -10,6 +10,7 @@
 
 use super::*;
 use gearcam_gearmeasure::helix::{evaluate_helix, Hand};
+use gearcam_gearmeasure::outline::PolarSections;
 use gearcam_gearmeasure::outline::{measure, ChartData, GearSpec};
 use gearcam_gearmeasure::profile::evaluate_profile;
 use gearcam_hobsim::cut::Blank;
@@ -132,6 +133,7 @@ impl Built {
             required_grade,
             unit: None,
             note: None,
+            measured: (0..9).collect(),
         }
     }
 }
