@@ -335,10 +335,11 @@ impl Edge {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn hob() -> Hob {
+    /// A one-start hob of 80 mm with 12 gashes and sharp tips, module 3.
+    pub(crate) fn hob() -> Hob {
         Hob {
             starts: 1,
             hand: 1.0,

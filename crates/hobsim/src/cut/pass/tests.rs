@@ -18,20 +18,11 @@ fn pass<'t>(timeline: &'t Timeline, hob: &Hob) -> Pass<'t> {
     )
 }
 
-/// The test hob (module 3-ish, a rounded tip) and helical cut.
+/// The hob's tests' hob with rounded tips (1 mm), and a helical cut.
 fn setup() -> (Hob, Timeline) {
     let hob = Hob {
-        starts: 1,
-        hand: 1.0,
-        tip_radius_mm: 40.0,
-        ref_radius_mm: 36.25,
-        root_radius_mm: 32.5,
-        axial_pitch_mm: 9.43,
-        tan_alpha_x: 20f64.to_radians().tan(),
-        length_mm: 100.0,
-        gashes: 12,
         tip_corner_radius_mm: 1.0,
-        cos_lead: 1.0,
+        ..crate::hob::tests::hob()
     };
     let axes = |x: f64, z: f64| Axes {
         x_mm: x,
