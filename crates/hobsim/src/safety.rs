@@ -204,7 +204,7 @@ pub fn check_part(
             .as_ref()
             .map_or("the blank".to_string(), |n| format!("the blank of \"{n}\""));
         blank_contacts(timeline, units, mounted, (blank, &blank_name), &mut out);
-        let mine: Vec<bool> = mounted.iter().map(|&m| m == u).collect();
+        let mine = moves_with(mounted, u);
         let before = out.len();
         process::depth_and_face(timeline, hob, blank, &mine, &mut out);
         process::shifts(timeline, hob, blank, &mine, &mut out);
@@ -228,6 +228,12 @@ fn solid(hob: &Hob) -> contact::HobSolid {
         radius_mm: hob.tip_radius_mm,
         length_mm: hob.length_mm,
     }
+}
+
+/// Which segments are made with unit `unit`'s hob, given the unit mounted
+/// at each.
+pub(crate) fn moves_with(mounted: &[usize], unit: usize) -> Vec<bool> {
+    mounted.iter().map(|&m| m == unit).collect()
 }
 
 /// Rapid contact, cutting decoupled or in a wrong ratio, with the blank

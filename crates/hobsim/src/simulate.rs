@@ -22,15 +22,7 @@ use gearcam_proto::hobbing::Hand;
 use gearcam_proto::simulation::{Deviation, SafetyIssue};
 use gearcam_proto::{MachiningModel, SimulationReport};
 
-use crate::cut::{self, Blank, Resolution};
-
-/// Polar samples per section for an outline within `tol_um` on a blank of
-/// radius `r_mm`: a curve of radius of curvature ≥ 1 mm crossing the rays
-/// at ≥ 10° leaves L²/8ρ between samples L apart along it.
-fn samples_for(r_mm: f64, tol_um: f64) -> usize {
-    let step = 10f64.to_radians().sin() * (8.0 * tol_um * 1e-3).sqrt() / r_mm;
-    ((std::f64::consts::TAU / step).ceil() as usize).max(8)
-}
+use crate::cut::{self, samples_for, Blank, Resolution};
 use crate::hob::{Hob, HobExtras};
 use crate::kinematics::{self, MachineErrors, MachineRates};
 use crate::safety::{self, BlankGeometry, Fixtures, SafetyFinding, SafetyKind};
@@ -114,14 +106,15 @@ pub struct Simulation {
 impl Simulation {
     /// The outlines of the sections the gear was measured in.
     pub fn measured_sections(&self) -> PolarSections {
-        PolarSections {
-            z_mm: self.measured.iter().map(|&j| self.blank.z_mm[j]).collect(),
-            r_mm: self
-                .measured
-                .iter()
-                .map(|&j| self.blank.r_mm[j].clone())
-                .collect(),
-        }
+        sections_of(&self.blank, &self.measured)
+    }
+}
+
+/// The outlines of `blank`'s sections `which`, by index.
+fn sections_of(blank: &Blank, which: &[usize]) -> PolarSections {
+    PolarSections {
+        z_mm: which.iter().map(|&j| blank.z_mm[j]).collect(),
+        r_mm: which.iter().map(|&j| blank.r_mm[j].clone()).collect(),
     }
 }
 
@@ -198,20 +191,19 @@ pub fn simulate_part(
         });
     let fixtures = Fixtures::of_model(model, &span);
     let mut safety = safety::check_part(&timeline, &setups, &mounted, &fixtures);
+    let mine: Vec<Vec<bool>> = (0..units.len())
+        .map(|j| safety::moves_with(&mounted, j))
+        .collect();
     let mut out = Vec::with_capacity(units.len());
     for (name, m) in &units {
         let mut blank = unit_blank(m, settings)?;
         let mut passes = 0;
-        for (j, (_, hob, _)) in setups.iter().enumerate() {
-            let mine: Vec<bool> = mounted.iter().map(|&k| k == j).collect();
-            passes += cut::cut_segments(&timeline, hob, &mut blank, settings.resolution, &mine)?;
+        for ((_, hob, _), mine) in setups.iter().zip(&mine) {
+            passes += cut::cut_segments(&timeline, hob, &mut blank, settings.resolution, mine)?;
         }
         let spec = drawing(m);
         let (measured, note) = measured_sections(&blank, m);
-        let sections = PolarSections {
-            z_mm: measured.iter().map(|&j| blank.z_mm[j]).collect(),
-            r_mm: measured.iter().map(|&j| blank.r_mm[j].clone()).collect(),
-        };
+        let sections = sections_of(&blank, &measured);
         let measurement = outline::measure(&sections, &spec).map_err(|e| e.to_string());
         out.push(Simulation {
             settings: *settings,

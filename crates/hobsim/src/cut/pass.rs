@@ -244,21 +244,7 @@ impl<'t> Pass<'t> {
             let step = (rho * sn - tt0 - self.dt * phi) / (rho * cs - self.dt);
             let next = phi - step;
             if step.abs() < 1e-4 && next >= self.phi_range.0 && next <= self.phi_range.1 {
-                let q = self.pose(next);
-                let tt = self.across(&q, a, zs);
-                if tt.abs() >= rho {
-                    return None;
-                }
-                let s = (rho * rho - tt * tt).sqrt();
-                return Some(Pierced {
-                    a,
-                    rho,
-                    phi: next,
-                    tt,
-                    s,
-                    c: q.c_rad,
-                    point: self.to_workpiece(&q, a, s, tt, near),
-                });
+                return self.placed(a, rho, zs, next, near);
             }
         }
         for _ in 0..3 {
@@ -286,6 +272,13 @@ impl<'t> Pass<'t> {
                 break;
             }
         }
+        self.placed(a, rho, zs, phi, near)
+    }
+
+    /// The profile point (a, ρ) placed exactly on the section `zs` and on
+    /// its disc with the pose at hob angle `phi`, or None when the plane
+    /// misses the disc there.
+    fn placed(&self, a: f64, rho: f64, zs: f64, phi: f64, near: Option<&Point>) -> Option<Pierced> {
         let q = self.pose(phi);
         let tt = self.across(&q, a, zs);
         if tt.abs() >= rho {

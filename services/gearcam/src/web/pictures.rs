@@ -203,25 +203,18 @@ async fn picture(
         Err(page) => return page.into_response(),
     };
     // Drawing a die fits its arcs again: off the page's threads.
-    let drawn = tokio::task::spawn_blocking(move || svg_of(&model)).await;
-    let svg = match drawn {
-        Ok(Ok(svg)) => svg,
-        Ok(Err(why)) => {
-            return (
-                StatusCode::INTERNAL_SERVER_ERROR,
-                format!("the picture of job {id} cannot be drawn: {why}"),
-            )
-                .into_response()
-        }
-        Err(e) => {
-            return (
-                StatusCode::INTERNAL_SERVER_ERROR,
-                format!("the picture of job {id} cannot be drawn: {e}"),
-            )
-                .into_response()
-        }
-    };
-    svg_response(svg)
+    let drawn = tokio::task::spawn_blocking(move || svg_of(&model))
+        .await
+        .map_err(|e| e.to_string())
+        .and_then(|svg| svg.map_err(|why| why.to_string()));
+    match drawn {
+        Ok(svg) => svg_response(svg),
+        Err(why) => (
+            StatusCode::INTERNAL_SERVER_ERROR,
+            format!("the picture of job {id} cannot be drawn: {why}"),
+        )
+            .into_response(),
+    }
 }
 
 /// An SVG picture as the page serves it.
