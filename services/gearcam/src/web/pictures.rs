@@ -197,24 +197,21 @@ async fn picture(
     State(web): State<Web>,
     Extension(session): Extension<Session>,
     Path(job): Path<String>,
-) -> Response {
-    let (id, model) = match job_and_model(&web, &session, &job).await {
-        Ok(found) => found,
-        Err(page) => return page.into_response(),
-    };
+) -> Result<Response, Page> {
+    let (id, model) = job_and_model(&web, &session, &job).await?;
     // Drawing a die fits its arcs again: off the page's threads.
     let drawn = tokio::task::spawn_blocking(move || svg_of(&model))
         .await
         .map_err(|e| e.to_string())
         .and_then(|svg| svg.map_err(|why| why.to_string()));
-    match drawn {
+    Ok(match drawn {
         Ok(svg) => svg_response(svg),
         Err(why) => (
             StatusCode::INTERNAL_SERVER_ERROR,
             format!("the picture of job {id} cannot be drawn: {why}"),
         )
             .into_response(),
-    }
+    })
 }
 
 /// An SVG picture as the page serves it.
@@ -269,17 +266,11 @@ async fn simulation_picture(
     State(web): State<Web>,
     Extension(session): Extension<Session>,
     Path(job): Path<String>,
-) -> Response {
-    let (id, model) = match job_and_model(&web, &session, &job).await {
-        Ok(found) => found,
-        Err(page) => return page.into_response(),
-    };
-    let text = match delivered(&web, &id).await {
-        Ok((_, program)) => program.text,
-        Err(page) => return page.into_response(),
-    };
+) -> Result<Response, Page> {
+    let (id, model) = job_and_model(&web, &session, &job).await?;
+    let text = delivered(&web, &id).await?.1.text;
     let drawn = tokio::task::spawn_blocking(move || simulation_svg_of(&model, &text)).await;
-    match drawn {
+    Ok(match drawn {
         Ok(Ok(svg)) => svg_response(svg),
         Ok(Err(why)) => (
             StatusCode::NOT_FOUND,
@@ -291,7 +282,7 @@ async fn simulation_picture(
             format!("the charts of job {id} cannot be drawn: {e}"),
         )
             .into_response(),
-    }
+    })
 }
 
 /// The program the machine's agent stored for the job: its status and
