@@ -420,6 +420,9 @@ pub enum Origin {
     Library,
     /// A documented gearcam default.
     Default,
+    /// Bounded by the drawing's accuracy class (a feed whose feed marks
+    /// stay within the class).
+    Grade,
     /// Computed by the model from other values.
     Computed,
 }

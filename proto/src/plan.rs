@@ -54,6 +54,9 @@ pub enum Source {
     /// Taken from a knowledge-base library: the tool library (a hob's data)
     /// or the workpiece library (drawing data by part number).
     Library,
+    /// Bounded by the drawing's accuracy class: the finishing feed whose
+    /// feed marks stay within the class's helix form tolerance.
+    Grade,
 }
 
 /// A number with its provenance.

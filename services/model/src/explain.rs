@@ -14,6 +14,7 @@ pub fn origin(source: Source) -> Origin {
         Source::Machine => Origin::Machine,
         Source::Default => Origin::Default,
         Source::Library => Origin::Library,
+        Source::Grade => Origin::Grade,
     }
 }
 

@@ -59,6 +59,10 @@ pub async fn run(
                     "model",
                 )]);
             }
+            let plan = match &model {
+                AnyModel::Hobbing(model) => Some(&model.plan),
+                _ => None,
+            };
             let program = match &model {
                 AnyModel::Hobbing(model) => templates.render(model)?,
                 AnyModel::Spiral(model) => crate::spiral::render(model)?,
@@ -68,7 +72,7 @@ pub async fn run(
                 name: program.name.clone(),
                 sha256: program.sha256.clone(),
                 predicted_grade: program.simulation.as_ref().and_then(|s| s.part_grade()),
-                warnings: crate::simulation::warnings(&program),
+                warnings: crate::simulation::warnings(&program, plan),
             };
             // The receiver lives until shutdown; a send after it is gone is moot.
             let _ = tx.send(program);

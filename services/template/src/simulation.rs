@@ -15,7 +15,9 @@ use std::sync::{Arc, Mutex};
 
 use gearcam_hobsim::simulate::{part_report, simulate_part, Settings, Simulation};
 use gearcam_nc::Trace;
-use gearcam_proto::{Code, JobError, MachiningModel, NcProgram, SimulationReport, Stage};
+use gearcam_proto::{
+    Code, JobError, MachiningModel, NcProgram, ProcessPlan, SimulationReport, Source, Stage,
+};
 use sha2::{Digest, Sha256};
 
 /// Reports kept.
@@ -311,19 +313,42 @@ fn gear_errors(name: &str, sim: &SimulationReport) -> Vec<JobError> {
 
 /// The warnings of a program's virtual run for the planner: a predicted
 /// grade worse than the drawing's ([`grade_warning`]), for each gear of the
-/// part.
-pub fn warnings(program: &NcProgram) -> Vec<gearcam_proto::model::Warning> {
+/// part, with the knowledge base's feed for the class when the program
+/// feeds faster ([`feed_advice`]).
+pub fn warnings(
+    program: &NcProgram,
+    plan: Option<&ProcessPlan>,
+) -> Vec<gearcam_proto::model::Warning> {
     let Some(sim) = &program.simulation else {
         return Vec::new();
     };
+    let advice = plan.and_then(feed_advice);
     sim.every_gear()
         .filter_map(grade_warning)
         .map(|message| gearcam_proto::model::Warning {
             code: Code::PREDICTED_GRADE,
             field: "simulation.grade".into(),
-            message,
+            message: match &advice {
+                Some(a) => format!("{message}; {a}"),
+                None => message,
+            },
         })
         .collect()
+}
+
+/// The knowledge base's feed for the drawing's class, when it bounded its
+/// proposal by the class (source `grade`) and the plan feeds faster (the
+/// planner's own feed, kept as the planner's decision).
+pub fn feed_advice(plan: &ProcessPlan) -> Option<String> {
+    const FEED: &str = "feed_mm_per_rev";
+    let proposed = plan.proposal.values.get(FEED)?;
+    let used = plan.values.get(FEED)?;
+    (proposed.source == Source::Grade && used.value > proposed.value + 1e-9).then(|| {
+        format!(
+            "for class {} the knowledge base proposes a feed of at most {:.2} mm/rev, the program feeds {:.2} mm/rev",
+            plan.gear.quality_grade, proposed.value, used.value
+        )
+    })
 }
 
 /// The warning for a predicted grade of one gear worse than its drawing's,
@@ -335,14 +360,18 @@ pub fn grade_warning(sim: &SimulationReport) -> Option<String> {
         .unit
         .as_ref()
         .map_or(String::new(), |u| format!(" of the gear \"{u}\""));
+    // The tolerance a deviation carries is that of the class it meets.
+    let met = match d.class {
+        Some(c) => format!("class {c} allows {:.1} µm", d.tolerance_um),
+        None => format!("beyond class 11's {:.1} µm", d.tolerance_um),
+    };
     worse.then(|| {
         format!(
-            "the predicted class{of} ({}) is worse than the drawing's class {}: {} is {:.1} µm against {:.1} µm",
+            "the predicted class{of} ({}) is worse than the drawing's class {}: {} is {:.1} µm ({met})",
             class_text(sim.grade),
             sim.required_grade,
             d.item,
             d.value_um,
-            d.tolerance_um
         )
     })
 }
@@ -433,6 +462,8 @@ mod tests {
         assert!(errors_of("P", &r).is_empty());
         let w = grade_warning(&r).expect("a warning");
         assert!(w.contains("fHα") && w.contains("class 9"), "{w}");
+        // The tolerance given is the class the item meets, said as such.
+        assert!(w.contains("fHα is 3.0 µm (class 9 allows 3.5 µm)"), "{w}");
 
         let r = report(vec![deviation("Fp", Some(8)), deviation("fHβ", None)]);
         assert_eq!(

@@ -86,7 +86,10 @@ pub fn check_hobbing(
             report.ok = report.errors.is_empty();
             report
                 .warnings
-                .extend(gearcam_template::simulation::warnings(&p));
+                .extend(gearcam_template::simulation::warnings(
+                    &p,
+                    Some(&model.plan),
+                ));
             report.simulation = p.simulation;
             report.program = Some(ProgramSummary {
                 name: p.name,

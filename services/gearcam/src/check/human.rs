@@ -16,6 +16,7 @@ fn src(s: Source) -> &'static str {
         Source::Machine => "machine",
         Source::Default => "default",
         Source::Library => "library",
+        Source::Grade => "grade",
     }
 }
 

@@ -397,6 +397,53 @@ mod tests {
         .0
     }
 
+    /// The knowledge base holds a finishing feed to what the drawing's
+    /// class allows, and the virtual run checks the bound: the spur example
+    /// drawn to class 4 is planned below its cases' 2 mm/rev, with the
+    /// source `grade`, and its program cuts a gear of class 4 or better. The
+    /// planner's own 2 mm/rev is kept (the planner's decision, the bound
+    /// still shown as proposed) and cuts a gear worse than class 4; the
+    /// warning names the runout its feed marks leave and the knowledge
+    /// base's feed for the class.
+    #[test]
+    fn a_finishing_feed_is_held_to_the_class_and_the_virtual_run_confirms_it() {
+        let example = gearcam_testkit::examples::example("spur_840d.toml");
+        let class4 = example.replace("quality_grade = 7 ", "quality_grade = 4 ");
+        assert_ne!(class4, example);
+        let run = |text: &str| {
+            let spec = crate::jobfile::parse(text, "spur_class4.toml").unwrap();
+            let conn = gearcam_knowledge::db::open_in_memory().unwrap();
+            let settings = gearcam_hobsim::simulate::Settings::fine();
+            let req = crate::jobfile::request(spec);
+            check(&conn, &Templates::builtin(), &req, Some(&settings)).0
+        };
+        let bounded = run(&class4);
+        assert!(bounded.ok, "{}", format_errors(&bounded.errors));
+        let feed = bounded.plan.as_ref().unwrap().values["feed_mm_per_rev"];
+        assert_eq!(feed.source, Source::Grade);
+        assert!(feed.value > 1.0 && feed.value < 1.5, "{feed:?}");
+        let sim = bounded.simulation.as_ref().expect("simulated");
+        assert!(sim.grade.is_some_and(|g| g <= 4), "{sim:?}");
+        assert!(bounded.warnings.is_empty(), "{:?}", bounded.warnings);
+
+        let planners = class4.replace("# feed_mm_per_rev = 2.0 ", "feed_mm_per_rev = 2.0 #");
+        assert_ne!(planners, class4);
+        let unbounded = run(&planners);
+        let plan = unbounded.plan.as_ref().unwrap();
+        assert_eq!(plan.values["feed_mm_per_rev"].source, Source::Job);
+        assert_eq!(plan.proposed["feed_mm_per_rev"], feed);
+        let sim = unbounded.simulation.as_ref().expect("simulated");
+        assert!(sim.grade.is_some_and(|g| g > 4), "{sim:?}");
+        let warning = unbounded
+            .warnings
+            .iter()
+            .find(|w| w.code == gearcam_proto::Code::PREDICTED_GRADE)
+            .expect("a grade warning");
+        assert!(warning.message.contains("Fr is"), "{}", warning.message);
+        let advice = format!("at most {:.2} mm/rev, the program feeds 2.00", feed.value);
+        assert!(warning.message.contains(&advice), "{}", warning.message);
+    }
+
     #[test]
     fn a_job_by_part_number_gets_the_model_of_the_same_job_with_its_gear_written_out() {
         let by_part = check_example("spur_by_part_840d.toml");

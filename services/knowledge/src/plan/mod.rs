@@ -40,6 +40,11 @@ use crate::library;
 use crate::records::{self, HobRecord, MaterialRecord};
 use crate::KnowledgeError;
 
+pub mod feed_marks;
+mod limits;
+
+use limits::within_machine_limits;
+
 /// Cutting speed when no case applies, m/min: an engineering estimate for
 /// HSS hobs in steel, deliberately low.
 pub const DEFAULT_CUTTING_SPEED_M_MIN: f64 = 80.0;
@@ -139,12 +144,13 @@ fn plan_inner(
         material.is_some(),
     );
     let adapted = cbr::adapt(cases, &hits, &problem);
+    let rough = h.process.operation == Some(gearcam_proto::Operation::Rough);
     let proposed = propose_values(
         &mut proposal,
         adapted.as_ref(),
         &machine,
         &hob.data,
-        gear.teeth,
+        (&gear, class, rough),
     );
     let values = apply_overrides(&mut proposal, h);
     let used = cases_used(cases, &hits, &values);
@@ -573,13 +579,14 @@ struct Proposed {
 /// cutting speed, feed, cuts and cutting mode, each else gearcam's default;
 /// cutting speed and feed within the machine's limits; the machine's
 /// safety distance; finish unless the job says rough; the cases' radial
-/// feed and allowance when they have them.
+/// feed and allowance when they have them. A finishing feed is also held
+/// to what the drawing's class allows ([`feed_marks`]).
 fn propose_values(
     proposal: &mut Proposal,
     adapted: Option<&Adapted>,
     machine: &MachineProfile,
     hob: &HobData,
-    teeth: u32,
+    (gear, class, rough): (&GearSpec, GearClass, bool),
 ) -> Proposed {
     let sourced = |value: f64, source: Source| Sourced { value, source };
     let mut vc = match adapted {
@@ -599,7 +606,11 @@ fn propose_values(
         None => (CutMode::Conventional, Source::Default),
     };
     let confidence = adapted.map_or(DEFAULT_CONFIDENCE, |a| a.confidence);
-    within_machine_limits(&mut vc, &mut fa, machine, hob, teeth);
+    within_machine_limits(&mut vc, &mut fa, machine, hob, gear.teeth);
+    match feed_marks::max_feed_mm_per_rev(gear, class, hob) {
+        Some(f) if !rough && fa.value > f => fa = sourced(f, Source::Grade),
+        _ => {}
+    }
 
     let values = &mut proposal.values;
     let mut prop = |name: &str, value: Sourced| {
@@ -629,44 +640,6 @@ fn propose_values(
     Proposed {
         cut_mode: mode,
         confidence,
-    }
-}
-
-/// Bounds the proposed cutting speed `vc` and feed `fa` by what the machine
-/// can run with the hob: the hob and table speed limits bound the cutting
-/// speed, the axial feed rate limit the feed per revolution (spur estimate
-/// of the table speed Nw = z0·Nt/z). A value clamped takes the source
-/// `machine`.
-fn within_machine_limits(
-    vc: &mut Sourced,
-    fa: &mut Sourced,
-    machine: &MachineProfile,
-    hob: &HobData,
-    teeth: u32,
-) {
-    let (da0, z0, z) = (
-        hob.od_mm,
-        f64::from(hob.starts.max(1)),
-        f64::from(teeth.max(1)),
-    );
-    let nt_max = machine
-        .limits
-        .max_hob_rpm
-        .min(machine.limits.max_table_rpm * z / z0);
-    let vc_max = nt_max * std::f64::consts::PI * da0 / 1000.0;
-    if da0 > 0.0 && vc.value > vc_max {
-        *vc = Sourced {
-            value: vc_max,
-            source: Source::Machine,
-        };
-    }
-    let nt = vc.value * 1000.0 / (std::f64::consts::PI * da0);
-    let fa_max = machine.limits.max_axial_feed_mm_min * z / (z0 * nt);
-    if da0 > 0.0 && fa.value > fa_max {
-        *fa = Sourced {
-            value: fa_max,
-            source: Source::Machine,
-        };
     }
 }
 
