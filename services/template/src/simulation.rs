@@ -178,20 +178,21 @@ fn key_of(trace: &Trace, model: &MachiningModel, settings: &Settings) -> [u8; 32
 }
 
 /// One timed run of `trace` on the virtual machine: its report (with the
-/// wall time), and the run itself for its charts; a program the simulator
-/// cannot run gets a report that says why, and no run.
+/// wall time), and the run of every gear of the part for its charts; a
+/// program the simulator cannot run gets a report that says why, and no
+/// run.
 pub fn run(
     trace: &Trace,
     model: &MachiningModel,
     settings: &Settings,
-) -> (SimulationReport, Option<Simulation>) {
+) -> (SimulationReport, Vec<Simulation>) {
     let started = tokio::time::Instant::now();
     match simulate_part(trace, model, settings) {
-        Ok(mut gears) => {
+        Ok(gears) => {
             let report = part_report(&gears, started.elapsed().as_secs_f64() * 1e3);
-            (report, Some(gears.swap_remove(0)))
+            (report, gears)
         }
-        Err(e) => (unsimulated(settings, &e.to_string()), None),
+        Err(e) => (unsimulated(settings, &e.to_string()), Vec::new()),
     }
 }
 

@@ -29,7 +29,7 @@ pub fn check_hobbing(
     req: &JobRequest,
     mut report: CheckReport,
     simulation: Option<&Settings>,
-) -> (CheckReport, Option<MachiningModel>, Option<Simulation>) {
+) -> (CheckReport, Option<MachiningModel>, Vec<Simulation>) {
     let spec = &req.spec;
     // Before the model has validated the gear, its figures are shown only
     // when they describe a gear (a module of -3 gives d -75 mm: no figures).
@@ -40,7 +40,7 @@ pub fn check_hobbing(
         Ok(p) => p,
         Err(errors) => {
             report.errors = errors;
-            return (report, None, None);
+            return (report, None, Vec::new());
         }
     };
     // The plan's gear: the job's, or the workpiece library's for a job that
@@ -63,13 +63,13 @@ pub fn check_hobbing(
         Ok(m) => m,
         Err(errors) => {
             report.errors = errors;
-            return (report, None, None);
+            return (report, None, Vec::new());
         }
     };
     report.geometry = Some(model.geometry.clone());
     report.model = Some(ModelReport::Hobbing(Box::new(model.model.clone())));
     report.warnings = model.warnings.clone();
-    let mut sim = None;
+    let mut sim = Vec::new();
     match templates.instantiate(&model) {
         Ok(mut p) => {
             report.errors = gearcam_template::render::path_check_errors(&p);
@@ -106,12 +106,12 @@ pub fn check_hobbing(
 }
 
 /// The program run on the virtual machine: its report goes into
-/// `program`, the run comes back (for the charts).
+/// `program`, the run of every gear comes back (for the charts).
 fn run(
     model: &MachiningModel,
     settings: &Settings,
     program: &mut gearcam_proto::NcProgram,
-) -> Option<Simulation> {
+) -> Vec<Simulation> {
     let (_, trace) = gearcam_nc::check(&program.text, model);
     let (report, sim) = gearcam_template::simulation::run(&trace, model, settings);
     program.simulation = Some(report);

@@ -319,10 +319,11 @@ pub(crate) fn job_summary(req: &JobRequest) -> CheckReport {
 /// The model of a job that has a picture.
 #[derive(Debug, Clone)]
 pub enum Drawing {
-    /// A hobbing job's, with its virtual run when there was one.
+    /// A hobbing job's, with the virtual run of each of its gears when
+    /// there was one.
     Hobbing(
         Box<gearcam_proto::MachiningModel>,
-        Option<Box<gearcam_hobsim::simulate::Simulation>>,
+        Vec<gearcam_hobsim::simulate::Simulation>,
     ),
     /// A spiral job's.
     Spiral(Box<SpiralModel>),
@@ -343,10 +344,7 @@ pub fn check(
     match req.spec.family() {
         Family::Hobbing => {
             let (r, m, sim) = hobbing::check_hobbing(conn, templates, req, report, simulation);
-            (
-                r,
-                m.map(|m| Drawing::Hobbing(Box::new(m), sim.map(Box::new))),
-            )
+            (r, m.map(|m| Drawing::Hobbing(Box::new(m), sim)))
         }
         Family::SpiralFace => {
             let (r, m) = spiral::check_spiral(conn, req, report);

@@ -58,9 +58,46 @@ const PITCH_H: f64 = 130.0;
 /// The size of the tooth-section view, px.
 const TOOTH_PX: f64 = 480.0;
 
-/// The charts of a simulated gear, or `None` when the gear was not
-/// measured (the report says why) or its traces cannot be found again.
-pub fn simulation_svg(sim: &Simulation) -> Option<String> {
+/// The charts of a simulated part, each gear's below the one before (a
+/// gear that was not measured says why in one line), or `None` when no gear
+/// was measured (the report says why) or none's traces can be found again.
+pub fn simulation_svg(gears: &[Simulation]) -> Option<String> {
+    let mut doc = Document::new();
+    let (mut y, mut drawn) = (0.0, 0);
+    for sim in gears {
+        if let Some((charts, below)) = gear_charts(sim, y) {
+            doc = doc.add(charts);
+            (y, drawn) = (below, drawn + 1);
+        } else if gears.len() > 1 {
+            let why = match &sim.measurement {
+                Err(why) => why.as_str(),
+                Ok(_) => "its traces could not be found again",
+            };
+            let text = format!("Virtual gear{}: no charts, {why}", unit_name(sim));
+            doc = doc.add(label(text, MARGIN, y + 32.0, 16.0));
+            y += 50.0;
+        }
+    }
+    (drawn > 0).then(|| {
+        doc.set("viewBox", (0.0, 0.0, PAGE_W, y))
+            .set("width", PAGE_W)
+            .set("height", y.round())
+            .to_string()
+    })
+}
+
+/// The name of a gear of a part of several, quoted after a space; empty
+/// for a part of one gear.
+fn unit_name(sim: &Simulation) -> String {
+    sim.unit
+        .as_ref()
+        .map_or(String::new(), |u| format!(" \"{u}\""))
+}
+
+/// One gear's charts from the height `y0` down, and the height below them;
+/// `None` when the gear was not measured or its traces cannot be found
+/// again.
+fn gear_charts(sim: &Simulation, y0: f64) -> Option<(Group, f64)> {
     let m = sim.measurement.as_ref().ok()?;
     let spec = &sim.spec;
     let sections = sim.measured_sections();
@@ -77,8 +114,8 @@ pub fn simulation_svg(sim: &Simulation) -> Option<String> {
         Grade::WorseThan11 => Class::COARSEST,
     });
     let tol = |item| iso1328::tolerance_um(&gear, item, class);
-    let mut y = 20.0;
-    let mut doc = Document::new();
+    let mut y = y0 + 20.0;
+    let mut doc = Group::new();
     doc = doc.add(label(title(sim, m), MARGIN, y + 12.0, 16.0));
     y += 40.0;
     let picked = picked_teeth(spec.teeth as usize);
@@ -146,12 +183,7 @@ pub fn simulation_svg(sim: &Simulation) -> Option<String> {
     );
     doc = doc.add(g);
     y += h;
-    Some(
-        doc.set("viewBox", (0.0, 0.0, PAGE_W, y))
-            .set("width", PAGE_W)
-            .set("height", y.round())
-            .to_string(),
-    )
+    Some((doc, y))
 }
 
 /// The title line: the predicted class and the drawing's.
@@ -161,8 +193,8 @@ fn title(sim: &Simulation, m: &Measurement) -> String {
         Grade::WorseThan11 => "worse than class 11".to_string(),
     };
     format!(
-        "Virtual gear ({} simulation), ISO 1328-1:2013: predicted {grade}, drawing class {}; z = {}, mn = {} mm, β = {}°",
-        sim.settings.mode, sim.required_grade, sim.spec.teeth, sim.spec.normal_module_mm, sim.spec.helix_deg
+        "Virtual gear{} ({} simulation), ISO 1328-1:2013: predicted {grade}, drawing class {}; z = {}, mn = {} mm, β = {}°",
+        unit_name(sim), sim.settings.mode, sim.required_grade, sim.spec.teeth, sim.spec.normal_module_mm, sim.spec.helix_deg
     )
 }
 

@@ -225,7 +225,7 @@ fn parse(svg: &str) -> Elem {
 /// tooth 4 turned 10 µm; the drawing asks for class 7.
 fn charted() -> (Simulation, Elem, ChartData) {
     let sim = Built::new(1.0005, 10.0).simulation(7);
-    let svg = simulation_svg(&sim).expect("a picture");
+    let svg = simulation_svg(std::slice::from_ref(&sim)).expect("a picture");
     let sections = PolarSections {
         z_mm: sim.blank.z_mm.clone(),
         r_mm: sim.blank.r_mm.clone(),
@@ -538,7 +538,7 @@ fn a_real_program_charts_the_gear_it_cuts() {
     assert!(check.ok, "{:?}", check.findings);
     let sim = gearcam_hobsim::simulate::simulate(&trace, &model, &Settings::coarse()).unwrap();
     let m = sim.measurement.as_ref().expect("the cut gear measures");
-    let svg = parse(&simulation_svg(&sim).expect("a picture"));
+    let svg = parse(&simulation_svg(std::slice::from_ref(&sim)).expect("a picture"));
     let picked = picked_teeth(sim.spec.teeth as usize);
     let helix = m.helix.as_ref().expect("9 sections: a helix");
     for (row, kind) in [
@@ -567,4 +567,54 @@ fn a_real_program_charts_the_gear_it_cuts() {
     }
     assert_eq!(svg.with_class("pitch-chart").len(), 2);
     assert_eq!(svg.with_class("tooth-sections").len(), 1);
+}
+
+/// A part of several gears charts each gear under its name, the second's
+/// charts below the first's; a gear that did not measure says why in a
+/// line of its own instead of hiding the others' charts.
+#[test]
+fn a_part_charts_every_gear_under_its_name() {
+    let mut upper = Built::new(1.0005, 10.0).simulation(7);
+    upper.unit = Some("upper".into());
+    let mut lower = Built::new(1.0, 0.0).simulation(6);
+    lower.unit = Some("lower".into());
+    let mut unmeasured = Built::new(1.0, 0.0).simulation(6);
+    unmeasured.unit = Some("spline".into());
+    unmeasured.measurement = Err("18 gaps where the drawing has 31".into());
+    let svg = parse(&simulation_svg(&[upper, lower, unmeasured]).expect("a picture"));
+    let texts = svg.texts();
+    let title = |name: &str| {
+        texts
+            .iter()
+            .position(|t| t.starts_with(&format!("Virtual gear \"{name}\" (coarse simulation)")))
+            .unwrap_or_else(|| panic!("no title for {name}: {texts:?}"))
+    };
+    assert!(title("upper") < title("lower"), "{texts:?}");
+    assert!(texts
+        .iter()
+        .any(|t| t == "Virtual gear \"spline\": no charts, 18 gaps where the drawing has 31"));
+    let rows = svg.with_class("profile-row");
+    assert_eq!(rows.len(), 2);
+    // The heights an element's shapes and labels reach, px.
+    let heights = |e: &Elem| -> Vec<f64> {
+        e.all()
+            .into_iter()
+            .flat_map(|c| ["y", "y1", "y2"].map(|a| c.attrs.get(a).and_then(|y| y.parse().ok())))
+            .flatten()
+            .collect()
+    };
+    let pitch = svg.with_class("pitch-row");
+    assert_eq!(pitch.len(), 2);
+    let first_lowest = heights(pitch[0]).into_iter().fold(f64::MIN, f64::max);
+    let second_highest = heights(rows[1]).into_iter().fold(f64::MAX, f64::min);
+    assert!(
+        second_highest > first_lowest,
+        "the lower gear's charts ({second_highest} px down) overlap the upper's ({first_lowest} px)"
+    );
+    // One gear alone: no name in its title, as before.
+    let alone = parse(&simulation_svg(&[Built::new(1.0, 0.0).simulation(6)]).unwrap());
+    assert!(alone
+        .texts()
+        .iter()
+        .any(|t| t.starts_with("Virtual gear (coarse")));
 }

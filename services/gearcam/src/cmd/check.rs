@@ -40,12 +40,12 @@ fn write_file(path: &Path, bytes: &[u8]) -> Result<String, String> {
 /// Writes the picture of a hobbing, spiral or wire model to `svg`, and a
 /// wire job's outline as DXF to `dxf`.
 fn write_drawings(model: &crate::check::Drawing, report: &mut CheckReport, svg: &Path, dxf: &Path) {
-    if let crate::check::Drawing::Hobbing(_, Some(sim)) = model {
+    if let crate::check::Drawing::Hobbing(_, sims) = model {
         let stem = svg
             .file_stem()
             .map_or("job".into(), |s| s.to_string_lossy());
         let charts = svg.with_file_name(format!("{stem}-simulation.svg"));
-        if let Some(doc) = check::picture_simulation::simulation_svg(sim) {
+        if let Some(doc) = check::picture_simulation::simulation_svg(sims) {
             match write_file(&charts, doc.as_bytes()) {
                 Ok(p) => report.simulation_picture = Some(p),
                 Err(e) => eprintln!("gearcam: cannot write the simulation's charts {e}"),

@@ -11,7 +11,7 @@
 //!   model's plan as `gearcam check` makes it). Served as
 //!   `image/svg+xml` under a policy that lets nothing in it run; every
 //!   text in it is a number or escaped by the `svg` crate.
-//! - `GET /jobs/{job}/simulation.svg`: the measuring charts of the gear a
+//! - `GET /jobs/{job}/simulation.svg`: the measuring charts of each gear a
 //!   delivered hobbing program cuts on the virtual machine (the stored
 //!   program read back against the journaled model and run as the template
 //!   service runs it before delivery; seconds), drawn as `gearcam check
@@ -248,18 +248,18 @@ fn simulation_svg_of(model: &AnyModel, text: &str) -> Result<String, String> {
     }
     let (_, trace) = gearcam_nc::check(text, m);
     let settings = gearcam_template::simulation::before_delivery();
-    let (report, run) = gearcam_template::simulation::run(&trace, m, &settings);
-    let run = run.ok_or_else(|| {
-        format!(
+    let (report, gears) = gearcam_template::simulation::run(&trace, m, &settings);
+    if gears.is_empty() {
+        return Err(format!(
             "the program cannot be run on the virtual machine: {}",
             report.not_measured.unwrap_or_default()
-        )
-    })?;
-    crate::check::picture_simulation::simulation_svg(&run)
+        ));
+    }
+    crate::check::picture_simulation::simulation_svg(&gears)
         .ok_or_else(|| "the cut gear could not be measured, so there are no charts".into())
 }
 
-/// `GET /jobs/{job}/simulation.svg`: the measuring charts of the gear the
+/// `GET /jobs/{job}/simulation.svg`: the measuring charts of each gear the
 /// job's delivered program cuts on the virtual machine ([`simulation_svg_of`]
 /// on the program as the machine's agent stored it). A run takes seconds.
 async fn simulation_picture(
