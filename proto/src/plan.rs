@@ -55,7 +55,7 @@ pub enum Source {
     /// or the workpiece library (drawing data by part number).
     Library,
     /// Bounded by the drawing's accuracy class: the finishing feed whose
-    /// feed marks stay within the class's helix form tolerance.
+    /// feed marks stay within the class's helix form and runout tolerances.
     Grade,
 }
 

@@ -195,6 +195,60 @@ fn feed_marks_in_the_root_are_as_deep_as_the_tip_circles_leave() {
     }
 }
 
+/// The feed marks on a flank (`docs/simulation.md` §4): the hob's flank, a
+/// surface of revolution inclined by α to its radius, curves by sin α/ρ
+/// along the feed at distance ρ from the hob axis, so two of its cuts one
+/// feed f apart leave a cusp δn = f²·sin α/(8·ρ) normal to the flank. A
+/// gear point at radius r is cut where the line of action meets it, s =
+/// √(r² − rb²) − r·sin α from the pitch point (r the reference radius),
+/// s·sin α nearer the hob axis than its reference radius: ρ = r0 − s·sin α.
+/// Measured at two radii on the right flank of space 0 over one feed in
+/// f/240 steps (the cusp is a corner, so the steps are fine): the flank's
+/// angle at the radius, times rb, is its normal position.
+#[test]
+fn feed_marks_on_the_flank_are_as_deep_as_the_hobs_curvature_leaves() {
+    let rb = MN * f64::from(Z) / 2.0 * ALPHA.to_radians().cos();
+    let r_ref = MN * f64::from(Z) / 2.0;
+    let sin_a = ALPHA.to_radians().sin();
+    for f in [8.0, 12.0, 16.0] {
+        let h = common::rack_hob(R0, 1, 12, 0.0);
+        let tl = common::spur_feed(&h, 50.0 + 3.0 * f, 50.0 - f, 4.0);
+        let z = Blank::planes(50.0, 50.0 + f, 241);
+        let mut blank = Blank::new(z, 110.0, 20 * 1024).expect("blank");
+        cut_blank(&tl, &h, &mut blank);
+        for r in [r_ref, r_ref + 0.6 * MN] {
+            let normal: Vec<f64> = blank
+                .r_mm
+                .iter()
+                .map(|o| rb * right_flank_angle(o, r))
+                .collect();
+            let lo = normal.iter().cloned().fold(f64::MAX, f64::min);
+            let hi = normal.iter().cloned().fold(f64::MIN, f64::max);
+            let s = (r * r - rb * rb).sqrt() - r_ref * sin_a;
+            let rho = R0 - s * sin_a;
+            let want = f * f * sin_a / (8.0 * rho);
+            eprintln!(
+                "f {f}, r {r}: normal range {:.6} mm, closed form {want:.6} (ρ {rho:.2})",
+                hi - lo
+            );
+            assert!(
+                ((hi - lo) / want - 1.0).abs() < 0.02,
+                "f {f}, r {r}: {} vs {want}",
+                hi - lo
+            );
+        }
+    }
+}
+
+/// The polar angle at which the right flank of space 0 (the space centred
+/// on the ray at θ 0) crosses the radius `r`, interpolated between samples.
+fn right_flank_angle(outline: &[f64], r: f64) -> f64 {
+    let n = outline.len();
+    let i = (1..n / 4).find(|&i| outline[i] >= r).expect("the flank");
+    let (r0, r1) = (outline[i - 1], outline[i]);
+    TAU * ((i - 1) as f64 + (r - r0) / (r1 - r0)) / n as f64
+}
+
 /// With many gashes the flank is the involute of the base circle r·cos α
 /// touched by the flats: every flat is a tangent of the involute, so the
 /// tangent points (the local maxima of the deviation, one per flat) lie on

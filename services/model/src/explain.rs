@@ -1,6 +1,7 @@
 //! Where every value of a model came from, so a planner can check it: the
-//! job, a knowledge-base case, the tool library, the machine profile, a documented
-//! default, or the model's own computation (with its formula).
+//! job, a knowledge-base case, the tool library, the machine profile, the
+//! drawing's class (a finishing feed held to it), a documented default, or
+//! the model's own computation (with its formula).
 
 use gearcam_proto::{Explained, Geometry, Kinematics, Origin, ProcessPlan, Source};
 
@@ -261,8 +262,12 @@ fn process(plan: &ProcessPlan, k: &Kinematics) -> Vec<Explained> {
             "process.finish_feed_mm_per_rev",
             k.cuts.last().map(|c| c.feed_mm_per_rev).unwrap_or(0.0),
             "mm/rev",
-            job_or(o.finish_feed_mm_per_rev.is_some(), Origin::Default),
-            "feed of the finishing cut (default: the feed)",
+            match (o.finish_feed_mm_per_rev, plan.values.get("finish_feed_mm_per_rev")) {
+                (Some(_), _) => Origin::Job,
+                (None, Some(v)) => origin(v.source),
+                _ => Origin::Default,
+            },
+            "feed of the finishing cut (default: the knowledge base's for the drawing's class, else the feed)",
         ));
     }
     if let Some(c) = k.cuts.iter().find(|c| c.radial_feed_mm_min > 0.0) {

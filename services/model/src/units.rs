@@ -154,6 +154,7 @@ pub fn kinematics(plan: &ProcessPlan, first: Kinematics) -> Kinematics {
             quantity: spec.job.quantity,
             class: unit_class(&gear),
             proposed_allowance_mm: plan.values.get("allowance_mm").map(|v| v.value),
+            proposed_finish_feed_mm_per_rev: crate::hobbing::proposed_finish_feed(plan),
         };
         let model = unit_kinematics(&unit, &geo);
         units.push(UnitModel {

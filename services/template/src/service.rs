@@ -59,8 +59,8 @@ pub async fn run(
                     "model",
                 )]);
             }
-            let plan = match &model {
-                AnyModel::Hobbing(model) => Some(&model.plan),
+            let hobbing = match &model {
+                AnyModel::Hobbing(model) => Some(&**model),
                 _ => None,
             };
             let program = match &model {
@@ -72,7 +72,7 @@ pub async fn run(
                 name: program.name.clone(),
                 sha256: program.sha256.clone(),
                 predicted_grade: program.simulation.as_ref().and_then(|s| s.part_grade()),
-                warnings: crate::simulation::warnings(&program, plan),
+                warnings: crate::simulation::warnings(&program, hobbing),
             };
             // The receiver lives until shutdown; a send after it is gone is moot.
             let _ = tx.send(program);

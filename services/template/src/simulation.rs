@@ -15,9 +15,7 @@ use std::sync::{Arc, Mutex};
 
 use gearcam_hobsim::simulate::{part_report, simulate_part, Settings, Simulation};
 use gearcam_nc::Trace;
-use gearcam_proto::{
-    Code, JobError, MachiningModel, NcProgram, ProcessPlan, SimulationReport, Source, Stage,
-};
+use gearcam_proto::{Code, JobError, MachiningModel, NcProgram, SimulationReport, Source, Stage};
 use sha2::{Digest, Sha256};
 
 /// Reports kept.
@@ -314,40 +312,56 @@ fn gear_errors(name: &str, sim: &SimulationReport) -> Vec<JobError> {
 
 /// The warnings of a program's virtual run for the planner: a predicted
 /// grade worse than the drawing's ([`grade_warning`]), for each gear of the
-/// part, with the knowledge base's feed for the class when the program
-/// feeds faster ([`feed_advice`]).
+/// part; when feed marks set it (ffβ, Fβ or Fr) and the finish feeds faster
+/// than the knowledge base's feed for the class, that feed too
+/// ([`feed_advice`]).
 pub fn warnings(
     program: &NcProgram,
-    plan: Option<&ProcessPlan>,
+    model: Option<&MachiningModel>,
 ) -> Vec<gearcam_proto::model::Warning> {
     let Some(sim) = &program.simulation else {
         return Vec::new();
     };
-    let advice = plan.and_then(feed_advice);
+    let advice = model.and_then(feed_advice);
     sim.every_gear()
-        .filter_map(grade_warning)
+        .filter_map(|gear| {
+            let message = grade_warning(gear)?;
+            let by_feed = gear
+                .limiting()
+                .is_some_and(|d| FEED_MARK_ITEMS.contains(&d.item.as_str()));
+            Some(match (&advice, by_feed) {
+                (Some(a), true) => format!("{message}; {a}"),
+                _ => message,
+            })
+        })
         .map(|message| gearcam_proto::model::Warning {
             code: Code::PREDICTED_GRADE,
             field: "simulation.grade".into(),
-            message: match &advice {
-                Some(a) => format!("{message}; {a}"),
-                None => message,
-            },
+            message,
         })
         .collect()
 }
 
-/// The knowledge base's feed for the drawing's class, when it bounded its
-/// proposal by the class (source `grade`) and the plan feeds faster (the
-/// planner's own feed, kept as the planner's decision).
-pub fn feed_advice(plan: &ProcessPlan) -> Option<String> {
-    const FEED: &str = "feed_mm_per_rev";
-    let proposed = plan.proposal.values.get(FEED)?;
-    let used = plan.values.get(FEED)?;
-    (proposed.source == Source::Grade && used.value > proposed.value + 1e-9).then(|| {
+/// The graded items the feed marks add to (docs/knowledge.md).
+const FEED_MARK_ITEMS: [&str; 3] = ["ffβ", "Fβ", "Fr"];
+
+/// The knowledge base's finishing feed for the drawing's class, when it
+/// held its proposal to the class (source `grade`) and the program's
+/// finishing cut feeds faster (the planner's own feed, kept as the
+/// planner's decision).
+pub fn feed_advice(model: &MachiningModel) -> Option<String> {
+    let plan = &model.plan;
+    let key = if plan.process.cuts > 1 {
+        "finish_feed_mm_per_rev"
+    } else {
+        "feed_mm_per_rev"
+    };
+    let proposed = plan.proposal.values.get(key)?;
+    let used = model.model.cuts.last()?.feed_mm_per_rev;
+    (proposed.source == Source::Grade && used > proposed.value + 1e-9).then(|| {
         format!(
-            "for class {} the knowledge base proposes a feed of at most {:.2} mm/rev, the program feeds {:.2} mm/rev",
-            plan.gear.quality_grade, proposed.value, used.value
+            "for class {} the knowledge base proposes a finishing feed of at most {:.2} mm/rev, the program's finish feeds {:.2} mm/rev",
+            plan.gear.quality_grade, proposed.value, used
         )
     })
 }

@@ -21,8 +21,9 @@ fn describes_a_gear(g: &Geometry) -> bool {
         && g.df_mm < g.da_mm
 }
 
-/// Knowledge → model → template for a hobbing job; the report and the
-/// model (for the picture).
+/// Knowledge → model → template for a hobbing job; the report, the model
+/// (for the picture) and, when it was simulated, the run of each gear of
+/// the part (for the charts).
 pub fn check_hobbing(
     conn: &Connection,
     templates: &Templates,
@@ -86,10 +87,7 @@ pub fn check_hobbing(
             report.ok = report.errors.is_empty();
             report
                 .warnings
-                .extend(gearcam_template::simulation::warnings(
-                    &p,
-                    Some(&model.plan),
-                ));
+                .extend(gearcam_template::simulation::warnings(&p, Some(&model)));
             report.simulation = p.simulation;
             report.program = Some(ProgramSummary {
                 name: p.name,

@@ -108,8 +108,9 @@ pub struct PlanSummary {
     pub cases: Vec<CaseSummary>,
     /// Every decided value with its source: `job` (the job file's override),
     /// `case` (proposed from retrieved cases), `machine` (the machine profile,
-    /// or a proposal clamped to its limits), `default`, or `library` (the
-    /// drawing data `gear.*` of a part from the workpiece library).
+    /// or a proposal clamped to its limits), `default`, `grade` (a finishing
+    /// feed held to the drawing's class), or `library` (the drawing data
+    /// `gear.*` of a part from the workpiece library).
     pub values: BTreeMap<String, Sourced>,
     /// What the knowledge base proposed for each value, before the job's overrides.
     pub proposed: BTreeMap<String, Sourced>,
@@ -398,11 +399,12 @@ mod tests {
     /// The knowledge base holds a finishing feed to what the drawing's
     /// class allows, and the virtual run checks the bound: the spur example
     /// drawn to class 4 is planned below its cases' 2 mm/rev, with the
-    /// source `grade`, and its program cuts a gear of class 4 or better. The
-    /// planner's own 2 mm/rev is kept (the planner's decision, the bound
-    /// still shown as proposed) and cuts a gear worse than class 4; the
-    /// warning names the runout its feed marks leave and the knowledge
-    /// base's feed for the class.
+    /// source `grade`, and its program cuts a gear of class 4 or better; in
+    /// two cuts the rough cut keeps the cases' feed and the finish runs at
+    /// the bound, and the gear is as good. The planner's own 3 mm/rev is
+    /// kept (the planner's decision, the bound still shown as proposed) and
+    /// cuts a gear worse than class 4; the warning names the item the feed
+    /// marks set and the knowledge base's feed for the class.
     #[test]
     fn a_finishing_feed_is_held_to_the_class_and_the_virtual_run_confirms_it() {
         let example = gearcam_testkit::examples::example("spur_840d.toml");
@@ -415,16 +417,32 @@ mod tests {
             let req = crate::jobfile::request(spec);
             check(&conn, &Templates::builtin(), &req, Some(&settings)).0
         };
+        let finish_feed = |r: &CheckReport| {
+            let k = r.model.as_ref().unwrap().hobbing().unwrap();
+            k.cuts.last().unwrap().feed_mm_per_rev
+        };
         let bounded = run(&class4);
         assert!(bounded.ok, "{}", format_errors(&bounded.errors));
         let feed = bounded.plan.as_ref().unwrap().values["feed_mm_per_rev"];
         assert_eq!(feed.source, Source::Grade);
         assert!(feed.value > 1.0 && feed.value < 1.5, "{feed:?}");
+        assert_eq!(finish_feed(&bounded), feed.value);
         let sim = bounded.simulation.as_ref().expect("simulated");
         assert!(sim.grade.is_some_and(|g| g <= 4), "{sim:?}");
         assert!(bounded.warnings.is_empty(), "{:?}", bounded.warnings);
 
-        let planners = class4.replace("# feed_mm_per_rev = 2.0 ", "feed_mm_per_rev = 2.0 #");
+        let two_cuts = class4.replace("cuts = 1 ", "cuts = 2 ");
+        assert_ne!(two_cuts, class4);
+        let two = run(&two_cuts);
+        assert!(two.ok, "{}", format_errors(&two.errors));
+        let values = &two.plan.as_ref().unwrap().values;
+        assert_eq!(values["feed_mm_per_rev"].source, Source::Case);
+        assert_eq!(values["finish_feed_mm_per_rev"], feed);
+        assert_eq!(finish_feed(&two), feed.value);
+        let sim = two.simulation.as_ref().expect("simulated");
+        assert!(sim.grade.is_some_and(|g| g <= 4), "{sim:?}");
+
+        let planners = class4.replace("# feed_mm_per_rev = 2.0 ", "feed_mm_per_rev = 3.0 #");
         assert_ne!(planners, class4);
         let unbounded = run(&planners);
         let plan = unbounded.plan.as_ref().unwrap();
@@ -437,8 +455,17 @@ mod tests {
             .iter()
             .find(|w| w.code == gearcam_proto::Code::PREDICTED_GRADE)
             .expect("a grade warning");
-        assert!(warning.message.contains("Fr is"), "{}", warning.message);
-        let advice = format!("at most {:.2} mm/rev, the program feeds 2.00", feed.value);
+        let item = sim.limiting().unwrap().item.as_str();
+        assert!(["ffβ", "Fβ", "Fr"].contains(&item), "{item}");
+        assert!(
+            warning.message.contains(&format!("{item} is")),
+            "{}",
+            warning.message
+        );
+        let advice = format!(
+            "finishing feed of at most {:.2} mm/rev, the program's finish feeds 3.00",
+            feed.value
+        );
         assert!(warning.message.contains(&advice), "{}", warning.message);
     }
 

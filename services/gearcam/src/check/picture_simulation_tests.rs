@@ -611,6 +611,9 @@ fn a_part_charts_every_gear_under_its_name() {
         second_highest > first_lowest,
         "the lower gear's charts ({second_highest} px down) overlap the upper's ({first_lowest} px)"
     );
+    // The page is tall enough for everything on it.
+    let deepest = heights(&svg).into_iter().fold(f64::MIN, f64::max);
+    assert!(deepest <= svg.num("height"), "{deepest} below the page");
     // One gear alone: no name in its title, as before.
     let alone = parse(&simulation_svg(&[Built::new(1.0, 0.0).simulation(6)]).unwrap());
     assert!(alone

@@ -235,7 +235,7 @@ fn svg_response(svg: String) -> Response {
     response
 }
 
-/// The measuring charts of the gear a hobbing program cuts on the virtual
+/// The measuring charts of each gear a hobbing program cuts on the virtual
 /// machine: the program's text read back against the job's model and run
 /// as the template service runs it before delivery, drawn as `gearcam
 /// check --simulate` draws them.
@@ -256,7 +256,7 @@ fn simulation_svg_of(model: &AnyModel, text: &str) -> Result<String, String> {
         ));
     }
     crate::check::picture_simulation::simulation_svg(&gears)
-        .ok_or_else(|| "the cut gear could not be measured, so there are no charts".into())
+        .ok_or_else(|| "no gear the program cuts could be measured, so there are no charts".into())
 }
 
 /// `GET /jobs/{job}/simulation.svg`: the measuring charts of each gear the

@@ -30,22 +30,31 @@
 //! f ≤ √(8·ρ_min·cos βb·s·ffβT / sin αn)      f ≤ √(8·ρ_min·s·FrT)
 //! ```
 //!
-//! The virtual run of the program (the template service's simulation)
-//! measures the gear the feed leaves and is the independent check of this
-//! bound.
+//! The bound holds the feed of the finishing cut: a single cut's feed, or
+//! the finishing feed of several cuts (the rough cuts keep theirs). The
+//! virtual run of the program (the template service's simulation) measures
+//! the gear the feed leaves and is the independent check of this bound.
+
+use std::collections::BTreeMap;
 
 use gearcam_gearmeasure::iso1328::{self, Class, GearData, Item};
-use gearcam_proto::{GearClass, GearSpec, HobData};
+use gearcam_proto::plan::Proposal;
+use gearcam_proto::{GearClass, GearSpec, HobData, Operation, ProcessOverrides, Source, Sourced};
 
-/// The share of the ffβ tolerance the feed marks may take.
+/// The share of the ffβ and Fr tolerances the feed marks may take.
 pub const FEED_MARK_SHARE: f64 = 0.5;
+/// The plan value of the feed (of every cut, or of the rough cuts).
+pub const FEED: &str = "feed_mm_per_rev";
+/// The plan value of the finishing cut's feed when there are several cuts.
+pub const FINISH_FEED: &str = "finish_feed_mm_per_rev";
 
 /// The largest axial feed per workpiece revolution, mm/rev, whose feed marks
 /// stay within [`FEED_MARK_SHARE`] of the ffβ and Fr tolerances of the
-/// drawing's class; `None` where the bound does not apply: a gear whose helix is not
-/// measured across the face (a worm wheel, a part of several gears, a
-/// conical gear), a class or gear outside ISO 1328-1's scope, or a hob too
-/// small for the tooth.
+/// drawing's class; `None` where the bound does not apply: a worm wheel
+/// (measured in its throat plane alone, fed radially or tangentially), a
+/// part of several gears (each with its own drawing; one feed bound would
+/// need them all), a conical gear (not simulated, so not checked), a class
+/// or gear outside ISO 1328-1's scope, or a hob too small for the tooth.
 pub fn max_feed_mm_per_rev(gear: &GearSpec, class: GearClass, hob: &HobData) -> Option<f64> {
     if !matches!(class, GearClass::Cylindrical | GearClass::Crowned) {
         return None;
@@ -62,21 +71,70 @@ pub fn max_feed_mm_per_rev(gear: &GearSpec, class: GearClass, hob: &HobData) -> 
     let whole_depth = (2.0 * gear.addendum_coef + gear.clearance_coef) * gear.module_mm;
     let rho_min = hob.od_mm / 2.0 - whole_depth;
     let alpha_n = gear.pressure_angle_deg.to_radians();
-    let beta = gear.helix_angle_deg.to_radians();
-    let alpha_t = (alpha_n.tan() / beta.cos()).atan();
-    let beta_b = (beta.tan() * alpha_t.cos()).atan();
+    // sin βb = sin β·cos αn.
+    let beta_b = (gear.helix_angle_deg.to_radians().sin() * alpha_n.cos()).asin();
     let s = FEED_MARK_SHARE;
     let helix = 8.0 * rho_min * beta_b.cos() * s * tolerance_mm(Item::HelixForm) / alpha_n.sin();
     let runout = 8.0 * rho_min * s * tolerance_mm(Item::Runout);
     (rho_min > 0.0 && alpha_n > 0.0).then(|| helix.min(runout).sqrt())
 }
 
-/// What the feed marks of a feed `f_mm` cut at the hob radius `rho_mm` add
-/// to ffβ and to Fr, µm (the module docs): the inverse of the bound.
-pub fn feed_mark_um(f_mm: f64, rho_mm: f64, alpha_n_deg: f64, beta_b_rad: f64) -> (f64, f64) {
-    let runout = 1000.0 * f_mm * f_mm / (8.0 * rho_mm);
-    let helix = runout * alpha_n_deg.to_radians().sin() / beta_b_rad.cos();
-    (helix, runout)
+/// The bound of a job's gear, class and hob ([`max_feed_mm_per_rev`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Bound(Option<f64>);
+
+impl Bound {
+    /// The bound for `gear` of `class` cut with `hob`.
+    pub fn of(gear: &GearSpec, class: GearClass, hob: &HobData) -> Bound {
+        Bound(max_feed_mm_per_rev(gear, class, hob))
+    }
+
+    /// Holds the finishing feed to the bound: a single cut's feed, or the
+    /// finishing feed of several cuts (the knowledge base's proposal; the
+    /// finish otherwise takes the feed), where the feed proposed or decided
+    /// is faster. The proposal takes the bound (source `grade`); the
+    /// decided value takes it unless the job gave its own, which stays (the
+    /// planner's decision), the bound shown beside it as proposed. A rough
+    /// job is not held.
+    pub fn hold_finishing_feed(
+        &self,
+        proposal: &mut Proposal,
+        values: &mut BTreeMap<String, Sourced>,
+        process: &ProcessOverrides,
+    ) {
+        let Some(bound) = self.0 else { return };
+        if process.operation == Some(Operation::Rough) {
+            return;
+        }
+        let grade = Sourced {
+            value: bound,
+            source: Source::Grade,
+        };
+        let several = values.get("cuts").is_some_and(|c| c.value > 1.0);
+        let key = if several { FINISH_FEED } else { FEED };
+        // The finishing feed as proposed, and as decided: several cuts
+        // finish at the job's finishing feed, else at the feed.
+        let proposed = proposal.values.get(FEED).map(|f| f.value);
+        let decided = match (several, process.finish_feed_mm_per_rev) {
+            (true, Some(f)) => Some(Sourced {
+                value: f,
+                source: Source::Job,
+            }),
+            // The finish takes the feed by default: whoever gave the feed
+            // did not decide the finishing feed.
+            (true, None) => values.get(FEED).map(|f| Sourced {
+                source: Source::Default,
+                ..*f
+            }),
+            (false, _) => values.get(FEED).copied(),
+        };
+        if proposed.is_some_and(|f| f > bound) || decided.is_some_and(|d| d.value > bound) {
+            proposal.values.insert(key.into(), grade);
+        }
+        if decided.is_some_and(|d| d.value > bound && d.source != Source::Job) {
+            values.insert(key.into(), grade);
+        }
+    }
 }
 
 #[cfg(test)]
@@ -105,39 +163,65 @@ mod tests {
         (plan.gear, plan.hob)
     }
 
-    /// At the bound the marks take the share of one tolerance and no more
-    /// of the other, and finer classes and smaller hobs allow less feed.
+    /// Against values worked by hand from ISO 1328-1's formulas. Spur,
+    /// z 25, mn 3, b 30, class 4, hob Ø80: ρ = 40 − 2.25·3 = 33.25 mm;
+    /// FpT = 0.002·75 + 0.55·√75 + 0.7·3 + 12 = 19.01, FrT = 0.9·19.01/√2 =
+    /// 12.10 → 12 µm; ffβT = (0.07·√75 + 0.45·√30 + 4)/√2 = 5.00 → 5.0 µm.
+    /// The runout sets it: √(8·33.25·0.5·0.012) = 1.263 mm/rev (the helix
+    /// would allow √(8·33.25·0.5·0.005/sin 20°) = 1.394). Helical, z 200,
+    /// β 20°, class 5: d = 638.5, FrT = 0.9·(1.277 + 0.55·√638.5 + 2.1 +
+    /// 12) = 26.35 → 26 µm, ffβT = 0.07·√638.5 + 0.45·√30 + 4 = 8.23 → 8.0
+    /// µm, βb = asin(sin 20°·cos 20°) = 18.75°: the helix sets it,
+    /// √(8·33.25·cos 18.75°·0.5·0.008/sin 20°) = 1.716 mm/rev (the runout
+    /// would allow 1.860).
     #[test]
-    fn the_bound_leaves_marks_of_the_share_of_the_tolerance() {
+    fn the_bound_is_the_closed_form_worked_by_hand() {
         let (gear, hob) = spur(4);
         assert_eq!(hob.od_mm, 80.0);
         let f = max_feed_mm_per_rev(&gear, GearClass::Cylindrical, &hob).unwrap();
-        let rho = 40.0 - 2.25 * 3.0;
-        let data = GearData::new(25, 3.0, 0.0, 30.0).unwrap();
-        let tol = |item| iso1328::tolerance_um(&data, item, Class::new(4).unwrap());
-        let (helix, runout) = feed_mark_um(f, rho, 20.0, 0.0);
-        let (h, r) = (
-            helix / (FEED_MARK_SHARE * tol(Item::HelixForm)),
-            runout / (FEED_MARK_SHARE * tol(Item::Runout)),
+        assert!(
+            (f - (8.0f64 * 33.25 * 0.5 * 0.012).sqrt()).abs() < 1e-9,
+            "{f}"
         );
-        assert!((h.max(r) - 1.0).abs() < 1e-9 && h.min(r) <= 1.0, "{h} {r}");
+        assert!((f - 1.263).abs() < 1e-3, "{f}");
+        let helical = GearSpec {
+            teeth: 200,
+            helix_angle_deg: 20.0,
+            helix_hand: Some(gearcam_proto::Hand::Right),
+            quality_grade: 5,
+            ..gear.clone()
+        };
+        let f = max_feed_mm_per_rev(&helical, GearClass::Cylindrical, &hob).unwrap();
+        let beta_b = (20f64.to_radians().sin() * 20f64.to_radians().cos()).asin();
+        let want = (8.0 * 33.25 * beta_b.cos() * 0.5 * 0.008 / 20f64.to_radians().sin()).sqrt();
+        assert!(
+            (f - want).abs() < 1e-9 && (f - 1.716).abs() < 1e-3,
+            "{f} {want}"
+        );
+        // Finer classes and smaller hobs allow less feed.
         let f7 = max_feed_mm_per_rev(&spur(7).0, GearClass::Cylindrical, &hob).unwrap();
         let small_hob = HobData {
             od_mm: 60.0,
             ..hob.clone()
         };
         let small = max_feed_mm_per_rev(&gear, GearClass::Cylindrical, &small_hob).unwrap();
-        assert!(f7 > f && small < f, "{f7} {f} {small}");
+        assert!(f7 > 1.263 && small < 1.263, "{f7} {small}");
     }
 
-    /// No bound where the helix is not measured across the face or the gear
-    /// is outside the standard.
+    /// No bound where the helix is not measured across the face, the gear
+    /// is outside the standard or the hob cannot cut the tooth.
     #[test]
     fn no_bound_outside_its_scope() {
         let (gear, h) = spur(4);
-        assert!(max_feed_mm_per_rev(&gear, GearClass::Cylindrical, &h).is_some());
-        assert_eq!(max_feed_mm_per_rev(&gear, GearClass::WormWheel, &h), None);
-        assert_eq!(max_feed_mm_per_rev(&gear, GearClass::MultiGear, &h), None);
+        assert!(max_feed_mm_per_rev(&gear, GearClass::Crowned, &h).is_some());
+        for class in [
+            GearClass::WormWheel,
+            GearClass::MultiGear,
+            GearClass::Conical,
+            GearClass::CurvedTooth,
+        ] {
+            assert_eq!(max_feed_mm_per_rev(&gear, class, &h), None, "{class:?}");
+        }
         let coarse = GearSpec {
             quality_grade: 12,
             ..gear.clone()
@@ -151,5 +235,80 @@ mod tests {
             ..gear.clone()
         };
         assert_eq!(max_feed_mm_per_rev(&tiny, GearClass::Cylindrical, &h), None);
+        let small = HobData {
+            od_mm: 12.0,
+            ..h.clone()
+        };
+        assert_eq!(
+            max_feed_mm_per_rev(&gear, GearClass::Cylindrical, &small),
+            None
+        );
+    }
+
+    fn sourced(value: f64, source: Source) -> Sourced {
+        Sourced { value, source }
+    }
+
+    /// What the bound holds, for a bound of 1 mm/rev: `cuts` cuts, the
+    /// case's feed `case`, the job's feed and finishing feed and operation.
+    fn held(
+        cuts: f64,
+        case: f64,
+        job: Option<f64>,
+        job_finish: Option<f64>,
+        rough: bool,
+    ) -> (BTreeMap<String, Sourced>, BTreeMap<String, Sourced>) {
+        let mut proposal = Proposal::default();
+        proposal
+            .values
+            .insert(FEED.into(), sourced(case, Source::Case));
+        let mut values = BTreeMap::new();
+        values.insert("cuts".into(), sourced(cuts, Source::Job));
+        let feed = job.map_or(sourced(case, Source::Case), |f| sourced(f, Source::Job));
+        values.insert(FEED.into(), feed);
+        let process = ProcessOverrides {
+            finish_feed_mm_per_rev: job_finish,
+            operation: rough.then_some(Operation::Rough),
+            ..ProcessOverrides::default()
+        };
+        Bound(Some(1.0)).hold_finishing_feed(&mut proposal, &mut values, &process);
+        (proposal.values, values)
+    }
+
+    /// A single cut's feed and a finishing feed are held; the rough cuts'
+    /// feed, a rough job and the job's own values are not.
+    #[test]
+    fn the_finishing_feed_is_held_and_the_planners_values_stay() {
+        let grade = sourced(1.0, Source::Grade);
+        // One cut at the case's 2 mm/rev: proposed and decided at the bound.
+        let (p, v) = held(1.0, 2.0, None, None, false);
+        assert_eq!((p[FEED], v[FEED]), (grade, grade));
+        // Below the bound: nothing changes.
+        let (p, v) = held(1.0, 0.8, None, None, false);
+        assert_eq!(
+            (p[FEED].source, v[FEED].source),
+            (Source::Case, Source::Case)
+        );
+        // The job's own 2 mm/rev stays; the bound is proposed beside it.
+        let (p, v) = held(1.0, 2.0, Some(2.0), None, false);
+        assert_eq!((p[FEED], v[FEED]), (grade, sourced(2.0, Source::Job)));
+        // Two cuts: the rough feed stays, the finishing feed is held, even
+        // when the job gave the rough feed (the finish only took it by default).
+        for job in [None, Some(2.0)] {
+            let (p, v) = held(2.0, 2.0, job, None, false);
+            assert_eq!(p[FEED].source, Source::Case);
+            assert_ne!(v[FEED].source, Source::Grade);
+            assert_eq!((p[FINISH_FEED], v[FINISH_FEED]), (grade, grade));
+        }
+        // The job's own finishing feed stays (the model reads it), proposed beside it.
+        let (p, v) = held(2.0, 0.8, None, Some(1.5), false);
+        assert_eq!(p[FINISH_FEED], grade);
+        assert!(!v.contains_key(FINISH_FEED));
+        // A rough job is not held.
+        let (p, v) = held(1.0, 2.0, None, None, true);
+        assert_eq!(
+            (p[FEED].source, v[FEED].source),
+            (Source::Case, Source::Case)
+        );
     }
 }

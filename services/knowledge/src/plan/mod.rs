@@ -5,9 +5,11 @@
 //! Sources of the decided values: `job` (the job file overrides), `case`
 //! (retrieved and adapted cases, [`crate::cbr`]), `machine` (the machine
 //! profile, or a proposal clamped to the machine's limits), `default`
-//! (gearcam's documented defaults when no case applies) and `library` (the
-//! drawing data `gear.*` of a job that names its part instead of giving a
-//! `[gear]` section; the plan's request carries the filled gear).
+//! (gearcam's documented defaults when no case applies), `grade` (a
+//! finishing feed held to what the drawing's class allows,
+//! [`feed_marks`]) and `library` (the drawing data `gear.*` of a job that
+//! names its part instead of giving a `[gear]` section; the plan's request
+//! carries the filled gear).
 //!
 //! # Steps
 //!
@@ -19,7 +21,8 @@
 //!    problem and the cases most similar to it;
 //! 4. `propose_values`: the adapted cases' values, else the defaults,
 //!    within the machine's limits (`within_machine_limits`);
-//! 5. `apply_overrides`: the job's own values on top;
+//! 5. `apply_overrides`: the job's own values on top; then the finishing
+//!    feed held to the drawing's class ([`feed_marks::Bound`]);
 //! 6. `cases_used` and `assemble`: the plan with its cases and confidence.
 
 use gearcam_proto::Code;
@@ -144,15 +147,16 @@ fn plan_inner(
         material.is_some(),
     );
     let adapted = cbr::adapt(cases, &hits, &problem);
-    let rough = h.process.operation == Some(gearcam_proto::Operation::Rough);
     let proposed = propose_values(
         &mut proposal,
         adapted.as_ref(),
         &machine,
         &hob.data,
-        (&gear, class, rough),
+        gear.teeth,
     );
-    let values = apply_overrides(&mut proposal, h);
+    let mut values = apply_overrides(&mut proposal, h);
+    let bound = feed_marks::Bound::of(&gear, class, &hob.data);
+    bound.hold_finishing_feed(&mut proposal, &mut values, &h.process);
     let used = cases_used(cases, &hits, &values);
     Ok(assemble(
         req.clone(),
@@ -579,14 +583,13 @@ struct Proposed {
 /// cutting speed, feed, cuts and cutting mode, each else gearcam's default;
 /// cutting speed and feed within the machine's limits; the machine's
 /// safety distance; finish unless the job says rough; the cases' radial
-/// feed and allowance when they have them. A finishing feed is also held
-/// to what the drawing's class allows ([`feed_marks`]).
+/// feed and allowance when they have them.
 fn propose_values(
     proposal: &mut Proposal,
     adapted: Option<&Adapted>,
     machine: &MachineProfile,
     hob: &HobData,
-    (gear, class, rough): (&GearSpec, GearClass, bool),
+    teeth: u32,
 ) -> Proposed {
     let sourced = |value: f64, source: Source| Sourced { value, source };
     let mut vc = match adapted {
@@ -606,11 +609,7 @@ fn propose_values(
         None => (CutMode::Conventional, Source::Default),
     };
     let confidence = adapted.map_or(DEFAULT_CONFIDENCE, |a| a.confidence);
-    within_machine_limits(&mut vc, &mut fa, machine, hob, gear.teeth);
-    match feed_marks::max_feed_mm_per_rev(gear, class, hob) {
-        Some(f) if !rough && fa.value > f => fa = sourced(f, Source::Grade),
-        _ => {}
-    }
+    within_machine_limits(&mut vc, &mut fa, machine, hob, teeth);
 
     let values = &mut proposal.values;
     let mut prop = |name: &str, value: Sourced| {

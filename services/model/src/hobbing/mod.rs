@@ -95,6 +95,15 @@ pub struct Unit<'a> {
     pub class: GearClass,
     /// Finish allowance the knowledge base proposed (plan value `allowance_mm`).
     pub proposed_allowance_mm: Option<f64>,
+    /// Finishing feed the knowledge base proposed for the drawing's class
+    /// (plan value `finish_feed_mm_per_rev`).
+    pub proposed_finish_feed_mm_per_rev: Option<f64>,
+}
+
+/// The plan's finishing feed for several cuts, when the knowledge base
+/// gave one.
+pub fn proposed_finish_feed(plan: &ProcessPlan) -> Option<f64> {
+    plan.values.get("finish_feed_mm_per_rev").map(|v| v.value)
 }
 
 impl<'a> Unit<'a> {
@@ -110,6 +119,7 @@ impl<'a> Unit<'a> {
             quantity: spec.job.quantity,
             class: unit_class(&plan.gear),
             proposed_allowance_mm: plan.values.get("allowance_mm").map(|v| v.value),
+            proposed_finish_feed_mm_per_rev: proposed_finish_feed(plan),
         }
     }
 
@@ -127,12 +137,16 @@ impl<'a> Unit<'a> {
         }
     }
 
-    /// Feed per revolution of the finishing cut: the job's
-    /// `finish_feed_mm_per_rev` when there are several cuts, else the feed.
+    /// Feed per revolution of the finishing cut: when there are several
+    /// cuts the job's `finish_feed_mm_per_rev`, else the knowledge base's
+    /// for the drawing's class, else the feed; for one cut the feed.
     pub fn finish_feed_mm_per_rev(&self) -> f64 {
         match (self.process.cuts > 1, self.overrides.finish_feed_mm_per_rev) {
             (true, Some(f)) => f,
-            _ => self.process.feed_mm_per_rev,
+            (true, None) => self
+                .proposed_finish_feed_mm_per_rev
+                .unwrap_or(self.process.feed_mm_per_rev),
+            (false, _) => self.process.feed_mm_per_rev,
         }
     }
 
