@@ -339,7 +339,7 @@ impl<'t> Pass<'t> {
         let chord = [p1.point[0] - p0.point[0], p1.point[1] - p0.point[1]];
         let cross = |a: [f64; 2], b: [f64; 2]| a[0] * b[1] - a[1] * b[0];
         let den = cross(t0, t1);
-        let len = chord[0].hypot(chord[1]);
+        let len = (chord[0] * chord[0] + chord[1] * chord[1]).sqrt();
         if den == 0.0 || len == 0.0 {
             return None;
         }

@@ -39,12 +39,15 @@ pub struct Cylinder {
 impl Cylinder {
     /// Signed distance from (x, y, z), negative inside.
     pub fn signed_distance(&self, p: [f64; 3]) -> f64 {
-        let dr = p[0].hypot(p[1]) - self.radius_mm;
+        // Square roots rather than `hypot`: these lengths are millimetres,
+        // far from overflow, and the check runs at every sample of every move.
+        let dr = (p[0] * p[0] + p[1] * p[1]).sqrt() - self.radius_mm;
         let dz = (self.z_lo_mm - p[2]).max(p[2] - self.z_hi_mm);
         if dr <= 0.0 && dz <= 0.0 {
             dr.max(dz)
         } else {
-            dr.max(0.0).hypot(dz.max(0.0))
+            let (r, z) = (dr.max(0.0), dz.max(0.0));
+            (r * r + z * z).sqrt()
         }
     }
 }
