@@ -218,6 +218,18 @@ struct Corner {
 }
 
 impl Edge {
+    /// `n` axial positions spread over `lo..hi` (each moved on by
+    /// `offset`), less those within 10⁻³ mm of a knot: where a central
+    /// difference of the profile stays on one smooth piece (tests).
+    #[cfg(test)]
+    pub(crate) fn off_knots(&self, lo: f64, hi: f64, n: u32, offset: f64) -> Vec<f64> {
+        let knots = self.knots(lo, hi);
+        (0..n)
+            .map(|i| lo + (hi - lo) * f64::from(i) / f64::from(n) + offset)
+            .filter(|a| knots.iter().all(|k| (k - a).abs() >= 1e-3))
+            .collect()
+    }
+
     /// The axial positions within `a_lo..=a_hi` where the profile changes
     /// from one smooth piece to the next (tip land, corner arc, flank, root;
     /// the hob's ends), sorted, with `a_lo` and `a_hi`. Between two
@@ -365,13 +377,8 @@ pub(crate) mod tests {
                 ..hob()
             };
             let e = h.edge(0);
-            let knots = e.knots(-20.0, 20.0);
             let mut checked = 0;
-            for i in 0..4000 {
-                let a = -20.0 + 40.0 * f64::from(i) / 4000.0 + 1e-3;
-                if knots.iter().any(|k| (k - a).abs() < 1e-3) {
-                    continue;
-                }
+            for a in e.off_knots(-20.0, 20.0, 4000, 1e-3) {
                 let d = 1e-6;
                 let fd = (e.radius(a + d) - e.radius(a - d)) / (2.0 * d);
                 for dir in [1.0, -1.0] {

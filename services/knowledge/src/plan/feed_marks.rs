@@ -79,61 +79,50 @@ pub fn max_feed_mm_per_rev(gear: &GearSpec, class: GearClass, hob: &HobData) -> 
     (rho_min > 0.0 && alpha_n > 0.0).then(|| helix.min(runout).sqrt())
 }
 
-/// The bound of a job's gear, class and hob ([`max_feed_mm_per_rev`]).
-#[derive(Debug, Clone, Copy)]
-pub struct Bound(Option<f64>);
-
-impl Bound {
-    /// The bound for `gear` of `class` cut with `hob`.
-    pub fn of(gear: &GearSpec, class: GearClass, hob: &HobData) -> Bound {
-        Bound(max_feed_mm_per_rev(gear, class, hob))
+/// Holds the finishing feed to `bound` ([`max_feed_mm_per_rev`], `None`
+/// where it does not apply): a single cut's feed, or the finishing feed of
+/// several cuts (the knowledge base's proposal; the finish otherwise takes
+/// the feed), where the feed proposed or decided is faster. The proposal
+/// takes the bound (source `grade`); the decided value takes it unless the
+/// job gave its own, which stays (the planner's decision), the bound shown
+/// beside it as proposed. A rough job is not held.
+pub fn hold_finishing_feed(
+    bound: Option<f64>,
+    proposal: &mut Proposal,
+    values: &mut BTreeMap<String, Sourced>,
+    process: &ProcessOverrides,
+) {
+    let Some(bound) = bound else { return };
+    if process.operation == Some(Operation::Rough) {
+        return;
     }
-
-    /// Holds the finishing feed to the bound: a single cut's feed, or the
-    /// finishing feed of several cuts (the knowledge base's proposal; the
-    /// finish otherwise takes the feed), where the feed proposed or decided
-    /// is faster. The proposal takes the bound (source `grade`); the
-    /// decided value takes it unless the job gave its own, which stays (the
-    /// planner's decision), the bound shown beside it as proposed. A rough
-    /// job is not held.
-    pub fn hold_finishing_feed(
-        &self,
-        proposal: &mut Proposal,
-        values: &mut BTreeMap<String, Sourced>,
-        process: &ProcessOverrides,
-    ) {
-        let Some(bound) = self.0 else { return };
-        if process.operation == Some(Operation::Rough) {
-            return;
-        }
-        let grade = Sourced {
-            value: bound,
-            source: Source::Grade,
-        };
-        let several = values.get("cuts").is_some_and(|c| c.value > 1.0);
-        let key = if several { FINISH_FEED } else { FEED };
-        // The finishing feed as proposed, and as decided: several cuts
-        // finish at the job's finishing feed, else at the feed.
-        let proposed = proposal.values.get(FEED).map(|f| f.value);
-        let decided = match (several, process.finish_feed_mm_per_rev) {
-            (true, Some(f)) => Some(Sourced {
-                value: f,
-                source: Source::Job,
-            }),
-            // The finish takes the feed by default: whoever gave the feed
-            // did not decide the finishing feed.
-            (true, None) => values.get(FEED).map(|f| Sourced {
-                source: Source::Default,
-                ..*f
-            }),
-            (false, _) => values.get(FEED).copied(),
-        };
-        if proposed.is_some_and(|f| f > bound) || decided.is_some_and(|d| d.value > bound) {
-            proposal.values.insert(key.into(), grade);
-        }
-        if decided.is_some_and(|d| d.value > bound && d.source != Source::Job) {
-            values.insert(key.into(), grade);
-        }
+    let grade = Sourced {
+        value: bound,
+        source: Source::Grade,
+    };
+    let several = values.get("cuts").is_some_and(|c| c.value > 1.0);
+    let key = if several { FINISH_FEED } else { FEED };
+    // The finishing feed as proposed, and as decided: several cuts
+    // finish at the job's finishing feed, else at the feed.
+    let proposed = proposal.values.get(FEED).map(|f| f.value);
+    let decided = match (several, process.finish_feed_mm_per_rev) {
+        (true, Some(f)) => Some(Sourced {
+            value: f,
+            source: Source::Job,
+        }),
+        // The finish takes the feed by default: whoever gave the feed
+        // did not decide the finishing feed.
+        (true, None) => values.get(FEED).map(|f| Sourced {
+            source: Source::Default,
+            ..*f
+        }),
+        (false, _) => values.get(FEED).copied(),
+    };
+    if proposed.is_some_and(|f| f > bound) || decided.is_some_and(|d| d.value > bound) {
+        proposal.values.insert(key.into(), grade);
+    }
+    if decided.is_some_and(|d| d.value > bound && d.source != Source::Job) {
+        values.insert(key.into(), grade);
     }
 }
 
@@ -271,7 +260,7 @@ mod tests {
             operation: rough.then_some(Operation::Rough),
             ..ProcessOverrides::default()
         };
-        Bound(Some(1.0)).hold_finishing_feed(&mut proposal, &mut values, &process);
+        hold_finishing_feed(Some(1.0), &mut proposal, &mut values, &process);
         (proposal.values, values)
     }
 

@@ -22,7 +22,7 @@
 //! 4. `propose_values`: the adapted cases' values, else the defaults,
 //!    within the machine's limits (`within_machine_limits`);
 //! 5. `apply_overrides`: the job's own values on top; then the finishing
-//!    feed held to the drawing's class ([`feed_marks::Bound`]);
+//!    feed held to the drawing's class ([`feed_marks::hold_finishing_feed`]);
 //! 6. `cases_used` and `assemble`: the plan with its cases and confidence.
 
 use gearcam_proto::Code;
@@ -155,8 +155,8 @@ fn plan_inner(
         gear.teeth,
     );
     let mut values = apply_overrides(&mut proposal, h);
-    let bound = feed_marks::Bound::of(&gear, class, &hob.data);
-    bound.hold_finishing_feed(&mut proposal, &mut values, &h.process);
+    let bound = feed_marks::max_feed_mm_per_rev(&gear, class, &hob.data);
+    feed_marks::hold_finishing_feed(bound, &mut proposal, &mut values, &h.process);
     let used = cases_used(cases, &hits, &values);
     Ok(assemble(
         req.clone(),
