@@ -221,6 +221,8 @@ fn cut_with(
     }
     let clip_r = blank.outer_radius_mm + CLIP_MARGIN_MM;
     let mut order: Vec<(f64, usize)> = Vec::with_capacity(passes.len());
+    // The knots and the grid of each pass, in buffers kept between passes.
+    let mut scratch = (Vec::new(), Vec::new());
     for (j, r) in blank.r_mm.iter_mut().enumerate() {
         let zs = blank.z_mm[j];
         // The deepest passes first: the outline is then near its last shape
@@ -236,7 +238,7 @@ fn cut_with(
             if k == 0 || (k >= 16 && (k.is_power_of_two() || k % 512 == 0)) {
                 block_maxima(r, &mut blocks);
             }
-            passes[i].cut(zs, clip_r, (r, &blocks), &dirs, skip_clear);
+            passes[i].cut(zs, clip_r, (r, &blocks), &dirs, skip_clear, &mut scratch);
         }
     }
     Ok(passes.len() as u64)

@@ -235,36 +235,55 @@ impl Edge {
     /// the hob's ends), sorted, with `a_lo` and `a_hi`. Between two
     /// neighbours [`Edge::radius`] is a line or one arc.
     pub fn knots(&self, a_lo: f64, a_hi: f64) -> Vec<f64> {
+        let mut out = Vec::new();
+        self.knots_into(a_lo, a_hi, &mut out);
+        out
+    }
+
+    /// [`Edge::knots`] into `out` (cleared first), without sorting: the
+    /// piece ends of one tooth all lie within half a pitch of its centre,
+    /// so the teeth in order, each with its ends from the far left to the
+    /// far right, are in order.
+    pub fn knots_into(&self, a_lo: f64, a_hi: f64, out: &mut Vec<f64>) {
+        out.clear();
         let half = self.half_length;
         let (a_lo, a_hi) = (a_lo.max(-half), a_hi.min(half));
         if a_lo > a_hi {
-            return vec![];
+            return;
         }
         let px = self.pitch;
         let tan_a = 1.0 / self.inv_tan_alpha;
-        // Distances from a tooth's centre where a piece ends: the tip land
-        // and the corner arc (or the sharp tip), then the flank at the root.
-        let mut ends = match &self.corner {
-            Some(c) => vec![c.land_end, c.arc_end],
-            None => vec![px / 4.0 - (self.tip - self.ref_radius) * tan_a],
+        // Distances from a tooth's centre where a piece ends, in order: the
+        // tip land and the corner arc (or the sharp tip), then the flank at
+        // the root.
+        let (ends, n_ends) = match &self.corner {
+            Some(c) => ([c.land_end, c.arc_end, 0.0], 2),
+            None => (
+                [px / 4.0 - (self.tip - self.ref_radius) * tan_a, 0.0, 0.0],
+                1,
+            ),
         };
-        ends.push(px / 4.0 + (self.ref_radius - self.root) * tan_a);
+        let mut ends = ends;
+        ends[n_ends] = px / 4.0 + (self.ref_radius - self.root) * tan_a;
+        let ends = &mut ends[..=n_ends];
+        ends.sort_unstable_by(f64::total_cmp);
+        let inside = |d: &&f64| **d > 0.0 && **d < px / 2.0;
         let n0 = ((a_lo - self.centre) / px).floor() as i64 - 1;
         let n1 = ((a_hi - self.centre) / px).ceil() as i64 + 1;
-        let mut out = vec![a_lo, a_hi];
+        out.push(a_lo);
+        let mut push = |a: f64| {
+            if a > a_lo && a < a_hi && out.last().is_none_or(|l| a - l >= 1e-12) {
+                out.push(a);
+            }
+        };
         for n in n0..=n1 {
             let c = self.centre + px * n as f64;
-            for &d in ends.iter().filter(|&&d| d > 0.0 && d < px / 2.0) {
-                out.extend(
-                    [c - d, c + d]
-                        .into_iter()
-                        .filter(|a| *a > a_lo && *a < a_hi),
-                );
-            }
+            ends.iter().rev().filter(inside).for_each(|d| push(c - d));
+            ends.iter().filter(inside).for_each(|d| push(c + d));
         }
-        out.sort_by(f64::total_cmp);
-        out.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
-        out
+        if out.last().is_some_and(|l| a_hi - l >= 1e-12) {
+            out.push(a_hi);
+        }
     }
 
     /// True when `a` lies on a rounded tip corner's arc (which cuts only the
@@ -365,6 +384,61 @@ pub(crate) mod tests {
             tip_corner_radius_mm: 0.0,
             cos_lead: 1.0,
         }
+    }
+
+    /// The knots come out in order without a sort: the same as every
+    /// tooth's piece ends over the interval, sorted, for sharp and rounded
+    /// tips, every gash and intervals that cut teeth anywhere.
+    #[test]
+    fn the_knots_come_in_order() {
+        let mut checked = 0;
+        for corner in [0.0, 0.6, 1.2] {
+            let h = Hob {
+                tip_corner_radius_mm: corner,
+                ..hob()
+            };
+            for k in 0..h.gashes {
+                let e = h.edge(k);
+                let ends: Vec<f64> = match &e.corner {
+                    Some(c) => vec![
+                        c.land_end,
+                        c.arc_end,
+                        e.pitch / 4.0 + (e.ref_radius - e.root) / e.inv_tan_alpha,
+                    ],
+                    None => vec![
+                        e.pitch / 4.0 - (e.tip - e.ref_radius) / e.inv_tan_alpha,
+                        e.pitch / 4.0 + (e.ref_radius - e.root) / e.inv_tan_alpha,
+                    ],
+                };
+                for i in 0..200 {
+                    let lo = -60.0 + 0.537 * f64::from(i);
+                    let hi = lo + 0.1 + 0.291 * f64::from(i % 37);
+                    let (l, r) = (lo.max(-50.0), hi.min(50.0));
+                    let mut want: Vec<f64> = (-20..=20)
+                        .flat_map(|n| {
+                            let c = e.centre + e.pitch * f64::from(n);
+                            ends.iter().flat_map(move |d| [c - d, c + d])
+                        })
+                        .filter(|a| *a > l && *a < r)
+                        .collect();
+                    want.sort_by(f64::total_cmp);
+                    let got = e.knots(lo, hi);
+                    if l > r {
+                        assert!(got.is_empty());
+                        continue;
+                    }
+                    assert_eq!(got.first(), Some(&l));
+                    assert_eq!(got.last(), Some(&r));
+                    let inner = &got[1..got.len() - 1];
+                    assert_eq!(inner.len(), want.len(), "{lo} {hi} gash {k}");
+                    for (g, w) in inner.iter().zip(&want) {
+                        assert!((g - w).abs() < 1e-9, "{g} {w}: {lo} {hi} gash {k}");
+                    }
+                    checked += want.len();
+                }
+            }
+        }
+        assert!(checked > 10_000, "{checked}");
     }
 
     /// The slope is the radius's derivative on every piece (a central

@@ -388,12 +388,14 @@ impl<'t> Pass<'t> {
         (r, blocks): (&mut [f64], &[f64]),
         dirs: &[(f64, f64)],
         skip_clear: bool,
+        scratch: &mut (Vec<f64>, Vec<f64>),
     ) {
         let Some((a_min, a_max)) = self.reach(clip_r, zs) else {
             return;
         };
-        let knots = self.edge.knots(a_min, a_max);
-        let mut grid = Vec::with_capacity(64);
+        let (knots, grid) = scratch;
+        self.edge.knots_into(a_min, a_max, knots);
+        grid.clear();
         for w in knots.windows(2) {
             let n = ((w[1] - w[0]) / self.res.axial_step_mm).ceil().max(1.0) as usize;
             grid.extend((0..n).map(|q| w[0] + (w[1] - w[0]) * q as f64 / n as f64));
@@ -407,7 +409,7 @@ impl<'t> Pass<'t> {
             dirs,
             skip_clear,
         };
-        self.trace(&grid, section);
+        self.trace(grid, section);
     }
 
     /// The pass's curve in one section from the pierce points of the
@@ -573,13 +575,22 @@ impl<'t> Pass<'t> {
             let near_x = (big_x - (tip * tip - t * t).sqrt()).max(0.0);
             y * y + near_x * near_x - clip_r * clip_r
         };
-        // Where |t| < tip: y within (±tip − dz·cos η)/sin η, and |y| < clip_r.
-        let (mut lo, mut hi) = (-clip_r, clip_r);
+        // A point of both discs has x ≥ X − tip, so |y| ≤ √(clip_r² −
+        // (X − tip)²) where X ≥ tip, and x ≤ clip_r, so the tip circle's
+        // half chord √(tip² − t²) ≥ X − clip_r: |t| ≤ √(tip² − (X −
+        // clip_r)²) where X ≥ clip_r. That |t| < tip: y within (±t_max −
+        // dz·cos η)/sin η.
+        let y_max = (clip_r * clip_r - (big_x - tip).max(0.0).powi(2)).sqrt();
+        let t_max = (tip * tip - (big_x - clip_r).max(0.0).powi(2)).sqrt();
+        if !(y_max > 0.0 && t_max > 0.0) {
+            return None;
+        }
+        let (mut lo, mut hi) = (-y_max, y_max);
         if se.abs() > 1e-12 {
-            let (y1, y2) = ((-tip - dz * ce) / se, (tip - dz * ce) / se);
+            let (y1, y2) = ((-t_max - dz * ce) / se, (t_max - dz * ce) / se);
             lo = lo.max(y1.min(y2));
             hi = hi.min(y1.max(y2));
-        } else if (dz * ce).abs() >= tip {
+        } else if (dz * ce).abs() >= t_max {
             return None;
         }
         if lo >= hi {
@@ -587,11 +598,12 @@ impl<'t> Pass<'t> {
         }
         let g = (5f64.sqrt() - 1.0) / 2.0;
         let (mut a, mut b) = (lo, hi);
-        // 0.618¹⁹ of a few hundred mm: below 0.05 mm, within the
-        // widening (h is flat at its minimum: a pass that reaches the
-        // blank by less than that error's square cuts only air within the
-        // clip margin).
-        for _ in 0..19 {
+        // The bracket narrowed to 0.03 mm, within the widening (h is flat
+        // at its minimum: a pass that reaches the blank by less than that
+        // error's square cuts only air within the clip margin).
+        let steps =
+            |ratio: f64| ((hi - lo) / 0.03).ln().div_euclid(-ratio.ln()).max(0.0) as u32 + 1;
+        for _ in 0..steps(g) {
             let (c, d) = (b - g * (b - a), a + g * (b - a));
             if h(c) < h(d) {
                 b = d;
@@ -605,8 +617,8 @@ impl<'t> Pass<'t> {
         }
         let edge = |inside: f64, outside: f64| {
             let (mut a, mut b) = (inside, outside);
-            // 2⁻¹³ of a few hundred mm: below 0.05 mm.
-            for _ in 0..13 {
+            // Halved to below 0.03 mm.
+            for _ in 0..steps(0.5) {
                 let m = 0.5 * (a + b);
                 if h(m) <= 0.0 {
                     a = m;

@@ -104,3 +104,45 @@ fn the_tangent_is_the_derivative_of_the_pierce_curve() {
     }
     assert!(checked > 200, "{checked} tangents checked");
 }
+
+/// The axial interval `reach` gives holds every point of the section that
+/// lies both within the tip radius of the hob axis and within the clip
+/// radius of the gear axis (a brute-force scan of the section at 0.05 mm),
+/// and None comes only where there is no such point.
+#[test]
+fn the_reach_holds_every_point_of_both_discs() {
+    let (hob, timeline) = setup();
+    let p = pass(&timeline, &hob);
+    let (q, tip) = (p.pose(0.0), p.tip);
+    let (mut inside, mut none) = (0, 0);
+    for clip in [42.0, 45.0, 60.0] {
+        for dz in [-45.0, -38.0, -20.0, -5.0, 0.0, 7.0, 30.0, 41.0] {
+            let zs = q.axes.z_mm + dz;
+            let reach = p.reach(clip, zs);
+            let n = (2.0 * clip / 0.05) as i32;
+            for i in 0..=n {
+                let y = -clip + 0.05 * f64::from(i);
+                let t = y * p.se + dz * p.ce;
+                let half = (tip * tip - t * t).sqrt();
+                let x_far = (clip * clip - y * y).sqrt();
+                // The hob's disc meets the gear's at this y.
+                if !(half > 0.0 && q.axes.x_mm - half < x_far) {
+                    continue;
+                }
+                let a = y * p.ce - dz * p.se - q.axes.y_mm;
+                let (lo, hi) =
+                    reach.unwrap_or_else(|| panic!("no reach at clip {clip}, dz {dz}, y {y}"));
+                assert!(
+                    a > lo && a < hi,
+                    "a {a} outside {lo}..{hi} at clip {clip}, dz {dz}"
+                );
+                inside += 1;
+            }
+            none += usize::from(reach.is_none());
+        }
+    }
+    assert!(
+        inside > 1000 && none > 0,
+        "{inside} points, {none} sections out of reach"
+    );
+}
