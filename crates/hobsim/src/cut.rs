@@ -315,11 +315,11 @@ fn block_maxima(r: &[f64], out: &mut Vec<f64>) {
 /// segment spans: such a curve cannot lower the outline. Along a ray at
 /// angle ψ to the segment the margin is margin/sin ψ, and sin ψ = |dir × d|/|d|.
 ///
-/// `r` comes with upper bounds of its blocks of [`BLOCK`] rays; a block
-/// the segment spans whole is cleared at once when its bound, times the
-/// largest `den` of its rays, is clear: `den` = dir × d is |d|·sin of the
-/// angle from d to the ray, which over the block's Δθ stands at most
-/// |d|·Δθ²/8 above the larger of its two ends.
+/// `r` comes with upper bounds of its blocks of [`BLOCK`] rays; the rays a
+/// segment spans within one block are cleared at once when the block's
+/// bound, times the largest `den` of those rays, is clear: `den` = dir × d
+/// is |d|·sin of the angle from d to the ray, which over at most a block's
+/// Δθ stands at most |d|·Δθ²/8 above the larger of its two ends.
 fn clear_of(
     (r, blocks): (&[f64], &[f64]),
     dirs: &[(f64, f64)],
@@ -350,18 +350,25 @@ fn clear_of(
     };
     let step = TAU / dirs.len() as f64 * (BLOCK - 1) as f64;
     let bow = len * step * step / 8.0;
+    // A stretch within one block: cleared at once by the block's bound, or
+    // ray by ray.
+    let block_clear = |lo: usize, hi: usize| {
+        if lo >= hi {
+            return true;
+        }
+        let top = den(lo).max(den(hi - 1)) + bow;
+        top < 0.0 || size > blocks[lo / BLOCK] * top + slack || stretch_clear(lo, hi)
+    };
     ray_ranges(dirs.len(), p, q).into_iter().all(|range| {
         // The stretch before the first whole block, the whole blocks, the
         // stretch after the last.
         let first = range.start.next_multiple_of(BLOCK).min(range.end);
         let last = first.max(range.end / BLOCK * BLOCK);
-        if !stretch_clear(range.start, first) || !stretch_clear(last, range.end) {
-            return false;
-        }
-        (first..last).step_by(BLOCK).all(|i| {
-            let top = den(i).max(den(i + BLOCK - 1)) + bow;
-            top < 0.0 || size > blocks[i / BLOCK] * top + slack || stretch_clear(i, i + BLOCK)
-        })
+        block_clear(range.start, first)
+            && block_clear(last, range.end)
+            && (first..last)
+                .step_by(BLOCK)
+                .all(|i| block_clear(i, i + BLOCK))
     })
 }
 

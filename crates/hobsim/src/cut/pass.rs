@@ -80,7 +80,8 @@ struct Pierced {
     phi: f64,
     tt: f64,
     s: f64,
-    c: f64,
+    /// sin and cos of the table angle the point was posed at.
+    table: (f64, f64),
     point: Point,
 }
 
@@ -179,10 +180,24 @@ impl<'t> Pass<'t> {
     /// Its polar angle is found from `near`'s, a point close by, when
     /// there is one ([`polar_angle`]).
     fn to_workpiece(&self, q: &Pose, a: f64, s: f64, tt: f64, near: Option<&Point>) -> Point {
+        self.turned(q, a, s, tt, near).0
+    }
+
+    /// [`Pass::to_workpiece`] with the sine and cosine of the table angle
+    /// it was turned by.
+    #[inline]
+    fn turned(
+        &self,
+        q: &Pose,
+        a: f64,
+        s: f64,
+        tt: f64,
+        near: Option<&Point>,
+    ) -> (Point, (f64, f64)) {
         let (x, y) = (q.axes.x_mm - s, (q.axes.y_mm + a) * self.ce + tt * self.se);
         let (sc, cc) = self.table_sin_cos(q.c_rad);
         let (u, v) = (x * cc - y * sc, x * sc + y * cc);
-        [u, v, polar_angle(u, v, near)]
+        ([u, v, polar_angle(u, v, near)], (sc, cc))
     }
 
     /// sin and cos of the table angle `c`: the angle at φ = 0 turned on by
@@ -285,14 +300,15 @@ impl<'t> Pass<'t> {
             return None;
         }
         let s = (rho * rho - tt * tt).sqrt();
+        let turned = self.turned(&q, a, s, tt, near);
         Some(Pierced {
             a,
             rho,
             phi,
             tt,
             s,
-            c: q.c_rad,
-            point: self.to_workpiece(&q, a, s, tt, near),
+            table: turned.1,
+            point: turned.0,
         })
     }
 
@@ -320,7 +336,7 @@ impl<'t> Pass<'t> {
         let dx = self.d[0] * dphi - ds;
         let dy = (self.d[1] * dphi + 1.0) * self.ce + self.se * dt;
         let dc = self.d[3] * dphi;
-        let (sc, cc) = self.table_sin_cos(p.c);
+        let (sc, cc) = p.table;
         let [u, v, _] = p.point;
         let out = [dx * cc - dy * sc - dc * v, dx * sc + dy * cc + dc * u];
         out.iter().all(|x| x.is_finite()).then_some(out)
