@@ -241,9 +241,10 @@ impl Edge {
     }
 
     /// [`Edge::knots`] into `out` (cleared first), without sorting: the
-    /// piece ends of one tooth all lie within half a pitch of its centre,
-    /// so the teeth in order, each with its ends from the far left to the
-    /// far right, are in order.
+    /// piece ends of one tooth all lie within half a pitch of its centre
+    /// (the bottom of a gap without root land at half a pitch after it), so
+    /// the teeth in order, each with its ends from the far left to the far
+    /// right, are in order.
     pub fn knots_into(&self, a_lo: f64, a_hi: f64, out: &mut Vec<f64>) {
         out.clear();
         let half = self.half_length;
@@ -265,6 +266,11 @@ impl Edge {
         };
         let mut ends = ends;
         ends[n_ends] = px / 4.0 + (self.ref_radius - self.root) * tan_a;
+        // A sharp tooth whose flanks meet below the tip radius comes to a
+        // point at its centre; flanks that meet above the root radius make
+        // the bottom of the gap half a pitch on.
+        let apex = self.corner.is_none() && ends[0] <= 0.0;
+        let bottom = ends[n_ends] >= px / 2.0;
         let ends = &mut ends[..=n_ends];
         ends.sort_unstable_by(f64::total_cmp);
         let inside = |d: &&f64| **d > 0.0 && **d < px / 2.0;
@@ -279,7 +285,13 @@ impl Edge {
         for n in n0..=n1 {
             let c = self.centre + px * n as f64;
             ends.iter().rev().filter(inside).for_each(|d| push(c - d));
+            if apex {
+                push(c);
+            }
             ends.iter().filter(inside).for_each(|d| push(c + d));
+            if bottom {
+                push(c + px / 2.0);
+            }
         }
         if out.last().is_some_and(|l| a_hi - l >= 1e-12) {
             out.push(a_hi);
@@ -386,59 +398,100 @@ pub(crate) mod tests {
         }
     }
 
-    /// The knots come out in order without a sort: the same as every
-    /// tooth's piece ends over the interval, sorted, for sharp and rounded
-    /// tips, every gash and intervals that cut teeth anywhere.
+    /// The knots come out in order without a sort: exactly what sorting
+    /// every tooth's piece ends over the interval gives, for sharp, rounded
+    /// and pointed teeth and gaps without root land, every gash, and
+    /// intervals from none to many teeth wide; and the radius has a kink
+    /// (a jump of its slope) only at a knot.
     #[test]
-    fn the_knots_come_in_order() {
-        let mut checked = 0;
-        for corner in [0.0, 0.6, 1.2] {
-            let h = Hob {
-                tip_corner_radius_mm: corner,
-                ..hob()
-            };
+    fn the_knots_come_in_order_and_are_where_the_pieces_change() {
+        let base = hob();
+        let hobs = [
+            base,
+            Hob {
+                tip_corner_radius_mm: 0.6,
+                ..base
+            },
+            Hob {
+                tip_corner_radius_mm: 1.2,
+                ..base
+            },
+            // Flanks that meet below the tip radius, and above the root.
+            Hob {
+                tip_radius_mm: 43.25,
+                ..base
+            },
+            Hob {
+                root_radius_mm: 29.25,
+                ..base
+            },
+        ];
+        let (mut compared, mut kinks) = (0, 0);
+        for h in &hobs {
             for k in 0..h.gashes {
                 let e = h.edge(k);
-                let ends: Vec<f64> = match &e.corner {
-                    Some(c) => vec![
-                        c.land_end,
-                        c.arc_end,
-                        e.pitch / 4.0 + (e.ref_radius - e.root) / e.inv_tan_alpha,
-                    ],
-                    None => vec![
-                        e.pitch / 4.0 - (e.tip - e.ref_radius) / e.inv_tan_alpha,
-                        e.pitch / 4.0 + (e.ref_radius - e.root) / e.inv_tan_alpha,
-                    ],
-                };
                 for i in 0..200 {
                     let lo = -60.0 + 0.537 * f64::from(i);
-                    let hi = lo + 0.1 + 0.291 * f64::from(i % 37);
-                    let (l, r) = (lo.max(-50.0), hi.min(50.0));
-                    let mut want: Vec<f64> = (-20..=20)
-                        .flat_map(|n| {
-                            let c = e.centre + e.pitch * f64::from(n);
-                            ends.iter().flat_map(move |d| [c - d, c + d])
-                        })
-                        .filter(|a| *a > l && *a < r)
-                        .collect();
-                    want.sort_by(f64::total_cmp);
+                    let hi = lo + 0.291 * f64::from(i % 37);
                     let got = e.knots(lo, hi);
-                    if l > r {
-                        assert!(got.is_empty());
-                        continue;
+                    assert_eq!(got, sorted_knots(&e, lo, hi), "{lo}..{hi}, gash {k}");
+                    compared += got.len();
+                }
+                let all = e.knots(-50.0, 50.0);
+                let step = 1e-3;
+                for j in 0..100_000 {
+                    let a = -49.9 + step * f64::from(j);
+                    let jump = (e.slope(a + step, -1.0) - e.slope(a, 1.0)).abs();
+                    if jump > 100.0 * step {
+                        assert!(
+                            all.iter().any(|&kn| kn >= a && kn <= a + step),
+                            "a kink within {a}..{} that is no knot",
+                            a + step
+                        );
+                        kinks += 1;
                     }
-                    assert_eq!(got.first(), Some(&l));
-                    assert_eq!(got.last(), Some(&r));
-                    let inner = &got[1..got.len() - 1];
-                    assert_eq!(inner.len(), want.len(), "{lo} {hi} gash {k}");
-                    for (g, w) in inner.iter().zip(&want) {
-                        assert!((g - w).abs() < 1e-9, "{g} {w}: {lo} {hi} gash {k}");
-                    }
-                    checked += want.len();
                 }
             }
         }
-        assert!(checked > 10_000, "{checked}");
+        assert!(
+            compared > 40_000 && kinks > 1000,
+            "{compared} knots, {kinks} kinks"
+        );
+    }
+
+    /// Every tooth's piece ends over `lo..hi`, the ends of the interval,
+    /// sorted, each kept once (within 10⁻¹²).
+    fn sorted_knots(e: &Edge, lo: f64, hi: f64) -> Vec<f64> {
+        let (lo, hi) = (lo.max(-e.half_length), hi.min(e.half_length));
+        if lo > hi {
+            return vec![];
+        }
+        let tan_a = 1.0 / e.inv_tan_alpha;
+        let mut ends: Vec<f64> = match &e.corner {
+            Some(c) => vec![c.land_end, c.arc_end],
+            None => vec![e.pitch / 4.0 - (e.tip - e.ref_radius) * tan_a],
+        };
+        ends.push(e.pitch / 4.0 + (e.ref_radius - e.root) * tan_a);
+        let apex = e.corner.is_none() && ends[0] <= 0.0;
+        let bottom = ends[ends.len() - 1] >= e.pitch / 2.0;
+        let mut out = vec![lo, hi];
+        for n in -40..=40 {
+            let c = e.centre + e.pitch * f64::from(n);
+            for &d in ends.iter().filter(|&&d| d > 0.0 && d < e.pitch / 2.0) {
+                out.extend([c - d, c + d]);
+            }
+            out.extend(apex.then_some(c));
+            out.extend(bottom.then_some(c + e.pitch / 2.0));
+        }
+        let mut out: Vec<f64> = out
+            .into_iter()
+            .enumerate()
+            .filter(|&(i, a)| i < 2 || (a > lo && a < hi))
+            .map(|(_, a)| a)
+            .collect();
+        out.sort_by(f64::total_cmp);
+        out.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+        out
     }
 
     /// The slope is the radius's derivative on every piece (a central

@@ -72,7 +72,8 @@ pub(super) type Point = [f64; 3];
 
 /// What a pierce point was solved from: the profile point (a, ρ), the hob
 /// angle φ, the distance t of the section from the disc's centre and the
-/// chord parameter s = √(ρ² − t²), the table angle, and the point.
+/// chord parameter s = √(ρ² − t²), the sine and cosine of the table angle,
+/// and the point.
 #[derive(Clone, Copy)]
 struct Pierced {
     a: f64,

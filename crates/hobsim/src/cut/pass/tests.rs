@@ -20,6 +20,11 @@ fn pass<'t>(timeline: &'t Timeline, hob: &Hob) -> Pass<'t> {
 
 /// The hob's tests' hob with rounded tips (1 mm), and a helical cut.
 fn setup() -> (Hob, Timeline) {
+    setup_swivelled(0.35)
+}
+
+/// [`setup`] with the hob swivelled by `eta_rad`.
+fn setup_swivelled(eta_rad: f64) -> (Hob, Timeline) {
     let hob = Hob {
         tip_corner_radius_mm: 1.0,
         ..crate::hob::tests::hob()
@@ -35,7 +40,7 @@ fn setup() -> (Hob, Timeline) {
         t1_s: 60.0,
         from: axes(82.0, 130.0),
         to: axes(81.5, 100.0),
-        eta_rad: 0.35,
+        eta_rad,
         hob_rev_s: 2.0,
         gearbox: Some(Gearbox {
             c_per_b: 1.0 / 25.0,
@@ -108,37 +113,50 @@ fn the_tangent_is_the_derivative_of_the_pierce_curve() {
 /// The axial interval `reach` gives holds every point of the section that
 /// lies both within the tip radius of the hob axis and within the clip
 /// radius of the gear axis (a brute-force scan of the section at 0.05 mm),
-/// and None comes only where there is no such point.
+/// and no more than its widening (0.1 mm) and the scan's and the search's
+/// steps beyond them; None comes only where there is no such point. With
+/// the hob swivelled and not, and clip radii below and beyond the hob's
+/// centre distance.
 #[test]
 fn the_reach_holds_every_point_of_both_discs() {
-    let (hob, timeline) = setup();
-    let p = pass(&timeline, &hob);
-    let (q, tip) = (p.pose(0.0), p.tip);
     let (mut inside, mut none) = (0, 0);
-    for clip in [42.0, 45.0, 60.0] {
-        for dz in [-45.0, -38.0, -20.0, -5.0, 0.0, 7.0, 30.0, 41.0] {
-            let zs = q.axes.z_mm + dz;
-            let reach = p.reach(clip, zs);
-            let n = (2.0 * clip / 0.05) as i32;
-            for i in 0..=n {
-                let y = -clip + 0.05 * f64::from(i);
-                let t = y * p.se + dz * p.ce;
-                let half = (tip * tip - t * t).sqrt();
-                let x_far = (clip * clip - y * y).sqrt();
-                // The hob's disc meets the gear's at this y.
-                if !(half > 0.0 && q.axes.x_mm - half < x_far) {
-                    continue;
+    for eta in [0.35, 0.0] {
+        let (hob, timeline) = setup_swivelled(eta);
+        let p = pass(&timeline, &hob);
+        let (q, tip) = (p.pose(0.0), p.tip);
+        for clip in [42.0, 45.0, 60.0, 90.0] {
+            for dz in [-45.0, -38.0, -20.0, -5.0, 0.0, 7.0, 30.0, 41.0] {
+                let zs = q.axes.z_mm + dz;
+                let reach = p.reach(clip, zs);
+                let (mut a_lo, mut a_hi) = (f64::MAX, f64::MIN);
+                let n = (2.0 * clip / 0.05) as i32;
+                for i in 0..=n {
+                    let y = -clip + 0.05 * f64::from(i);
+                    let t = y * p.se + dz * p.ce;
+                    let half = (tip * tip - t * t).sqrt();
+                    let x_far = (clip * clip - y * y).sqrt();
+                    // The hob's disc meets the gear's at this y.
+                    if !(half > 0.0 && q.axes.x_mm - half < x_far) {
+                        continue;
+                    }
+                    let a = y * p.ce - dz * p.se - q.axes.y_mm;
+                    (a_lo, a_hi) = (a_lo.min(a), a_hi.max(a));
+                    inside += 1;
                 }
-                let a = y * p.ce - dz * p.se - q.axes.y_mm;
-                let (lo, hi) =
-                    reach.unwrap_or_else(|| panic!("no reach at clip {clip}, dz {dz}, y {y}"));
-                assert!(
-                    a > lo && a < hi,
-                    "a {a} outside {lo}..{hi} at clip {clip}, dz {dz}"
-                );
-                inside += 1;
+                match reach {
+                    None => {
+                        assert!(a_lo > a_hi, "no reach at η {eta}, clip {clip}, dz {dz}");
+                        none += 1;
+                    }
+                    Some((lo, hi)) if a_lo <= a_hi => {
+                        let at =
+                            format!("η {eta}, clip {clip}, dz {dz}: {lo}..{hi} for {a_lo}..{a_hi}");
+                        assert!(lo < a_lo && hi > a_hi, "{at}");
+                        assert!(lo > a_lo - 0.2 && hi < a_hi + 0.2, "{at}");
+                    }
+                    Some(_) => {}
+                }
             }
-            none += usize::from(reach.is_none());
         }
     }
     assert!(
