@@ -316,7 +316,7 @@ catalogue! {
         "The finish allowance is not between 0 and the whole tooth depth.",
         "Correct `process.finish_allowance_mm` (typically 0.1 to 0.5 mm).";
     FLANK_UNDERCUT: "model (warning)",
-        "The generating tool undercuts the involute (few teeth, or a negative shift): the outline follows the undercut fillet up to where it crosses the involute.",
+        "The generating tool undercuts the involute (few teeth, a negative shift, or the small end of a cone): its straight flank reaches past where the line of action touches the base circle. A wire outline follows the undercut fillet up to where it crosses the involute; a hobbed gear is warned from the hob's basic rack (tip radius 0.38·mn).",
         "Nothing, if the drawing asks for the undercut gear; else raise the profile shift.";
     GEAR_MISSING: "knowledge",
         "The job has no `[gear]` section, and its part number is not in the workpiece library.",

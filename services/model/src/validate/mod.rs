@@ -218,6 +218,7 @@ pub fn validate_with(plan: &ProcessPlan, cfg: &Config) -> Report {
         let g = geometry(gear);
         check_machine_limits(&mut report, plan, &g, cfg);
         check_ball(&mut report, gear);
+        check_undercut(&mut report, gear, &g);
         geo = Some(g);
     } else {
         check_hob_od_limit(&mut report, plan, cfg);

@@ -103,3 +103,176 @@ pub(super) fn check_centre_distance(r: &mut Report, set: &Setup, cfg: &Config) {
         "The final centre distance is below the theoretical one, so the teeth would be cut thin; reduce process.depth_mm or leave it out to use the theoretical depth.",
     );
 }
+
+/// Tip radius of the hob's basic rack in modules: the hob data carry none,
+/// so the standard rack's 0.38 (ISO 53).
+const RACK_TIP_RADIUS: f64 = 0.38;
+
+/// How far below the reference circle the hob's straight flank reaches
+/// beyond the point where the line of action touches the base circle, mm
+/// (positive: the involute is undercut). The flank ends where the rack's
+/// tip rounding of radius `rho` starts, (d − df)/2 − ρ·(1 − sin αn) below the
+/// reference circle (df already holds the profile shift); a generating
+/// line touches the involute on the line of action, at most (d/2)·sin²αt
+/// below the reference circle (at the base circle), so a flank reaching
+/// deeper cuts into the involute it generated.
+fn undercut_mm(geo: &Geometry, pressure_angle_deg: f64, rho: f64) -> f64 {
+    let an = pressure_angle_deg.to_radians();
+    let at = geo.alpha_t_deg.to_radians();
+    let form = (geo.d_mm - geo.df_mm) / 2.0 - rho * (1.0 - an.sin());
+    form - geo.d_mm / 2.0 * at.sin().powi(2)
+}
+
+/// Warns when the hob undercuts the involute (few teeth, or a negative
+/// profile shift): the root is weakened and the active profile shortened.
+/// Along a cone the hob stands b·tan δ deeper at the small end than at the
+/// large one, where the geometry holds.
+pub(super) fn check_undercut(r: &mut Report, gear: &GearSpec, geo: &Geometry) {
+    let mn = gear.module_mm;
+    let at_large = undercut_mm(geo, gear.pressure_angle_deg, RACK_TIP_RADIUS * mn);
+    let deeper = gear
+        .cone
+        .as_ref()
+        .map_or(0.0, |c| gear.face_width_mm * c.angle_deg.to_radians().tan());
+    let worst = at_large + deeper;
+    if worst <= 1e-6 {
+        return;
+    }
+    let x_min = gear.profile_shift + worst / mn;
+    let message = match &gear.cone {
+        None => format!(
+            "The hob undercuts the involute: with {} teeth and profile shift {} its straight flank reaches {} mm below where the line of action touches the base circle (standard rack tip radius 0.38·mn). The root is weakened and the active profile shorter; raise gear.profile_shift to at least {} unless the drawing asks for the undercut gear.",
+            gear.teeth,
+            num(gear.profile_shift),
+            num(worst),
+            num(x_min)
+        ),
+        Some(c) => {
+            let tan = c.angle_deg.to_radians().tan();
+            let sound = (-at_large / tan).clamp(0.0, gear.face_width_mm);
+            format!(
+                "The hob undercuts the involute over the {} mm of the face nearest its small end: along the cone the profile shift falls from {} at the large end to {} at the small end, and below {} the straight flank of the hob (standard rack tip radius 0.38·mn) reaches past where the line of action touches the base circle. The root is weakened and the active profile shorter there; a smaller cone angle or a larger profile shift (at least {} at the large end) avoids it.",
+                num(gear.face_width_mm - sound),
+                num(gear.profile_shift),
+                num(gear.profile_shift - deeper / mn),
+                num(gear.profile_shift + at_large / mn),
+                num(x_min)
+            )
+        }
+    };
+    r.warnings.push(Warning {
+        code: Code::FLANK_UNDERCUT,
+        field: "gear.profile_shift".into(),
+        message,
+    });
+}
+
+#[cfg(test)]
+mod undercut_tests {
+    use super::*;
+    use crate::geometry::geometry;
+    use gearcam_proto::ConeSpec;
+
+    /// Brute force, independent of the closed form: a sharp rack (its
+    /// straight flank down to `depth` below the rolling line, pressure
+    /// angle α) rolled on the pitch circle of radius `r`; true when, at
+    /// some roll angle, a point of the involute that flank generates lies
+    /// inside the rack's tooth by more than 10⁻⁶ mm. The involute's points
+    /// are the contacts on the line of action, turned into the gear's frame.
+    fn rack_cuts_its_involute(r: f64, alpha: f64, depth: f64, width: f64) -> bool {
+        let (sa, ca) = alpha.sin_cos();
+        // Rack coordinates (u, v) from the pitch point, v up. The tooth,
+        // `width` wide on the rolling line, points down to v = −depth
+        // between its flanks u = −width − v·tan α and u = v·tan α (the one
+        // that generates the involute); its part up to half its width above
+        // the rolling line is tried. Rolled by φ (the gear turned by φ
+        // counter-clockwise) a rack point stands at (u − r·φ, r + v).
+        let turn = |(x, y): (f64, f64), phi: f64| {
+            let (s, c) = phi.sin_cos();
+            (x * c - y * s, x * s + y * c)
+        };
+        let involute: Vec<(f64, f64)> = (1..200)
+            .map(|k| {
+                // s along the line of action from the pitch point towards
+                // its tangent point on the base circle (s = r·sin α).
+                let s = r * sa * f64::from(k) / 200.0;
+                let phi = -s / (r * ca);
+                turn((s * ca, r - s * sa), -phi)
+            })
+            .collect();
+        (-30_000..=30_000).any(|i| {
+            let phi = f64::from(i) * 5e-5;
+            involute.iter().any(|&q| {
+                let (x, y) = turn(q, phi);
+                let (u, v) = (x + r * phi, y - r);
+                let tan = sa / ca;
+                (v * tan - u) * ca > 1e-6 && u > -width - v * tan && v > -depth && v < 0.5 * width
+            })
+        })
+    }
+
+    /// The closed form agrees with the brute force on sharp racks: spur
+    /// gears of 8 to 40 teeth, shifts −0.5 to 0.5 (those within 0.02·mn of
+    /// the limit left out, where the sampling cannot tell).
+    #[test]
+    fn the_undercut_limit_is_where_the_rack_starts_cutting_its_involute() {
+        let (mut under, mut sound) = (0, 0);
+        for teeth in [8, 12, 14, 16, 17, 18, 20, 25, 40] {
+            for x in [-0.5, -0.2, 0.0, 0.2, 0.5] {
+                let mut gear = crate::geometry::tests::gear(2.0, teeth, 0.0);
+                gear.profile_shift = x;
+                let geo = geometry(&gear);
+                let over = undercut_mm(&geo, gear.pressure_angle_deg, 0.0);
+                if over.abs() < 0.02 * gear.module_mm {
+                    continue;
+                }
+                let depth = (geo.d_mm - geo.df_mm) / 2.0;
+                let a = 20f64.to_radians();
+                let width = gear.module_mm * (std::f64::consts::FRAC_PI_2 - 2.0 * x * a.tan());
+                let cut = rack_cuts_its_involute(geo.d_mm / 2.0, a, depth, width);
+                assert_eq!(cut, over > 0.0, "z {teeth}, x {x}: closed form {over} mm");
+                if cut {
+                    under += 1;
+                } else {
+                    sound += 1;
+                }
+            }
+        }
+        assert!(under >= 5 && sound >= 5, "{under} undercut, {sound} sound");
+    }
+
+    /// With the standard rack's tip radius: 14 teeth unshifted are undercut
+    /// and warned, 18 are not; a conical gear is warned over the part of its
+    /// face nearest the small end, with the shift where the undercut starts.
+    #[test]
+    fn few_teeth_and_a_steep_cone_are_warned() {
+        let warned = |gear: &GearSpec| {
+            let mut r = Report::default();
+            check_undercut(&mut r, gear, &geometry(gear));
+            r.warnings
+        };
+        let mut gear = crate::geometry::tests::gear(2.0, 14, 0.0);
+        let w = warned(&gear);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert_eq!(w[0].code, Code::FLANK_UNDERCUT);
+        assert_eq!(w[0].field, "gear.profile_shift");
+        gear.teeth = 18;
+        assert!(warned(&gear).is_empty());
+        // The conical example: z 19, 6.5° over 20 mm, sound at the large end.
+        gear.teeth = 19;
+        gear.face_width_mm = 20.0;
+        assert!(warned(&gear).is_empty());
+        gear.cone = Some(ConeSpec {
+            angle_deg: 6.5,
+            large_end: Default::default(),
+        });
+        let w = warned(&gear);
+        assert_eq!(w.len(), 1, "{w:?}");
+        // Sound over (d/2·sin²α − (2.5 − 0.76·(1 − sin α)))/tan 6.5°.
+        let a = 20f64.to_radians();
+        let sound =
+            (19.0 * a.sin().powi(2) - (2.5 - 0.76 * (1.0 - a.sin()))) / 6.5f64.to_radians().tan();
+        let over = format!("over the {} mm of the face", num(20.0 - sound));
+        assert!(w[0].message.contains(&over), "{over}: {}", w[0].message);
+    }
+}
