@@ -298,5 +298,14 @@ mod undercut_tests {
             (19.0 * a.sin().powi(2) - (2.5 - 0.76 * (1.0 - a.sin()))) / 6.5f64.to_radians().tan();
         let over = format!("over the {} mm of the face", num(20.0 - sound));
         assert!(w[0].message.contains(&over), "{over}: {}", w[0].message);
+        // Undercut at its large end already (14 teeth): the whole face.
+        gear.teeth = 14;
+        let w = warned(&gear);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].message.contains("over the whole face"),
+            "{}",
+            w[0].message
+        );
     }
 }
