@@ -257,21 +257,24 @@ impl Edge {
         // Distances from a tooth's centre where a piece ends, in order: the
         // tip land and the corner arc (or the sharp tip), then the flank at
         // the root.
-        let (ends, n_ends) = match &self.corner {
-            Some(c) => ([c.land_end, c.arc_end, 0.0], 2),
-            None => (
-                [px / 4.0 - (self.tip - self.ref_radius) * tan_a, 0.0, 0.0],
-                1,
-            ),
+        let root_end = px / 4.0 + (self.ref_radius - self.root) * tan_a;
+        let tip_end = px / 4.0 - (self.tip - self.ref_radius) * tan_a;
+        let mut buf = [0.0; 3];
+        let ends: &mut [f64] = match &self.corner {
+            Some(c) => {
+                buf = [c.land_end, c.arc_end, root_end];
+                &mut buf
+            }
+            None => {
+                buf[..2].copy_from_slice(&[tip_end, root_end]);
+                &mut buf[..2]
+            }
         };
-        let mut ends = ends;
-        ends[n_ends] = px / 4.0 + (self.ref_radius - self.root) * tan_a;
         // A sharp tooth whose flanks meet below the tip radius comes to a
         // point at its centre; flanks that meet above the root radius make
         // the bottom of the gap half a pitch on.
-        let apex = self.corner.is_none() && ends[0] <= 0.0;
-        let bottom = ends[n_ends] >= px / 2.0;
-        let ends = &mut ends[..=n_ends];
+        let apex = self.corner.is_none() && tip_end <= 0.0;
+        let bottom = root_end >= px / 2.0;
         ends.sort_unstable_by(f64::total_cmp);
         let inside = |d: &&f64| **d > 0.0 && **d < px / 2.0;
         let n0 = ((a_lo - self.centre) / px).floor() as i64 - 1;

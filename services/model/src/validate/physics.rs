@@ -143,14 +143,14 @@ pub(super) fn check_undercut(r: &mut Report, gear: &GearSpec, geo: &Geometry) {
     let x_min = gear.profile_shift + worst / mn;
     let message = match &gear.cone {
         None => format!(
-            "The hob undercuts the involute: with {} teeth and profile shift {} its straight flank reaches {} mm below where the line of action touches the base circle (standard rack tip radius 0.38·mn). The root is weakened and the active profile shorter; raise gear.profile_shift to at least {} unless the drawing asks for the undercut gear.",
+            "The hob undercuts the involute: with {} teeth and profile shift {} its straight flank reaches {} mm below where the line of action touches the base circle (standard rack tip radius {RACK_TIP_RADIUS}·mn). The root is weakened and the active profile shorter; raise gear.profile_shift to at least {} unless the drawing asks for the undercut gear.",
             gear.teeth,
             num(gear.profile_shift),
             num(worst),
             num(x_min)
         ),
         Some(c) if at_large >= 0.0 => format!(
-            "The hob undercuts the involute over the whole face: along the cone the profile shift falls from {} at the large end, already below the {} at which the straight flank of the hob (standard rack tip radius 0.38·mn) reaches past where the line of action touches the base circle, to {} at the small end. The root is weakened and the active profile shorter; raise gear.profile_shift to at least {} (at the large end) or use a smaller cone than {}°.",
+            "The hob undercuts the involute over the whole face: along the cone the profile shift falls from {} at the large end, already below the {} at which the straight flank of the hob (standard rack tip radius {RACK_TIP_RADIUS}·mn) reaches past where the line of action touches the base circle, to {} at the small end. The root is weakened and the active profile shorter; raise gear.profile_shift to at least {} (at the large end) or use a smaller cone than {}°.",
             num(gear.profile_shift),
             num(gear.profile_shift + at_large / mn),
             num(gear.profile_shift - deeper / mn),
@@ -162,7 +162,7 @@ pub(super) fn check_undercut(r: &mut Report, gear: &GearSpec, geo: &Geometry) {
             let sound = -at_large / tan;
             let steepest = (-at_large / gear.face_width_mm).atan().to_degrees();
             format!(
-                "The hob undercuts the involute over the {} mm of the face nearest its small end: along the cone the profile shift falls from {} at the large end to {} at the small end, and below {} the straight flank of the hob (standard rack tip radius 0.38·mn) reaches past where the line of action touches the base circle. The root is weakened and the active profile shorter there. A cone of at most {}° avoids it; so would a profile shift of at least {} at the large end, if its teeth do not come to a point.",
+                "The hob undercuts the involute over the {} mm of the face nearest its small end: along the cone the profile shift falls from {} at the large end to {} at the small end, and below {} the straight flank of the hob (standard rack tip radius {RACK_TIP_RADIUS}·mn) reaches past where the line of action touches the base circle. The root is weakened and the active profile shorter there. A cone of at most {}° avoids it; so would a profile shift of at least {} at the large end, if its teeth do not come to a point.",
                 num(gear.face_width_mm - sound),
                 num(gear.profile_shift),
                 num(gear.profile_shift - deeper / mn),
