@@ -129,20 +129,24 @@ pub fn measure(sections: &PolarSections, spec: &GearSpec) -> Result<Measurement,
         spec.face_width_mm,
     )?;
     let middle = geo.middle_section(&sections.z_mm, spec.face_start_mm);
+    // A conical gear's middle section has its own drawing; a cylindrical
+    // gear's is the spec's.
+    let mid_spec = spec.at(sections.z_mm[middle])?;
+    let mid_geo = mid_spec.geometry()?;
     let mid = flank::Section::new(&sections.r_mm[middle], n);
-    let teeth = flank::find_teeth(&mid, spec.teeth, geo.measuring_diameter_mm / 2.0)?;
-    let profile = traces::profiles(&mid, &teeth, &geo, spec)?;
+    let teeth = flank::find_teeth(&mid, spec.teeth, mid_geo.measuring_diameter_mm / 2.0)?;
+    let profile = traces::profiles(&mid, &teeth, &mid_geo, &mid_spec)?;
     let followed = traces::follow_teeth(sections, middle, &teeth, &geo, spec)?;
     let helix = match &followed {
         Some(f) => Some(traces::helices(f, &geo, spec)?),
         None => None,
     };
     let profile_by_section = match &followed {
-        Some(f) => traces::section_profiles(sections, f, &geo, spec)?,
+        Some(f) => traces::section_profiles(sections, f, spec)?,
         None => Vec::new(),
     };
-    let pitch = traces::pitch(&teeth, &geo)?;
-    let (runout, size) = gauge::size_and_runout(&mid, &teeth, &geo, spec)?;
+    let pitch = traces::pitch(&teeth, &mid_geo)?;
+    let (runout, size) = gauge::size_and_runout(&mid, &teeth, &mid_geo, &mid_spec)?;
     let items = grade_items(&gear, &profile, helix.as_ref(), &pitch, &runout)?;
     let overall = items
         .iter()
@@ -150,7 +154,7 @@ pub fn measure(sections: &PolarSections, spec: &GearSpec) -> Result<Measurement,
         .max()
         .unwrap_or(Grade::WorseThan11);
     Ok(Measurement {
-        geometry: geo,
+        geometry: mid_geo,
         middle_section_mm: sections.z_mm[middle],
         profile_slope_mean_um: FlankValues::mean_of(&profile, |d| d.slope_um),
         helix_slope_mean_um: helix

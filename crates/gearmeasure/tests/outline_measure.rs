@@ -54,6 +54,14 @@ struct Built {
     /// Crowning: every flank stands amount·(1 − (2·z/b − 1)²) further into
     /// its space along the base tangent at height z: (amount mm, b mm).
     crown: (f64, f64),
+    /// A cone: at height z the tip and root circles and the generating
+    /// rack stand taper·(z − b/2) further out than in the middle of the
+    /// face: (taper mm per mm, b mm).
+    cone: (f64, f64),
+    /// tan αn / (r·cos β): the half-angle a tooth gains on every circle
+    /// for each mm its rack stands further out (its normal thickness
+    /// grows by 2·tan αn per mm, its transverse one by 2·tan αn / cos β).
+    thickening: f64,
 }
 
 impl Built {
@@ -93,7 +101,16 @@ impl Built {
             ecc: [0.0, 0.0],
             odd_tooth: None,
             crown: (0.0, spec.face_width_mm),
+            cone: (0.0, spec.face_width_mm),
+            thickening: an.tan() / (r * beta.cos()),
         }
+    }
+
+    /// How far the rack stands further out at `height` than in the middle
+    /// of the face, mm.
+    fn cone_offset(&self, height: f64) -> f64 {
+        let (taper, b) = self.cone;
+        taper * (height - b / 2.0)
     }
 
     /// The angle of the flank of `side` at radius `rho` from the tooth's
@@ -116,16 +133,20 @@ impl Built {
     /// root where the flank at the base (or root) circle is nearer, else
     /// the radius where the flank is at `delta`, by bisection on ρ (the
     /// flank angle falls as ρ grows).
-    fn side_radius(&self, s: &Side, delta: f64) -> f64 {
-        let low = s.rb.max(self.rf);
-        if delta <= self.flank_angle(s, self.ra).unwrap_or(f64::NEG_INFINITY) {
-            return self.ra;
+    fn side_radius(&self, s: &Side, delta: f64, height: f64) -> f64 {
+        let (ra, rf) = (
+            self.ra + self.cone_offset(height),
+            self.rf + self.cone_offset(height),
+        );
+        let low = s.rb.max(rf);
+        if delta <= self.flank_angle(s, ra).unwrap_or(f64::NEG_INFINITY) {
+            return ra;
         }
         match self.flank_angle(s, low) {
             Some(a) if delta <= a => {}
-            _ => return self.rf,
+            _ => return rf,
         }
-        let (mut lo, mut hi) = (low, self.ra);
+        let (mut lo, mut hi) = (low, ra);
         for _ in 0..60 {
             let m = (lo + hi) / 2.0;
             if self.flank_angle(s, m).unwrap_or(f64::INFINITY) >= delta {
@@ -147,15 +168,16 @@ impl Built {
         delta -= TAU * (delta / TAU).round();
         // A flank moved out by c along the base tangent is turned by c/rb.
         let (c, b) = self.crown;
-        let turn = c * (1.0 - (2.0 * height / b - 1.0).powi(2)) / self.rb;
+        let turn = c * (1.0 - (2.0 * height / b - 1.0).powi(2)) / self.rb
+            + self.cone_offset(height) * self.thickening;
         if delta >= 0.0 {
             let side = match self.odd_tooth {
                 Some((k, side)) if k == j => side,
                 _ => self.right,
             };
-            self.side_radius(&side, (delta - turn).max(0.0))
+            self.side_radius(&side, (delta - turn).max(0.0), height)
         } else {
-            self.side_radius(&self.left, (-delta - turn).max(0.0))
+            self.side_radius(&self.left, (-delta - turn).max(0.0), height)
         }
     }
 
@@ -534,6 +556,72 @@ fn a_crowned_helix_measures_clean_against_its_crowned_design_and_not_against_a_p
     let flat = Built::new(&plain);
     let missing = measure(&flat.sections(&faces(&plain), N), &crowned).unwrap();
     assert!((value(&missing, Item::HelixTotal) - expected).abs() < 0.05 * expected);
+}
+
+#[test]
+fn a_conical_gear_measures_clean_against_its_cone_in_every_section() {
+    // A cone of 3° narrowing upwards over the face: the rack stands
+    // tan 3° further in for every mm up, so the tip, the root and the
+    // tooth thickness follow it. Against a spec with that taper every
+    // section's profile and every helix are clean and the middle section
+    // has its design size; against the same spec without the taper the
+    // flanks lean: each stands Δ·tan αn / cos β = Δ·tan αt / r·rb further
+    // into its space where the rack stood Δ further out, a helix slope of
+    // −taper·sin αt over the evaluation range on both flanks (less
+    // material towards the face where the rack stood further in).
+    let taper = -3.0_f64.to_radians().tan();
+    for hand in [Hand::Right, Hand::Left] {
+        let plain = helical(hand);
+        let conical = GearSpec { taper, ..plain };
+        let mut g = Built::new(&plain);
+        g.cone = (taper, plain.face_width_mm);
+        // Twice the samples: the small end's profiles start nearer the base
+        // circle, where the involute runs steeply through the samples.
+        let sections = g.sections(&faces(&plain), 2 * N);
+        let m = measure(&sections, &conical).unwrap();
+        assert_flanks_clean(&m, 0.05);
+        assert_eq!(m.profile_by_section.len(), 21);
+        for p in &m.profile_by_section {
+            assert!(p.total_um <= 0.05 && p.slope_um.abs() <= 0.05, "{p:?}");
+        }
+        let inv = Involute::new(31, 2.5, 20.0, 15.0).unwrap();
+        let shift = -0.1 + taper * (m.middle_section_mm - 10.0) / 2.5;
+        let sn = inv.thickness_from_shift(shift);
+        assert!((m.size.thickness_mm - sn).abs() < 1e-4, "{:?}", m.size);
+        // A section's own drawing: the shift follows the rack, and a
+        // given thickness follows it as the shift's thickness does.
+        let given = GearSpec {
+            normal_thickness_mm: Some(inv.thickness_from_shift(-0.1)),
+            ..conical
+        };
+        let top = given.at(18.0).unwrap();
+        let x_top = -0.1 + taper * 8.0 / 2.5;
+        assert!((top.profile_shift - x_top).abs() < 1e-12);
+        let s_top = top.normal_thickness_mm.unwrap();
+        assert!((s_top - inv.thickness_from_shift(x_top)).abs() < 1e-12);
+        assert!((top.tip_diameter_mm - plain.tip_diameter_mm - 16.0 * taper).abs() < 1e-12);
+        // Without the taper: cos αt = rb / r, the slope over the range.
+        let range = m.geometry.helix_range;
+        let sin_at = (20.0_f64.to_radians().tan() / 15.0_f64.to_radians().cos())
+            .atan()
+            .sin();
+        let expected = taper * sin_at * (range.end_mm - range.start_mm) * 1000.0;
+        let leaning = measure(
+            &sections,
+            &GearSpec {
+                measuring_diameter_mm: Some(m.geometry.measuring_diameter_mm),
+                ..plain
+            },
+        )
+        .unwrap();
+        let hx = leaning.helix.as_ref().unwrap();
+        for d in hx.right.iter().chain(&hx.left) {
+            assert!(
+                (d.slope_um - expected).abs() < 0.05,
+                "{hand:?} {d:?} vs {expected}"
+            );
+        }
+    }
 }
 
 #[test]

@@ -72,14 +72,19 @@ pub struct SafetyFinding {
 /// outer radius over the face width) and the gear the cut must make.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BlankGeometry {
-    /// Outer radius of the blank, mm.
+    /// Outer radius of the blank, mm (a cone's at the lower face).
     pub outer_radius_mm: f64,
     /// Lower face, mm above the table plane.
     pub z_lo_mm: f64,
     /// Upper face, mm.
     pub z_hi_mm: f64,
-    /// Root radius the cut must reach, mm.
+    /// Root radius the cut must reach, mm (a cone's at the lower face).
     pub root_radius_mm: f64,
+    /// How much the outer and root radii grow for every mm up (a conical
+    /// gear's X per Z, −tan δ when its large end is at the bottom), 0 for
+    /// a cylindrical gear: the hob following the cone stands at full depth
+    /// all along it, and the envelope is the cone.
+    pub taper: f64,
     /// Number of teeth.
     pub teeth: u32,
     /// How much further out the hob stands in the middle of the face than
@@ -96,24 +101,49 @@ impl BlankGeometry {
     /// width of the gear, df/2.
     pub fn of_model(model: &MachiningModel) -> BlankGeometry {
         let g = &model.plan.gear;
+        let (taper, large_end_mm) = cone_of(model);
         BlankGeometry {
-            outer_radius_mm: model.model.blank_od_mm / 2.0,
+            outer_radius_mm: model.model.blank_od_mm / 2.0
+                + taper * (g.fixture_height_mm - large_end_mm),
             z_lo_mm: g.fixture_height_mm,
             z_hi_mm: g.fixture_height_mm + g.face_width_mm,
-            root_radius_mm: model.geometry.df_mm / 2.0,
+            root_radius_mm: model.geometry.df_mm / 2.0
+                + taper * (g.fixture_height_mm - large_end_mm),
+            taper,
             teeth: g.teeth,
             crowning_mm: model.model.crowning.as_ref().map_or(0.0, |c| c.amount_mm),
             throat_z_mm: model.model.worm.as_ref().map(|w| w.throat_z_mm),
         }
     }
 
-    /// The envelope as a cylinder.
+    /// The root radius the cut must reach at height `z_mm`.
+    pub fn root_radius_at(&self, z_mm: f64) -> f64 {
+        self.root_radius_mm + self.taper * (z_mm - self.z_lo_mm)
+    }
+
+    /// The envelope: a cylinder, or a cone's frustum.
     pub fn envelope(&self) -> Cylinder {
         Cylinder {
             radius_mm: self.outer_radius_mm,
             z_lo_mm: self.z_lo_mm,
             z_hi_mm: self.z_hi_mm,
+            taper: self.taper,
         }
+    }
+}
+
+/// A model's cone as the simulation uses it: the radius change per mm up
+/// of the blank, the root and the hob (X per Z; 0 without a cone) and the
+/// height of the face where the blank's outer diameter and the gear's
+/// drawing hold (the large end; the lower face without a cone).
+pub fn cone_of(model: &MachiningModel) -> (f64, f64) {
+    let g = &model.plan.gear;
+    match &model.model.cone {
+        Some(c) if c.large_end == gearcam_proto::LargeEnd::Top => {
+            (c.x_per_z, g.fixture_height_mm + g.face_width_mm)
+        }
+        Some(c) => (c.x_per_z, g.fixture_height_mm),
+        None => (0.0, g.fixture_height_mm),
     }
 }
 
@@ -158,6 +188,7 @@ impl Fixtures {
                             radius_mm: r,
                             z_lo_mm: lo,
                             z_hi_mm: hi,
+                            taper: 0.0,
                         },
                     )
                 })

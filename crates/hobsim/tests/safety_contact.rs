@@ -23,6 +23,7 @@ fn blank() -> BlankGeometry {
         z_lo_mm: 100.0,
         z_hi_mm: 130.0,
         root_radius_mm: 33.75,
+        taper: 0.0,
         teeth: 25,
         crowning_mm: 0.0,
         throat_z_mm: None,

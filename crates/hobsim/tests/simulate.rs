@@ -3,7 +3,7 @@
 
 mod common;
 
-use gearcam_gearmeasure::iso1328::Item;
+use gearcam_gearmeasure::iso1328::{Grade, Item};
 use gearcam_gearmeasure::outline::{self, GearSpec, PolarSections};
 use gearcam_hobsim::safety::SafetyKind;
 use gearcam_hobsim::simulate::{drawing, simulate, simulate_part, Settings};
@@ -216,5 +216,76 @@ fn a_worm_wheel_is_measured_in_its_throat_plane() {
             .any(|f| f.kind == SafetyKind::FaceWidthNotCovered && f.what.contains("throat")),
         "{:?}",
         sim.safety
+    );
+}
+
+/// The conical spur program (cone 6.5°, 4 mm face, large end at the
+/// bottom): the hob's centre follows the cone line r0·(1/cos δ − 1) further
+/// out than a cylinder's and ra0·sin δ on beyond the small end, and the gear
+/// it cuts measures, section by section against the involute of its own
+/// shift, with flanks at tan α′ = tan αn·cos δ, within the drawing's class 7
+/// and its thickness. The path as it was (X held at the small face beyond
+/// it, the centre line a cylinder's) cuts the small end as a cylinder and
+/// every section too deep: the helix leans far beyond class 11 and the
+/// teeth are thin. Measured against flanks at αn, the gear it cuts shows
+/// the profile slope of the stretched rack.
+#[test]
+#[ignore = "seconds in release: cargo test --release -p gearcam-hobsim -- --ignored"]
+fn a_conical_program_cuts_its_cone() {
+    let (text, model) = common::program("conical_840d");
+    let spec = drawing(&model);
+    assert!(
+        spec.taper < 0.0 && spec.normal_pressure_angle_deg < 19.9,
+        "{spec:?}"
+    );
+    let sim = simulate_text(&text, &model);
+    assert!(sim.safety.is_empty(), "{:?}", sim.safety);
+    let m = sim.measurement.as_ref().expect("measures");
+    eprintln!("conical_840d:\n{m}");
+    let value = |m: &outline::Measurement, item| m.item(item).map_or(f64::NAN, |i| i.value_um);
+    // Within class 7: the tolerance of the class the item measured in,
+    // scaled to class 7 by √2 a class.
+    for item in [Item::HelixSlope, Item::HelixTotal, Item::ProfileTotal] {
+        let i = m.item(item).expect("graded");
+        let class = match i.grade {
+            Grade::Class(c) => f64::from(c.number()),
+            Grade::WorseThan11 => 12.0,
+        };
+        let class7 = i.tolerance_um * 2f64.sqrt().powf(7.0 - class);
+        assert!(i.value_um.abs() <= class7, "{i:?} (class 7: {class7} µm)");
+    }
+    let tolerance = |item| m.item(item).map_or(f64::NAN, |i| i.tolerance_um);
+    let thin = m.size.thickness_mm - m.size.design_thickness_mm;
+    assert!(thin.abs() < 0.010, "{:?}", m.size);
+    // The path as it was.
+    let old = text
+        .replace("G0 G90 X=51.053", "G0 G90 X=51.294")
+        .replace("Z=107.962", "Z=104.0")
+        .replace("X=51.96 Z=100.0", "X=51.75 Z=100.0");
+    assert_eq!(old.matches("51.294").count(), 1);
+    let was = simulate_text(&old, &model);
+    let w = was.measurement.as_ref().expect("measures");
+    eprintln!("the path as it was:\n{w}");
+    assert!(value(w, Item::HelixSlope).abs() > 5.0 * tolerance(Item::HelixSlope));
+    assert!(
+        w.size.thickness_mm - w.size.design_thickness_mm < -0.05,
+        "{:?}",
+        w.size
+    );
+    // Flanks at αn.
+    let at_alpha_n = GearSpec {
+        normal_pressure_angle_deg: model.plan.gear.pressure_angle_deg,
+        ..spec
+    };
+    let sections = PolarSections {
+        z_mm: sim.blank.z_mm.clone(),
+        r_mm: sim.blank.r_mm.clone(),
+    };
+    let plain = outline::measure(&sections, &at_alpha_n).expect("measures");
+    assert!(
+        value(&plain, Item::ProfileSlope).abs() > value(m, Item::ProfileSlope).abs() + 4.0,
+        "fHα at αn {} µm, at α′ {} µm",
+        value(&plain, Item::ProfileSlope),
+        value(m, Item::ProfileSlope)
     );
 }

@@ -195,61 +195,110 @@ pub fn cone_slope(angle_deg: f64, large_end: LargeEnd) -> f64 {
     }
 }
 
-/// Conical gear: across the face X follows Z linearly along the cone,
-/// X(Z) = Xc + (Z − Zl)·slope with Xc the finishing X at the large-end face
-/// Zl; beyond the faces, where there is no material, X stays at the face's
-/// value (extending the cone line there would take the hob towards the table
-/// axis by the overtravel times tan δ, into the arbor of a long small-end
-/// cone). The path feed along the cone is Vf / cos δ so that the axial feed
-/// rate stays Vf.
-pub fn conical(f: &CutFrame, angle_deg: f64, large_end: LargeEnd) -> CutPath {
+/// The hob as a conical path needs it: its tip radius ra0 and its
+/// reference radius r0 (where its tooth and space are equally wide), mm.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HobRadii {
+    /// Tip radius ra0, mm.
+    pub tip_mm: f64,
+    /// Reference radius r0 = z0·mn / (2·sin γ0), mm.
+    pub reference_mm: f64,
+}
+
+/// How a hob fed along a cone of angle δ cuts. Its envelope, a solid of
+/// revolution about its own axis (across the XZ plane) swept along the
+/// cone line, is the sweep of its axial section along that line: every hob
+/// radius ρ lies ρ from the hob's centre line, normal to it, so ρ/cos δ
+/// from it along X. In a transverse section the hob's rack therefore stands
+/// with its depths stretched by 1/cos δ: its reference line at
+/// X − r0/cos δ, its tip at X − ra0/cos δ, its flanks at tan α′ = tan αn·cos δ
+/// (for a spur gear; the widths along the hob axis are unchanged). And the
+/// radius ρ touches its envelope at the point of its circle normal to the
+/// line, ρ·sin δ from the centre's height towards the large end.
+///
+/// So the centre line stands r0·(1/cos δ − 1) further out than a cylinder's
+/// (the rack's reference line where the profile shift puts it, the tooth as
+/// thick as drawn); and it must run along the cone ra0·sin δ beyond the
+/// small-end face for the hob to finish that face (where it held X at the
+/// face, the hob cut the small end as a cylinder of the face's depth).
+/// Returns (the lift r0·(1/cos δ − 1), the overtravel ra0·sin δ), mm.
+pub fn cone_offsets(angle_deg: f64, hob: HobRadii) -> (f64, f64) {
+    let d = angle_deg.to_radians();
+    (
+        hob.reference_mm * (1.0 / d.cos() - 1.0),
+        hob.tip_mm * d.sin(),
+    )
+}
+
+/// Conical gear: the hob's centre follows the cone line,
+/// X(Z) = Xc + lift + (Z − Zl)·slope with Xc the cylinder's finishing X at
+/// the large-end face Zl, from that face to the overtravel beyond the small
+/// end ([`cone_offsets`]); beyond those, where its envelope no longer
+/// touches the face, X holds (further along the line the hob would go
+/// towards the table axis, into the arbor of a long small-end cone; and
+/// the hob holding X beyond the large end cuts no deeper than at that face,
+/// its circle there the nearer one). The path feed along the cone is
+/// Vf·√(1 + slope²) so that the axial feed rate stays Vf.
+pub fn conical(f: &CutFrame, angle_deg: f64, large_end: LargeEnd, hob: HobRadii) -> CutPath {
     let slope = cone_slope(angle_deg, large_end);
-    let z_large = match large_end {
-        LargeEnd::Bottom => f.bottom_face_mm,
-        LargeEnd::Top => f.top_face_mm(),
+    let (lift, overtravel) = cone_offsets(angle_deg, hob);
+    let (z_large, line) = match large_end {
+        LargeEnd::Bottom => (
+            f.bottom_face_mm,
+            (f.bottom_face_mm, f.top_face_mm() + overtravel),
+        ),
+        LargeEnd::Top => (
+            f.top_face_mm(),
+            (f.bottom_face_mm - overtravel, f.top_face_mm()),
+        ),
     };
-    let x_at = |z: f64| {
-        let z = z.clamp(f.bottom_face_mm, f.top_face_mm());
-        f.xc_mm + (z - z_large) * slope
-    };
+    let x_at = |z: f64| f.xc_mm + lift + (z.clamp(line.0, line.1) - z_large) * slope;
     let (start, end) = f.stroke();
+    // The cone line's ends in the order the hob meets them, within the
+    // stroke.
+    let (lo, hi) = (start.min(end), start.max(end));
+    let (line_lo, line_hi) = (line.0.clamp(lo, hi), line.1.clamp(lo, hi));
     let (face_in, face_out) = if f.down {
-        (f.top_face_mm(), f.bottom_face_mm)
+        (line_hi, line_lo)
     } else {
-        (f.bottom_face_mm, f.top_face_mm())
+        (line_lo, line_hi)
     };
     let c = p(x_at(start), start);
     let d = p(x_at(end), end);
     let path_feed = f.axial_feed_mm_min * (1.0 + slope * slope).sqrt();
-    let moves = vec![
-        infeed(
-            f,
-            c.x_mm,
-            "B -> C: INFEED TO DEPTH AT THE CONE'S ENTRY FACE",
-        ),
-        mv(
+    let mut moves = vec![infeed(
+        f,
+        c.x_mm,
+        "B -> C: INFEED TO THE CONE LINE'S DEPTH AT ITS ENTRY END",
+    )];
+    // A move of no length is left out (the cone line may start or end at
+    // the stroke's end).
+    if face_in != start {
+        moves.push(mv(
             MoveKind::Feed,
             None,
             Some(face_in),
             f.axial_feed_mm_min,
-            "C -> FACE: AXIAL FEED",
-        ),
-        mv(
-            MoveKind::Feed,
-            Some(x_at(face_out)),
-            Some(face_out),
-            path_feed,
-            "ACROSS THE FACE: X FOLLOWS Z ALONG THE CONE",
-        ),
-        mv(
+            "C -> CONE: AXIAL FEED",
+        ));
+    }
+    moves.push(mv(
+        MoveKind::Feed,
+        Some(x_at(face_out)),
+        Some(face_out),
+        path_feed,
+        "ALONG THE CONE: X FOLLOWS Z OVER THE FACE AND BEYOND ITS SMALL END",
+    ));
+    if face_out != end {
+        moves.push(mv(
             MoveKind::Feed,
             None,
             Some(d.z_mm),
             f.axial_feed_mm_min,
-            "FACE -> D: AXIAL FEED",
-        ),
-        retract(f, d),
-    ];
+            "CONE -> D: AXIAL FEED",
+        ));
+    }
+    moves.push(retract(f, d));
     CutPath {
         positions: positions(f, c, d),
         moves,
@@ -538,17 +587,26 @@ mod tests {
     #[test]
     fn conical_x_follows_z_along_the_cone_and_holds_beyond_the_faces() {
         let f = frame();
-        let path = conical(&f, 6.5, LargeEnd::Bottom);
+        let hob = HobRadii {
+            tip_mm: 35.0,
+            reference_mm: 32.5,
+        };
+        let path = conical(&f, 6.5, LargeEnd::Bottom, hob);
         let q = path.positions;
-        let t = 6.5f64.to_radians().tan();
-        // X at the large (bottom) face is Xc, at the small (top) face
-        // Xc − b·tan δ; beyond the faces X holds the face's value.
-        assert_relative_eq!(q.C.x_mm, 73.75 - 30.0 * t, epsilon = 1e-12);
-        assert_relative_eq!(q.D.x_mm, 73.75, epsilon = 1e-12);
-        let across = &path.moves[2];
-        assert_eq!((across.x_mm, across.z_mm), (Some(73.75), Some(50.0)));
-        assert_eq!(path.moves[1].z_mm, Some(80.0));
+        let d = 6.5f64.to_radians();
+        let t = d.tan();
+        // The centre line stands r0·(1/cos δ − 1) out from the cylinder's
+        // and runs ra0·sin δ on beyond the small (top) face; beyond that
+        // and below the large (bottom) face X holds.
+        let lift = 32.5 * (1.0 / d.cos() - 1.0);
+        let over = 35.0 * d.sin();
+        assert_relative_eq!(q.C.x_mm, 73.75 + lift - (30.0 + over) * t, epsilon = 1e-12);
+        assert_relative_eq!(q.D.x_mm, 73.75 + lift, epsilon = 1e-12);
+        assert_eq!(path.moves[1].z_mm, Some(80.0 + over));
         assert_eq!(path.moves[1].x_mm, None);
+        let along = &path.moves[2];
+        assert_eq!(along.z_mm, Some(50.0));
+        assert_relative_eq!(along.x_mm.unwrap(), 73.75 + lift, epsilon = 1e-12);
         // The axial feed rate stays Vf: time = stroke / Vf.
         assert_relative_eq!(
             time_min(q.B, 0.0, &path.moves),

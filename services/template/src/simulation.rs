@@ -63,12 +63,18 @@ impl Mode {
 
 /// Why a hobbing model is not simulated, when it is not: the simulator cuts
 /// and measures cylindrical involute gears (crowned or not, one or several
-/// on a part) and worm wheels (in their throat plane).
+/// on a part), spur conical gears (each section against its own involute)
+/// and worm wheels (in their throat plane). A helical conical gear is not:
+/// its two flanks have different transverse pressure angles and leads,
+/// which the measurement's drawing of a gear does not hold.
 pub fn out_of_scope(model: &MachiningModel) -> Option<&'static str> {
+    let helical_cone = |m: &gearcam_proto::Kinematics, gear: &gearcam_proto::GearSpec| {
+        m.cone.is_some() && gear.helix_angle_deg != 0.0
+    };
     let k = &model.model;
-    let units = || k.units.iter().map(|u| &u.model);
-    if k.cone.is_some() || units().any(|u| u.cone.is_some()) {
-        Some("a conical gear is not simulated yet")
+    if helical_cone(k, &model.plan.gear) || k.units.iter().any(|u| helical_cone(&u.model, &u.gear))
+    {
+        Some("a helical conical gear is not simulated yet")
     } else {
         None
     }

@@ -48,14 +48,16 @@ pub fn chart_data(sections: &PolarSections, spec: &GearSpec) -> Result<ChartData
     let n = sections.check()?;
     let geo = spec.geometry()?;
     let middle = geo.middle_section(&sections.z_mm, spec.face_start_mm);
+    let mid_spec = spec.at(sections.z_mm[middle])?;
+    let mid_geo = mid_spec.geometry()?;
     let mid = Section::new(&sections.r_mm[middle], n);
-    let teeth = flank::find_teeth(&mid, spec.teeth, geo.measuring_diameter_mm / 2.0)?;
-    let steps = profile_steps(&geo)?;
+    let teeth = flank::find_teeth(&mid, spec.teeth, mid_geo.measuring_diameter_mm / 2.0)?;
+    let steps = profile_steps(&mid_geo)?;
     let mut profile = TeethTraces::default();
     for tooth in &teeth {
         for right in [false, true] {
             let (x_mm, deviation_um) =
-                traces::profile_points(&mid, tooth, right, teeth.len(), steps, &geo, spec);
+                traces::profile_points(&mid, tooth, right, teeth.len(), steps, &mid_geo, &mid_spec);
             let side = if right {
                 &mut profile.right
             } else {

@@ -137,7 +137,8 @@ pub struct SizeResult {
 /// Everything measured on the gear.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Measurement {
-    /// The design geometry used.
+    /// The design geometry of the middle section (the one profile, pitch,
+    /// runout and size are measured in; a conical gear's own there).
     pub geometry: Geometry,
     /// The height of the section profile, pitch, runout and size were
     /// measured in, mm.

@@ -76,6 +76,14 @@ pub struct GearSpec {
     /// by about (b/2)⁴/(8·R³), far below a micrometre for any real gear).
     /// The helix deviations are taken from this design helix. 0: none.
     pub helix_crowning_mm: f64,
+    /// The radial taper of a conical involute gear (a beveloid), mm per mm
+    /// of height: its tip, its root and the rack that generated it stand
+    /// this much further out for every mm further from the reference face
+    /// (negative: the gear narrows away from it). The tip and root
+    /// diameters, the profile shift and the thickness of the spec are then
+    /// those of the middle of the face, and each section is measured
+    /// against its own ([`GearSpec::at`]). 0: a cylindrical gear.
+    pub taper: f64,
     /// The direction of the flank deviations.
     pub direction: Direction,
 }
@@ -112,8 +120,41 @@ impl GearSpec {
             profile_range: None,
             helix_range: None,
             helix_crowning_mm: 0.0,
+            taper: 0.0,
             direction: Direction::Transverse,
         }
+    }
+
+    /// How far the rack that generated the gear stands further out at
+    /// height `z_mm` than in the middle of the face, mm (0 for a
+    /// cylindrical gear).
+    pub(super) fn rack_offset_mm(&self, z_mm: f64) -> f64 {
+        self.taper * (z_mm - self.face_start_mm - self.face_width_mm / 2.0)
+    }
+
+    /// The drawing of the transverse section at height `z_mm`: for a
+    /// conical gear the rack stands Δ = [`GearSpec::taper`] · (height from
+    /// the middle of the face) further out, so the tip and root diameters
+    /// grow by 2Δ, the profile shift by Δ/mn and a given thickness by
+    /// 2Δ·tan αn (the rack's flanks, at αn, move Δ·tan αn apart along its
+    /// pitch line). The measuring diameter stays that of the middle of the
+    /// face: helix, pitch and runout are measured on one circle. A
+    /// cylindrical gear's spec is returned as it is.
+    pub fn at(&self, z_mm: f64) -> Result<GearSpec, Error> {
+        if self.taper == 0.0 {
+            return Ok(*self);
+        }
+        let middle = self.geometry()?;
+        let delta = self.rack_offset_mm(z_mm);
+        let tan_an = self.normal_pressure_angle_deg.to_radians().tan();
+        Ok(GearSpec {
+            profile_shift: self.profile_shift + delta / self.normal_module_mm,
+            tip_diameter_mm: self.tip_diameter_mm + 2.0 * delta,
+            root_diameter_mm: self.root_diameter_mm + 2.0 * delta,
+            normal_thickness_mm: self.normal_thickness_mm.map(|s| s + 2.0 * delta * tan_an),
+            measuring_diameter_mm: Some(middle.measuring_diameter_mm),
+            ..*self
+        })
     }
 
     /// The involute of the spec (validated).
@@ -148,6 +189,13 @@ impl GearSpec {
     /// docs/measurement.md).
     pub fn geometry(&self) -> Result<Geometry, Error> {
         let inv = self.involute()?;
+        check_range(
+            "taper",
+            self.taper,
+            -1.0,
+            1.0,
+            "a radial taper of at most 1 mm per mm (a cone under 45°)",
+        )?;
         check_range(
             "helix_deg",
             self.helix_deg,

@@ -22,7 +22,11 @@
 //! e(z) = n·(rb·θ(z) − h·z·tan βb) + const, the convention of
 //! [`crate::helix`]. A crowned design flank stands Cβ·(1 − (2z/b − 1)²)
 //! further out ([`GearSpec::helix_crowning_mm`]), which is taken off: the
-//! deviations are from the crowned design.
+//! deviations are from the crowned design. So is a conical gear's taper:
+//! where its rack stood Δ further out the flank stands Δ·sin αt further
+//! into its space along the base tangent (the rack's flank, at αn to the
+//! radial in its normal plane, moves Δ·sin αn along its own normal, which
+//! is Δ·sin αn / cos βb = Δ·sin αt along the transverse base tangent).
 //!
 //! **Pitch.** Each flank's angle at the measuring circle, converted by
 //! [`crate::pitch::positions_from_angles`] to µm of arc from nominal.
@@ -241,12 +245,16 @@ pub(super) fn helix_points(
     let n = flank_sign(right);
     let b = spec.face_width_mm;
     let crowning = |x: f64| spec.helix_crowning_mm * (1.0 - (2.0 * x / b - 1.0).powi(2));
+    let sin_at = (geo.base_diameter_mm / geo.reference_diameter_mm)
+        .acos()
+        .sin();
+    let taper = |x: f64| spec.rack_offset_mm(spec.face_start_mm + x) * sin_at;
     let e: Vec<f64> = flanks
         .iter()
         .zip(&x)
         .map(|(t, &x)| {
             let theta = if right { t.right } else { t.left };
-            n * (rb * theta - h * x * tan_bb) - crowning(x)
+            n * (rb * theta - h * x * tan_bb) - crowning(x) - taper(x)
         })
         .collect();
     let e0 = e.first().copied().unwrap_or(0.0);
@@ -255,12 +263,12 @@ pub(super) fn helix_points(
 }
 
 /// The profile deviations in every section of the face, each tooth's
-/// traces started from its middle there as followed, summarised per
+/// traces started from its middle there as followed and evaluated over
+/// that section's own evaluation range ([`GearSpec::at`]), summarised per
 /// section.
 pub(super) fn section_profiles(
     sections: &PolarSections,
     followed: &Followed,
-    geo: &Geometry,
     spec: &GearSpec,
 ) -> Result<Vec<SectionProfile>, Error> {
     let n = sections.r_mm[0].len();
@@ -268,7 +276,8 @@ pub(super) fn section_profiles(
     for (k, &j) in followed.index.iter().enumerate() {
         let sec = Section::new(&sections.r_mm[j], n);
         let teeth: Vec<Tooth> = followed.teeth.iter().map(|t| t[k]).collect();
-        let p = profiles(&sec, &teeth, geo, spec)?;
+        let here = spec.at(sections.z_mm[j])?;
+        let p = profiles(&sec, &teeth, &here.geometry()?, &here)?;
         out.push(SectionProfile {
             z_mm: followed.z_mm[k],
             slope_um: p.worst_signed(|d| d.slope_um),

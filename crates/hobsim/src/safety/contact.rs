@@ -9,7 +9,12 @@
 //! the table axis (radius R, heights z_lo..z_hi, either end possibly
 //! infinite); its signed distance, negative inside, is exact:
 //! d = max(ρ − R, z_lo − z, z − z_hi) inside, √(max(ρ − R, 0)² +
-//! max(z_lo − z, z − z_hi, 0)²) outside, ρ = √(x² + y²).
+//! max(z_lo − z, z − z_hi, 0)²) outside, ρ = √(x² + y²). A conical blank's
+//! frustum (radius R(z) = R + k·(z − z_lo) between finite ends) is a
+//! trapezoid in the (ρ, z) half-plane, and a point's nearest point of a
+//! solid of revolution lies in its own half-plane: inside, the distance is
+//! the nearest of the three edges' lines, (ρ − R(z))/√(1 + k²) for the
+//! slanted one; outside, the nearest of the three edges.
 //!
 //! A signed distance is 1-Lipschitz, so at one pose the hob's surface is at
 //! least d_min − h from the obstacle (d_min the samples' least). Within a
@@ -34,6 +39,9 @@ pub struct Cylinder {
     pub z_lo_mm: f64,
     /// Upper end, mm (may be +∞).
     pub z_hi_mm: f64,
+    /// Radius change per mm up from `radius_mm` at `z_lo_mm` (a cone's
+    /// frustum; both ends finite), 0 for a cylinder.
+    pub taper: f64,
 }
 
 impl Cylinder {
@@ -41,7 +49,11 @@ impl Cylinder {
     pub fn signed_distance(&self, p: [f64; 3]) -> f64 {
         // Square roots rather than `hypot`: these lengths are millimetres,
         // far from overflow, and the check runs at every sample of every move.
-        let dr = (p[0] * p[0] + p[1] * p[1]).sqrt() - self.radius_mm;
+        let rho = (p[0] * p[0] + p[1] * p[1]).sqrt();
+        if self.taper != 0.0 {
+            return self.frustum_distance(rho, p[2]);
+        }
+        let dr = rho - self.radius_mm;
         let dz = (self.z_lo_mm - p[2]).max(p[2] - self.z_hi_mm);
         if dr <= 0.0 && dz <= 0.0 {
             dr.max(dz)
@@ -49,6 +61,29 @@ impl Cylinder {
             let (r, z) = (dr.max(0.0), dz.max(0.0));
             (r * r + z * z).sqrt()
         }
+    }
+
+    /// The signed distance of the frustum from the point at radius `rho`
+    /// and height `z`.
+    fn frustum_distance(&self, rho: f64, z: f64) -> f64 {
+        let (lo, hi) = (self.z_lo_mm, self.z_hi_mm);
+        let r_lo = self.radius_mm;
+        let r_hi = r_lo + self.taper * (hi - lo);
+        let side = (rho - r_lo - self.taper * (z - lo)) / self.taper.hypot(1.0);
+        let dz = (lo - z).max(z - hi);
+        if side <= 0.0 && dz <= 0.0 {
+            return side.max(dz);
+        }
+        // The distance from (rho, z) to the edge from a to b.
+        let edge = |a: (f64, f64), b: (f64, f64)| {
+            let (ex, ey) = (b.0 - a.0, b.1 - a.1);
+            let (px, py) = (rho - a.0, z - a.1);
+            let t = ((px * ex + py * ey) / (ex * ex + ey * ey)).clamp(0.0, 1.0);
+            (px - t * ex).hypot(py - t * ey)
+        };
+        edge((0.0, lo), (r_lo, lo))
+            .min(edge((r_lo, lo), (r_hi, hi)))
+            .min(edge((0.0, hi), (r_hi, hi)))
     }
 }
 

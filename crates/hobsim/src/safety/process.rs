@@ -15,15 +15,40 @@ fn cutting(s: &Segment) -> bool {
     s.gearbox.is_some() && s.feed && s.hob_rev_s != 0.0 && s.t1_s > s.t0_s
 }
 
-/// The X a segment's end points command, on the ideal machine: depth and
-/// face width are what the program commands, whatever the what-if errors
-/// (a runout would move X with the hob's angle at each end point and make a
-/// full-depth move look shallow).
-fn x_range(tl: &Timeline, i: usize) -> (f64, f64) {
+/// The X a segment commands, on the ideal machine, less the blank's taper
+/// at its Z: X as if at the lower face, so a conical gear's feed along its
+/// cone keeps one depth, beyond its small end too (where the cone line runs
+/// on to finish that face). Beyond the large end the taper is that face's:
+/// the hob holding X there cuts no deeper than at the face. Along the
+/// straight move this is piecewise linear, so its range is taken at the
+/// ends and where Z crosses the large-end face. Depth and face width are what the program
+/// commands, whatever the what-if errors (a runout would move X with the
+/// hob's angle at each end point and make a full-depth move look shallow).
+fn x_range(tl: &Timeline, i: usize, blank: &BlankGeometry) -> (f64, f64) {
     let s = &tl.segments()[i];
-    let a = tl.nominal_pose_in(i, s.t0_s).axes.x_mm;
-    let b = tl.nominal_pose_in(i, s.t1_s).axes.x_mm;
-    (a.min(b), a.max(b))
+    let (a, b) = (
+        tl.nominal_pose_in(i, s.t0_s).axes,
+        tl.nominal_pose_in(i, s.t1_s).axes,
+    );
+    let (lo, hi) = (blank.z_lo_mm, blank.z_hi_mm);
+    // The radius grows towards the large end.
+    let large = if blank.taper < 0.0 { lo } else { hi };
+    let depth = |x: f64, z: f64| {
+        let z = if blank.taper < 0.0 {
+            z.max(lo)
+        } else {
+            z.min(hi)
+        };
+        x - blank.taper * (z - lo)
+    };
+    let mut range = (depth(a.x_mm, a.z_mm), depth(b.x_mm, b.z_mm));
+    range = (range.0.min(range.1), range.0.max(range.1));
+    if (a.z_mm - large) * (b.z_mm - large) < 0.0 {
+        let f = (large - a.z_mm) / (b.z_mm - a.z_mm);
+        let x = depth(a.x_mm + f * (b.x_mm - a.x_mm), large);
+        range = (range.0.min(x), range.1.max(x));
+    }
+    range
 }
 
 /// Depth: the deepest X of the coupled feed against the plunge depth
@@ -49,10 +74,13 @@ pub(super) fn depth_and_face(
     let cuts: Vec<usize> = (0..tl.segments().len())
         .filter(|&i| mine[i] && cutting(&tl.segments()[i]))
         .collect();
-    let plunge = blank.root_radius_mm + hob.tip_radius_mm;
+    // Along a cone the hob's tip stands ra0/cos δ = ra0·√(1 + taper²) from
+    // its centre in a transverse section (gearcam_model::path::cone_offsets).
+    let tip = hob.tip_radius_mm * blank.taper.hypot(1.0);
+    let plunge = blank.root_radius_mm + tip;
     let Some(&deepest) = cuts
         .iter()
-        .min_by(|&&a, &&b| x_range(tl, a).0.total_cmp(&x_range(tl, b).0))
+        .min_by(|&&a, &&b| x_range(tl, a, blank).0.total_cmp(&x_range(tl, b, blank).0))
     else {
         out.push(SafetyFinding {
             kind: SafetyKind::DepthNotReached,
@@ -62,15 +90,15 @@ pub(super) fn depth_and_face(
         });
         return;
     };
-    let x_min = x_range(tl, deepest).0;
+    let x_min = x_range(tl, deepest, blank).0;
     let line = tl.segments()[deepest].line;
     if x_min > plunge + DEPTH_TOL_MM {
         out.push(SafetyFinding {
             kind: SafetyKind::DepthNotReached,
             line,
             what: format!(
-                "the deepest coupled feed stands at X {x_min:.3}, the plunge depth is X {plunge:.3} (root radius {:.3} + hob tip radius {:.3})",
-                blank.root_radius_mm, hob.tip_radius_mm
+                "the deepest coupled feed stands at X {x_min:.3}, the plunge depth is X {plunge:.3} (root radius {:.3} + the hob tip's reach {:.3} from its centre)",
+                blank.root_radius_mm, tip
             ),
             why: format!("the gaps stay {:.3} mm short of the root", x_min - plunge),
         });
@@ -80,7 +108,7 @@ pub(super) fn depth_and_face(
     let mut run = 0.0f64;
     for &i in &cuts {
         let s = &tl.segments()[i];
-        if x_range(tl, i).1 > x_min + DEPTH_TOL_MM + blank.crowning_mm {
+        if x_range(tl, i, blank).1 > x_min + DEPTH_TOL_MM + blank.crowning_mm {
             continue;
         }
         run = run.max(s.eta_rad.sin().abs() * depth / (2.0 * hob.tan_alpha_x));
@@ -94,7 +122,7 @@ pub(super) fn depth_and_face(
         let in_throat = cuts.iter().any(|&i| {
             let s = &tl.segments()[i];
             let (a, b) = (s.from.z_mm.min(s.to.z_mm), s.from.z_mm.max(s.to.z_mm));
-            x_range(tl, i).0 <= x_min + DEPTH_TOL_MM
+            x_range(tl, i, blank).0 <= x_min + DEPTH_TOL_MM
                 && a <= throat + DEPTH_TOL_MM
                 && b >= throat - DEPTH_TOL_MM
         });

@@ -53,10 +53,14 @@ pub const FINISH_FEED: &str = "finish_feed_mm_per_rev";
 /// drawing's class; `None` where the bound does not apply: a worm wheel
 /// (measured in its throat plane alone, fed radially or tangentially), a
 /// part of several gears (each with its own drawing; one feed bound would
-/// need them all), a conical gear (not simulated, so not checked), a class
-/// or gear outside ISO 1328-1's scope, or a hob too small for the tooth.
+/// need them all), a class or gear outside ISO 1328-1's scope, or a hob
+/// too small for the tooth. A conical gear's feed marks are those of a
+/// cylindrical one: the hob's feed along the cone leaves the same scallops.
 pub fn max_feed_mm_per_rev(gear: &GearSpec, class: GearClass, hob: &HobData) -> Option<f64> {
-    if !matches!(class, GearClass::Cylindrical | GearClass::Crowned) {
+    if !matches!(
+        class,
+        GearClass::Cylindrical | GearClass::Crowned | GearClass::Conical
+    ) {
         return None;
     }
     let data = GearData::new(
@@ -203,10 +207,10 @@ mod tests {
     fn no_bound_outside_its_scope() {
         let (gear, h) = spur(4);
         assert!(max_feed_mm_per_rev(&gear, GearClass::Crowned, &h).is_some());
+        assert!(max_feed_mm_per_rev(&gear, GearClass::Conical, &h).is_some());
         for class in [
             GearClass::WormWheel,
             GearClass::MultiGear,
-            GearClass::Conical,
             GearClass::CurvedTooth,
         ] {
             assert_eq!(max_feed_mm_per_rev(&gear, class, &h), None, "{class:?}");

@@ -254,8 +254,7 @@ impl Clearance {
 
 /// The blank diameter the hob meets at one face (top or bottom): a
 /// cylinder's everywhere; a cone's is smaller by 2·b·tan δ at its small end.
-/// The depth there is the cut's (the hob's X holds the face's value beyond
-/// the face, [`crate::path::conical`]).
+/// The depth there is [`face_clearance`]'s.
 pub(super) fn end_blank_od(u: &Unit, blank_od_mm: f64, top: bool) -> f64 {
     match (u.class, u.gear.cone.as_ref()) {
         (GearClass::Conical, Some(cone)) => {
@@ -271,12 +270,27 @@ pub(super) fn end_blank_od(u: &Unit, blank_od_mm: f64, top: bool) -> f64 {
 }
 
 /// ΔH′ at one face (top or bottom) of a unit's blank: a cone's at that
-/// face's own blank radius (the end the hob approaches may be the small one).
+/// face's own blank radius (the end the hob approaches may be the small one)
+/// and at the depth the hob stands at where it leaves or meets the cone line
+/// beyond that face: at the small end the line runs on ra0·sin δ, deeper by
+/// that times tan δ, and stands r0·(1/cos δ − 1) further out everywhere
+/// ([`crate::path::cone_offsets`]); at the large end the lift alone, which
+/// leaves the hob shallower, is not taken off.
 pub(super) fn face_clearance(u: &Unit, eta: f64, blank: f64, depth: f64, top: bool) -> f64 {
+    let deeper = match (u.class, u.gear.cone.as_ref()) {
+        (GearClass::Conical, Some(cone))
+            if (cone.large_end == gearcam_proto::LargeEnd::Top) != top =>
+        {
+            let (lift, overtravel) =
+                crate::path::cone_offsets(cone.angle_deg, super::hob_radii(u.hob));
+            overtravel * cone.angle_deg.to_radians().tan() - lift
+        }
+        _ => 0.0,
+    };
     Clearance {
         blank_od_mm: end_blank_od(u, blank, top),
         hob_od_mm: u.hob.od_mm,
-        depth_mm: depth,
+        depth_mm: depth + deeper,
         swivel_deg: eta,
         hob_length_mm: u.hob.length_mm,
     }

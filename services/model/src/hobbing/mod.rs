@@ -35,6 +35,14 @@ pub fn hob_reference_diameter_mm(hob: &HobData) -> f64 {
     f64::from(hob.starts) * hob.module_mm / hob.lead_angle_deg.to_radians().sin()
 }
 
+/// The hob's tip and reference radii, as a conical path needs them.
+pub fn hob_radii(hob: &HobData) -> path::HobRadii {
+    path::HobRadii {
+        tip_mm: hob.od_mm / 2.0,
+        reference_mm: hob_reference_diameter_mm(hob) / 2.0,
+    }
+}
+
 /// The blank outside diameter used: the job's `blank_od_mm`, or the theoretical
 /// tip diameter da when the job gives none.
 pub fn blank_od_mm(gear: &GearSpec, geometry: &Geometry) -> f64 {
@@ -296,13 +304,12 @@ pub fn unit_kinematics(u: &Unit, geometry: &Geometry) -> Kinematics {
             _ => 0.0,
         };
         let clear_top = face_clearance(u, eta, set.blank_od_mm, depth + crown, true);
-        // Only a cone's blank differs at its other face.
-        let clear_bottom =
-            if end_blank_od(u, set.blank_od_mm, false) == end_blank_od(u, set.blank_od_mm, true) {
-                clear_top
-            } else {
-                face_clearance(u, eta, set.blank_od_mm, depth + crown, false)
-            };
+        // Only a cone's blank and depth differ at its other face.
+        let clear_bottom = if u.class == GearClass::Conical {
+            face_clearance(u, eta, set.blank_od_mm, depth + crown, false)
+        } else {
+            clear_top
+        };
         // The cut's ΔH′ is the one at the face the hob approaches.
         let clearance = if process.cut_mode == CutMode::Conventional {
             clear_top
@@ -334,7 +341,7 @@ pub fn unit_kinematics(u: &Unit, geometry: &Geometry) -> Kinematics {
         let cut_path = match u.class {
             GearClass::Conical => {
                 let cone = gear.cone.as_ref().expect("conical class has a cone");
-                path::conical(&frame, cone.angle_deg, cone.large_end)
+                path::conical(&frame, cone.angle_deg, cone.large_end, hob_radii(u.hob))
             }
             GearClass::Crowned => {
                 let cr = gear
@@ -438,12 +445,13 @@ pub fn unit_kinematics(u: &Unit, geometry: &Geometry) -> Kinematics {
         .map(|c| {
             let slope = path::cone_slope(c.angle_deg, c.large_end);
             let xc = last.centre_distance_mm + gear.od_correction_mm;
+            let (lift, _) = path::cone_offsets(c.angle_deg, hob_radii(u.hob));
             ConeModel {
                 angle_deg: c.angle_deg,
                 large_end: c.large_end,
                 x_per_z: slope,
-                x_large_mm: xc,
-                x_small_mm: xc - c.angle_deg.to_radians().tan() * gear.face_width_mm,
+                x_large_mm: xc + lift,
+                x_small_mm: xc + lift - c.angle_deg.to_radians().tan() * gear.face_width_mm,
             }
         });
     let coupling = coupling(hob, gear.teeth);
