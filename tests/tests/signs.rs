@@ -333,8 +333,8 @@ fn conical_clearance_taken_at_the_large_end() {
     // clearance was the large end's and X followed the cone line beyond the
     // face, so at the approach height the hob stood deeper than the cut
     // against the small end: the rapid infeed overlapped the blank's edge
-    // (about 1.4 mm). Now X holds the face's value beyond the face and the
-    // clearance is the small end's.
+    // (about 1.4 mm). Now the clearance is the small end's, at the depth
+    // the hob stands where its cone line ends beyond that face.
     let m = model_of(&example("conical_840d.toml")).unwrap();
     assert!(findings(&m).is_empty());
     let k = &m.model;

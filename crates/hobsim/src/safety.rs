@@ -116,11 +116,6 @@ impl BlankGeometry {
         }
     }
 
-    /// The root radius the cut must reach at height `z_mm`.
-    pub fn root_radius_at(&self, z_mm: f64) -> f64 {
-        self.root_radius_mm + self.taper * (z_mm - self.z_lo_mm)
-    }
-
     /// The envelope: a cylinder, or a cone's frustum.
     pub fn envelope(&self) -> Cylinder {
         Cylinder {

@@ -219,7 +219,7 @@ fn a_worm_wheel_is_measured_in_its_throat_plane() {
     );
 }
 
-/// The conical spur program (cone 6.5°, 4 mm face, large end at the
+/// The conical spur program (cone 6.5°, 5 mm face, large end at the
 /// bottom): the hob's centre follows the cone line r0·(1/cos δ − 1) further
 /// out than a cylinder's and ra0·sin δ on beyond the small end, and the gear
 /// it cuts measures, section by section against the involute of its own
@@ -257,12 +257,22 @@ fn a_conical_program_cuts_its_cone() {
     let tolerance = |item| m.item(item).map_or(f64::NAN, |i| i.tolerance_um);
     let thin = m.size.thickness_mm - m.size.design_thickness_mm;
     assert!(thin.abs() < 0.010, "{:?}", m.size);
-    // The path as it was.
-    let old = text
-        .replace("G0 G90 X=51.053", "G0 G90 X=51.294")
-        .replace("Z=107.962", "Z=104.0")
-        .replace("X=51.96 Z=100.0", "X=51.75 Z=100.0");
-    assert_eq!(old.matches("51.294").count(), 1);
+    // The path as it was: the cone line a cylinder's (its lift r0·(1/cos δ − 1)
+    // taken off), from the small face, X held beyond it.
+    let cone = model.model.cone.as_ref().expect("a cone");
+    let hob = &model.plan.hob;
+    let r0 = f64::from(hob.starts) * hob.module_mm / (2.0 * hob.lead_angle_deg.to_radians().sin());
+    let large = cone.x_large_mm - r0 * (1.0 / cone.angle_deg.to_radians().cos() - 1.0);
+    let gear = &model.plan.gear;
+    let (bottom, top) = (
+        gear.fixture_height_mm,
+        gear.fixture_height_mm + gear.face_width_mm,
+    );
+    let small = large + cone.x_per_z * (top - bottom);
+    let old = with_word(&text, "; B -> C", 'X', small);
+    let old = with_word(&old, "; C -> CONE", 'Z', top);
+    let old = with_word(&old, "; ALONG THE CONE", 'X', large);
+    assert_ne!(old, text);
     let was = simulate_text(&old, &model);
     let w = was.measurement.as_ref().expect("measures");
     eprintln!("the path as it was:\n{w}");
@@ -288,4 +298,28 @@ fn a_conical_program_cuts_its_cone() {
         value(&plain, Item::ProfileSlope),
         value(m, Item::ProfileSlope)
     );
+}
+
+/// `text` with the word `letter`=… of the block after the comment line
+/// starting `comment` set to `value`.
+fn with_word(text: &str, comment: &str, letter: char, value: f64) -> String {
+    let lines: Vec<&str> = text.lines().collect();
+    let at = lines
+        .iter()
+        .position(|l| l.starts_with(comment))
+        .unwrap_or_else(|| panic!("no comment {comment}"))
+        + 1;
+    let block: Vec<String> = lines[at]
+        .split(' ')
+        .map(|w| {
+            if w.starts_with(letter) && w[1..].starts_with('=') {
+                format!("{letter}={value:.3}")
+            } else {
+                w.to_string()
+            }
+        })
+        .collect();
+    let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    out[at] = block.join(" ");
+    out.join("\n") + "\n"
 }

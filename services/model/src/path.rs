@@ -616,6 +616,44 @@ mod tests {
     }
 
     #[test]
+    fn a_cone_large_at_the_top_cut_upwards_runs_on_below_its_small_end() {
+        let f = CutFrame {
+            down: false,
+            ..frame()
+        };
+        let hob = HobRadii {
+            tip_mm: 35.0,
+            reference_mm: 32.5,
+        };
+        let path = conical(&f, 6.5, LargeEnd::Top, hob);
+        let q = path.positions;
+        let d = 6.5f64.to_radians();
+        let (lift, over) = (32.5 * (1.0 / d.cos() - 1.0), 35.0 * d.sin());
+        // Up from below the small (bottom) end: the cone line starts
+        // ra0·sin δ below it, X there deeper by that times tan δ.
+        assert_relative_eq!(q.C.z_mm, 26.0, epsilon = 1e-12);
+        assert_relative_eq!(
+            q.C.x_mm,
+            73.75 + lift - (30.0 + over) * d.tan(),
+            epsilon = 1e-12
+        );
+        assert_eq!(path.moves[1].z_mm, Some(50.0 - over));
+        let along = &path.moves[2];
+        assert_eq!(along.z_mm, Some(80.0));
+        assert_relative_eq!(along.x_mm.unwrap(), 73.75 + lift, epsilon = 1e-12);
+        assert_relative_eq!(q.D.x_mm, 73.75 + lift, epsilon = 1e-12);
+        // A stroke shorter than the overtravel: the line starts at C, and
+        // no axial move of no length comes before it.
+        let short = CutFrame {
+            over_bottom_mm: 2.0,
+            ..f
+        };
+        let path = conical(&short, 6.5, LargeEnd::Top, hob);
+        assert_eq!(path.moves[1].z_mm, Some(80.0));
+        assert!(path.moves[1].x_mm.is_some());
+    }
+
+    #[test]
     fn circular_crowning_is_one_exact_arc() {
         let (path, dev) = crowned(&frame(), CrowningShape::Circular, 0.02, 0);
         assert_eq!(dev, 0.0);

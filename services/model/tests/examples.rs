@@ -118,7 +118,8 @@ fn crowned_example_is_one_arc_and_conical_follows_the_cone() {
     assert!(text.contains("CIP X="), "{text}");
     let (m, _) = example("conical_840d.toml");
     let cone = m.model.cone.expect("cone model");
-    // Across the face X follows the cone; beyond the faces it holds.
+    // Along the cone (the face and beyond its small end) X follows Z;
+    // beyond, it holds.
     let moves = &m.model.cuts[0].moves;
     let (to_face, across) = (&moves[1], &moves[2]);
     let p = m.model.positions;

@@ -276,7 +276,13 @@ pub(super) fn section_profiles(
     for (k, &j) in followed.index.iter().enumerate() {
         let sec = Section::new(&sections.r_mm[j], n);
         let teeth: Vec<Tooth> = followed.teeth.iter().map(|t| t[k]).collect();
-        let here = spec.at(sections.z_mm[j])?;
+        // The section's own drawing; its profile needs no measuring circle
+        // (the middle's, which `at` keeps for the helix, may lie outside
+        // the teeth of a far section of a steep cone).
+        let here = GearSpec {
+            measuring_diameter_mm: spec.measuring_diameter_mm,
+            ..spec.at(sections.z_mm[j])?
+        };
         let p = profiles(&sec, &teeth, &here.geometry()?, &here)?;
         out.push(SectionProfile {
             z_mm: followed.z_mm[k],

@@ -54,8 +54,9 @@ pub const FINISH_FEED: &str = "finish_feed_mm_per_rev";
 /// (measured in its throat plane alone, fed radially or tangentially), a
 /// part of several gears (each with its own drawing; one feed bound would
 /// need them all), a class or gear outside ISO 1328-1's scope, or a hob
-/// too small for the tooth. A conical gear's feed marks are those of a
-/// cylindrical one: the hob's feed along the cone leaves the same scallops.
+/// too small for the tooth. Along a cone of angle δ the hob moves fa/cos δ
+/// along the cone line per revolution, so the cusps are those of that feed:
+/// the bound is cos δ times a cylinder's.
 pub fn max_feed_mm_per_rev(gear: &GearSpec, class: GearClass, hob: &HobData) -> Option<f64> {
     if !matches!(
         class,
@@ -80,7 +81,11 @@ pub fn max_feed_mm_per_rev(gear: &GearSpec, class: GearClass, hob: &HobData) -> 
     let s = FEED_MARK_SHARE;
     let helix = 8.0 * rho_min * beta_b.cos() * s * tolerance_mm(Item::HelixForm) / alpha_n.sin();
     let runout = 8.0 * rho_min * s * tolerance_mm(Item::Runout);
-    (rho_min > 0.0 && alpha_n > 0.0).then(|| helix.min(runout).sqrt())
+    let along_cone = gear
+        .cone
+        .as_ref()
+        .map_or(1.0, |c| c.angle_deg.to_radians().cos());
+    (rho_min > 0.0 && alpha_n > 0.0).then(|| helix.min(runout).sqrt() * along_cone)
 }
 
 /// Holds the finishing feed to `bound` ([`max_feed_mm_per_rev`], `None`
@@ -207,7 +212,20 @@ mod tests {
     fn no_bound_outside_its_scope() {
         let (gear, h) = spur(4);
         assert!(max_feed_mm_per_rev(&gear, GearClass::Crowned, &h).is_some());
-        assert!(max_feed_mm_per_rev(&gear, GearClass::Conical, &h).is_some());
+        // Along a cone of 30° the hob travels 1/cos 30° further per
+        // revolution: the same cusps at cos 30° of the feed.
+        let cone = GearSpec {
+            cone: Some(gearcam_proto::ConeSpec {
+                angle_deg: 30.0,
+                large_end: Default::default(),
+            }),
+            ..gear.clone()
+        };
+        let (plain, conical) = (
+            max_feed_mm_per_rev(&gear, GearClass::Cylindrical, &h).unwrap(),
+            max_feed_mm_per_rev(&cone, GearClass::Conical, &h).unwrap(),
+        );
+        assert!((conical - plain * 30f64.to_radians().cos()).abs() < 1e-12);
         for class in [
             GearClass::WormWheel,
             GearClass::MultiGear,

@@ -118,10 +118,20 @@ const RACK_TIP_RADIUS: f64 = 0.38;
 /// line touches the involute on the line of action, at most (d/2)·sin²αt
 /// below the reference circle (at the base circle), so a flank reaching
 /// deeper cuts into the involute it generated.
-fn undercut_mm(geo: &Geometry, pressure_angle_deg: f64, rho: f64) -> f64 {
+///
+/// Fed along a cone of `cone_deg` (0: a cylinder), the hob generates each
+/// transverse section with its rack's depths stretched by 1/cos δ about the
+/// rack's reference line, which stands x·mn out from the reference circle
+/// (`crate::path::cone_offsets`): the flank ends (ha0 − ρ·(1 − sin αn))/cos δ
+/// below that line, ha0 = (d − df)/2 + x·mn, and its flanks stand at
+/// tan αt′ = tan αt·cos δ. These are the large end's figures.
+fn undercut_mm(geo: &Geometry, pressure_angle_deg: f64, rho: f64, cone: (f64, f64)) -> f64 {
+    let (cone_deg, shift_mm) = cone;
+    let stretch = 1.0 / cone_deg.to_radians().cos();
     let an = pressure_angle_deg.to_radians();
-    let at = geo.alpha_t_deg.to_radians();
-    let form = (geo.d_mm - geo.df_mm) / 2.0 - rho * (1.0 - an.sin());
+    let at = (geo.alpha_t_deg.to_radians().tan() / stretch).atan();
+    let addendum = (geo.d_mm - geo.df_mm) / 2.0 + shift_mm;
+    let form = (addendum - rho * (1.0 - an.sin())) * stretch - shift_mm;
     form - geo.d_mm / 2.0 * at.sin().powi(2)
 }
 
@@ -131,11 +141,17 @@ fn undercut_mm(geo: &Geometry, pressure_angle_deg: f64, rho: f64) -> f64 {
 /// large one, where the geometry holds.
 pub(super) fn check_undercut(r: &mut Report, gear: &GearSpec, geo: &Geometry) {
     let mn = gear.module_mm;
-    let at_large = undercut_mm(geo, gear.pressure_angle_deg, RACK_TIP_RADIUS * mn);
-    let deeper = gear
-        .cone
-        .as_ref()
-        .map_or(0.0, |c| gear.face_width_mm * c.angle_deg.to_radians().tan());
+    let over = |cone_deg: f64| {
+        undercut_mm(
+            geo,
+            gear.pressure_angle_deg,
+            RACK_TIP_RADIUS * mn,
+            (cone_deg, gear.profile_shift * mn),
+        )
+    };
+    let cone_deg = gear.cone.as_ref().map_or(0.0, |c| c.angle_deg);
+    let at_large = over(cone_deg);
+    let deeper = gear.face_width_mm * cone_deg.to_radians().tan();
     let worst = at_large + deeper;
     if worst <= 1e-6 {
         return;
@@ -160,7 +176,12 @@ pub(super) fn check_undercut(r: &mut Report, gear: &GearSpec, geo: &Geometry) {
         Some(c) => {
             let tan = c.angle_deg.to_radians().tan();
             let sound = -at_large / tan;
-            let steepest = (-at_large / gear.face_width_mm).atan().to_degrees();
+            // The steepest cone sound at the small end: b·tan δ = −(the
+            // large end's figure at δ), which changes little with δ.
+            let mut steepest = c.angle_deg;
+            for _ in 0..20 {
+                steepest = (-over(steepest) / gear.face_width_mm).atan().to_degrees();
+            }
             format!(
                 "The hob undercuts the involute over the {} mm of the face nearest its small end: along the cone the profile shift falls from {} at the large end to {} at the small end, and below {} the straight flank of the hob (standard rack tip radius {RACK_TIP_RADIUS}·mn) reaches past where the line of action touches the base circle. The root is weakened and the active profile shorter there. A cone of at most {}° avoids it; so would a profile shift of at least {} at the large end, if its teeth do not come to a point.",
                 num(gear.face_width_mm - sound),
@@ -239,7 +260,7 @@ mod undercut_tests {
                 let mut gear = crate::geometry::tests::gear(2.0, teeth, 0.0);
                 gear.profile_shift = x;
                 let geo = geometry(&gear);
-                let over = undercut_mm(&geo, gear.pressure_angle_deg, 0.0);
+                let over = undercut_mm(&geo, gear.pressure_angle_deg, 0.0, (0.0, 0.0));
                 if over.abs() < 0.005 * gear.module_mm {
                     continue;
                 }
@@ -252,6 +273,45 @@ mod undercut_tests {
                     under += 1;
                 } else {
                     sound += 1;
+                }
+            }
+        }
+        assert!(under >= 5 && sound >= 5, "{under} undercut, {sound} sound");
+    }
+
+    /// Along a cone the same brute force, with the rack as the hob stands in
+    /// a transverse section: its flanks at tan α′ = tan αn·cos δ, its depth
+    /// below its reference line stretched by 1/cos δ.
+    #[test]
+    fn along_a_cone_the_limit_is_where_the_stretched_rack_cuts_its_involute() {
+        let (mut under, mut sound) = (0, 0);
+        for cone_deg in [10.0f64, 25.0] {
+            for teeth in [12, 16, 20, 30] {
+                for x in (-5..=5).map(|i| f64::from(i) / 10.0) {
+                    let mut gear = crate::geometry::tests::gear(2.0, teeth, 0.0);
+                    gear.profile_shift = x;
+                    let geo = geometry(&gear);
+                    let mn = gear.module_mm;
+                    let over = undercut_mm(&geo, gear.pressure_angle_deg, 0.0, (cone_deg, x * mn));
+                    if over.abs() < 0.005 * mn {
+                        continue;
+                    }
+                    let c = cone_deg.to_radians().cos();
+                    let a = (20f64.to_radians().tan() * c).atan();
+                    let addendum = (geo.d_mm - geo.df_mm) / 2.0 + x * mn;
+                    let depth = addendum / c - x * mn;
+                    let width = mn * (std::f64::consts::FRAC_PI_2 - 2.0 * x * a.tan());
+                    let cut = rack_cuts_its_involute(geo.d_mm / 2.0, a, depth, width);
+                    assert_eq!(
+                        cut,
+                        over > 0.0,
+                        "δ {cone_deg}, z {teeth}, x {x}: closed form {over} mm"
+                    );
+                    if cut {
+                        under += 1;
+                    } else {
+                        sound += 1;
+                    }
                 }
             }
         }
@@ -292,10 +352,12 @@ mod undercut_tests {
         });
         let w = warned(&gear);
         assert_eq!(w.len(), 1, "{w:?}");
-        // Sound over (d/2·sin²α − (2.5 − 0.76·(1 − sin α)))/tan 6.5°.
-        let a = 20f64.to_radians();
+        // Sound over (d/2·sin²α′ − (2.5 − 0.76·(1 − sin α))/cos δ)/tan δ,
+        // tan α′ = tan α·cos δ.
+        let (a, d) = (20f64.to_radians(), 6.5f64.to_radians());
+        let a_cone = (a.tan() * d.cos()).atan();
         let sound =
-            (19.0 * a.sin().powi(2) - (2.5 - 0.76 * (1.0 - a.sin()))) / 6.5f64.to_radians().tan();
+            (19.0 * a_cone.sin().powi(2) - (2.5 - 0.76 * (1.0 - a.sin())) / d.cos()) / d.tan();
         let over = format!("over the {} mm of the face", num(20.0 - sound));
         assert!(w[0].message.contains(&over), "{over}: {}", w[0].message);
         // Undercut at its large end already (14 teeth): the whole face.
