@@ -617,15 +617,22 @@ impl<'t> Pass<'t> {
         let (mut a, mut b) = (lo, hi);
         // The bracket narrowed to 0.03 mm, within the widening (h is flat
         // at its minimum: a pass that reaches the blank by less than that
-        // error's square cuts only air within the clip margin).
+        // error's square cuts only air within the clip margin). Each step
+        // keeps one of its two inner points, at the golden ratio of the
+        // narrower bracket, and its value.
         let steps =
             |ratio: f64| ((hi - lo) / 0.03).ln().div_euclid(-ratio.ln()).max(0.0) as u32 + 1;
+        let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+        let (mut hc, mut hd) = (h(c), h(d));
         for _ in 0..steps(g) {
-            let (c, d) = (b - g * (b - a), a + g * (b - a));
-            if h(c) < h(d) {
-                b = d;
+            if hc < hd {
+                (b, d, hd) = (d, c, hc);
+                c = b - g * (b - a);
+                hc = h(c);
             } else {
-                a = c;
+                (a, c, hc) = (c, d, hd);
+                d = a + g * (b - a);
+                hd = h(d);
             }
         }
         let y_min = 0.5 * (a + b);
