@@ -221,6 +221,7 @@ scope_table!(
     "k.cone.angle" => u.kin.cone.as_ref().map(|c| c.angle_deg),
     "k.cone.large_end" => u.kin.cone.as_ref().map_or(TplValue::Null, |c| lower(&c.large_end)),
     "k.cone.x_per_z" => u.kin.cone.as_ref().map(|c| c.x_per_z),
+    "k.cone.x_large" => u.kin.cone.as_ref().map(|c| c.x_large_mm),
     "k.has_crowning" => u.kin.crowning.is_some(),
     "k.crowning.shape" => u.kin.crowning.as_ref().map_or(TplValue::Null, |c| lower(&c.shape)),
     "k.crowning.amount" => u.kin.crowning.as_ref().map(|c| c.amount_mm),

@@ -1301,7 +1301,7 @@ mod tests {
         }));
         assert!(list.contains(&TemplateRef {
             id: "conical_840d".into(),
-            version: 7
+            version: 8
         }));
     }
 

@@ -1,7 +1,8 @@
 # Standard NC code: conical gears (tip and root on a cone of angle delta) on a
 # SINUMERIK 840D hobbing machine. As cylindrical, but the axial feed moves X
-# with Z along the cone (the model gives each feed move both axes); the
-# clearance is taken at the large end.
+# with Z along the cone (the model gives each feed move both axes), from the
+# X at the large end the unit line names; the clearance is the approached
+# face's.
 #
 # One record per line: module[/scope] [when: ..] [calc: ..] [if: ..] :: output
 # (format: src/stdcode.rs; expressions and functions: src/expr.rs; parameters:
@@ -10,7 +11,7 @@
 @template conical_840d
 @class conical
 @dialect sinumerik840d
-@version 7
+@version 8
 
 main :: %{program.file}
 main :: ;$PATH=/_N_MPF_DIR
@@ -43,7 +44,7 @@ preparation if: options.fixture_clamp :: {N()} M{mc.fixture_clamp} ; FIXTURE CLA
 conditions if: options.coolant :: {N()} M{mc.coolant_on} ; COOLANT ON
 conditions if: options.chip_conveyor :: {N()} M{mc.chip_conveyor_on} ; CHIP CONVEYOR ON
 conditions if: options.mist_separator :: {N()} M{mc.mist_on} ; OIL MIST SEPARATOR ON
-motion/unit :: ; CONE DELTA={deg(k.cone.angle)} LARGE END {upper(k.cone.large_end)}: X FOLLOWS Z BY {factor(k.cone.x_per_z)} MM/MM
+motion/unit :: ; CONE DELTA={deg(k.cone.angle)} LARGE END {upper(k.cone.large_end)}: X FOLLOWS Z BY {factor(k.cone.x_per_z)} MM/MM FROM X={nc(k.cone.x_large)} AT THE LARGE END
 synchronous/unit :: {N()} {P(1)}={nc(u.module)} ; NORMAL MODULE MN, MM
 synchronous/unit :: {N()} {P(2)}={u.teeth} ; NUMBER OF TEETH Z
 synchronous/unit :: {N()} {P(3)}={deg(u.helix)} ; HELIX ANGLE BETA, DEG

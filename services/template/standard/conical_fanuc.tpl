@@ -1,6 +1,7 @@
 # Standard NC code: conical gears (tip and root on a cone of angle delta) on a
 # FANUC EGB hobbing machine. The axial feed moves X with Z along the cone (the
-# model gives each feed move both axes); the clearance is taken at the large end.
+# model gives each feed move both axes), from the X at the large end the unit
+# line names; the clearance is the approached face's.
 #
 # FANUC EGB dialect as in cylindrical_fanuc.tpl (read its header). One record
 # per line: module[/scope] [when: ..] [calc: ..] [if: ..] :: output (format:
@@ -9,7 +10,7 @@
 @template conical_fanuc
 @class conical
 @dialect fanuc
-@version 5
+@version 6
 
 main :: %
 main :: {program.name} ({upper(comment(part_number))} HOBBING)
@@ -41,7 +42,7 @@ preparation if: options.fixture_clamp :: {N()} M{mc.fixture_clamp} (FIXTURE CLAM
 conditions if: options.coolant :: {N()} M{mc.coolant_on} (COOLANT ON)
 conditions if: options.chip_conveyor :: {N()} M{mc.chip_conveyor_on} (CHIP CONVEYOR ON)
 conditions if: options.mist_separator :: {N()} M{mc.mist_on} (OIL MIST SEPARATOR ON)
-motion/unit :: (CONE DELTA={deg(k.cone.angle)} LARGE END {upper(k.cone.large_end)}: X FOLLOWS Z BY {factor(k.cone.x_per_z)} MM/MM)
+motion/unit :: (CONE DELTA={deg(k.cone.angle)} LARGE END {upper(k.cone.large_end)}: X FOLLOWS Z BY {factor(k.cone.x_per_z)} MM/MM FROM X={nc(k.cone.x_large)} AT THE LARGE END)
 synchronous/unit :: {P(1)}={nc(u.module)} (NORMAL MODULE MN, MM)
 synchronous/unit :: {P(2)}={u.teeth} (NUMBER OF TEETH Z)
 synchronous/unit :: {P(3)}={deg(u.helix)} (HELIX ANGLE BETA, DEG)
