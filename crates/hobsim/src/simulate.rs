@@ -312,7 +312,8 @@ pub fn drawing(model: &MachiningModel) -> GearSpec {
         normal_pressure_angle_deg: alpha,
         profile_shift: g.profile_shift + mid / g.module_mm,
         face_start_mm: g.fixture_height_mm,
-        tip_diameter_mm: geo.da_mm + 2.0 * mid,
+        // A blank smaller than the tip circle is the gear's tip (topped).
+        tip_diameter_mm: geo.da_mm.min(model.model.blank_od_mm) + 2.0 * mid,
         root_diameter_mm: geo.df_mm + 2.0 * mid,
         normal_thickness_mm: thickness,
         helix_crowning_mm: helix_crowning_mm(model),
