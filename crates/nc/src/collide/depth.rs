@@ -67,7 +67,7 @@ pub(crate) const SWIVEL_TOL: f64 = 1e-3;
 /// Most bisection steps for one level.
 const MAX_LEVEL_STEPS: usize = 100;
 /// Most intervals the branch and bound of a swivel move splits.
-const MAX_SWIVEL_SPLITS: usize = 20_000;
+const MAX_SWIVEL_SPLITS: usize = 80_000;
 
 /// Certified bounds of the depth D* of a move into an obstacle.
 #[derive(Debug, Clone, Copy)]
