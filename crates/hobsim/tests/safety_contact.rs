@@ -183,12 +183,28 @@ fn a_rapid_back_along_its_coupled_feed_is_no_contact_and_any_other_is() {
 /// at every azimuth: within the sampling's 2.5 µm.
 #[test]
 fn a_frustums_signed_distance_is_its_nearest_boundary_points() {
-    let cone = safety::Cylinder {
-        radius_mm: 21.25,
-        z_lo_mm: 100.0,
-        z_hi_mm: 104.0,
-        taper: -6.5f64.to_radians().tan(),
-    };
+    for cone in [
+        safety::Cylinder {
+            radius_mm: 21.25,
+            z_lo_mm: 100.0,
+            z_hi_mm: 104.0,
+            taper: -6.5f64.to_radians().tan(),
+        },
+        // Its mirror: the large end on top.
+        safety::Cylinder {
+            radius_mm: 21.25 - 4.0 * 6.5f64.to_radians().tan(),
+            z_lo_mm: 100.0,
+            z_hi_mm: 104.0,
+            taper: 6.5f64.to_radians().tan(),
+        },
+    ] {
+        frustum_against_its_boundary(cone);
+    }
+}
+
+/// [`a_frustums_signed_distance_is_its_nearest_boundary_points`] for one
+/// frustum.
+fn frustum_against_its_boundary(cone: safety::Cylinder) {
     let r_at = |z: f64| cone.radius_mm + cone.taper * (z - cone.z_lo_mm);
     let corners = [
         (0.0, cone.z_lo_mm),

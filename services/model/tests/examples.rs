@@ -130,6 +130,35 @@ fn crowned_example_is_one_arc_and_conical_follows_the_cone() {
     assert!((cone.x_per_z + 6.5f64.to_radians().tan()).abs() < 1e-12);
 }
 
+/// The conical example approaches its small (upper) end: C stands above it
+/// by that end's ΔH′ (and the safety distance) at the depth the hob really
+/// has there, found from C's own X and the small end's blank, whatever
+/// formula placed it.
+#[test]
+fn the_conical_approach_clears_the_small_end_at_its_own_depth() {
+    let (m, _) = example("conical_840d.toml");
+    let (k, gear) = (&m.model, &m.plan.gear);
+    let cone = k.cone.as_ref().expect("cone model");
+    let c = k.cuts[0].positions.C;
+    let small_od = k.blank_od_mm - 2.0 * gear.face_width_mm * cone.angle_deg.to_radians().tan();
+    let depth = small_od / 2.0 + m.plan.hob.od_mm / 2.0 - c.x_mm;
+    let clearance = gearcam_model::hobbing::Clearance {
+        blank_od_mm: small_od,
+        hob_od_mm: m.plan.hob.od_mm,
+        depth_mm: depth,
+        swivel_deg: k.swivel_deg,
+        hob_length_mm: m.plan.hob.length_mm,
+    }
+    .solve()
+    .clearance_mm;
+    let top = gear.fixture_height_mm + gear.face_width_mm;
+    assert!(
+        (c.z_mm - (top + clearance + k.safety_mm)).abs() < 2e-3,
+        "C at Z {} for ΔH′ {clearance} at depth {depth}",
+        c.z_mm
+    );
+}
+
 #[test]
 fn worm_wheel_and_multi_gear_examples() {
     let (m, text) = example("worm_wheel_840d.toml");
