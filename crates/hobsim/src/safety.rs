@@ -102,13 +102,14 @@ impl BlankGeometry {
     pub fn of_model(model: &MachiningModel) -> BlankGeometry {
         let g = &model.plan.gear;
         let (taper, large_end_mm) = cone_of(model);
+        // How much larger the radii are at the lower face than at the
+        // large end (0 but for a cone large at the top).
+        let lower = taper * (g.fixture_height_mm - large_end_mm);
         BlankGeometry {
-            outer_radius_mm: model.model.blank_od_mm / 2.0
-                + taper * (g.fixture_height_mm - large_end_mm),
+            outer_radius_mm: model.model.blank_od_mm / 2.0 + lower,
             z_lo_mm: g.fixture_height_mm,
             z_hi_mm: g.fixture_height_mm + g.face_width_mm,
-            root_radius_mm: model.geometry.df_mm / 2.0
-                + taper * (g.fixture_height_mm - large_end_mm),
+            root_radius_mm: model.geometry.df_mm / 2.0 + lower,
             taper,
             teeth: g.teeth,
             crowning_mm: model.model.crowning.as_ref().map_or(0.0, |c| c.amount_mm),

@@ -21,9 +21,10 @@ fn cutting(s: &Segment) -> bool {
 /// on to finish that face). Beyond the large end the taper is that face's:
 /// the hob holding X there cuts no deeper than at the face. Along the
 /// straight move this is piecewise linear, so its range is taken at the
-/// ends and where Z crosses the large-end face. Depth and face width are what the program
-/// commands, whatever the what-if errors (a runout would move X with the
-/// hob's angle at each end point and make a full-depth move look shallow).
+/// ends and where Z crosses the large-end face. Depth and face width are
+/// what the program commands, whatever the what-if errors (a runout would
+/// move X with the hob's angle at each end point and make a full-depth
+/// move look shallow).
 fn x_range(tl: &Timeline, i: usize, blank: &BlankGeometry) -> (f64, f64) {
     let s = &tl.segments()[i];
     let (a, b) = (
@@ -33,16 +34,13 @@ fn x_range(tl: &Timeline, i: usize, blank: &BlankGeometry) -> (f64, f64) {
     let (lo, hi) = (blank.z_lo_mm, blank.z_hi_mm);
     // The radius grows towards the large end.
     let large = if blank.taper < 0.0 { lo } else { hi };
+    // Z held at the large-end face beyond it.
     let depth = |x: f64, z: f64| {
-        let z = if blank.taper < 0.0 {
-            z.max(lo)
-        } else {
-            z.min(hi)
-        };
+        let z = if large == lo { z.max(lo) } else { z.min(hi) };
         x - blank.taper * (z - lo)
     };
-    let mut range = (depth(a.x_mm, a.z_mm), depth(b.x_mm, b.z_mm));
-    range = (range.0.min(range.1), range.0.max(range.1));
+    let (da, db) = (depth(a.x_mm, a.z_mm), depth(b.x_mm, b.z_mm));
+    let mut range = (da.min(db), da.max(db));
     if (a.z_mm - large) * (b.z_mm - large) < 0.0 {
         let f = (large - a.z_mm) / (b.z_mm - a.z_mm);
         let x = depth(a.x_mm + f * (b.x_mm - a.x_mm), large);

@@ -248,27 +248,37 @@ mod undercut_tests {
         })
     }
 
-    /// The closed form agrees with the brute force on sharp racks: spur
-    /// gears of 8 to 40 teeth, shifts −0.5 to 0.5 (those within 0.005·mn
-    /// of the limit left out: the rack's intrusion grows faster than its
-    /// overshoot, and is below the sampling's reach that close).
-    #[test]
-    fn the_undercut_limit_is_where_the_rack_starts_cutting_its_involute() {
+    /// How many of `teeth` × shifts −0.5 to 0.5 the closed form calls
+    /// undercut and sound along a cone of `cone_deg` (0: a cylinder),
+    /// asserting on each that the brute force agrees, with the rack as the
+    /// hob stands in a transverse section: its flanks at
+    /// tan α′ = tan αn·cos δ, its depth below its reference line stretched
+    /// by 1/cos δ. Cases within 0.005·mn of the limit are left out: the
+    /// rack's intrusion grows faster than its overshoot, and is below the
+    /// sampling's reach that close.
+    fn agreement(cone_deg: f64, teeth: &[u32]) -> (usize, usize) {
         let (mut under, mut sound) = (0, 0);
-        for teeth in [8, 12, 14, 16, 17, 18, 20, 25, 40] {
+        for &z in teeth {
             for x in (-5..=5).map(|i| f64::from(i) / 10.0) {
-                let mut gear = crate::geometry::tests::gear(2.0, teeth, 0.0);
+                let mut gear = crate::geometry::tests::gear(2.0, z, 0.0);
                 gear.profile_shift = x;
                 let geo = geometry(&gear);
-                let over = undercut_mm(&geo, gear.pressure_angle_deg, 0.0, (0.0, 0.0));
-                if over.abs() < 0.005 * gear.module_mm {
+                let mn = gear.module_mm;
+                let over = undercut_mm(&geo, gear.pressure_angle_deg, 0.0, (cone_deg, x * mn));
+                if over.abs() < 0.005 * mn {
                     continue;
                 }
-                let depth = (geo.d_mm - geo.df_mm) / 2.0;
-                let a = 20f64.to_radians();
-                let width = gear.module_mm * (std::f64::consts::FRAC_PI_2 - 2.0 * x * a.tan());
+                let c = cone_deg.to_radians().cos();
+                let a = (20f64.to_radians().tan() * c).atan();
+                let addendum = (geo.d_mm - geo.df_mm) / 2.0 + x * mn;
+                let depth = addendum / c - x * mn;
+                let width = mn * (std::f64::consts::FRAC_PI_2 - 2.0 * x * a.tan());
                 let cut = rack_cuts_its_involute(geo.d_mm / 2.0, a, depth, width);
-                assert_eq!(cut, over > 0.0, "z {teeth}, x {x}: closed form {over} mm");
+                assert_eq!(
+                    cut,
+                    over > 0.0,
+                    "δ {cone_deg}, z {z}, x {x}: closed form {over} mm"
+                );
                 if cut {
                     under += 1;
                 } else {
@@ -276,45 +286,25 @@ mod undercut_tests {
                 }
             }
         }
+        (under, sound)
+    }
+
+    /// The closed form agrees with the brute force on sharp racks: spur
+    /// gears of 8 to 40 teeth, shifts −0.5 to 0.5.
+    #[test]
+    fn the_undercut_limit_is_where_the_rack_starts_cutting_its_involute() {
+        let (under, sound) = agreement(0.0, &[8, 12, 14, 16, 17, 18, 20, 25, 40]);
         assert!(under >= 5 && sound >= 5, "{under} undercut, {sound} sound");
     }
 
     /// Along a cone the same brute force, with the rack as the hob stands in
-    /// a transverse section: its flanks at tan α′ = tan αn·cos δ, its depth
-    /// below its reference line stretched by 1/cos δ.
+    /// a transverse section.
     #[test]
     fn along_a_cone_the_limit_is_where_the_stretched_rack_cuts_its_involute() {
-        let (mut under, mut sound) = (0, 0);
-        for cone_deg in [10.0f64, 25.0] {
-            for teeth in [12, 16, 20, 30] {
-                for x in (-5..=5).map(|i| f64::from(i) / 10.0) {
-                    let mut gear = crate::geometry::tests::gear(2.0, teeth, 0.0);
-                    gear.profile_shift = x;
-                    let geo = geometry(&gear);
-                    let mn = gear.module_mm;
-                    let over = undercut_mm(&geo, gear.pressure_angle_deg, 0.0, (cone_deg, x * mn));
-                    if over.abs() < 0.005 * mn {
-                        continue;
-                    }
-                    let c = cone_deg.to_radians().cos();
-                    let a = (20f64.to_radians().tan() * c).atan();
-                    let addendum = (geo.d_mm - geo.df_mm) / 2.0 + x * mn;
-                    let depth = addendum / c - x * mn;
-                    let width = mn * (std::f64::consts::FRAC_PI_2 - 2.0 * x * a.tan());
-                    let cut = rack_cuts_its_involute(geo.d_mm / 2.0, a, depth, width);
-                    assert_eq!(
-                        cut,
-                        over > 0.0,
-                        "δ {cone_deg}, z {teeth}, x {x}: closed form {over} mm"
-                    );
-                    if cut {
-                        under += 1;
-                    } else {
-                        sound += 1;
-                    }
-                }
-            }
-        }
+        let teeth = [12, 16, 20, 30];
+        let (u10, s10) = agreement(10.0, &teeth);
+        let (u25, s25) = agreement(25.0, &teeth);
+        let (under, sound) = (u10 + u25, s10 + s25);
         assert!(under >= 5 && sound >= 5, "{under} undercut, {sound} sound");
     }
 
