@@ -14,8 +14,10 @@
 //!   request, and under `deploy/secure` only the station publishes requests,
 //!   after journaling them), but not that nobody cancelled it since: a
 //!   cancellation is a person's decision at the station, so the station's
-//!   word at store time is what keeps it. The question is asked while the
-//!   programs are checked, so its round trip overlaps the checks.
+//!   word at store time is what keeps it. The question is asked before the
+//!   programs are checked, and its answer waited for only once their files
+//!   are written aside, so its round trip overlaps the checks and the
+//!   writes; nothing is renamed into the program directory before it.
 //! - **Path check**: the agent follows the models the model service
 //!   publishes for its machine (`gearcam/v1/jobs/*/model`, which only the
 //!   model service may publish under `deploy/secure`) and re-runs the NC path

@@ -57,52 +57,13 @@ pub async fn run(
                     }
                 }
             }
-            // Defence in depth: a journaled job of this machine, and a
-            // program that passes the path check against its model.
-            let deliveries: Vec<(usize, NcProgram)> = deliveries
-                .into_iter()
-                .filter_map(|(i, program)| match store.check_program(&program) {
-                    Ok(_) => Some((i, program)),
-                    Err(error) => {
-                        answers[i] = Some(refused(Some(program.job_id), error));
-                        None
-                    }
-                })
-                .collect();
-            // The station is asked while the programs are checked: the
-            // question's round trip overlaps the path checks.
-            let jobs: Vec<JobId> = deliveries.iter().map(|(_, p)| p.job_id.clone()).collect();
-            let jobs_asked = jobs.clone();
-            let asked = (!jobs.is_empty()).then(|| {
-                let (bus, machine) = (guard_bus.clone(), machine.clone());
-                runtime.spawn(async move { guard::journaled(&bus, &machine, &jobs).await })
-            });
-            if !jobs_asked.is_empty() {
-                tokio::task::block_in_place(|| {
-                    runtime.block_on(models.wait_for(&jobs_asked, guard::MODEL_WAIT))
-                });
-            }
-            let checks: Vec<Result<(), JobError>> =
-                deliveries.iter().map(|(_, p)| models.check(p)).collect();
-            let verdicts = match asked {
-                None => Vec::new(),
-                Some(task) => tokio::task::block_in_place(|| runtime.block_on(task))
-                    .unwrap_or_else(|e| vec![Err(guard::unasked(&e.to_string())); deliveries.len()]),
+            let guard = Guard {
+                bus: &guard_bus,
+                machine: &machine,
+                models: &models,
+                runtime: &runtime,
             };
-            let mut checked = Vec::with_capacity(deliveries.len());
-            for (((i, program), verdict), check) in deliveries.into_iter().zip(verdicts).zip(checks) {
-                match verdict.and(check) {
-                    Ok(()) => checked.push((i, program)),
-                    Err(error) => {
-                        tracing::warn!(job = %program.job_id, code = error.code.as_str(), "program refused before storing");
-                        answers[i] = Some(refused(Some(program.job_id), error));
-                    }
-                }
-            }
-            let programs: Vec<NcProgram> = checked.iter().map(|(_, p)| p.clone()).collect();
-            for ((i, program), result) in checked.into_iter().zip(store.store_batch(&programs)) {
-                answers[i] = Some(delivered(&store, program, result));
-            }
+            deliver(&mut store, &guard, deliveries, &mut answers);
             for (i, (key, payload)) in batch.iter().enumerate() {
                 if answers[i].is_none() {
                     answers[i] = Some(answer_store_query(&mut store, key, payload));
@@ -119,6 +80,109 @@ pub async fn run(
         return Err(AgentError::Duplicate(duplicate_message(&machine, &earlier)));
     }
     Ok(())
+}
+
+/// What the agent checks a delivery against beyond its store.
+struct Guard<'g> {
+    bus: &'g Bus,
+    machine: &'g gearcam_proto::MachineId,
+    models: &'g Models,
+    runtime: &'g tokio::runtime::Handle,
+}
+
+/// The station's answer on a batch's jobs, asked before the checks and
+/// waited for when first needed.
+struct StationWord {
+    task: Option<tokio::task::JoinHandle<Vec<Result<(), JobError>>>>,
+    asked: usize,
+    answer: Vec<Result<(), JobError>>,
+}
+
+impl StationWord {
+    fn get(&mut self, runtime: &tokio::runtime::Handle, k: usize) -> Result<(), JobError> {
+        if let Some(task) = self.task.take() {
+            self.answer = tokio::task::block_in_place(|| runtime.block_on(task))
+                .unwrap_or_else(|e| vec![Err(guard::unasked(&e.to_string())); self.asked]);
+        }
+        self.answer
+            .get(k)
+            .cloned()
+            .unwrap_or_else(|| Err(guard::unasked("the answer left the job out")))
+    }
+}
+
+/// Defence in depth before the deliveries (index in the batch, program) are
+/// stored: a journaled job of this machine, and a program that passes the
+/// path check against its model. The station is asked first, so its round
+/// trip overlaps the checks and the writes; nothing is renamed before its
+/// answer, and its refusal comes before any other.
+fn deliver(
+    store: &mut Store,
+    g: &Guard<'_>,
+    deliveries: Vec<(usize, NcProgram)>,
+    answers: &mut [Option<Answer>],
+) {
+    // A program for another machine or controller, or with a bad name, is
+    // refused on its own.
+    let deliveries: Vec<(usize, NcProgram)> = deliveries
+        .into_iter()
+        .filter_map(|(i, program)| match store.check_program(&program) {
+            Ok(_) => Some((i, program)),
+            Err(error) => {
+                answers[i] = Some(refused(Some(program.job_id), error));
+                None
+            }
+        })
+        .collect();
+    let jobs: Vec<JobId> = deliveries.iter().map(|(_, p)| p.job_id.clone()).collect();
+    if jobs.is_empty() {
+        return;
+    }
+    let task = {
+        let (bus, machine, jobs) = (g.bus.clone(), g.machine.clone(), jobs.clone());
+        g.runtime
+            .spawn(async move { guard::journaled(&bus, &machine, &jobs).await })
+    };
+    let mut word = StationWord {
+        task: Some(task),
+        asked: jobs.len(),
+        answer: Vec::new(),
+    };
+    tokio::task::block_in_place(|| {
+        g.runtime
+            .block_on(g.models.wait_for(&jobs, guard::MODEL_WAIT))
+    });
+    // (position among the asked, index in the batch, program)
+    let mut checked = Vec::with_capacity(deliveries.len());
+    let mut failed = Vec::new();
+    for (k, (i, program)) in deliveries.into_iter().enumerate() {
+        match g.models.check(&program) {
+            Ok(()) => checked.push((k, i, program)),
+            Err(error) => failed.push((k, i, program, error)),
+        }
+    }
+    let programs: Vec<NcProgram> = checked.iter().map(|(_, _, p)| p.clone()).collect();
+    let (results, verdicts) = store.store_confirmed(&programs, || {
+        checked
+            .iter()
+            .map(|(k, _, _)| word.get(g.runtime, *k))
+            .collect()
+    });
+    for (((_, i, program), result), verdict) in checked.into_iter().zip(results).zip(verdicts) {
+        answers[i] = Some(match verdict {
+            Ok(()) => delivered(store, program, result),
+            Err(error) => refused_before_storing(program, error),
+        });
+    }
+    for (k, i, program, error) in failed {
+        let error = word.get(g.runtime, k).err().unwrap_or(error);
+        answers[i] = Some(refused_before_storing(program, error));
+    }
+}
+
+fn refused_before_storing(program: NcProgram, error: JobError) -> Answer {
+    tracing::warn!(job = %program.job_id, code = error.code.as_str(), "program refused before storing");
+    refused(Some(program.job_id), error)
 }
 
 fn duplicate_message(machine: &gearcam_proto::MachineId, earlier: &str) -> String {

@@ -2,11 +2,12 @@
 //! controller reads, plus an SQLite index. Writes are atomic and durable
 //! before a receipt is given.
 //!
-//! Order of a write: temporary file in the same directory, write, fsync,
-//! rename over the final name, fsync the directory, then the index row in a
-//! synchronous (FULL) SQLite transaction. A repeat of the same job + revision +
-//! hash is answered with the original receipt; a program changed at the
-//! machine (file hash differs from the index) is never overwritten.
+//! A write is a temporary file in the same directory, fsynced, renamed over
+//! the final name, with an intent row in the index committed before the
+//! rename (the order, and what a crash leaves, in `write`). A repeat of the
+//! same job + revision + hash is answered with the original receipt; a
+//! program changed at the machine (file hash differs from the index) is
+//! never overwritten.
 
 use gearcam_proto::Code;
 use std::fs;
@@ -28,6 +29,7 @@ mod resolve;
 mod write;
 
 use write::{remove_stale_temporaries, write_atomically, Pending, Prepared};
+pub use write::{Results, Verdicts};
 
 pub use rebuild::Rebuilt;
 pub use resolve::{Resolution, Resolved, Superseded};
@@ -197,39 +199,6 @@ impl Store {
             .expect("one result per program")
     }
 
-    /// Stores several programs with one group commit: every file is written
-    /// and fsynced (in parallel), renamed, the directory fsynced once, and all
-    /// index rows inserted in one transaction; each result is as [`Store::store`]
-    /// would give it alone. Programs that touch a file or job already pending
-    /// in the batch are committed in a later group, so order is kept.
-    pub fn store_batch(
-        &mut self,
-        programs: &[NcProgram],
-    ) -> Vec<Result<DeliveryReceipt, JobError>> {
-        let mut results: Vec<Option<Result<DeliveryReceipt, JobError>>> =
-            vec![None; programs.len()];
-        let mut pending: Vec<Pending> = Vec::new();
-        for (i, p) in programs.iter().enumerate() {
-            let clashes = pending.iter().any(|q| {
-                let q = &programs[q.index];
-                q.name == p.name || (q.job_id == p.job_id && q.revision == p.revision)
-            });
-            if clashes {
-                self.flush(programs, std::mem::take(&mut pending), &mut results);
-            }
-            match self.prepare(p) {
-                Ok(Prepared::Stored(receipt)) => results[i] = Some(Ok(receipt)),
-                Ok(Prepared::Write(q)) => pending.push(Pending { index: i, ..q }),
-                Err(e) => results[i] = Some(Err(e)),
-            }
-        }
-        self.flush(programs, pending, &mut results);
-        results
-            .into_iter()
-            .map(|r| r.expect("every program has a result"))
-            .collect()
-    }
-
     /// The checks of a program on its own ([`StoreConfig::check_program`]).
     pub fn check_program(&self, p: &NcProgram) -> Result<String, JobError> {
         self.config.check_program(p)
@@ -267,8 +236,9 @@ impl Store {
             if stored_hash == hash {
                 // A repeat: the original receipt, once the machine is seen
                 // to hold it (or a later version superseded it).
-                self.check_still_held(&file_name, &hash)
-                    .inspect_err(|e| self.hold(p, &file_name, e))?;
+                if let Err(error) = self.check_still_held(&file_name, &hash) {
+                    return Ok(Prepared::held(error, file_name));
+                }
                 return Ok(Prepared::Stored(receipt));
             }
             return Err(Stage::Agent.error(
@@ -282,9 +252,10 @@ impl Store {
         // A program name belongs to one part.
         self.check_owner(p, &file_name)?;
         // A program changed at the machine is never overwritten silently.
-        let seen = self
-            .check_unchanged_at_machine(&file_name, &hash)
-            .inspect_err(|e| self.hold(p, &file_name, e))?;
+        let seen = match self.check_unchanged_at_machine(&file_name, &hash) {
+            Ok(seen) => seen,
+            Err(error) => return Ok(Prepared::held(error, file_name)),
+        };
         Ok(Prepared::Write(Pending {
             index: 0,
             file_name,

@@ -10,10 +10,14 @@
 //!    program (the intent: job, revision, hash, text); both 1 and 2 are
 //!    durable before any file is renamed (the intent of a program whose
 //!    file failed is undone in 4);
-//! 3. per program, the file at the machine is compared again with what the
-//!    checks saw (an operator's edit during the write is kept: the program is
-//!    refused as changed at the machine), then the temporary file is renamed
-//!    over the final name; the directory is fsynced;
+//! 3. the station's word on each job (journaled for this machine, not
+//!    cancelled), asked before 1 and 2 began so that its round trip overlaps
+//!    their fsyncs: a program it does not confirm has its temporary file
+//!    removed and is never renamed; then, per program, the file at the
+//!    machine is compared again with what the checks saw (an operator's
+//!    edit during the write is kept: the program is refused as changed at
+//!    the machine), then the temporary file is renamed over the final name;
+//!    the directory is fsynced;
 //! 4. one transaction turns the renamed programs' rows to `stored` and
 //!    deletes the rows of those not renamed; it is not fsynced on its own
 //!    (steps 1–3 are durable, and they alone decide what `recover` makes of
@@ -23,7 +27,11 @@
 //! A crash between 2 and 4 leaves `pending` rows: [`Store::recover`] (at
 //! open) makes each `stored` when its file holds exactly its hash (the rename
 //! happened) and deletes it otherwise (the old file is still there). So the
-//! machine never holds a program the history does not show as current.
+//! machine never holds a program the history does not show as current. A
+//! file that already holds a program's exact bytes would make `recover` take
+//! an unconfirmed intent for a rename: a group with such a program waits for
+//! the station's word before 1 and 2, so no intent of a job the station did
+//! not confirm can become history.
 
 use gearcam_proto::Code;
 use std::fs::{self, File};
@@ -53,6 +61,53 @@ pub(super) enum Prepared {
     Stored(DeliveryReceipt),
     /// To be written.
     Write(Pending),
+    /// Refused because the file at the machine was changed there: once the
+    /// station confirms the job, it is recorded as waiting on that edit
+    /// (`Store::hold`), so an adoption of the edit ends it.
+    Held { error: JobError, file_name: String },
+}
+
+impl Prepared {
+    pub(super) fn held(error: JobError, file_name: String) -> Prepared {
+        Prepared::Held { error, file_name }
+    }
+}
+
+/// The station's word on each program's job: confirmed, or its error.
+pub type Verdicts = Vec<Result<(), JobError>>;
+
+/// A result per program of a batch: its receipt or its refusal.
+pub type Results = Vec<Result<DeliveryReceipt, JobError>>;
+
+/// The station's word on the job of each program of a batch, fetched once,
+/// when it is first needed.
+struct Confirm<'c> {
+    ask: Option<Box<dyn FnOnce() -> Verdicts + 'c>>,
+    verdicts: Vec<Result<(), JobError>>,
+    n: usize,
+}
+
+impl<'c> Confirm<'c> {
+    fn new(n: usize, ask: impl FnOnce() -> Verdicts + 'c) -> Confirm<'c> {
+        Confirm {
+            ask: Some(Box::new(ask)),
+            verdicts: Vec::new(),
+            n,
+        }
+    }
+
+    /// Every program's verdict, waiting for the answer the first time; a
+    /// program the answer leaves out is not confirmed.
+    fn verdicts(&mut self) -> &[Result<(), JobError>] {
+        if let Some(ask) = self.ask.take() {
+            let mut v = ask();
+            v.truncate(self.n);
+            let missing = crate::guard::unasked("the answer named fewer jobs than were asked");
+            v.resize(self.n, Err(missing));
+            self.verdicts = v;
+        }
+        &self.verdicts
+    }
 }
 
 fn io_error(dir: &Path, file_name: &str, e: &std::io::Error) -> JobError {
@@ -69,13 +124,100 @@ fn io_error(dir: &Path, file_name: &str, e: &std::io::Error) -> JobError {
 }
 
 impl Store {
-    /// Writes the pending programs durably and records them (module docs).
-    pub(super) fn flush(
+    /// Stores several programs with one group commit: every file is written
+    /// and fsynced (in parallel), renamed, the directory fsynced once, and all
+    /// index rows inserted in one transaction; each result is as [`Store::store`]
+    /// would give it alone. Programs that touch a file or job already pending
+    /// in the batch are committed in a later group, so order is kept.
+    pub fn store_batch(
+        &mut self,
+        programs: &[NcProgram],
+    ) -> Vec<Result<DeliveryReceipt, JobError>> {
+        self.store_confirmed(programs, || vec![Ok(()); programs.len()])
+            .0
+    }
+
+    /// [`Store::store_batch`] for programs whose jobs the station has yet to
+    /// confirm: `ask` gives its word on each program's job (the agent asks
+    /// before storing begins, so the round trip overlaps the writes' fsyncs).
+    /// A program it does not confirm gets the station's error and is never
+    /// renamed into the program directory, nor left in the index, nor
+    /// recorded as waiting on an edit at the machine. Returns each program's
+    /// result and the station's verdict on its job.
+    pub fn store_confirmed(
+        &mut self,
+        programs: &[NcProgram],
+        ask: impl FnOnce() -> Verdicts,
+    ) -> (Results, Verdicts) {
+        let mut confirm = Confirm::new(programs.len(), ask);
+        let mut held = Vec::new();
+        let mut results: Vec<Option<Result<DeliveryReceipt, JobError>>> =
+            vec![None; programs.len()];
+        let mut pending: Vec<Pending> = Vec::new();
+        for (i, p) in programs.iter().enumerate() {
+            let clashes = pending.iter().any(|q| {
+                let q = &programs[q.index];
+                q.name == p.name || (q.job_id == p.job_id && q.revision == p.revision)
+            });
+            if clashes {
+                let pending = std::mem::take(&mut pending);
+                self.flush(programs, pending, &mut results, &mut confirm);
+            }
+            match self.prepare(p) {
+                Ok(Prepared::Stored(receipt)) => results[i] = Some(Ok(receipt)),
+                Ok(Prepared::Write(q)) => pending.push(Pending { index: i, ..q }),
+                Ok(Prepared::Held { error, file_name }) => {
+                    results[i] = Some(Err(error));
+                    held.push((i, file_name));
+                }
+                Err(e) => results[i] = Some(Err(e)),
+            }
+        }
+        self.flush(programs, pending, &mut results, &mut confirm);
+        let verdicts = confirm.verdicts().to_vec();
+        for (i, file_name) in held {
+            if let (Ok(()), Some(Err(error))) = (&verdicts[i], &results[i]) {
+                self.hold(&programs[i], &file_name, error);
+            }
+        }
+        let results = results
+            .into_iter()
+            .zip(&verdicts)
+            .map(|(r, v)| match v {
+                Err(e) => Err(e.clone()),
+                Ok(()) => r.expect("every program has a result"),
+            })
+            .collect();
+        (results, verdicts)
+    }
+
+    /// Writes the pending programs durably and records them (module docs);
+    /// a program whose job the station does not confirm is left out before
+    /// its rename.
+    fn flush(
         &mut self,
         programs: &[NcProgram],
         pending: Vec<Pending>,
         results: &mut [Option<Result<DeliveryReceipt, JobError>>],
+        confirm: &mut Confirm,
     ) {
+        // A file already holding a program's bytes: the station's word
+        // first (module docs).
+        let pending = if pending.iter().any(|q| q.seen.as_ref() == Some(&q.hash)) {
+            let verdicts = confirm.verdicts();
+            pending
+                .into_iter()
+                .filter(|q| match &verdicts[q.index] {
+                    Ok(()) => true,
+                    Err(e) => {
+                        results[q.index] = Some(Err(e.clone()));
+                        false
+                    }
+                })
+                .collect()
+        } else {
+            pending
+        };
         if pending.is_empty() {
             return;
         }
@@ -107,15 +249,24 @@ impl Store {
                 return;
             }
         };
-        // A program whose file could not be written is refused, its intent undone.
+        // A program the station does not confirm, or whose file could not
+        // be written, is refused, its intent undone.
+        let verdicts = confirm.verdicts();
         let (mut ready, mut seqs_ready, mut unwritten) = (Vec::new(), Vec::new(), Vec::new());
         for ((q, tmp), seq) in pending.into_iter().zip(written).zip(seqs) {
-            match tmp {
-                Ok(tmp) => {
+            match (tmp, &verdicts[q.index]) {
+                (Ok(tmp), Ok(())) => {
                     ready.push((q, tmp));
                     seqs_ready.push(seq);
                 }
-                Err(e) => {
+                (tmp, Err(e)) => {
+                    if let Ok(tmp) = tmp {
+                        let _ = fs::remove_file(&tmp);
+                    }
+                    results[q.index] = Some(Err(e.clone()));
+                    unwritten.push(seq);
+                }
+                (Err(e), Ok(())) => {
                     results[q.index] = Some(Err(io_error(&dir, &q.file_name, &e)));
                     unwritten.push(seq);
                 }
@@ -397,7 +548,13 @@ mod tests {
         let path = dir.path().join("programs/_N_SP_1_MPF");
         fs::write(&path, "operator edit\n").unwrap();
         let mut results = vec![None];
-        s.flush(std::slice::from_ref(&second), vec![q], &mut results);
+        let mut confirm = Confirm::new(1, || vec![Ok(())]);
+        s.flush(
+            std::slice::from_ref(&second),
+            vec![q],
+            &mut results,
+            &mut confirm,
+        );
         let e = results[0].take().unwrap().unwrap_err();
         assert_eq!(e.code, "PROGRAM_CHANGED_AT_MACHINE");
         assert_eq!(fs::read_to_string(&path).unwrap(), "operator edit\n");
@@ -501,5 +658,118 @@ mod tests {
             ]
         );
         assert!(!dir.path().join("programs/_N_SP_2_MPF").exists());
+    }
+
+    fn not_journaled() -> JobError {
+        Stage::Agent.error(
+            Code::JOB_NOT_JOURNALED,
+            "job_id",
+            "a job journaled for H01",
+            "no such job",
+            "the agent stores only programs of journaled jobs",
+        )
+    }
+
+    /// The names in the program directory: (programs, temporary files).
+    fn files(dir: &Path) -> (Vec<String>, Vec<String>) {
+        let mut names: Vec<String> = fs::read_dir(dir.join("programs"))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names.into_iter().partition(|n| !n.contains(".tmp-"))
+    }
+
+    fn rows_of(s: &Store, job: &str) -> i64 {
+        s.conn
+            .query_row("SELECT COUNT(*) FROM programs WHERE job = ?1", [job], |r| {
+                r.get(0)
+            })
+            .unwrap()
+    }
+
+    /// The station's word is waited for once the files are written (its
+    /// round trip overlaps their fsyncs); a job it does not confirm leaves
+    /// no file, temporary file or row, and gets the station's error.
+    #[test]
+    fn an_unconfirmed_job_is_written_aside_but_never_renamed_nor_indexed() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = store(dir.path());
+        let batch = [
+            program("J1", "SP_1", "first\n"),
+            program("J2", "SP_2", "second\n"),
+        ];
+        let mut at_ask = None;
+        let (results, verdicts) = s.store_confirmed(&batch, || {
+            at_ask = Some(files(dir.path()));
+            vec![Ok(()), Err(not_journaled())]
+        });
+        let (programs, temporaries) = at_ask.expect("the station was asked");
+        assert!(programs.is_empty(), "{programs:?}");
+        assert_eq!(temporaries.len(), 2, "{temporaries:?}");
+        assert!(results[0].is_ok() && verdicts[0].is_ok(), "{results:?}");
+        assert_eq!(
+            results[1].as_ref().unwrap_err().code,
+            Code::JOB_NOT_JOURNALED
+        );
+        assert!(verdicts[1].is_err());
+        assert_eq!(files(dir.path()), (vec!["_N_SP_1_MPF".into()], vec![]));
+        assert_eq!((rows_of(&s, "J1"), rows_of(&s, "J2")), (1, 0));
+    }
+
+    /// A file already holding the delivery's bytes would let `recover` take
+    /// an intent for a rename: such a program waits for the station's word
+    /// before anything is written or recorded.
+    #[test]
+    fn a_file_holding_the_same_bytes_waits_for_the_station_first() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = store(dir.path());
+        s.store(&program("J1", "SP_1", "same\n")).unwrap();
+        let mut at_ask = None;
+        let (results, _) = s.store_confirmed(&[program("J2", "SP_1", "same\n")], || {
+            at_ask = Some(files(dir.path()));
+            vec![Err(not_journaled())]
+        });
+        assert_eq!(at_ask, Some((vec!["_N_SP_1_MPF".into()], vec![])));
+        assert_eq!(
+            results[0].as_ref().unwrap_err().code,
+            Code::JOB_NOT_JOURNALED
+        );
+        assert_eq!((rows_of(&s, "J1"), rows_of(&s, "J2")), (1, 0));
+        // Confirmed, it is stored as a new version of the same bytes.
+        let (results, _) = s.store_confirmed(&[program("J2", "SP_1", "same\n")], || vec![Ok(())]);
+        assert!(results[0].is_ok(), "{results:?}");
+        assert_eq!(rows_of(&s, "J2"), 1);
+    }
+
+    /// A program refused because its file was changed at the machine is
+    /// recorded as waiting on the edit only once the station confirms its
+    /// job: an adoption of the edit never ends a job the station does not
+    /// know.
+    #[test]
+    fn only_a_confirmed_job_waits_on_an_edit_at_the_machine() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = store(dir.path());
+        s.store(&program("J1", "SP_1", "first\n")).unwrap();
+        fs::write(dir.path().join("programs/_N_SP_1_MPF"), "operator edit\n").unwrap();
+        let held = |s: &Store, job: &str| -> i64 {
+            s.conn
+                .query_row("SELECT COUNT(*) FROM held WHERE job = ?1", [job], |r| {
+                    r.get(0)
+                })
+                .unwrap()
+        };
+        let (results, _) = s.store_confirmed(&[program("J2", "SP_1", "second\n")], || {
+            vec![Err(not_journaled())]
+        });
+        assert_eq!(
+            results[0].as_ref().unwrap_err().code,
+            Code::JOB_NOT_JOURNALED
+        );
+        assert_eq!(held(&s, "J2"), 0);
+        let (results, _) = s.store_confirmed(&[program("J3", "SP_1", "third\n")], || vec![Ok(())]);
+        let code = &results[0].as_ref().unwrap_err().code;
+        assert_eq!(*code, Code::PROGRAM_CHANGED_AT_MACHINE);
+        assert_eq!(held(&s, "J3"), 1);
     }
 }
