@@ -6,8 +6,8 @@
 //! cut at 1.6 mm per table turn), read back by `gearcam_nc::check` into a
 //! trace once. Printed first: the whole `simulate::simulate` (timeline, cut
 //! on 9 sections, measurement and grading) at `Settings::fine()` (1 µm
-//! outline, `Resolution::fine()`) and `Settings::coarse()`, each the best of
-//! three runs; then `cut::cut` alone and how its coarse cost grows with
+//! outline, `Resolution::fine()`) and `Settings::coarse()`, each on one
+//! thread and on every core, the best of three runs; then `cut::cut` alone and how its coarse cost grows with
 //! sections, samples, tolerance and face width. Criterion times the coarse
 //! cut. The figures are upper bounds on a shared machine.
 
@@ -79,19 +79,29 @@ fn time_ms(reps: u32, mut f: impl FnMut() -> u64) -> f64 {
 
 fn hobbing(c: &mut Criterion) {
     let s = setup();
+    let cores = Settings::fine().thread_count();
     for (name, settings, target) in [
         ("fine", Settings::fine(), 1000.0),
         ("coarse", Settings::coarse(), 100.0),
     ] {
-        let mut grade = String::new();
-        let ms = time_ms(3, || {
-            let sim = simulate(&s.trace, &s.model, &settings).expect("simulates");
-            grade = format!("{:?}", sim.report(0.0).grade);
-            sim.passes
-        });
-        println!(
-            "simulate helical_climb_840d, {name}, 9 sections, cut + measure + grade: {ms:.0} ms (target < {target:.0} ms), grade {grade}"
-        );
+        for threads in [1, cores] {
+            let settings = Settings {
+                threads,
+                ..settings
+            };
+            let mut grade = String::new();
+            let ms = time_ms(3, || {
+                let sim = simulate(&s.trace, &s.model, &settings).expect("simulates");
+                grade = format!("{:?}", sim.report(0.0).grade);
+                sim.passes
+            });
+            println!(
+                "simulate helical_climb_840d, {name}, 9 sections, cut + measure + grade, {threads} thread(s): {ms:.0} ms (target < {target:.0} ms), grade {grade}"
+            );
+            if cores == 1 {
+                break;
+            }
+        }
     }
     let fine_n = samples_for(s.radius_mm, 1.0);
     let coarse_n = samples_for(s.radius_mm, 10.0);

@@ -131,20 +131,22 @@ pub fn cut(
     blank: &mut Blank,
     res: Resolution,
 ) -> Result<u64, SimError> {
-    cut_with(timeline, hob, blank, res, true, None)
+    cut_with(timeline, hob, blank, res, (true, 1), None)
 }
 
 /// [`cut`] along the segments `i` of the timeline with `mine[i]` only: the
 /// moves `hob` makes on a machine that changes hobs between the gears of
-/// one part.
+/// one part. The sections are shared among `threads` threads (the outline
+/// is the same with any number).
 pub fn cut_segments(
     timeline: &Timeline,
     hob: &Hob,
     blank: &mut Blank,
     res: Resolution,
     mine: &[bool],
+    threads: usize,
 ) -> Result<u64, SimError> {
-    cut_with(timeline, hob, blank, res, true, Some(mine))
+    cut_with(timeline, hob, blank, res, (true, threads), Some(mine))
 }
 
 /// [`cut`] with every pass's curve refined to the tolerance everywhere,
@@ -157,7 +159,7 @@ pub fn cut_exhaustive(
     blank: &mut Blank,
     res: Resolution,
 ) -> Result<u64, SimError> {
-    cut_with(timeline, hob, blank, res, false, None)
+    cut_with(timeline, hob, blank, res, (false, 1), None)
 }
 
 fn cut_with(
@@ -165,7 +167,7 @@ fn cut_with(
     hob: &Hob,
     blank: &mut Blank,
     res: Resolution,
-    skip_clear: bool,
+    (skip_clear, threads): (bool, usize),
     mine: Option<&[bool]>,
 ) -> Result<u64, SimError> {
     if !(res.axial_step_mm > 0.0 && res.tolerance_mm > 0.0) {
@@ -220,28 +222,61 @@ fn cut_with(
         }
     }
     let clip_r = blank.outer_radius_mm + CLIP_MARGIN_MM;
-    let mut order: Vec<(f64, usize)> = Vec::with_capacity(passes.len());
-    // The knots and the grid of each pass, in buffers kept between passes.
-    let mut scratch = (Vec::new(), Vec::new());
-    for (j, r) in blank.r_mm.iter_mut().enumerate() {
-        let zs = blank.z_mm[j];
-        // The deepest passes first: the outline is then near its last shape
-        // early, and the shallower passes' pieces stand clear of it.
-        order.clear();
-        order.extend(passes.iter().enumerate().map(|(i, p)| (p.depth_in(zs), i)));
-        order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-        let mut blocks = Vec::new();
-        for (k, &(_, i)) in order.iter().enumerate() {
-            // The blocks' maxima only fall as the outline is cut, so a
-            // stale one is still an upper bound: refreshed as the outline
-            // takes its shape (after 16, 32, … passes), then every 512.
-            if k == 0 || (k >= 16 && (k.is_power_of_two() || k % 512 == 0)) {
-                block_maxima(r, &mut blocks);
-            }
-            passes[i].cut(zs, clip_r, (r, &blocks), &dirs, skip_clear, &mut scratch);
+    let cut_one = |zs: f64, r: &mut Vec<f64>| {
+        cut_section(&passes, zs, r, (clip_r, &dirs), skip_clear);
+    };
+    // Each section is cut by one thread with every pass, so the outline
+    // does not depend on how many share the sections.
+    let threads = threads.clamp(1, blank.z_mm.len());
+    if threads == 1 {
+        for (&zs, r) in blank.z_mm.iter().zip(blank.r_mm.iter_mut()) {
+            cut_one(zs, r);
         }
+    } else {
+        let work = std::sync::Mutex::new(blank.z_mm.iter().zip(blank.r_mm.iter_mut()));
+        std::thread::scope(|scope| {
+            for _ in 0..threads {
+                scope.spawn(|| loop {
+                    let next = work.lock().map(|mut w| w.next());
+                    match next {
+                        Ok(Some((&zs, r))) => cut_one(zs, r),
+                        _ => break,
+                    }
+                });
+            }
+        });
     }
     Ok(passes.len() as u64)
+}
+
+/// Cuts the outline `r` of the section `zs` with every pass, the deepest
+/// first: the outline is then near its last shape early, and the shallower
+/// passes' pieces stand clear of it.
+fn cut_section(
+    passes: &[pass::Pass<'_>],
+    zs: f64,
+    r: &mut [f64],
+    (clip_r, dirs): (f64, &[(f64, f64)]),
+    skip_clear: bool,
+) {
+    let mut order: Vec<(f64, usize)> = passes
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (p.depth_in(zs), i))
+        .collect();
+    order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    // The knots and the grid of each pass, in buffers kept between passes.
+    let mut scratch = (Vec::new(), Vec::new());
+    let mut blocks = Vec::new();
+    for (k, &(_, i)) in order.iter().enumerate() {
+        // The blocks' maxima only fall as the outline is cut, so a stale
+        // one is still an upper bound: refreshed as the outline takes its
+        // shape (after 16, 32, … passes), then every 512.
+        if k == 0 || (k >= 16 && (k.is_power_of_two() || k % 512 == 0)) {
+            block_maxima(r, &mut blocks);
+        }
+        passes[i].cut(zs, clip_r, (r, &blocks), dirs, skip_clear, &mut scratch);
+    }
 }
 
 /// Margin outside the blank's radius within which a pass is traced, mm:

@@ -45,6 +45,10 @@ pub struct Settings {
     pub errors: MachineErrors,
     /// What the hob record does not say (gashes, tip radius).
     pub hob: HobExtras,
+    /// Threads the run may use (0: one per core): the sections are shared
+    /// among them, each cut by one, and the safety rules run beside the
+    /// cut. The result is the same with any number.
+    pub threads: usize,
 }
 
 impl Settings {
@@ -59,6 +63,15 @@ impl Settings {
             rates: MachineRates::default(),
             errors: MachineErrors::default(),
             hob: HobExtras::default(),
+            threads: 0,
+        }
+    }
+
+    /// The threads to run on: [`Settings::threads`], or one per core.
+    pub fn thread_count(&self) -> usize {
+        match self.threads {
+            0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+            n => n,
         }
     }
 
@@ -190,17 +203,48 @@ pub fn simulate_part(
             ..a
         });
     let fixtures = Fixtures::of_model(model, &span);
-    let mut safety = safety::check_part(&timeline, &setups, &mounted, &fixtures);
     let mine: Vec<Vec<bool>> = (0..units.len())
         .map(|j| safety::moves_with(&mounted, j))
         .collect();
+    let threads = settings.thread_count();
+    // The safety rules on one thread beside the cut on the others.
+    let check = || safety::check_part(&timeline, &setups, &mounted, &fixtures);
+    let cut_all = |threads: usize| -> Result<Vec<(Blank, u64)>, SimError> {
+        units
+            .iter()
+            .map(|(_, m)| {
+                let mut blank = unit_blank(m, settings)?;
+                let mut passes = 0;
+                for ((_, hob, _), mine) in setups.iter().zip(&mine) {
+                    passes += cut::cut_segments(
+                        &timeline,
+                        hob,
+                        &mut blank,
+                        settings.resolution,
+                        mine,
+                        threads,
+                    )?;
+                }
+                Ok((blank, passes))
+            })
+            .collect()
+    };
+    let (mut safety, cut) = if threads > 1 {
+        std::thread::scope(|scope| {
+            let checked = scope.spawn(check);
+            let cut = cut_all(threads);
+            (
+                checked
+                    .join()
+                    .unwrap_or_else(|p| std::panic::resume_unwind(p)),
+                cut,
+            )
+        })
+    } else {
+        (check(), cut_all(1))
+    };
     let mut out = Vec::with_capacity(units.len());
-    for (name, m) in &units {
-        let mut blank = unit_blank(m, settings)?;
-        let mut passes = 0;
-        for ((_, hob, _), mine) in setups.iter().zip(&mine) {
-            passes += cut::cut_segments(&timeline, hob, &mut blank, settings.resolution, mine)?;
-        }
+    for ((name, m), (blank, passes)) in units.iter().zip(cut?) {
         let spec = drawing(m);
         let (measured, note) = measured_sections(&blank, m);
         let sections = sections_of(&blank, &measured);

@@ -323,3 +323,34 @@ fn with_word(text: &str, comment: &str, letter: char, value: f64) -> String {
     out[at] = block.join(" ");
     out.join("\n") + "\n"
 }
+
+/// The sections are shared among threads, each cut by one with every pass,
+/// and the safety rules run beside them: the run's result is the same on
+/// one thread and on three (more threads than cores, an uneven share of
+/// the sections), for a part of two gears with a safety finding.
+#[test]
+#[ignore = "seconds in release: cargo test --release -p gearcam-hobsim -- --ignored"]
+fn a_run_on_several_threads_is_the_run_on_one() {
+    let (text, model) = common::program("two_units_five_cuts_840d");
+    let wrong = text.replace("B,0,1,18,Z", "B,0,1,25,Z");
+    let (_, trace) = gearcam_nc::check(&wrong, &model);
+    let on = |threads: usize| {
+        let settings = Settings {
+            threads,
+            ..Settings::coarse()
+        };
+        simulate_part(&trace, &model, &settings).expect("simulates")
+    };
+    let (one, three) = (on(1), on(3));
+    assert!(!one[0].safety.is_empty());
+    assert_eq!(one.len(), three.len());
+    for (a, b) in one.iter().zip(&three) {
+        assert_eq!(a.blank, b.blank, "{:?}", a.unit);
+        assert_eq!(a.passes, b.passes);
+        assert_eq!(format!("{:?}", a.safety), format!("{:?}", b.safety));
+        assert_eq!(
+            format!("{:?}", a.measurement),
+            format!("{:?}", b.measurement)
+        );
+    }
+}
