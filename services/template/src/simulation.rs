@@ -120,6 +120,11 @@ impl Simulations {
 /// asked for every hobbing program, so it is not spelled out as text.
 fn key_of(trace: &Trace, model: &MachiningModel, settings: &Settings) -> [u8; 32] {
     let mut h = Sha256::new();
+    // The thread count does not change the run's result.
+    let settings = Settings {
+        threads: 0,
+        ..*settings
+    };
     h.update(format!("{settings:?}").as_bytes());
     let opt = |h: &mut Sha256, v: Option<f64>| match v {
         Some(x) => h.update([&[1u8][..], &x.to_bits().to_le_bytes()].concat()),
@@ -572,6 +577,12 @@ mod tests {
         assert_ne!(
             key(&trace, &model),
             key_of(&trace, &model, &Settings::coarse())
+        );
+        // One run whatever the threads it used.
+        let fine = Settings::fine();
+        assert_eq!(
+            key_of(&trace, &model, &Settings { threads: 1, ..fine }),
+            key_of(&trace, &model, &Settings { threads: 3, ..fine })
         );
     }
 }
