@@ -2,7 +2,7 @@
 //! controller reads, plus an SQLite index. Writes are atomic and durable
 //! before a receipt is given.
 //!
-//! A write is a temporary file in the same directory, fsynced, renamed over
+//! A write is a temporary file in the same directory, made durable, renamed over
 //! the final name, with an intent row in the index committed before the
 //! rename (the order, and what a crash leaves, in `write`). A repeat of the
 //! same job + revision + hash is answered with the original receipt; a

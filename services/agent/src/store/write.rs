@@ -14,7 +14,9 @@
 //! 3. the station's word on each job (journaled for this machine, not
 //!    cancelled), asked before 1 and 2 began so that its round trip overlaps
 //!    their fsyncs: a program it does not confirm has its temporary file
-//!    removed and is never renamed; then, per program, the file at the
+//!    removed and its intent deleted (one synchronous transaction, before
+//!    any rename of the group; if it fails, nothing of the group is
+//!    renamed), and is never renamed; then, per program, the file at the
 //!    machine is compared again with what the checks saw (an operator's
 //!    edit during the write is kept: the program is refused as changed at
 //!    the machine), then the temporary file is renamed over the final name;
@@ -126,10 +128,11 @@ fn io_error(dir: &Path, file_name: &str, e: &std::io::Error) -> JobError {
 
 impl Store {
     /// Stores several programs with one group commit: every file is written
-    /// and fsynced (in parallel), renamed, the directory fsynced once, and all
-    /// index rows inserted in one transaction; each result is as [`Store::store`]
-    /// would give it alone. Programs that touch a file or job already pending
-    /// in the batch are committed in a later group, so order is kept.
+    /// and made durable (module docs), renamed, the directory fsynced once,
+    /// and all index rows inserted in one transaction; each result is as
+    /// [`Store::store`] would give it alone. Programs that touch a file or
+    /// job already pending in the batch are committed in a later group, so
+    /// order is kept.
     pub fn store_batch(
         &mut self,
         programs: &[NcProgram],
@@ -156,9 +159,13 @@ impl Store {
             vec![None; programs.len()];
         let mut pending: Vec<Pending> = Vec::new();
         for (i, p) in programs.iter().enumerate() {
+            // Two names of one file (a dialect's suffix given or not) share
+            // its temporary file: never in one group.
+            let file_name = self.check_program(p).ok();
             let clashes = pending.iter().any(|q| {
+                let same_file = file_name.as_ref() == Some(&q.file_name);
                 let q = &programs[q.index];
-                q.name == p.name || (q.job_id == p.job_id && q.revision == p.revision)
+                same_file || q.name == p.name || (q.job_id == p.job_id && q.revision == p.revision)
             });
             if clashes {
                 let pending = std::mem::take(&mut pending);
@@ -223,8 +230,8 @@ impl Store {
             return;
         }
         let dir = self.config.program_dir.clone();
-        // 1 and 2 at once: the temporary files are written and fsynced
-        // while the intents are committed, so the two fsyncs overlap; both
+        // 1 and 2 at once: the temporary files are written and made durable
+        // while the intents are committed, so the two flushes overlap; both
         // are durable before any rename.
         let stored_at = now_ms();
         let (written, seqs) = std::thread::scope(|scope| {
@@ -254,6 +261,7 @@ impl Store {
         // be written, is refused, its intent undone.
         let verdicts = confirm.verdicts();
         let (mut ready, mut seqs_ready, mut unwritten) = (Vec::new(), Vec::new(), Vec::new());
+        let mut unconfirmed = Vec::new();
         for ((q, tmp), seq) in pending.into_iter().zip(written).zip(seqs) {
             match (tmp, &verdicts[q.index]) {
                 (Ok(tmp), Ok(())) => {
@@ -265,12 +273,25 @@ impl Store {
                         let _ = fs::remove_file(&tmp);
                     }
                     results[q.index] = Some(Err(e.clone()));
-                    unwritten.push(seq);
+                    unconfirmed.push(seq);
                 }
                 (Err(e), Ok(())) => {
                     results[q.index] = Some(Err(io_error(&dir, &q.file_name, &e)));
                     unwritten.push(seq);
                 }
+            }
+        }
+        // The intents of jobs the station did not confirm are gone for good
+        // before anything is renamed: a later write of the same bytes must
+        // not let `recover` take one for a rename. If they cannot be
+        // deleted, nothing of the group is renamed.
+        if !unconfirmed.is_empty() {
+            if let Err(e) = self.delete_intents(&unconfirmed) {
+                for (q, tmp) in ready {
+                    let _ = fs::remove_file(&tmp);
+                    results[q.index] = Some(Err(index_error(e.to_string())));
+                }
+                return;
             }
         }
         if self.config.faults.pause_before_rename_ms > 0 {
@@ -383,6 +404,19 @@ impl Store {
         (renamed, undone)
     }
 
+    /// Deletes the intents `seqs` in one transaction, durable (synchronous
+    /// FULL) when it returns.
+    fn delete_intents(&mut self, seqs: &[i64]) -> rusqlite::Result<()> {
+        let tx = self.conn.transaction()?;
+        {
+            let mut delete = tx.prepare_cached("DELETE FROM programs WHERE seq = ?1")?;
+            for seq in seqs {
+                delete.execute([seq])?;
+            }
+        }
+        tx.commit()
+    }
+
     /// Step 4: one transaction turns the renamed programs' rows to `stored`
     /// and deletes the rows of those not renamed.
     fn settle_intents(
@@ -489,12 +523,12 @@ fn write_temps(
     pending: &[Pending],
 ) -> Vec<std::io::Result<PathBuf>> {
     let text = |q: &Pending| programs[q.index].text.as_bytes();
-    if pending.len() > 1 && group_sync::local_disk(dir) {
+    if let Some(barrier) = (pending.len() > 1).then(|| group_sync::open(dir)).flatten() {
         let written: Vec<_> = pending
             .iter()
             .map(|q| write_unsynced(dir, &q.file_name, text(q)))
             .collect();
-        return match group_sync::sync(dir) {
+        return match barrier.sync() {
             Ok(()) => written,
             // Which file failed is not known: none is durable.
             Err(e) => written
@@ -522,9 +556,14 @@ fn write_temps(
             .collect();
         handles
             .into_iter()
-            .flat_map(|h| {
-                h.join()
-                    .unwrap_or_else(|_| vec![Err(std::io::Error::other("writer thread panicked"))])
+            .zip(pending.chunks(pending.len().div_ceil(8)))
+            .flat_map(|(h, chunk)| {
+                h.join().unwrap_or_else(|_| {
+                    chunk
+                        .iter()
+                        .map(|_| Err(std::io::Error::other("writer thread panicked")))
+                        .collect()
+                })
             })
             .collect()
     })
@@ -532,40 +571,106 @@ fn write_temps(
 
 /// One durability barrier for the files a batch wrote.
 mod group_sync {
-    use std::path::Path;
+    use std::path::{Path, PathBuf};
 
-    /// True when `dir` is on a local disk file system whose `syncfs` writes
-    /// back every dirty file and flushes the disk's cache (ext4, XFS,
-    /// Btrfs).
-    #[cfg(target_os = "linux")]
-    pub(super) fn local_disk(dir: &Path) -> bool {
-        const EXT4: i64 = 0xEF53;
-        const XFS: i64 = 0x5846_5342;
-        const BTRFS: i64 = 0x9123_683E;
-        rustix::fs::statfs(dir).is_ok_and(|st| {
-            // `FsWord` is i64 here, narrower on some systems.
-            #[allow(clippy::useless_conversion)]
-            let kind = i64::from(st.f_type);
-            [EXT4, XFS, BTRFS].contains(&kind)
-        })
+    /// The file systems whose `syncfs` writes back every dirty file and
+    /// flushes the disk's cache.
+    const LOCAL_DISK: [&str; 3] = ["ext4", "xfs", "btrfs"];
+
+    /// A program directory, opened before the files are written, whose file
+    /// system one `syncfs` makes durable; the write-back errors of those
+    /// files are reported to it.
+    pub(super) struct Barrier(
+        #[cfg_attr(not(target_os = "linux"), allow(dead_code))] std::fs::File,
+    );
+
+    /// The barrier of `dir` when its file system is a local disk one
+    /// (`LOCAL_DISK`) and the kernel's `syncfs` reports write-back errors
+    /// (Linux 5.8 and later); `None` otherwise: then each file is fsynced.
+    pub(super) fn open(dir: &Path) -> Option<Barrier> {
+        if !(cfg!(target_os = "linux") && reports_errors() && local_disk(dir)) {
+            return None;
+        }
+        std::fs::File::open(dir).ok().map(Barrier)
     }
 
-    #[cfg(not(target_os = "linux"))]
-    pub(super) fn local_disk(_dir: &Path) -> bool {
-        false
+    impl Barrier {
+        /// Writes back and flushes the file system.
+        #[cfg(target_os = "linux")]
+        pub(super) fn sync(&self) -> std::io::Result<()> {
+            rustix::fs::syncfs(&self.0).map_err(std::io::Error::from)
+        }
+
+        #[cfg(not(target_os = "linux"))]
+        pub(super) fn sync(&self) -> std::io::Result<()> {
+            Err(std::io::Error::other("no syncfs on this system"))
+        }
     }
 
-    /// Writes back and flushes the file system holding `dir` (errors of
-    /// any file's write-back since the directory was opened are reported).
-    #[cfg(target_os = "linux")]
-    pub(super) fn sync(dir: &Path) -> std::io::Result<()> {
-        let d = std::fs::File::open(dir)?;
-        rustix::fs::syncfs(&d).map_err(std::io::Error::from)
+    /// True from Linux 5.8, whose `syncfs` returns the errors of write-back
+    /// since the descriptor was opened.
+    fn reports_errors() -> bool {
+        let Ok(release) = std::fs::read_to_string("/proc/sys/kernel/osrelease") else {
+            return false;
+        };
+        let mut parts = release
+            .trim()
+            .split(|c: char| !c.is_ascii_digit())
+            .map(|n| n.parse::<u32>().unwrap_or(0));
+        let (major, minor) = (parts.next().unwrap_or(0), parts.next().unwrap_or(0));
+        (major, minor) >= (5, 8)
     }
 
-    #[cfg(not(target_os = "linux"))]
-    pub(super) fn sync(_dir: &Path) -> std::io::Result<()> {
-        Err(std::io::Error::other("no syncfs on this system"))
+    /// True when the mount holding `dir` (the longest mount point it lies
+    /// under, in `/proc/self/mountinfo`) is of a `LOCAL_DISK` type.
+    fn local_disk(dir: &Path) -> bool {
+        let (Ok(dir), Ok(table)) = (
+            dir.canonicalize(),
+            std::fs::read_to_string("/proc/self/mountinfo"),
+        ) else {
+            return false;
+        };
+        mount_type(&table, &dir).is_some_and(|t| LOCAL_DISK.contains(&t))
+    }
+
+    /// The file system type of the mount holding `dir` in a mountinfo
+    /// table: per line, the mount point is the fifth field (spaces and
+    /// other bytes written as \ooo) and the type follows the ` - `.
+    pub(super) fn mount_type<'t>(table: &'t str, dir: &Path) -> Option<&'t str> {
+        table
+            .lines()
+            .filter_map(|line| {
+                let (mount, rest) = line.split_once(" - ")?;
+                let point = unescape(mount.split(' ').nth(4)?);
+                let kind = rest.split(' ').next()?;
+                dir.starts_with(&point)
+                    .then_some((point.components().count(), kind))
+            })
+            .max_by_key(|&(depth, _)| depth)
+            .map(|(_, kind)| kind)
+    }
+
+    /// A mount point with its octal escapes (\040 a space) decoded.
+    fn unescape(field: &str) -> PathBuf {
+        let bytes = field.as_bytes();
+        let mut out = Vec::with_capacity(bytes.len());
+        let mut i = 0;
+        while i < bytes.len() {
+            let octal = bytes
+                .get(i + 1..i + 4)
+                .filter(|d| bytes[i] == b'\\' && d.iter().all(|b| (b'0'..=b'7').contains(b)));
+            match octal {
+                Some(d) => {
+                    out.push(d.iter().fold(0u8, |v, b| v.wrapping_mul(8) + (b - b'0')));
+                    i += 4;
+                }
+                None => {
+                    out.push(bytes[i]);
+                    i += 1;
+                }
+            }
+        }
+        PathBuf::from(String::from_utf8_lossy(&out).into_owned())
     }
 }
 
@@ -611,247 +716,4 @@ pub(super) fn write_atomically(dir: &Path, file_name: &str, bytes: &[u8]) -> std
 }
 
 #[cfg(test)]
-mod tests {
-    use super::super::tests::{program, store};
-    use super::*;
-
-    /// An operator's edit made while the program is being written (after the
-    /// checks, before the rename) is not overwritten.
-    #[test]
-    fn an_edit_during_the_write_is_kept() {
-        let dir = tempfile::tempdir().unwrap();
-        let mut s = store(dir.path());
-        s.store(&program("J1", "SP_1", "first\n")).unwrap();
-        let second = program("J2", "SP_1", "second\n");
-        let Prepared::Write(q) = s.prepare(&second).unwrap() else {
-            panic!("a new version is written")
-        };
-        // The operator saves an edit now, between the checks and the rename.
-        let path = dir.path().join("programs/_N_SP_1_MPF");
-        fs::write(&path, "operator edit\n").unwrap();
-        let mut results = vec![None];
-        let mut confirm = Confirm::new(1, || vec![Ok(())]);
-        s.flush(
-            std::slice::from_ref(&second),
-            vec![q],
-            &mut results,
-            &mut confirm,
-        );
-        let e = results[0].take().unwrap().unwrap_err();
-        assert_eq!(e.code, "PROGRAM_CHANGED_AT_MACHINE");
-        assert_eq!(fs::read_to_string(&path).unwrap(), "operator edit\n");
-        // No row for the refused write, no temporary file left.
-        assert_eq!(s.history(Some("SP_1")).unwrap().len(), 1);
-        assert_eq!(
-            fs::read_dir(dir.path().join("programs")).unwrap().count(),
-            1
-        );
-    }
-
-    /// A crash between the rename and the index commit must not leave the
-    /// machine holding a program the history does not show: the intent row
-    /// is finished (renamed) or undone (not renamed) at open.
-    #[test]
-    fn recovery_finishes_or_undoes_each_intent() {
-        let dir = tempfile::tempdir().unwrap();
-        let mut s = store(dir.path());
-        s.store(&program("J1", "SP_1", "first\n")).unwrap();
-        s.store(&program("J9", "SP_2", "other\n")).unwrap();
-        let intent = |s: &Store, job: &str, name: &str, text: &str| {
-            s.conn
-                .execute(
-                    "INSERT INTO programs (name, file_name, job, revision, sha256, size_bytes, dialect, stored_at_ms, state, text, part)
-                     VALUES (?1, ?2, ?3, 1, ?4, ?5, 'sinumerik840d', 1, 'pending', ?6, 'P')",
-                    params![name, format!("_N_{name}_MPF"), job, sha256_hex(text.as_bytes()), text.len() as i64, text],
-                )
-                .unwrap();
-        };
-        // J2 was renamed into place, J3 was not, when the agent died.
-        intent(&s, "J2", "SP_1", "second\n");
-        fs::write(dir.path().join("programs/_N_SP_1_MPF"), "second\n").unwrap();
-        intent(&s, "J3", "SP_2", "never renamed\n");
-        drop(s);
-        let s = store(dir.path());
-        let h = s.history(Some("SP_1")).unwrap();
-        assert_eq!(
-            (h[0].job.as_str(), h[0].state.as_str(), h[0].current),
-            ("J2", "stored", true)
-        );
-        let h = s.history(Some("SP_2")).unwrap();
-        assert_eq!((h.len(), h[0].job.as_str()), (1, "J9"));
-        let pending: i64 = s
-            .conn
-            .query_row(
-                "SELECT COUNT(*) FROM programs WHERE state = 'pending'",
-                [],
-                |r| r.get(0),
-            )
-            .unwrap();
-        assert_eq!(pending, 0);
-    }
-
-    /// A failed write removes its temporary file at once, not at restart.
-    #[test]
-    fn a_failed_write_leaves_no_temporary_file() {
-        let dir = tempfile::tempdir().unwrap();
-        // A directory where the file should be: the write fails, even as root.
-        let target = dir.path().join("_N_X_MPF");
-        fs::create_dir(&target).unwrap();
-        assert!(write_atomically(dir.path(), "_N_X_MPF", b"x\n").is_err());
-        let names: Vec<_> = fs::read_dir(dir.path())
-            .unwrap()
-            .map(|e| e.unwrap().file_name())
-            .collect();
-        assert_eq!(names, vec![std::ffi::OsString::from("_N_X_MPF")]);
-    }
-
-    /// The intent is committed while the files are written: a program
-    /// whose file cannot be written is refused, its intent undone, and the
-    /// rest of its group stored.
-    #[test]
-    fn a_file_that_cannot_be_written_is_refused_and_its_intent_undone() {
-        let dir = tempfile::tempdir().unwrap();
-        let mut s = store(dir.path());
-        // A directory where the temporary file would go: its write fails.
-        let blocked = format!(".{}.tmp-{}", "_N_SP_2_MPF", std::process::id());
-        fs::create_dir(dir.path().join("programs").join(&blocked)).unwrap();
-        let group = [
-            program("J1", "SP_1", "first\n"),
-            program("J2", "SP_2", "blocked\n"),
-            program("J3", "SP_3", "third\n"),
-        ];
-        let results = s.store_batch(&group);
-        assert!(results[0].is_ok() && results[2].is_ok(), "{results:?}");
-        let refused = results[1].as_ref().unwrap_err();
-        assert_eq!(refused.code, Code::STORE_IO_ERROR, "{refused:?}");
-        let rows: Vec<(String, String)> = s
-            .conn
-            .prepare("SELECT job, state FROM programs ORDER BY job")
-            .unwrap()
-            .query_map([], |r| Ok((r.get(0)?, r.get(1)?)))
-            .unwrap()
-            .collect::<Result<_, _>>()
-            .unwrap();
-        assert_eq!(
-            rows,
-            vec![
-                ("J1".into(), "stored".into()),
-                ("J3".into(), "stored".into())
-            ]
-        );
-        assert!(!dir.path().join("programs/_N_SP_2_MPF").exists());
-    }
-
-    fn not_journaled() -> JobError {
-        Stage::Agent.error(
-            Code::JOB_NOT_JOURNALED,
-            "job_id",
-            "a job journaled for H01",
-            "no such job",
-            "the agent stores only programs of journaled jobs",
-        )
-    }
-
-    /// The names in the program directory: (programs, temporary files).
-    fn files(dir: &Path) -> (Vec<String>, Vec<String>) {
-        let mut names: Vec<String> = fs::read_dir(dir.join("programs"))
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        names.sort();
-        names.into_iter().partition(|n| !n.contains(".tmp-"))
-    }
-
-    fn rows_of(s: &Store, job: &str) -> i64 {
-        s.conn
-            .query_row("SELECT COUNT(*) FROM programs WHERE job = ?1", [job], |r| {
-                r.get(0)
-            })
-            .unwrap()
-    }
-
-    /// The station's word is waited for once the files are written (its
-    /// round trip overlaps their fsyncs); a job it does not confirm leaves
-    /// no file, temporary file or row, and gets the station's error.
-    #[test]
-    fn an_unconfirmed_job_is_written_aside_but_never_renamed_nor_indexed() {
-        let dir = tempfile::tempdir().unwrap();
-        let mut s = store(dir.path());
-        let batch = [
-            program("J1", "SP_1", "first\n"),
-            program("J2", "SP_2", "second\n"),
-        ];
-        let mut at_ask = None;
-        let (results, verdicts) = s.store_confirmed(&batch, || {
-            at_ask = Some(files(dir.path()));
-            vec![Ok(()), Err(not_journaled())]
-        });
-        let (programs, temporaries) = at_ask.expect("the station was asked");
-        assert!(programs.is_empty(), "{programs:?}");
-        assert_eq!(temporaries.len(), 2, "{temporaries:?}");
-        assert!(results[0].is_ok() && verdicts[0].is_ok(), "{results:?}");
-        assert_eq!(
-            results[1].as_ref().unwrap_err().code,
-            Code::JOB_NOT_JOURNALED
-        );
-        assert!(verdicts[1].is_err());
-        assert_eq!(files(dir.path()), (vec!["_N_SP_1_MPF".into()], vec![]));
-        assert_eq!((rows_of(&s, "J1"), rows_of(&s, "J2")), (1, 0));
-    }
-
-    /// A file already holding the delivery's bytes would let `recover` take
-    /// an intent for a rename: such a program waits for the station's word
-    /// before anything is written or recorded.
-    #[test]
-    fn a_file_holding_the_same_bytes_waits_for_the_station_first() {
-        let dir = tempfile::tempdir().unwrap();
-        let mut s = store(dir.path());
-        s.store(&program("J1", "SP_1", "same\n")).unwrap();
-        let mut at_ask = None;
-        let (results, _) = s.store_confirmed(&[program("J2", "SP_1", "same\n")], || {
-            at_ask = Some(files(dir.path()));
-            vec![Err(not_journaled())]
-        });
-        assert_eq!(at_ask, Some((vec!["_N_SP_1_MPF".into()], vec![])));
-        assert_eq!(
-            results[0].as_ref().unwrap_err().code,
-            Code::JOB_NOT_JOURNALED
-        );
-        assert_eq!((rows_of(&s, "J1"), rows_of(&s, "J2")), (1, 0));
-        // Confirmed, it is stored as a new version of the same bytes.
-        let (results, _) = s.store_confirmed(&[program("J2", "SP_1", "same\n")], || vec![Ok(())]);
-        assert!(results[0].is_ok(), "{results:?}");
-        assert_eq!(rows_of(&s, "J2"), 1);
-    }
-
-    /// A program refused because its file was changed at the machine is
-    /// recorded as waiting on the edit only once the station confirms its
-    /// job: an adoption of the edit never ends a job the station does not
-    /// know.
-    #[test]
-    fn only_a_confirmed_job_waits_on_an_edit_at_the_machine() {
-        let dir = tempfile::tempdir().unwrap();
-        let mut s = store(dir.path());
-        s.store(&program("J1", "SP_1", "first\n")).unwrap();
-        fs::write(dir.path().join("programs/_N_SP_1_MPF"), "operator edit\n").unwrap();
-        let held = |s: &Store, job: &str| -> i64 {
-            s.conn
-                .query_row("SELECT COUNT(*) FROM held WHERE job = ?1", [job], |r| {
-                    r.get(0)
-                })
-                .unwrap()
-        };
-        let (results, _) = s.store_confirmed(&[program("J2", "SP_1", "second\n")], || {
-            vec![Err(not_journaled())]
-        });
-        assert_eq!(
-            results[0].as_ref().unwrap_err().code,
-            Code::JOB_NOT_JOURNALED
-        );
-        assert_eq!(held(&s, "J2"), 0);
-        let (results, _) = s.store_confirmed(&[program("J3", "SP_1", "third\n")], || vec![Ok(())]);
-        let code = &results[0].as_ref().unwrap_err().code;
-        assert_eq!(*code, Code::PROGRAM_CHANGED_AT_MACHINE);
-        assert_eq!(held(&s, "J3"), 1);
-    }
-}
+mod tests;
