@@ -209,23 +209,7 @@ impl Store {
         results: &mut [Option<Result<DeliveryReceipt, JobError>>],
         confirm: &mut Confirm,
     ) {
-        // A file already holding a program's bytes: the station's word
-        // first (module docs).
-        let pending = if pending.iter().any(|q| q.seen.as_ref() == Some(&q.hash)) {
-            let verdicts = confirm.verdicts();
-            pending
-                .into_iter()
-                .filter(|q| match &verdicts[q.index] {
-                    Ok(()) => true,
-                    Err(e) => {
-                        results[q.index] = Some(Err(e.clone()));
-                        false
-                    }
-                })
-                .collect()
-        } else {
-            pending
-        };
+        let pending = confirmed_first(pending, results, confirm);
         if pending.is_empty() {
             return;
         }
@@ -483,6 +467,30 @@ impl Store {
         }
         Ok((finished, undone))
     }
+}
+
+/// The group to write: when a file already holds a program's bytes, only
+/// the programs the station confirms, its word taken first (module docs);
+/// the others get its error.
+fn confirmed_first(
+    pending: Vec<Pending>,
+    results: &mut [Option<Result<DeliveryReceipt, JobError>>],
+    confirm: &mut Confirm,
+) -> Vec<Pending> {
+    if !pending.iter().any(|q| q.seen.as_ref() == Some(&q.hash)) {
+        return pending;
+    }
+    let verdicts = confirm.verdicts();
+    pending
+        .into_iter()
+        .filter(|q| match &verdicts[q.index] {
+            Ok(()) => true,
+            Err(e) => {
+                results[q.index] = Some(Err(e.clone()));
+                false
+            }
+        })
+        .collect()
 }
 
 /// Removes temporary files a killed agent left behind (`.{name}.tmp-{pid}`):
