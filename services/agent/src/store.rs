@@ -218,20 +218,16 @@ impl Store {
         }
         let hash = p.sha256.clone();
         // Idempotency: the same job and revision.
-        let existing = self
-            .conn
-            .query_row(
-                "SELECT * FROM programs WHERE job = ?1 AND revision = ?2 AND state = 'stored'",
-                params![p.job_id.as_str(), p.revision],
-                |r| {
-                    Ok((
-                        r.get::<_, String>("sha256")?,
-                        self.receipt_from_row(r, true)?,
-                    ))
-                },
-            )
-            .optional()
-            .map_err(index_error)?;
+        let existing = self.row(
+            "SELECT * FROM programs WHERE job = ?1 AND revision = ?2 AND state = 'stored'",
+            params![p.job_id.as_str(), p.revision],
+            |r| {
+                Ok((
+                    r.get::<_, String>("sha256")?,
+                    self.receipt_from_row(r, true)?,
+                ))
+            },
+        )?;
         if let Some((stored_hash, receipt)) = existing {
             if stored_hash == hash {
                 // A repeat: the original receipt, once the machine is seen
@@ -283,16 +279,27 @@ impl Store {
         }
     }
 
+    /// One row of `sql`, or none; the statement is kept prepared (the
+    /// checks before a write run these for every program).
+    pub(super) fn row<T, P: rusqlite::Params>(
+        &self,
+        sql: &str,
+        params: P,
+        f: impl FnOnce(&rusqlite::Row<'_>) -> rusqlite::Result<T>,
+    ) -> Result<Option<T>, JobError> {
+        self.conn
+            .prepare_cached(sql)
+            .and_then(|mut st| st.query_row(params, f).optional())
+            .map_err(index_error)
+    }
+
     /// The hash of the newest version the index knows for `file_name`.
     fn indexed_hash(&self, file_name: &str) -> Result<Option<String>, JobError> {
-        self.conn
-            .query_row(
+        self.row(
                 "SELECT sha256 FROM programs WHERE file_name = ?1 AND state != 'pending' ORDER BY seq DESC LIMIT 1",
                 [file_name],
                 |r| r.get(0),
             )
-            .optional()
-            .map_err(index_error)
     }
 
     /// Refuses when the file in the program directory differs from the last

@@ -3,7 +3,6 @@
 
 use gearcam_proto::Code;
 use gearcam_proto::{naming, Dialect, JobError, NcProgram, Stage};
-use rusqlite::OptionalExtension;
 
 use super::{index_error, Store};
 
@@ -11,15 +10,11 @@ impl Store {
     /// Refuses `p` when its file already holds a program of another part
     /// (`PROGRAM_NAME_TAKEN`, naming both parts and a free name).
     pub(super) fn check_owner(&self, p: &NcProgram, file_name: &str) -> Result<(), JobError> {
-        let owner: Option<String> = self
-            .conn
-            .query_row(
+        let owner: Option<String> = self.row(
                 "SELECT part FROM programs WHERE file_name = ?1 AND part != '' AND state != 'pending' ORDER BY seq DESC LIMIT 1",
                 [file_name],
                 |r| r.get(0),
-            )
-            .optional()
-            .map_err(index_error)?;
+            )?;
         let Some(owner) = owner else { return Ok(()) };
         if owner == p.part_number {
             return Ok(());

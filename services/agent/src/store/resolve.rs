@@ -295,20 +295,17 @@ impl Store {
 
     /// Whether an adoption ended `job`, and by which version.
     pub fn superseded(&self, job: &str) -> Result<Option<Superseded>, JobError> {
-        self.conn
-            .query_row(
-                "SELECT name, seq, by_user FROM superseded WHERE job = ?1",
-                [job],
-                |r| {
-                    Ok(Superseded {
-                        name: r.get(0)?,
-                        seq: r.get::<_, i64>(1)? as u64,
-                        by: r.get(2)?,
-                    })
-                },
-            )
-            .optional()
-            .map_err(index_error)
+        self.row(
+            "SELECT name, seq, by_user FROM superseded WHERE job = ?1",
+            [job],
+            |r| {
+                Ok(Superseded {
+                    name: r.get(0)?,
+                    seq: r.get::<_, i64>(1)? as u64,
+                    by: r.get(2)?,
+                })
+            },
+        )
     }
 }
 
