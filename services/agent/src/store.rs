@@ -69,6 +69,9 @@ pub struct Faults {
 pub struct Store {
     config: StoreConfig,
     conn: Connection,
+    /// Whether a group's files are made durable by one `syncfs`
+    /// (`write::group_sync`), decided when the store opens.
+    group_sync: bool,
 }
 
 /// Lowercase hex SHA-256 of bytes.
@@ -150,7 +153,12 @@ impl Store {
         }
         gearcam_bus::durable::mark(&config.index_path).map_err(io(&config.index_path))?;
         remove_stale_temporaries(&config.program_dir);
-        let mut store = Store { config, conn };
+        let group_sync = write::group_sync::available(&config.program_dir);
+        let mut store = Store {
+            config,
+            conn,
+            group_sync,
+        };
         store.recover()?;
         Ok(store)
     }

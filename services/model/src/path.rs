@@ -584,14 +584,16 @@ mod tests {
         );
     }
 
+    /// The hob of the conical tests: ra0 35 mm, r0 32.5 mm.
+    const HOB: HobRadii = HobRadii {
+        tip_mm: 35.0,
+        reference_mm: 32.5,
+    };
+
     #[test]
     fn conical_x_follows_z_along_the_cone_and_holds_beyond_the_faces() {
         let f = frame();
-        let hob = HobRadii {
-            tip_mm: 35.0,
-            reference_mm: 32.5,
-        };
-        let path = conical(&f, 6.5, LargeEnd::Bottom, hob);
+        let path = conical(&f, 6.5, LargeEnd::Bottom, HOB);
         let q = path.positions;
         let d = 6.5f64.to_radians();
         let t = d.tan();
@@ -621,11 +623,7 @@ mod tests {
             down: false,
             ..frame()
         };
-        let hob = HobRadii {
-            tip_mm: 35.0,
-            reference_mm: 32.5,
-        };
-        let path = conical(&f, 6.5, LargeEnd::Top, hob);
+        let path = conical(&f, 6.5, LargeEnd::Top, HOB);
         let q = path.positions;
         let d = 6.5f64.to_radians();
         let (lift, over) = (32.5 * (1.0 / d.cos() - 1.0), 35.0 * d.sin());
@@ -648,7 +646,7 @@ mod tests {
             over_bottom_mm: 2.0,
             ..f
         };
-        let path = conical(&short, 6.5, LargeEnd::Top, hob);
+        let path = conical(&short, 6.5, LargeEnd::Top, HOB);
         assert_eq!(path.moves[1].z_mm, Some(80.0));
         assert!(path.moves[1].x_mm.is_some());
     }

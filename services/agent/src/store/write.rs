@@ -161,7 +161,7 @@ impl Store {
         for (i, p) in programs.iter().enumerate() {
             // Two names of one file (a dialect's suffix given or not) share
             // its temporary file: never in one group.
-            let file_name = self.check_program(p).ok();
+            let file_name = gearcam_proto::naming::file_name(p.dialect, &p.name).ok();
             let clashes = pending.iter().any(|q| {
                 let same_file = file_name.as_ref() == Some(&q.file_name);
                 let q = &programs[q.index];
@@ -218,8 +218,9 @@ impl Store {
         // while the intents are committed, so the two flushes overlap; both
         // are durable before any rename.
         let stored_at = now_ms();
+        let group_sync = self.group_sync;
         let (written, seqs) = std::thread::scope(|scope| {
-            let writer = scope.spawn(|| write_temps(&dir, programs, &pending));
+            let writer = scope.spawn(|| write_temps((&dir, group_sync), programs, &pending));
             let seqs = self.record_intents(programs, &pending, stored_at);
             let written = writer.join().unwrap_or_else(|_| {
                 pending
@@ -526,12 +527,15 @@ pub(super) fn remove_stale_temporaries(dir: &Path) {
 /// parallel (concurrent fsyncs share a journal's commits where there is
 /// one).
 fn write_temps(
-    dir: &Path,
+    (dir, group_sync): (&Path, bool),
     programs: &[NcProgram],
     pending: &[Pending],
 ) -> Vec<std::io::Result<PathBuf>> {
     let text = |q: &Pending| programs[q.index].text.as_bytes();
-    if let Some(barrier) = (pending.len() > 1).then(|| group_sync::open(dir)).flatten() {
+    let barrier = (group_sync && pending.len() > 1)
+        .then(|| group_sync::open(dir))
+        .flatten();
+    if let Some(barrier) = barrier {
         let written: Vec<_> = pending
             .iter()
             .map(|q| write_unsynced(dir, &q.file_name, text(q)))
@@ -578,7 +582,7 @@ fn write_temps(
 }
 
 /// One durability barrier for the files a batch wrote.
-mod group_sync {
+pub(super) mod group_sync {
     use std::path::{Path, PathBuf};
 
     /// The file systems whose `syncfs` writes back every dirty file and
@@ -592,13 +596,16 @@ mod group_sync {
         #[cfg_attr(not(target_os = "linux"), allow(dead_code))] std::fs::File,
     );
 
-    /// The barrier of `dir` when its file system is a local disk one
-    /// (`LOCAL_DISK`) and the kernel's `syncfs` reports write-back errors
-    /// (Linux 5.8 and later); `None` otherwise: then each file is fsynced.
+    /// True when `dir`'s file system is a local disk one (`LOCAL_DISK`)
+    /// and the kernel's `syncfs` reports write-back errors (Linux 5.8 and
+    /// later); otherwise each file is fsynced. Asked once, when the store
+    /// opens: neither changes while the agent runs.
+    pub(crate) fn available(dir: &Path) -> bool {
+        cfg!(target_os = "linux") && reports_errors() && local_disk(dir)
+    }
+
+    /// The barrier of `dir`, opened before the files are written.
     pub(super) fn open(dir: &Path) -> Option<Barrier> {
-        if !(cfg!(target_os = "linux") && reports_errors() && local_disk(dir)) {
-            return None;
-        }
         std::fs::File::open(dir).ok().map(Barrier)
     }
 
