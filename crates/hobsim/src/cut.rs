@@ -12,6 +12,8 @@
 //! `docs/simulation.md` §3).
 
 mod pass;
+mod plane;
+mod window;
 
 use pass::Point;
 
@@ -117,6 +119,21 @@ pub fn samples_for(outer_radius_mm: f64, tolerance_um: f64) -> usize {
     ((TAU / step).ceil() as usize).max(8)
 }
 
+/// Where a section's outline is wanted.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum Wanted {
+    /// All round: every pass cuts it wherever it reaches.
+    #[default]
+    Everywhere,
+    /// Within these windows of angle `(from, to)`, from ≤ to, rad, in the
+    /// workpiece frame (θ counter-clockwise, any turn): only the steps of a
+    /// pass that can change the outline there are traced (`cut/window.rs`
+    /// bounds them), so the outline within them is the one cut everywhere
+    /// would leave, and outside them it stands where those steps left it.
+    /// No windows: the section is not cut.
+    Within(Vec<(f64, f64)>),
+}
+
 impl Default for Resolution {
     fn default() -> Self {
         Resolution::fine()
@@ -131,22 +148,32 @@ pub fn cut(
     blank: &mut Blank,
     res: Resolution,
 ) -> Result<u64, SimError> {
-    cut_with(timeline, hob, blank, res, (true, 1), None)
+    cut_with(timeline, hob, blank, res, (true, 1), (None, &[]))
 }
 
 /// [`cut`] along the segments `i` of the timeline with `mine[i]` only: the
 /// moves `hob` makes on a machine that changes hobs between the gears of
-/// one part. The sections are shared among `threads` threads (the outline
-/// is the same with any number).
+/// one part; section j only where `wanted[j]` says (all of every section
+/// when `wanted` is empty). The sections are shared among `threads`
+/// threads (the outline is the same with any number); when fewer sections
+/// are wanted everywhere than there are threads, each of those is shared
+/// too, as windows that together go round it.
 pub fn cut_segments(
     timeline: &Timeline,
     hob: &Hob,
     blank: &mut Blank,
     res: Resolution,
     mine: &[bool],
-    threads: usize,
+    (wanted, threads): (&[Wanted], usize),
 ) -> Result<u64, SimError> {
-    cut_with(timeline, hob, blank, res, (true, threads), Some(mine))
+    cut_with(
+        timeline,
+        hob,
+        blank,
+        res,
+        (true, threads),
+        (Some(mine), wanted),
+    )
 }
 
 /// [`cut`] with every pass's curve refined to the tolerance everywhere,
@@ -159,7 +186,18 @@ pub fn cut_exhaustive(
     blank: &mut Blank,
     res: Resolution,
 ) -> Result<u64, SimError> {
-    cut_with(timeline, hob, blank, res, (false, 1), None)
+    cut_with(timeline, hob, blank, res, (false, 1), (None, &[]))
+}
+
+/// [`cut_exhaustive`] with section j cut only where `wanted[j]` says.
+pub fn cut_exhaustive_within(
+    timeline: &Timeline,
+    hob: &Hob,
+    blank: &mut Blank,
+    res: Resolution,
+    wanted: &[Wanted],
+) -> Result<u64, SimError> {
+    cut_with(timeline, hob, blank, res, (false, 1), (None, wanted))
 }
 
 fn cut_with(
@@ -168,8 +206,16 @@ fn cut_with(
     blank: &mut Blank,
     res: Resolution,
     (skip_clear, threads): (bool, usize),
-    mine: Option<&[bool]>,
+    (mine, wanted): (Option<&[bool]>, &[Wanted]),
 ) -> Result<u64, SimError> {
+    if !(wanted.is_empty() || wanted.len() == blank.z_mm.len()) {
+        return Err(SimError::Parameter(
+            "wanted",
+            "one entry per section, or none",
+        ));
+    }
+    let mut work = work_items(wanted, blank.z_mm.len(), threads.max(1));
+    let windowed = work.iter().any(|w| w.windows.is_some());
     if !(res.axial_step_mm > 0.0 && res.tolerance_mm > 0.0) {
         return Err(SimError::Parameter(
             "resolution",
@@ -209,44 +255,100 @@ fn cut_with(
             let b = n as f64 * step;
             let t = s.t0_s + (b - b0) / (TAU * s.hob_rev_s);
             let k = (-n).rem_euclid(i64::from(hob.gashes)) as u32;
-            passes.push(pass::Pass::new(
-                timeline,
-                i,
-                t,
-                hob,
-                k,
-                blank.outer_radius_mm,
-                res,
-            ));
+            let pass = pass::Pass::new(timeline, i, t, hob, k, blank.outer_radius_mm, res);
+            passes.push(if windowed { pass.windowed() } else { pass });
             n += 1;
         }
     }
     let clip_r = blank.outer_radius_mm + CLIP_MARGIN_MM;
-    let cut_one = |zs: f64, r: &mut Vec<f64>| {
-        cut_section(&passes, zs, r, (clip_r, &dirs), skip_clear);
+    let cut_one = |item: &mut WorkItem| {
+        let windows = item.windows.as_deref();
+        let zs = blank.z_mm[item.section];
+        cut_section(
+            &passes,
+            zs,
+            &mut item.r,
+            (clip_r, &dirs),
+            (skip_clear, windows),
+        );
     };
-    // Each section is cut by one thread with every pass, so the outline
-    // does not depend on how many share the sections.
-    let threads = threads.clamp(1, blank.z_mm.len());
+    for item in &mut work {
+        item.r.clone_from(&blank.r_mm[item.section]);
+    }
+    // Each item is cut by one thread with every pass, and an outline is
+    // the least of its items' (each lowers it only where the cut reaches,
+    // and within its windows exactly as far as the whole cut would), so it
+    // does not depend on how many threads share the work.
+    let threads = threads.clamp(1, work.len().max(1));
     if threads == 1 {
-        for (&zs, r) in blank.z_mm.iter().zip(blank.r_mm.iter_mut()) {
-            cut_one(zs, r);
-        }
+        work.iter_mut().for_each(cut_one);
     } else {
-        let work = std::sync::Mutex::new(blank.z_mm.iter().zip(blank.r_mm.iter_mut()));
+        let queue = std::sync::Mutex::new(work.iter_mut());
         std::thread::scope(|scope| {
             for _ in 0..threads {
                 scope.spawn(|| loop {
-                    let next = work.lock().map(|mut w| w.next());
+                    let next = queue.lock().map(|mut w| w.next());
                     match next {
-                        Ok(Some((&zs, r))) => cut_one(zs, r),
+                        Ok(Some(item)) => cut_one(item),
                         _ => break,
                     }
                 });
             }
         });
     }
+    for item in work {
+        let out = &mut blank.r_mm[item.section];
+        for (o, r) in out.iter_mut().zip(item.r) {
+            *o = o.min(r);
+        }
+    }
     Ok(passes.len() as u64)
+}
+
+/// One section, or windows of it, as one thread cuts it into an outline
+/// of its own.
+struct WorkItem {
+    section: usize,
+    /// `None`: all round.
+    windows: Option<Vec<(f64, f64)>>,
+    r: Vec<f64>,
+}
+
+/// The work of cutting `sections` sections as `wanted` says, for
+/// `threads` threads: a section wanted everywhere is one item, or, when
+/// fewer sections than threads are, as many windows going round it as
+/// give every thread a share; a section with windows is one item; one with
+/// none is not cut. Those all round come first: they take longest.
+fn work_items(wanted: &[Wanted], sections: usize, threads: usize) -> Vec<WorkItem> {
+    let everywhere = |j: usize| wanted.get(j).is_none_or(|w| *w == Wanted::Everywhere);
+    let whole = (0..sections).filter(|&j| everywhere(j)).count();
+    let parts = if whole == 0 || whole >= threads {
+        1
+    } else {
+        threads.div_ceil(whole)
+    };
+    let item = |section, windows| WorkItem {
+        section,
+        windows,
+        r: Vec::new(),
+    };
+    let mut out = Vec::new();
+    for j in (0..sections).filter(|&j| everywhere(j)) {
+        if parts == 1 {
+            out.push(item(j, None));
+            continue;
+        }
+        let w = TAU / parts as f64;
+        out.extend((0..parts).map(|k| item(j, Some(vec![(w * k as f64, w * (k + 1) as f64)]))));
+    }
+    for (j, w) in wanted.iter().enumerate() {
+        if let Wanted::Within(windows) = w {
+            if !windows.is_empty() {
+                out.push(item(j, Some(windows.clone())));
+            }
+        }
+    }
+    out
 }
 
 /// Cuts the outline `r` of the section `zs` with every pass, the deepest
@@ -257,7 +359,7 @@ fn cut_section(
     zs: f64,
     r: &mut [f64],
     (clip_r, dirs): (f64, &[(f64, f64)]),
-    skip_clear: bool,
+    (skip_clear, windows): (bool, Option<&[(f64, f64)]>),
 ) {
     let mut order: Vec<(f64, usize)> = passes
         .iter()
@@ -266,7 +368,7 @@ fn cut_section(
         .collect();
     order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
     // The knots and the grid of each pass, in buffers kept between passes.
-    let mut scratch = (Vec::new(), Vec::new());
+    let mut scratch = pass::Scratch::default();
     let mut blocks = Vec::new();
     for (k, &(_, i)) in order.iter().enumerate() {
         // The blocks' maxima only fall as the outline is cut, so a stale
@@ -275,7 +377,14 @@ fn cut_section(
         if k == 0 || (k >= 16 && (k.is_power_of_two() || k % 512 == 0)) {
             block_maxima(r, &mut blocks);
         }
-        passes[i].cut(zs, clip_r, (r, &blocks), dirs, skip_clear, &mut scratch);
+        passes[i].cut(
+            zs,
+            clip_r,
+            (r, &blocks),
+            dirs,
+            (skip_clear, windows),
+            &mut scratch,
+        );
     }
 }
 
@@ -438,7 +547,7 @@ mod tests {
         for m in 0..7 {
             let w = TAU / 7.0;
             let pa = -std::f64::consts::PI + w * f64::from(m);
-            if let Some((lo, hi)) = pass::s_range(t, pa, pa + w, big_s) {
+            if let Some((lo, hi)) = plane::s_range(t, pa, pa + w, big_s) {
                 total += hi - lo;
             }
         }

@@ -222,7 +222,7 @@ pub fn simulate_part(
                         &mut blank,
                         settings.resolution,
                         mine,
-                        threads,
+                        (&[], threads),
                     )?;
                 }
                 Ok((blank, passes))

@@ -13,6 +13,8 @@
 //! inside the blank (the hob's end faces). `docs/simulation.md` §3 derives
 //! this.
 
+use super::plane::{off_line, polar_angle, s_range};
+use super::window::{meets, AngleBound, PoseBounds};
 use super::{clear_of, raster, Resolution};
 use crate::hob::{Edge, Hob};
 use crate::kinematics::{Axes, MachineErrors, Pose, Timeline};
@@ -65,6 +67,9 @@ pub(super) struct Pass<'t> {
     /// 1/cos η.
     inv_ce: f64,
     res: Resolution,
+    /// Where the hob can be over the pass's hob turn, when the pass cuts
+    /// sections within windows ([`Pass::windowed`]).
+    bounds: Option<PoseBounds>,
 }
 
 /// A point of a section in the workpiece frame: x, y and its polar angle.
@@ -139,7 +144,21 @@ impl<'t> Pass<'t> {
             edge: hob.edge(k),
             inv_ce: 1.0 / ce,
             res,
+            bounds: None,
         }
+    }
+
+    /// The pass made ready to cut sections within angular windows: the
+    /// bounds of its pose over its hob turn ([`PoseBounds::around`]).
+    pub(super) fn windowed(mut self) -> Self {
+        let rev_s = self.omega / std::f64::consts::TAU;
+        self.bounds = Some(PoseBounds::around(
+            self.timeline,
+            self.t,
+            rev_s,
+            (self.se, self.ce),
+        ));
+        self
     }
 
     /// The pose at hob angle `phi`.
@@ -396,21 +415,39 @@ impl<'t> Pass<'t> {
     }
 
     /// Cuts the outline `r` of the section `zs` where the pass can reach it
-    /// (within `clip_r` of the gear axis). `skip_clear`: leave out the
-    /// pieces that stand clear of the outline ([`Pass::refine`]).
+    /// (within `clip_r` of the gear axis), only where it can change the
+    /// outline within `windows` when there are any (the pass made
+    /// [`Pass::windowed`]). `skip_clear`: leave out the pieces that stand
+    /// clear of the outline ([`Pass::refine`]).
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn cut(
         &self,
         zs: f64,
         clip_r: f64,
         (r, blocks): (&mut [f64], &[f64]),
         dirs: &[(f64, f64)],
-        skip_clear: bool,
-        scratch: &mut (Vec<f64>, Vec<f64>),
+        (skip_clear, windows): (bool, Option<&[(f64, f64)]>),
+        scratch: &mut Scratch,
     ) {
         let Some((a_min, a_max)) = self.reach(clip_r, zs) else {
             return;
         };
-        let (knots, grid) = scratch;
+        let bound = match (windows, &self.bounds) {
+            (Some(w), Some(b)) => {
+                AngleBound::new(b, zs, clip_r, self.tip, (self.se, self.ce)).map(|bound| (w, bound))
+            }
+            _ => None,
+        };
+        if let Some((w, b)) = &bound {
+            if !meets(w, b.lo(a_min), b.hi(a_max)) {
+                return;
+            }
+        }
+        let Scratch {
+            knots,
+            grid,
+            wanted,
+        } = scratch;
         self.edge.knots_into(a_min, a_max, knots);
         grid.clear();
         for w in knots.windows(2) {
@@ -418,6 +455,10 @@ impl<'t> Pass<'t> {
             grid.extend((0..n).map(|q| w[0] + (w[1] - w[0]) * q as f64 / n as f64));
         }
         grid.extend(knots.last());
+        wanted.clear();
+        if let Some((w, b)) = &bound {
+            wanted.extend(grid.windows(2).map(|s| meets(w, b.lo(s[0]), b.hi(s[1]))));
+        }
         let section = Section {
             zs,
             clip_r,
@@ -426,7 +467,7 @@ impl<'t> Pass<'t> {
             dirs,
             skip_clear,
         };
-        self.trace(grid, section);
+        self.trace(grid, bound.is_some().then_some(wanted.as_slice()), section);
     }
 
     /// The pass's curve in one section from the pierce points of the
@@ -436,29 +477,49 @@ impl<'t> Pass<'t> {
     /// A step between two grid points is left out, without its midpoint,
     /// when the curve stands clear of the outline by its chord and the
     /// bound [`Pass::bulge`] gives.
-    fn trace(&self, grid: &[f64], mut sec: Section) {
+    ///
+    /// `wanted[j]`, when given, says whether the step from grid point j to
+    /// j + 1 can change the outline within the section's windows; the
+    /// others are not traced. A grid point is pierced when a wanted step is
+    /// within two steps of it, so where a run of the curve starts or ends
+    /// next to a wanted step (an end chord that may fall in a window) that
+    /// is known; where the grid is left untraced, no end chord is cut.
+    fn trace(&self, grid: &[f64], wanted: Option<&[bool]>, mut sec: Section) {
+        let want = |k: usize| wanted.is_none_or(|w| w.get(k).copied().unwrap_or(false));
+        let needed = |j: usize| {
+            wanted.is_none() || (j.saturating_sub(2)..=j + 1).any(|k| k + 1 < grid.len() && want(k))
+        };
         let mut last: Option<Pierced> = None;
-        for &a in grid {
+        // Whether the grid point before was pierced (not left untraced).
+        let mut traced = false;
+        for (j, &a) in grid.iter().enumerate() {
+            if !needed(j) {
+                (last, traced) = (None, false);
+                continue;
+            }
             let rho = self.edge.radius(a);
             match (
                 self.pierce_at(a, rho, sec.zs, last.as_ref().map(|l| &l.point)),
                 last,
             ) {
                 (Some(p), None) => {
-                    self.end_chord(a, rho, &mut sec);
+                    if j == 0 || traced {
+                        self.end_chord(a, rho, &mut sec);
+                    }
                     last = Some(p);
                 }
                 (Some(p), Some(from)) => {
-                    let clear = sec.skip_clear
-                        && self.bulge(&from, &p).is_some_and(|b| {
-                            clear_of(
-                                (sec.r, sec.blocks),
-                                sec.dirs,
-                                from.point,
-                                p.point,
-                                b + BULGE_SLACK_MM,
-                            )
-                        });
+                    let clear = !want(j - 1)
+                        || sec.skip_clear
+                            && self.bulge(&from, &p).is_some_and(|b| {
+                                clear_of(
+                                    (sec.r, sec.blocks),
+                                    sec.dirs,
+                                    from.point,
+                                    p.point,
+                                    b + BULGE_SLACK_MM,
+                                )
+                            });
                     if !clear {
                         self.refine(
                             (from.a, from.point),
@@ -476,6 +537,7 @@ impl<'t> Pass<'t> {
                 }
                 (None, None) => {}
             }
+            traced = true;
         }
         if let Some(from) = last {
             self.end_chord(from.a, from.rho, &mut sec);
@@ -659,33 +721,14 @@ impl<'t> Pass<'t> {
     }
 }
 
-/// The polar angle of (x, y): from `near`'s angle and the small turn
-/// between them when `near` is within a tenth of a radian (atan of
-/// t = cross/dot by its series to t⁹, below 10⁻¹² rad), else atan2. Two
-/// pieces that share a point share its angle, so the rays they span meet
-/// without a gap whatever the angle's last digits.
-fn polar_angle(x: f64, y: f64, near: Option<&Point>) -> f64 {
-    if let Some(n) = near {
-        let (cross, dot) = (n[0] * y - n[1] * x, n[0] * x + n[1] * y);
-        if dot > 0.0 && cross.abs() < 0.1 * dot {
-            let t = cross / dot;
-            let t2 = t * t;
-            let series = 1.0 - t2 * (1.0 / 3.0 - t2 * (0.2 - t2 * (1.0 / 7.0 - t2 * (1.0 / 9.0))));
-            return n[2] + t * series;
-        }
-    }
-    y.atan2(x)
-}
-
-/// Distance of `m` from the line through `p` and `q`.
-fn off_line(p: Point, q: Point, m: Point) -> f64 {
-    let d = [q[0] - p[0], q[1] - p[1]];
-    let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
-    let v = [m[0] - p[0], m[1] - p[1]];
-    if len == 0.0 {
-        return (v[0] * v[0] + v[1] * v[1]).sqrt();
-    }
-    (v[0] * d[1] - v[1] * d[0]).abs() / len
+/// Buffers a pass's cut of a section fills, kept between passes: the knots
+/// along the hob, the grid of profile points, whether each step of the grid
+/// is wanted.
+#[derive(Default)]
+pub(super) struct Scratch {
+    knots: Vec<f64>,
+    grid: Vec<f64>,
+    wanted: Vec<bool>,
 }
 
 /// One section as a pass cuts it.
@@ -697,31 +740,6 @@ struct Section<'r> {
     blocks: &'r [f64],
     dirs: &'r [(f64, f64)],
     skip_clear: bool,
-}
-
-/// The chord parameters s (along e1) whose hob angle atan2(t, s) lies in
-/// [pa, pb], within [−S, S].
-pub(super) fn s_range(t: f64, pa: f64, pb: f64, big_s: f64) -> Option<(f64, f64)> {
-    let cot = |p: f64| p.cos() / p.sin();
-    let (lo, hi) = if t > 0.0 {
-        let (a, b) = (pa.max(1e-12), pb.min(std::f64::consts::PI - 1e-12));
-        if a >= b {
-            return None;
-        }
-        (t * cot(b), t * cot(a))
-    } else if t < 0.0 {
-        let (a, b) = (pa.max(-std::f64::consts::PI + 1e-12), pb.min(-1e-12));
-        if a >= b {
-            return None;
-        }
-        (t * cot(a), t * cot(b))
-    } else if pa <= 0.0 && 0.0 < pb {
-        (0.0, big_s)
-    } else {
-        return None;
-    };
-    let (lo, hi) = (lo.max(-big_s), hi.min(big_s));
-    (lo < hi).then_some((lo, hi))
 }
 
 #[cfg(test)]
