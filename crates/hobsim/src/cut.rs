@@ -15,7 +15,7 @@ mod pass;
 mod plane;
 mod window;
 
-use pass::Point;
+use plane::Point;
 
 use crate::hob::Hob;
 use crate::kinematics::Timeline;

@@ -13,7 +13,7 @@
 //! inside the blank (the hob's end faces). `docs/simulation.md` §3 derives
 //! this.
 
-use super::plane::{off_line, polar_angle, s_range};
+use super::plane::{off_line, polar_angle, s_range, Point};
 use super::window::{meets, AngleBound, PoseBounds};
 use super::{clear_of, raster, Resolution};
 use crate::hob::{Edge, Hob};
@@ -71,9 +71,6 @@ pub(super) struct Pass<'t> {
     /// sections within windows ([`Pass::windowed`]).
     bounds: Option<PoseBounds>,
 }
-
-/// A point of a section in the workpiece frame: x, y and its polar angle.
-pub(super) type Point = [f64; 3];
 
 /// What a pierce point was solved from: the profile point (a, ρ), the hob
 /// angle φ, the distance t of the section from the disc's centre and the

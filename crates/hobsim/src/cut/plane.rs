@@ -1,7 +1,8 @@
 //! Geometry in a section's plane: a point's polar angle, its distance
 //! from a line, the chord of a disc a pass sweeps.
 
-use super::pass::Point;
+/// A point of a section in the workpiece frame: x, y and its polar angle.
+pub(super) type Point = [f64; 3];
 
 /// The polar angle of (x, y): from `near`'s angle and the small turn
 /// between them when `near` is within a tenth of a radian (atan of
