@@ -120,6 +120,21 @@ impl PolarSections {
 /// cannot be followed from section to section, or too few samples in an
 /// evaluation range.
 pub fn measure(sections: &PolarSections, spec: &GearSpec) -> Result<Measurement, Error> {
+    measure_traced(sections, spec, None)
+}
+
+/// [`measure`] with the helix, and the profile outside the middle section,
+/// traced on the teeth `traced` only (numbered as in the middle section,
+/// tooth 0 the first whose left flank crosses the measuring circle at
+/// θ ≥ 0), as a gear-measuring machine traces a few teeth; `None`: every
+/// tooth. The middle section is measured on every tooth. The other
+/// sections need their outlines only about those teeth
+/// ([`trace_windows`]).
+pub fn measure_traced(
+    sections: &PolarSections,
+    spec: &GearSpec,
+    traced: Option<&[usize]>,
+) -> Result<Measurement, Error> {
     let n = sections.check()?;
     let geo = spec.geometry()?;
     let gear = GearData::new(
@@ -136,7 +151,9 @@ pub fn measure(sections: &PolarSections, spec: &GearSpec) -> Result<Measurement,
     let mid = flank::Section::new(&sections.r_mm[middle], n);
     let teeth = flank::find_teeth(&mid, spec.teeth, mid_geo.measuring_diameter_mm / 2.0)?;
     let profile = traces::profiles(&mid, &teeth, &mid_geo, &mid_spec)?;
-    let followed = traces::follow_teeth(sections, middle, &teeth, &geo, spec)?;
+    let helix_teeth = traced_teeth(traced, teeth.len())?;
+    let chosen: Vec<flank::Tooth> = helix_teeth.iter().map(|&t| teeth[t]).collect();
+    let followed = traces::follow_teeth(sections, middle, &chosen, &geo, spec)?;
     let helix = match &followed {
         Some(f) => Some(traces::helices(f, &geo, spec)?),
         None => None,
@@ -162,6 +179,7 @@ pub fn measure(sections: &PolarSections, spec: &GearSpec) -> Result<Measurement,
             .map(|h| FlankValues::mean_of(h, |d: &HelixDeviations| d.slope_um)),
         profile,
         helix,
+        helix_teeth,
         profile_by_section,
         pitch,
         runout,
@@ -169,6 +187,79 @@ pub fn measure(sections: &PolarSections, spec: &GearSpec) -> Result<Measurement,
         items,
         overall,
     })
+}
+
+/// The teeth `traced` (every one of `z` when `None`), each checked to be a
+/// tooth of the gear.
+fn traced_teeth(traced: Option<&[usize]>, z: usize) -> Result<Vec<usize>, Error> {
+    let Some(t) = traced else {
+        return Ok((0..z).collect());
+    };
+    match t.iter().find(|&&k| k >= z) {
+        Some(&bad) => Err(Error::OutOfRange {
+            field: "traced",
+            expected: "tooth numbers below the number of teeth",
+            got: bad as f64,
+        }),
+        None if t.is_empty() => Err(Error::TooFewSamples {
+            what: "teeth traced",
+            needed: 1,
+            got: 0,
+        }),
+        None => Ok(t.to_vec()),
+    }
+}
+
+/// The teeth a gear-measuring machine traces for profile and helix when
+/// it does not trace every one: four about a quarter turn apart (0, z/4,
+/// z/2, 3z/4; fewer on a gear of fewer than four teeth).
+pub fn four_teeth(z: usize) -> Vec<usize> {
+    let mut v = vec![0, z / 4, z / 2, 3 * z / 4];
+    v.dedup();
+    v
+}
+
+/// The index among `z_mm` (increasing section heights) of the section
+/// [`measure`] takes as the middle one of `spec`'s face.
+pub fn middle_section(z_mm: &[f64], spec: &GearSpec) -> Result<usize, Error> {
+    Ok(spec.geometry()?.middle_section(z_mm, spec.face_start_mm))
+}
+
+/// Where in each section of `sections` the outline is needed to trace the
+/// teeth `traced` ([`measure_traced`]): per section, one window of angle
+/// (from, to), rad, about each tooth, centred where the design helix turns
+/// the tooth's centre in the middle section, 0.6 of a pitch either side (a
+/// tooth's flanks stand within half a pitch of its centre at every radius
+/// of the profile, and the trace reads a few samples beyond them). Only the
+/// middle section's outline is read: it must be cut all round.
+pub fn trace_windows(
+    sections: &PolarSections,
+    spec: &GearSpec,
+    traced: &[usize],
+) -> Result<Vec<Vec<(f64, f64)>>, Error> {
+    let n = sections.check()?;
+    let geo = spec.geometry()?;
+    let middle = geo.middle_section(&sections.z_mm, spec.face_start_mm);
+    let mid_geo = spec.at(sections.z_mm[middle])?.geometry()?;
+    let mid = flank::Section::new(&sections.r_mm[middle], n);
+    let teeth = flank::find_teeth(&mid, spec.teeth, mid_geo.measuring_diameter_mm / 2.0)?;
+    let chosen = traced_teeth(Some(traced), teeth.len())?;
+    let pitch = std::f64::consts::TAU / f64::from(spec.teeth);
+    let turn = traces::helix_turn_per_mm(&geo, spec);
+    let z_mid = sections.z_mm[middle];
+    Ok(sections
+        .z_mm
+        .iter()
+        .map(|z| {
+            chosen
+                .iter()
+                .map(|&t| {
+                    let c = teeth[t].centre() + turn * (z - z_mid);
+                    (c - 0.6 * pitch, c + 0.6 * pitch)
+                })
+                .collect()
+        })
+        .collect())
 }
 
 /// The value of every graded item (worst over teeth and flanks), its class
@@ -236,5 +327,26 @@ fn hand_sign(hand: Option<Hand>) -> f64 {
         Some(Hand::Right) => 1.0,
         Some(Hand::Left) => -1.0,
         None => 0.0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn four_teeth_stand_a_quarter_turn_apart() {
+        assert_eq!(four_teeth(31), vec![0, 7, 15, 23]);
+        assert_eq!(four_teeth(8), vec![0, 2, 4, 6]);
+        assert_eq!(four_teeth(3), vec![0, 1, 2]);
+    }
+
+    #[test]
+    fn the_teeth_traced_are_teeth_of_the_gear() {
+        assert_eq!(traced_teeth(None, 4).unwrap(), vec![0, 1, 2, 3]);
+        assert_eq!(traced_teeth(Some(&[3, 1]), 4).unwrap(), vec![3, 1]);
+        let err = traced_teeth(Some(&[0, 4]), 4).unwrap_err().to_string();
+        assert!(err.contains("traced") && err.contains('4'), "{err}");
+        assert!(traced_teeth(Some(&[]), 4).is_err());
     }
 }

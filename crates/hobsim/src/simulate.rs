@@ -22,7 +22,7 @@ use gearcam_proto::hobbing::Hand;
 use gearcam_proto::simulation::{Deviation, SafetyIssue};
 use gearcam_proto::{MachiningModel, SimulationReport};
 
-use crate::cut::{self, samples_for, Blank, Resolution};
+use crate::cut::{self, samples_for, Blank, Resolution, Wanted};
 use crate::hob::{Hob, HobExtras};
 use crate::kinematics::{self, MachineErrors, MachineRates};
 use crate::safety::{self, BlankGeometry, Fixtures, SafetyFinding, SafetyKind};
@@ -49,6 +49,12 @@ pub struct Settings {
     /// among them, each cut by one, and the safety rules run beside the
     /// cut. The result is the same with any number.
     pub threads: usize,
+    /// Trace profile and helix on four teeth a quarter turn apart outside
+    /// the middle section, as a gear-measuring machine does, instead of on
+    /// every tooth: the middle section (pitch, runout, size, every tooth's
+    /// profile) is cut all round first, then the others only about those
+    /// teeth. A worm wheel's throat section alone is cut.
+    pub four_teeth: bool,
 }
 
 impl Settings {
@@ -64,6 +70,7 @@ impl Settings {
             errors: MachineErrors::default(),
             hob: HobExtras::default(),
             threads: 0,
+            four_teeth: false,
         }
     }
 
@@ -76,12 +83,14 @@ impl Settings {
     }
 
     /// A quick look: 9 sections, the outline within about 10 µm, the coarse
-    /// removal.
+    /// removal, profile and helix traced on four teeth outside the middle
+    /// section.
     pub fn coarse() -> Settings {
         Settings {
             mode: "coarse",
             outline_um: 10.0,
             resolution: Resolution::coarse(),
+            four_teeth: true,
             ..Settings::fine()
         }
     }
@@ -114,6 +123,10 @@ pub struct Simulation {
     /// The sections of `blank` the gear was measured in (all but a worm
     /// wheel's), by index.
     pub measured: Vec<usize>,
+    /// The teeth profile and helix were traced on outside the middle
+    /// section (`None`: every tooth); the sections other than the middle
+    /// one were cut only about them ([`Settings::four_teeth`]).
+    pub traced: Option<Vec<usize>>,
 }
 
 impl Simulation {
@@ -209,24 +222,25 @@ pub fn simulate_part(
     let threads = settings.thread_count();
     // The safety rules on one thread beside the cut on the others.
     let check = || safety::check_part(&timeline, &setups, &mounted, &fixtures);
-    let cut_all = |threads: usize| -> Result<Vec<(Blank, u64)>, SimError> {
+    let cut_all = |threads: usize| -> Result<Vec<CutUnit>, SimError> {
+        // Every hob of the part along its own moves.
+        let cut_by_all = |blank: &mut Blank, wanted: &[Wanted]| {
+            let mut passes = 0;
+            for ((_, hob, _), mine) in setups.iter().zip(&mine) {
+                passes += cut::cut_segments(
+                    &timeline,
+                    hob,
+                    blank,
+                    settings.resolution,
+                    mine,
+                    (wanted, threads),
+                )?;
+            }
+            Ok(passes)
+        };
         units
             .iter()
-            .map(|(_, m)| {
-                let mut blank = unit_blank(m, settings)?;
-                let mut passes = 0;
-                for ((_, hob, _), mine) in setups.iter().zip(&mine) {
-                    passes += cut::cut_segments(
-                        &timeline,
-                        hob,
-                        &mut blank,
-                        settings.resolution,
-                        mine,
-                        (&[], threads),
-                    )?;
-                }
-                Ok((blank, passes))
-            })
+            .map(|(_, m)| cut_unit(&cut_by_all, m, settings))
             .collect()
     };
     let (mut safety, cut) = if threads > 1 {
@@ -244,11 +258,12 @@ pub fn simulate_part(
         (check(), cut_all(1))
     };
     let mut out = Vec::with_capacity(units.len());
-    for ((name, m), (blank, passes)) in units.iter().zip(cut?) {
+    for ((name, m), (blank, passes, traced)) in units.iter().zip(cut?) {
         let spec = drawing(m);
         let (measured, note) = measured_sections(&blank, m);
         let sections = sections_of(&blank, &measured);
-        let measurement = outline::measure(&sections, &spec).map_err(|e| e.to_string());
+        let measurement =
+            outline::measure_traced(&sections, &spec, traced.as_deref()).map_err(|e| e.to_string());
         out.push(Simulation {
             settings: *settings,
             blank,
@@ -260,9 +275,87 @@ pub fn simulate_part(
             unit: name.clone(),
             note,
             measured,
+            traced,
         });
     }
     Ok(out)
+}
+
+/// Cuts a blank's sections as told, returning the gash passes.
+type CutBlank<'a> = dyn Fn(&mut Blank, &[Wanted]) -> Result<u64, SimError> + 'a;
+
+/// One gear's cut blank, the gash passes that cut it, and the teeth traced
+/// outside its middle section when not every one is.
+type CutUnit = (Blank, u64, Option<Vec<usize>>);
+
+/// Cuts the blank of the gear `model` with `cut` (which cuts a blank's
+/// sections as it is told, returning the gash passes). All round, unless
+/// [`Settings::four_teeth`]: then the section measured as the middle one
+/// first, all round, and the others only within the windows about the
+/// four teeth found there ([`outline::trace_windows`]); a worm wheel's
+/// throat section alone. Where the middle section's teeth cannot be found
+/// (a gear the measurement will refuse), the others are cut all round, so
+/// the outlines shown are the whole cut.
+fn cut_unit(
+    cut: &CutBlank<'_>,
+    model: &MachiningModel,
+    settings: &Settings,
+) -> Result<CutUnit, SimError> {
+    let mut blank = unit_blank(model, settings)?;
+    if !settings.four_teeth {
+        let passes = cut(&mut blank, &[])?;
+        return Ok((blank, passes, None));
+    }
+    let (measured, _) = measured_sections(&blank, model);
+    let spec = drawing(model);
+    let heights: Vec<f64> = measured.iter().map(|&j| blank.z_mm[j]).collect();
+    let Ok(k) = outline::middle_section(&heights, &spec) else {
+        let passes = cut(&mut blank, &[])?;
+        return Ok((blank, passes, None));
+    };
+    let first = measured[k];
+    let n = blank.z_mm.len();
+    let nothing = || Wanted::Within(Vec::new());
+    let wanted: Vec<Wanted> = (0..n)
+        .map(|j| {
+            if j == first {
+                Wanted::Everywhere
+            } else {
+                nothing()
+            }
+        })
+        .collect();
+    let passes = cut(&mut blank, &wanted)?;
+    if measured.len() < 2 {
+        return Ok((blank, passes, None));
+    }
+    let teeth = outline::four_teeth(spec.teeth as usize);
+    let sections = sections_of(&blank, &measured);
+    let (rest, traced): (Vec<Wanted>, _) = match outline::trace_windows(&sections, &spec, &teeth) {
+        Ok(windows) => {
+            let mut rest = vec![nothing(); n];
+            for (&j, w) in measured.iter().zip(windows) {
+                if j != first {
+                    rest[j] = Wanted::Within(w);
+                }
+            }
+            (rest, Some(teeth))
+        }
+        Err(_) => {
+            let rest = (0..n)
+                .map(|j| {
+                    if j == first {
+                        nothing()
+                    } else {
+                        Wanted::Everywhere
+                    }
+                })
+                .collect();
+            (rest, None)
+        }
+    };
+    cut(&mut blank, &rest)?;
+    Ok((blank, passes, traced))
 }
 
 /// Each gear of the part as a model of its own (its gear, hob, geometry

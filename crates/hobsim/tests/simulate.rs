@@ -91,7 +91,8 @@ fn mean_helix_form(sim: &gearcam_hobsim::simulate::Simulation, spec: &GearSpec) 
         z_mm: sim.blank.z_mm.clone(),
         r_mm: sim.blank.r_mm.clone(),
     };
-    let m = outline::measure(&sections, spec).expect("measures");
+    // A coarse run's sections are cut only about the teeth it traced.
+    let m = outline::measure_traced(&sections, spec, sim.traced.as_deref()).expect("measures");
     let h = m.helix.expect("helix traced");
     let all: Vec<f64> = h.left.iter().chain(&h.right).map(|d| d.form_um).collect();
     all.iter().sum::<f64>() / all.len() as f64
@@ -291,7 +292,8 @@ fn a_conical_program_cuts_its_cone() {
         z_mm: sim.blank.z_mm.clone(),
         r_mm: sim.blank.r_mm.clone(),
     };
-    let plain = outline::measure(&sections, &at_alpha_n).expect("measures");
+    let plain =
+        outline::measure_traced(&sections, &at_alpha_n, sim.traced.as_deref()).expect("measures");
     assert!(
         value(&plain, Item::ProfileSlope).abs() > value(m, Item::ProfileSlope).abs() + 4.0,
         "fHα at αn {} µm, at α′ {} µm",
@@ -352,5 +354,51 @@ fn a_run_on_several_threads_is_the_run_on_one() {
             format!("{:?}", a.measurement),
             format!("{:?}", b.measurement)
         );
+    }
+}
+
+/// A coarse run cuts the sections other than the middle one only about the
+/// four teeth it traces there: its measurement is the one of the same cut
+/// made all round with those teeth traced, item for item, and its blank the
+/// same within the windows the traces read (the middle section entirely).
+#[test]
+#[ignore = "seconds in release: cargo test --release -p gearcam-hobsim -- --ignored"]
+fn a_coarse_run_measures_its_four_teeth_as_the_cut_all_round_does() {
+    for name in [
+        "spur_840d",
+        "helical_climb_840d",
+        "crowned_840d",
+        "conical_840d",
+    ] {
+        let (text, model) = common::program(name);
+        let (check, trace) = gearcam_nc::check(&text, &model);
+        assert!(check.ok, "{name}: {:?}", check.findings);
+        let coarse = simulate(&trace, &model, &Settings::coarse()).expect("simulates");
+        let all_round = Settings {
+            four_teeth: false,
+            ..Settings::coarse()
+        };
+        let whole = simulate(&trace, &model, &all_round).expect("simulates");
+        let teeth = coarse.traced.clone().expect("four teeth traced");
+        assert_eq!(teeth, outline::four_teeth(model.plan.gear.teeth as usize));
+        assert_eq!(whole.traced, None);
+        let sections = whole.measured_sections();
+        let of_whole = outline::measure_traced(&sections, &whole.spec, Some(&teeth))
+            .map_err(|e| e.to_string());
+        assert_eq!(
+            format!("{:?}", coarse.measurement),
+            format!("{of_whole:?}"),
+            "{name}"
+        );
+        // Outside the windows the coarse blank is left higher.
+        let higher = coarse
+            .blank
+            .r_mm
+            .iter()
+            .flatten()
+            .zip(whole.blank.r_mm.iter().flatten())
+            .filter(|(c, w)| *c > &(*w + 1e-3))
+            .count();
+        assert!(higher > 1000, "{name}: {higher}");
     }
 }

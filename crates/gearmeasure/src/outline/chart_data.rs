@@ -40,11 +40,18 @@ pub struct ChartData {
     /// Helix traces at the measuring diameter: height from the reference
     /// face, deviation (`None` when the helix is not measured).
     pub helix: Option<TeethTraces<TracePoints>>,
+    /// The teeth of the helix traces, in their order.
+    pub helix_teeth: Vec<usize>,
 }
 
-/// The trace points [`super::measure`] evaluates for `sections` against
-/// `spec`; the same errors.
-pub fn chart_data(sections: &PolarSections, spec: &GearSpec) -> Result<ChartData, Error> {
+/// The trace points [`super::measure_traced`] evaluates for `sections`
+/// against `spec` with the helix traced on `traced` (every tooth when
+/// `None`); the same errors.
+pub fn chart_data(
+    sections: &PolarSections,
+    spec: &GearSpec,
+    traced: Option<&[usize]>,
+) -> Result<ChartData, Error> {
     let n = sections.check()?;
     let geo = spec.geometry()?;
     let middle = geo.middle_section(&sections.z_mm, spec.face_start_mm);
@@ -53,11 +60,14 @@ pub fn chart_data(sections: &PolarSections, spec: &GearSpec) -> Result<ChartData
     let mid = Section::new(&sections.r_mm[middle], n);
     let teeth = flank::find_teeth(&mid, spec.teeth, mid_geo.measuring_diameter_mm / 2.0)?;
     let steps = profile_steps(&mid_geo)?;
+    let z = spec.teeth as usize;
+    let helix_teeth = super::traced_teeth(traced, z)?;
+    let chosen: Vec<flank::Tooth> = helix_teeth.iter().map(|&t| teeth[t]).collect();
     let mut profile = TeethTraces::default();
     for tooth in &teeth {
         for right in [false, true] {
             let (x_mm, deviation_um) =
-                traces::profile_points(&mid, tooth, right, teeth.len(), steps, &mid_geo, &mid_spec);
+                traces::profile_points(&mid, tooth, right, z, steps, &mid_geo, &mid_spec);
             let side = if right {
                 &mut profile.right
             } else {
@@ -66,7 +76,7 @@ pub fn chart_data(sections: &PolarSections, spec: &GearSpec) -> Result<ChartData
             side.push(TracePoints { x_mm, deviation_um });
         }
     }
-    let helix = traces::follow_teeth(sections, middle, &teeth, &geo, spec)?.map(|f| {
+    let helix = traces::follow_teeth(sections, middle, &chosen, &geo, spec)?.map(|f| {
         let mut out = TeethTraces::default();
         for flanks in &f.teeth {
             for right in [false, true] {
@@ -82,6 +92,7 @@ pub fn chart_data(sections: &PolarSections, spec: &GearSpec) -> Result<ChartData
         tooth_centre_rad: teeth.iter().map(|t| t.centre()).collect(),
         profile,
         helix,
+        helix_teeth,
     })
 }
 

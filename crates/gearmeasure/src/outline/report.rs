@@ -147,13 +147,17 @@ pub struct Measurement {
     pub profile: TeethTraces<ProfileDeviations>,
     /// Mean profile slope deviation fHαm per flank, µm.
     pub profile_slope_mean_um: FlankValues,
-    /// Helix deviations per tooth and flank (`None` with fewer than three
-    /// sections in the helix evaluation range).
+    /// Helix deviations per tooth traced and flank (`None` with fewer than
+    /// three sections in the helix evaluation range).
     pub helix: Option<TeethTraces<HelixDeviations>>,
+    /// The teeth the helix, and the profile outside the middle section,
+    /// were traced on, in the order of [`Measurement::helix`]: every tooth
+    /// unless fewer were asked for.
+    pub helix_teeth: Vec<usize>,
     /// Mean helix slope deviation fHβm per flank, µm.
     pub helix_slope_mean_um: Option<FlankValues>,
-    /// The profile in every section of the face, worst over its teeth
-    /// (empty when the helix is not measured).
+    /// The profile in every section of the face, worst over the teeth
+    /// traced (empty when the helix is not measured).
     pub profile_by_section: Vec<SectionProfile>,
     /// Pitch deviations of both flanks.
     pub pitch: FlankPair,

@@ -52,8 +52,8 @@ fn direction_factor(geo: &Geometry, spec: &GearSpec) -> f64 {
     }
 }
 
-/// The profile deviations of both flanks of every tooth of the middle
-/// section `mid`.
+/// The profile deviations of both flanks of the teeth `teeth` of the
+/// section `mid` (every tooth, or those traced).
 pub(super) fn profiles(
     mid: &Section<'_>,
     teeth: &[Tooth],
@@ -63,7 +63,8 @@ pub(super) fn profiles(
     let range = geo.profile_range;
     let trace = |tooth: &Tooth, right: bool| {
         let steps = (0, PROFILE_POINTS as i64 - 1);
-        let (xs, es) = profile_points(mid, tooth, right, teeth.len(), steps, geo, spec);
+        let z = spec.teeth as usize;
+        let (xs, es) = profile_points(mid, tooth, right, z, steps, geo, spec);
         evaluate_profile(&xs, &es, range)
     };
     let mut out = TeethTraces::default();
@@ -125,12 +126,14 @@ pub(super) struct Followed {
     pub(super) index: Vec<usize>,
     /// Their heights, mm.
     pub(super) z_mm: Vec<f64>,
-    /// Per tooth, its flanks at the measuring radius in those sections.
+    /// Per tooth followed, its flanks at the measuring radius in those
+    /// sections.
     pub(super) teeth: Vec<Vec<Tooth>>,
 }
 
-/// Every tooth's flank angles at the measuring radius in each section of
-/// the face, followed from the middle section up and down: in the next
+/// The flank angles at the measuring radius of the teeth `teeth` (every
+/// tooth of the middle section, or those traced) in each section of the
+/// face, followed from the middle section up and down: in the next
 /// section the tooth is looked for where the design helix turns it, and
 /// found by going out from there to both flanks. `None` when fewer than
 /// three sections lie in the helix evaluation range (a spur gear simulated
@@ -160,9 +163,8 @@ pub(super) fn follow_teeth(
         .filter(|&j| (lo..=hi).contains(&sections.z_mm[j]) || j == middle)
         .collect();
     let rho = geo.measuring_diameter_mm / 2.0;
-    let turn = hand_sign(spec.hand) * spec.helix_deg.to_radians().tan()
-        / (geo.reference_diameter_mm / 2.0);
-    let pitch = TAU / teeth.len() as f64;
+    let turn = helix_turn_per_mm(geo, spec);
+    let pitch = TAU / f64::from(spec.teeth);
     let at = inside.iter().position(|&j| j == middle).unwrap_or(0);
     let mut found: Vec<Vec<Option<Tooth>>> = vec![vec![None; inside.len()]; teeth.len()];
     for (t, tooth) in teeth.iter().enumerate() {
@@ -198,6 +200,12 @@ pub(super) fn follow_teeth(
         z_mm,
         teeth,
     }))
+}
+
+/// How far the design helix turns a tooth per mm up the axis, rad/mm:
+/// h·tan β / r at the reference circle (one lead at every radius).
+pub(super) fn helix_turn_per_mm(geo: &Geometry, spec: &GearSpec) -> f64 {
+    hand_sign(spec.hand) * spec.helix_deg.to_radians().tan() / (geo.reference_diameter_mm / 2.0)
 }
 
 /// The helix deviations of both flanks of every tooth followed.

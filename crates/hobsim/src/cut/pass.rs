@@ -14,7 +14,7 @@
 //! this.
 
 use super::plane::{off_line, polar_angle, s_range, Point};
-use super::window::{meets, AngleBound, PoseBounds};
+use super::window::{meets_slopes, window_slopes, AngleBound, PoseBounds, StepReach};
 use super::{clear_of, raster, Resolution};
 use crate::hob::{Edge, Hob};
 use crate::kinematics::{Axes, MachineErrors, Pose, Timeline};
@@ -61,8 +61,9 @@ pub(super) struct Pass<'t> {
     /// sin and cos of the pass's swivel (with the what-if offset).
     se: f64,
     ce: f64,
-    /// The hob's tip radius, mm.
+    /// The hob's tip and root radii, mm.
     tip: f64,
+    root: f64,
     edge: Edge,
     /// 1/cos η.
     inv_ce: f64,
@@ -138,6 +139,7 @@ impl<'t> Pass<'t> {
             se,
             ce,
             tip: hob.tip_radius_mm,
+            root: hob.root_radius_mm,
             edge: hob.edge(k),
             inv_ce: 1.0 / ce,
             res,
@@ -148,11 +150,10 @@ impl<'t> Pass<'t> {
     /// The pass made ready to cut sections within angular windows: the
     /// bounds of its pose over its hob turn ([`PoseBounds::around`]).
     pub(super) fn windowed(mut self) -> Self {
-        let rev_s = self.omega / std::f64::consts::TAU;
         self.bounds = Some(PoseBounds::around(
             self.timeline,
             self.t,
-            rev_s,
+            self.omega,
             (self.se, self.ce),
         ));
         self
@@ -430,21 +431,37 @@ impl<'t> Pass<'t> {
             return;
         };
         let bound = match (windows, &self.bounds) {
-            (Some(w), Some(b)) => {
-                AngleBound::new(b, zs, clip_r, self.tip, (self.se, self.ce)).map(|bound| (w, bound))
-            }
+            (Some(w), Some(pose)) => AngleBound::new(
+                pose,
+                (zs, clip_r),
+                (self.root, self.tip),
+                (self.q0.axes.x_mm, (a_min, a_max)),
+                (self.se, self.ce),
+            )
+            .map(|b| (w, b)),
             _ => None,
         };
-        if let Some((w, b)) = &bound {
-            if !meets(w, b.lo(a_min), b.hi(a_max)) {
-                return;
-            }
-        }
         let Scratch {
             knots,
             grid,
             wanted,
+            rho,
+            miss,
+            slopes,
         } = scratch;
+        if let Some((w, b)) = &bound {
+            window_slopes(w, b.c_mid, slopes);
+        }
+        let meets_windows = |reach: StepReach| match reach {
+            StepReach::Anywhere => true,
+            StepReach::Nowhere => false,
+            StepReach::Within(lo, hi) => meets_slopes(slopes, lo, hi),
+        };
+        if let Some((_, b)) = &bound {
+            if !meets_windows(b.of_step((a_min, a_max), (0.0, self.tip), true)) {
+                return;
+            }
+        }
         self.edge.knots_into(a_min, a_max, knots);
         grid.clear();
         for w in knots.windows(2) {
@@ -453,8 +470,29 @@ impl<'t> Pass<'t> {
         }
         grid.extend(knots.last());
         wanted.clear();
-        if let Some((w, b)) = &bound {
-            wanted.extend(grid.windows(2).map(|s| meets(w, b.lo(s[0]), b.hi(s[1]))));
+        if let Some((_, b)) = &bound {
+            // Whether each step can change the outline within the windows;
+            // a step may cut an end chord at a grid point next to one where
+            // the plane may miss the profile, or at the grid's ends.
+            rho.clear();
+            rho.extend(grid.iter().map(|&a| self.edge.radius(a)));
+            miss.clear();
+            // (A Newton step that cannot be taken misses too: the hob moving
+            // across the section as fast as a point of it turns.)
+            let creep = self.dt.abs() * 100.0;
+            miss.extend(
+                grid.iter()
+                    .zip(rho.iter())
+                    .map(|(&a, &r)| b.may_miss(a, r) || creep >= r),
+            );
+            let n = grid.len();
+            let chord_at =
+                |k: usize| k == 0 || k + 1 == n || miss[k - 1] || miss.get(k + 1) == Some(&true);
+            wanted.extend((0..n.saturating_sub(1)).map(|j| {
+                let chord = chord_at(j) || chord_at(j + 1);
+                let reach = b.of_step((grid[j], grid[j + 1]), (rho[j], rho[j + 1]), chord);
+                meets_windows(reach)
+            }));
         }
         let section = Section {
             zs,
@@ -464,7 +502,10 @@ impl<'t> Pass<'t> {
             dirs,
             skip_clear,
         };
-        self.trace(grid, bound.is_some().then_some(wanted.as_slice()), section);
+        let wanted = bound
+            .is_some()
+            .then_some((wanted.as_slice(), miss.as_slice()));
+        self.trace(grid, wanted, section);
     }
 
     /// The pass's curve in one section from the pierce points of the
@@ -475,16 +516,25 @@ impl<'t> Pass<'t> {
     /// when the curve stands clear of the outline by its chord and the
     /// bound [`Pass::bulge`] gives.
     ///
-    /// `wanted[j]`, when given, says whether the step from grid point j to
-    /// j + 1 can change the outline within the section's windows; the
-    /// others are not traced. A grid point is pierced when a wanted step is
-    /// within two steps of it, so where a run of the curve starts or ends
-    /// next to a wanted step (an end chord that may fall in a window) that
-    /// is known; where the grid is left untraced, no end chord is cut.
-    fn trace(&self, grid: &[f64], wanted: Option<&[bool]>, mut sec: Section) {
-        let want = |k: usize| wanted.is_none_or(|w| w.get(k).copied().unwrap_or(false));
+    /// `wanted`, when given, holds per step (grid point j to j + 1) whether
+    /// it can change the outline within the section's windows, and per
+    /// grid point whether the plane may miss the profile there; steps not
+    /// wanted are not traced. A grid point is pierced when a step from it
+    /// is wanted, or when the plane may miss it and a wanted step starts or
+    /// ends next to it: then whether a run of the curve ends there (an end
+    /// chord next to a wanted step, which may fall in a window) is known.
+    /// A grid point left untraced where the plane surely meets the profile
+    /// ends no run, so no end chord is cut next to it; one where it may
+    /// miss is left untraced only with no wanted step within two, so no
+    /// chord it would end can fall in a window.
+    fn trace(&self, grid: &[f64], wanted: Option<(&[bool], &[bool])>, mut sec: Section) {
+        let want = |k: usize| wanted.is_none_or(|(w, _)| w.get(k).copied().unwrap_or(false));
+        let miss = |j: usize| wanted.is_some_and(|(_, m)| m[j]);
         let needed = |j: usize| {
-            wanted.is_none() || (j.saturating_sub(2)..=j + 1).any(|k| k + 1 < grid.len() && want(k))
+            wanted.is_none()
+                || (j >= 1 && want(j - 1))
+                || want(j)
+                || (miss(j) && ((j >= 2 && want(j - 2)) || want(j + 1)))
         };
         let mut last: Option<Pierced> = None;
         // Whether the grid point before was pierced (not left untraced).
@@ -720,12 +770,18 @@ impl<'t> Pass<'t> {
 
 /// Buffers a pass's cut of a section fills, kept between passes: the knots
 /// along the hob, the grid of profile points, whether each step of the grid
-/// is wanted.
+/// is wanted and what decides it.
 #[derive(Default)]
 pub(super) struct Scratch {
     knots: Vec<f64>,
     grid: Vec<f64>,
     wanted: Vec<bool>,
+    /// The profile's radius at each grid point, and whether the section's
+    /// plane may miss its disc there.
+    rho: Vec<f64>,
+    miss: Vec<bool>,
+    /// The windows as slopes seen from the pass's table angle.
+    slopes: Vec<(f64, f64)>,
 }
 
 /// One section as a pass cuts it.

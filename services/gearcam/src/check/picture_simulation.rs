@@ -101,7 +101,7 @@ fn gear_charts(sim: &Simulation, y0: f64) -> Option<(Group, f64)> {
     let m = sim.measurement.as_ref().ok()?;
     let spec = &sim.spec;
     let sections = sim.measured_sections();
-    let data = chart_data(&sections, spec).ok()?;
+    let data = chart_data(&sections, spec, sim.traced.as_deref()).ok()?;
     let gear = GearData::new(
         spec.teeth,
         spec.normal_module_mm,
@@ -133,7 +133,8 @@ fn gear_charts(sim: &Simulation, y0: f64) -> Option<(Group, f64)> {
         tol_um: tol(Item::ProfileTotal),
         class,
     };
-    let (g, h) = profile.draw(&data.profile, &picked, y, |t, right| {
+    let every: Vec<(usize, usize)> = picked.iter().map(|&t| (t, t)).collect();
+    let (g, h) = profile.draw(&data.profile, &every, y, |t, right| {
         let d = if right {
             &m.profile.right
         } else {
@@ -158,7 +159,17 @@ fn gear_charts(sim: &Simulation, y0: f64) -> Option<(Group, f64)> {
             tol_um: tol(Item::HelixTotal),
             class,
         };
-        let (g, h) = helix.draw(traces, &picked, y, |t, right| {
+        // The helix traces are of the teeth traced, in their order.
+        let traced: Vec<(usize, usize)> = picked
+            .iter()
+            .filter_map(|&t| {
+                data.helix_teeth
+                    .iter()
+                    .position(|&x| x == t)
+                    .map(|i| (t, i))
+            })
+            .collect();
+        let (g, h) = helix.draw(traces, &traced, y, |t, right| {
             let d = if right { &hx.right } else { &hx.left }[t];
             [d.total_um, d.slope_um, d.form_um]
         });
@@ -199,11 +210,9 @@ fn title(sim: &Simulation, m: &Measurement) -> String {
 }
 
 /// The teeth charted (indices from 0): 1, z/4 + 1, z/2 + 1, 3z/4 + 1 in
-/// the numbering from 1.
+/// the numbering from 1, the four a coarse run traces.
 pub(crate) fn picked_teeth(z: usize) -> Vec<usize> {
-    let mut v: Vec<usize> = [0, z / 4, z / 2, 3 * z / 4].to_vec();
-    v.dedup();
-    v
+    gearcam_gearmeasure::outline::four_teeth(z)
 }
 
 /// The µm per grid division that fits `extent_um` (the largest distance
@@ -265,24 +274,24 @@ struct TraceRow {
 }
 
 impl TraceRow {
-    /// The row's charts at `top`, and the row's height. `values(t, right)`
-    /// is the measured total, slope and form deviation of a flank.
+    /// The row's charts at `top`, and the row's height. `picked` holds each
+    /// tooth charted and the index of its traces in `traces`;
+    /// `values(index, right)` is the measured total, slope and form
+    /// deviation of a flank.
     fn draw(
         &self,
         traces: &gearcam_gearmeasure::outline::TeethTraces<TracePoints>,
-        picked: &[usize],
+        picked: &[(usize, usize)],
         top: f64,
         values: impl Fn(usize, bool) -> [f64; 3],
     ) -> (Group, f64) {
-        let flanks: Vec<(usize, bool, &TracePoints)> = picked
+        let flanks: Vec<((usize, usize), bool, &TracePoints)> = picked
             .iter()
-            .flat_map(|&t| {
-                [(t, false), (t, true)]
-                    .into_iter()
-                    .filter_map(move |(t, right)| {
-                        let side = if right { &traces.right } else { &traces.left };
-                        side.get(t).map(|p| (t, right, p))
-                    })
+            .flat_map(|&(t, i)| {
+                [false, true].into_iter().filter_map(move |right| {
+                    let side = if right { &traces.right } else { &traces.left };
+                    side.get(i).map(|p| ((t, i), right, p))
+                })
             })
             .collect();
         let extent = flanks
@@ -307,7 +316,7 @@ impl TraceRow {
             .set("class", format!("{}-row", self.kind))
             .add(label(heading, MARGIN, top + 12.0, 12.0));
         let (lo, hi) = axis_span(&flanks, self.range);
-        for (k, (t, right, p)) in flanks.iter().enumerate() {
+        for (k, ((t, i), right, p)) in flanks.iter().enumerate() {
             let x0 = MARGIN + k as f64 * TRACE_STEP;
             let chart = TraceChart {
                 x0,
@@ -316,7 +325,7 @@ impl TraceRow {
                 hi,
                 px_per_um: DIV_PX / um_div,
             };
-            let v = values(*t, *right);
+            let v = values(*i, *right);
             g = g.add(chart.draw(self, *t, *right, p, v));
         }
         (g, TRACE_H + 110.0)
@@ -325,7 +334,7 @@ impl TraceRow {
 
 /// The abscissa span of a row's charts: the evaluation range and every
 /// trace point, with a margin of 5 %.
-fn axis_span(flanks: &[(usize, bool, &TracePoints)], range: (f64, f64)) -> (f64, f64) {
+fn axis_span(flanks: &[((usize, usize), bool, &TracePoints)], range: (f64, f64)) -> (f64, f64) {
     let (mut lo, mut hi) = (range.0.min(range.1), range.0.max(range.1));
     for (_, _, p) in flanks {
         for x in &p.x_mm {

@@ -134,6 +134,7 @@ impl Built {
             unit: None,
             note: None,
             measured: (0..9).collect(),
+            traced: None,
         }
     }
 }
@@ -230,7 +231,7 @@ fn charted() -> (Simulation, Elem, ChartData) {
         z_mm: sim.blank.z_mm.clone(),
         r_mm: sim.blank.r_mm.clone(),
     };
-    let data = chart_data(&sections, &sim.spec).unwrap();
+    let data = chart_data(&sections, &sim.spec, sim.traced.as_deref()).unwrap();
     (sim, parse(&svg), data)
 }
 
@@ -484,7 +485,7 @@ fn the_design_outline_is_the_perfect_gears() {
         z_mm: sim.blank.z_mm.clone(),
         r_mm: sim.blank.r_mm.clone(),
     };
-    let data = chart_data(&sections, &sim.spec).unwrap();
+    let data = chart_data(&sections, &sim.spec, sim.traced.as_deref()).unwrap();
     let r_mm = &sim.blank.r_mm[data.middle_section];
     let n = r_mm.len();
     let c = data.tooth_centre_rad[0];
@@ -550,11 +551,13 @@ fn a_real_program_charts_the_gear_it_cuts() {
         assert_eq!(charts.len(), 2 * picked.len(), "{kind}");
         for (k, c) in charts.iter().enumerate() {
             let (t, right) = (picked[k / 2], k % 2 == 1);
+            // The helix traces are of the teeth traced, in their order.
+            let h = m.helix_teeth.iter().position(|&x| x == t).expect("traced");
             let total = match (kind, right) {
                 ("profile-chart", false) => m.profile.left[t].total_um,
                 ("profile-chart", true) => m.profile.right[t].total_um,
-                (_, false) => helix.left[t].total_um,
-                (_, true) => helix.right[t].total_um,
+                (_, false) => helix.left[h].total_um,
+                (_, true) => helix.right[h].total_um,
             };
             let marks: Vec<f64> = c.with_class("range").iter().map(|l| l.num("y1")).collect();
             let (min, max) = span_between(&c.with_class("trace")[0].points(), marks[1], marks[0]);
