@@ -228,10 +228,14 @@ pub fn middle_section(z_mm: &[f64], spec: &GearSpec) -> Result<usize, Error> {
 /// Where in each section of `sections` the outline is needed to trace the
 /// teeth `traced` ([`measure_traced`]): per section, one window of angle
 /// (from, to), rad, about each tooth, centred where the design helix turns
-/// the tooth's centre in the middle section, 0.6 of a pitch either side (a
-/// tooth's flanks stand within half a pitch of its centre at every radius
-/// of the profile, and the trace reads a few samples beyond them). Only the
-/// middle section's outline is read: it must be cut all round.
+/// the tooth's centre in the middle section. Either side it reaches the
+/// design tooth's half angle at the start of the section's profile
+/// evaluation range (no flank point a trace reads lies further from the
+/// centre: the half angle s_t/d + inv α_t − inv α(r) shrinks as r grows,
+/// and the helix is traced further out), and a twentieth of a pitch on,
+/// for the samples a trace reads beyond a flank and a cut gear's departure
+/// from its design. Only the middle section's outline is read: it must be
+/// cut all round.
 pub fn trace_windows(
     sections: &PolarSections,
     spec: &GearSpec,
@@ -247,19 +251,33 @@ pub fn trace_windows(
     let pitch = std::f64::consts::TAU / f64::from(spec.teeth);
     let turn = traces::helix_turn_per_mm(&geo, spec);
     let z_mid = sections.z_mm[middle];
-    Ok(sections
+    sections
         .z_mm
         .iter()
-        .map(|z| {
-            chosen
+        .map(|&z| {
+            let here = spec.at(z)?.geometry()?;
+            let half = half_tooth(&here, spec, here.profile_range.start_mm) + 0.05 * pitch;
+            Ok(chosen
                 .iter()
                 .map(|&t| {
                     let c = teeth[t].centre() + turn * (z - z_mid);
-                    (c - 0.6 * pitch, c + 0.6 * pitch)
+                    (c - half, c + half)
                 })
-                .collect()
+                .collect())
         })
-        .collect())
+        .collect()
+}
+
+/// Half the angle the design tooth of `geo` spans at the radius of roll
+/// length `roll_mm`, rad: s_t/d + inv α_t − inv α, the transverse
+/// thickness s_t = s_n/cos β at the reference diameter d, cos α_t = d_b/d,
+/// inv α = L/r_b − atan(L/r_b) at roll length L.
+fn half_tooth(geo: &Geometry, spec: &GearSpec, roll_mm: f64) -> f64 {
+    let d = geo.reference_diameter_mm;
+    let st = geo.design_thickness_mm / spec.helix_deg.to_radians().cos();
+    let at = (geo.base_diameter_mm / d).clamp(-1.0, 1.0).acos();
+    let u = roll_mm.max(0.0) / geo.rb();
+    st / d + (at.tan() - at) - (u - u.atan())
 }
 
 /// The value of every graded item (worst over teeth and flanks), its class
