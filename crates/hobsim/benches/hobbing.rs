@@ -6,10 +6,12 @@
 //! cut at 1.6 mm per table turn), read back by `gearcam_nc::check` into a
 //! trace once. Printed first: the whole `simulate::simulate` (timeline, cut
 //! on 9 sections, measurement and grading) at `Settings::fine()` (1 µm
-//! outline, `Resolution::fine()`) and `Settings::coarse()`, each on one
-//! thread and on every core, the best of three runs; then `cut::cut` alone and how its coarse cost grows with
-//! sections, samples, tolerance and face width. Criterion times the coarse
-//! cut. The figures are upper bounds on a shared machine.
+//! outline, `Resolution::fine()`) and `Settings::coarse()` (10 µm, the
+//! sections other than the middle one cut only about the four teeth it
+//! traces), each on one thread and on every core, the best of three runs;
+//! then `cut::cut` alone (every section all round) and how its coarse cost
+//! grows with sections, samples, tolerance and face width. Criterion times
+//! the coarse cut. The figures are upper bounds on a shared machine.
 
 // A bench measures time itself for the printed figure.
 #![allow(clippy::disallowed_methods)]
