@@ -232,10 +232,11 @@ pub fn middle_section(z_mm: &[f64], spec: &GearSpec) -> Result<usize, Error> {
 /// design tooth's half angle at the start of the section's profile
 /// evaluation range (no flank point a trace reads lies further from the
 /// centre: the half angle s_t/d + inv α_t − inv α(r) shrinks as r grows,
-/// and the helix is traced further out), and a twentieth of a pitch on,
-/// for the samples a trace reads beyond a flank and a cut gear's departure
-/// from its design. Only the middle section's outline is read: it must be
-/// cut all round.
+/// and the helix is traced further out), plus as much as the traced teeth
+/// stand wider than their design there in the middle section (a thick
+/// tooth of a shallow cut), a twentieth of a pitch for the helix's drift,
+/// and four samples for those a crossing is read from beyond a flank. Only
+/// the middle section's outline is read: it must be cut all round.
 pub fn trace_windows(
     sections: &PolarSections,
     spec: &GearSpec,
@@ -251,12 +252,38 @@ pub fn trace_windows(
     let pitch = std::f64::consts::TAU / f64::from(spec.teeth);
     let turn = traces::helix_turn_per_mm(&geo, spec);
     let z_mid = sections.z_mm[middle];
+    // How much wider than its design a traced tooth stands in the middle
+    // section at the start of the profile range (the whole walk a trace
+    // makes where a flank is not found there).
+    let start = mid_geo.profile_range.start_mm;
+    let r_start = mid_geo.rb().hypot(start);
+    let design = half_tooth(&mid_geo, spec, start);
+    let excess = chosen
+        .iter()
+        .map(|&t| {
+            let c = teeth[t].centre();
+            let reach = 0.75 * pitch;
+            let left = mid.crossing(c, r_start, -1, reach).map_or(reach, |l| c - l);
+            let right = mid.crossing(c, r_start, 1, reach).map_or(reach, |r| r - c);
+            left.max(right) - design
+        })
+        .fold(0.0, f64::max);
+    let samples = 4.0 * std::f64::consts::TAU / n as f64;
     sections
         .z_mm
         .iter()
         .map(|&z| {
-            let here = spec.at(z)?.geometry()?;
-            let half = half_tooth(&here, spec, here.profile_range.start_mm) + 0.05 * pitch;
+            // The section's own drawing, the middle's measuring diameter
+            // (which may lie outside a far section of a steep cone).
+            let here = GearSpec {
+                measuring_diameter_mm: spec.measuring_diameter_mm,
+                ..spec.at(z)?
+            }
+            .geometry()?;
+            let half = half_tooth(&here, spec, here.profile_range.start_mm)
+                + excess
+                + 0.05 * pitch
+                + samples;
             Ok(chosen
                 .iter()
                 .map(|&t| {

@@ -129,7 +129,8 @@ pub enum Wanted {
     /// workpiece frame (θ counter-clockwise, any turn): only the steps of a
     /// pass that can change the outline there are traced (`cut/window.rs`
     /// bounds them), so the outline within them is the one cut everywhere
-    /// would leave, and outside them it stands where those steps left it.
+    /// would leave (to 10⁻⁹ mm: `docs/simulation.md` §3), and outside them
+    /// it stands where those steps left it.
     /// No windows: the section is not cut.
     Within(Vec<(f64, f64)>),
 }
@@ -212,6 +213,18 @@ fn cut_with(
         return Err(SimError::Parameter(
             "wanted",
             "one entry per section, or none",
+        ));
+    }
+    let bad_window = |w: &Wanted| match w {
+        Wanted::Everywhere => false,
+        Wanted::Within(w) => w
+            .iter()
+            .any(|&(from, to)| !(from.is_finite() && to.is_finite() && from <= to)),
+    };
+    if wanted.iter().any(bad_window) {
+        return Err(SimError::Parameter(
+            "wanted",
+            "windows (from, to) of finite angles, from ≤ to",
         ));
     }
     let mut work = work_items(wanted, blank.z_mm.len(), threads.max(1));

@@ -154,3 +154,27 @@ fn a_section_shared_among_threads_is_the_section_cut_by_one() {
             .all(|&r| r == uncut));
     }
 }
+
+#[test]
+fn a_window_turned_back_or_not_a_number_is_refused() {
+    let (tl, hob, mut blank) = setup("spur_840d", MachineErrors::default());
+    let all = vec![true; tl.segments().len()];
+    for w in [(1.0, 0.5), (f64::NAN, 1.0)] {
+        let wanted = vec![
+            Wanted::Everywhere,
+            Wanted::Within(vec![w]),
+            Wanted::Everywhere,
+        ];
+        let err = cut::cut_segments(
+            &tl,
+            &hob,
+            &mut blank,
+            Resolution::coarse(),
+            &all,
+            (&wanted, 1),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("wanted") && err.contains("from ≤ to"), "{err}");
+    }
+}

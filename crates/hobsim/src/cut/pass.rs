@@ -312,6 +312,11 @@ impl<'t> Pass<'t> {
     /// its disc with the pose at hob angle `phi`, or None when the plane
     /// misses the disc there.
     fn placed(&self, a: f64, rho: f64, zs: f64, phi: f64, near: Option<&Point>) -> Option<Pierced> {
+        // The pierce point on the gear's side has |φ| < π/2; Newton's
+        // steps from near a grazing start can run on towards the far root.
+        if phi.abs() >= std::f64::consts::FRAC_PI_2 {
+            return None;
+        }
         let q = self.pose(phi);
         let tt = self.across(&q, a, zs);
         if tt.abs() >= rho {

@@ -37,6 +37,7 @@ use crate::kinematics::{MachineErrors, Timeline};
 
 const TAU: f64 = std::f64::consts::TAU;
 const HALF_PI: f64 = std::f64::consts::FRAC_PI_2;
+const PI: f64 = std::f64::consts::PI;
 
 /// Slack on a bound of the hob angle, rad: a pierce point's angle is a
 /// Newton solution within 10⁻⁸ rad, a chord point's an iteration as close.
@@ -219,7 +220,7 @@ impl AngleBound {
         };
         // The hob angles of the points: a pierce point's sin φ = t/ρ with
         // root ≤ ρ ≤ tip; an end chord's tan φ = t/s with X − clip_r ≤ s ≤
-        // ρ (any angle within a quarter turn where that is not positive).
+        // ρ (any angle where that is not positive).
         let (t0, t1) = b.across(reach.0, reach.1);
         let sin_lo = t0 / if t0 >= 0.0 { tip } else { root };
         let sin_hi = t1 / if t1 >= 0.0 { root } else { tip };
@@ -233,7 +234,8 @@ impl AngleBound {
             let hi = (t1 / if t1 >= 0.0 { s_min } else { tip }).atan();
             phi = (phi.0.min(lo), phi.1.max(hi));
         } else {
-            phi = (-HALF_PI, HALF_PI);
+            // A chord may then reach behind the hob's centre: any angle.
+            phi = (-PI, PI);
         }
         let (c_lo, c_hi) = pose.c_range(phi.0 - PHI_SLACK, phi.1 + PHI_SLACK);
         b.c_mid = 0.5 * (c_lo + c_hi);
