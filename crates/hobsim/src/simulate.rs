@@ -261,6 +261,7 @@ pub fn simulate_part(
     for ((name, m), (blank, passes, traced)) in units.iter().zip(cut?) {
         let spec = drawing(m);
         let (measured, note) = measured_sections(&blank, m);
+        let note = note.or_else(|| traced.as_deref().map(traced_note));
         let sections = sections_of(&blank, &measured);
         let measurement =
             outline::measure_traced(&sections, &spec, traced.as_deref()).map_err(|e| e.to_string());
@@ -279,6 +280,16 @@ pub fn simulate_part(
         });
     }
     Ok(out)
+}
+
+/// What a run that traced only `teeth` (numbered from 0) measured, for a
+/// planner: the teeth numbered from 1, as the charts print them.
+fn traced_note(teeth: &[usize]) -> String {
+    let names: Vec<String> = teeth.iter().map(|t| (t + 1).to_string()).collect();
+    format!(
+        "profile and helix traced on teeth {} outside the middle section, as a gear-measuring machine traces them (the other sections cut only about those teeth); pitch, runout, size and the middle section's profile on every tooth",
+        names.join(", ")
+    )
 }
 
 /// Cuts a blank's sections as told, returning the gash passes.

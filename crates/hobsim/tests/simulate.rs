@@ -392,6 +392,11 @@ fn a_coarse_run_measures_its_four_teeth_as_the_cut_all_round_does() {
         };
         let whole = simulate(&trace, &model, &all_round).expect("simulates");
         let teeth = coarse.traced.clone().expect("four teeth traced");
+        // The report says which, numbered from 1 as the charts print them.
+        let note = coarse.report(0.0).note.expect("a note");
+        let named: Vec<String> = teeth.iter().map(|t| (t + 1).to_string()).collect();
+        assert!(note.contains(&named.join(", ")), "{note}");
+        assert_eq!(whole.report(0.0).note, None);
         assert_eq!(teeth, outline::four_teeth(model.plan.gear.teeth as usize));
         assert_eq!(whole.traced, None);
         let sections = whole.measured_sections();
