@@ -46,8 +46,11 @@ pub struct Settings {
     /// What the hob record does not say (gashes, tip radius).
     pub hob: HobExtras,
     /// Threads the run may use (0: one per core): the sections are shared
-    /// among them, each cut by one, and the safety rules run beside the
-    /// cut. The result is the same with any number.
+    /// among them, each cut by one (a section cut all round while fewer
+    /// such sections than threads are, as windows going round it), and the
+    /// safety rules run beside the cut. The result is the same with any
+    /// number (to 10⁻⁹ mm, `docs/simulation.md` §3; bit for bit in the
+    /// tests).
     pub threads: usize,
     /// Trace profile and helix on four teeth a quarter turn apart outside
     /// the middle section, as a gear-measuring machine does, instead of on
