@@ -54,6 +54,7 @@ pub use spec::{Direction, GearSpec, Geometry};
 use crate::helix::{Hand, HelixDeviations};
 use crate::iso1328::{self, GearData, Grade, Item};
 use crate::profile::ProfileDeviations;
+use crate::size::inv;
 use crate::Error;
 use serde::{Deserialize, Serialize};
 
@@ -298,13 +299,14 @@ pub fn trace_windows(
 /// Half the angle the design tooth of `geo` spans at the radius of roll
 /// length `roll_mm`, rad: s_t/d + inv α_t − inv α, the transverse
 /// thickness s_t = s_n/cos β at the reference diameter d, cos α_t = d_b/d,
-/// inv α = L/r_b − atan(L/r_b) at roll length L.
+/// tan α = L/r_b at roll length L.
 fn half_tooth(geo: &Geometry, spec: &GearSpec, roll_mm: f64) -> f64 {
     let d = geo.reference_diameter_mm;
     let st = geo.design_thickness_mm / spec.helix_deg.to_radians().cos();
     let at = (geo.base_diameter_mm / d).clamp(-1.0, 1.0).acos();
-    let u = roll_mm.max(0.0) / geo.rb();
-    st / d + (at.tan() - at) - (u - u.atan())
+    // At roll length L the pressure angle has tan α = L/r_b.
+    let alpha = (roll_mm.max(0.0) / geo.rb()).atan();
+    st / d + inv(at) - inv(alpha)
 }
 
 /// The value of every graded item (worst over teeth and flanks), its class
